@@ -1,0 +1,25 @@
+// Writing a SplatCloud: binary PLY, ASCII PLY, XYZ text, OFF, or .splk.
+#pragma once
+
+#include <string>
+
+#include "formats/loaded_cloud.h"
+#include "formats/read_cloud.h"
+#include "splatkit/output_file.h"
+
+namespace splatkit {
+
+struct WriteOptions {
+  FileFormat format = FileFormat::kUnknown;  // kUnknown = from the extension; "-" => .splk
+  bool ascii = false;                        // PLY: ascii instead of binary_little_endian
+  bool big_endian = false;                   // PLY: binary_big_endian
+};
+
+// Format for an output path: by extension; "-" and unknown extensions give .splk.
+FileFormat output_format_for(const std::string& path);
+
+// Writes `doc` (its cloud; for .splk also its metadata and carried chunks) through an atomic
+// OutputFile and commits it. Throws Error(kOutput) or Error(kUnsupported) (e.g. LAS output).
+void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOptions& options = {});
+
+}  // namespace splatkit

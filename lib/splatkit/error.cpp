@@ -1,0 +1,24 @@
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+std::string display_name(const std::string& path, bool is_output) {
+  if (path == "-") return is_output ? "<stdout>" : "<stdin>";
+  return path;
+}
+
+void throw_bad_input(const std::string& file, const std::string& what) {
+  throw Error(ErrorKind::kBadInput, display_name(file) + ": " + what);
+}
+
+void throw_unsupported(const std::string& file, const std::string& what) {
+  throw Error(ErrorKind::kUnsupported, display_name(file) + ": " + what);
+}
+
+void throw_output(const std::string& file, const std::string& what) {
+  throw Error(ErrorKind::kOutput, display_name(file, true) + ": " + what);
+}
+
+void throw_usage(const std::string& what) { throw Error(ErrorKind::kUsage, what); }
+
+}  // namespace splatkit

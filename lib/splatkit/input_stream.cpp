@@ -1,0 +1,159 @@
+#include "splatkit/input_stream.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+InputStream::InputStream(const std::string& path, std::size_t buffer_size) : path_(path) {
+  if (path == "-") {
+    fd_ = STDIN_FILENO;
+  } else {
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) throw_bad_input(path, std::string("cannot open: ") + std::strerror(errno));
+    owns_fd_ = true;
+  }
+  struct stat st{};
+  if (::fstat(fd_, &st) == 0) {
+    if (S_ISDIR(st.st_mode)) {
+      if (owns_fd_) ::close(fd_);
+      throw_bad_input(path, "is a directory");
+    }
+    if (S_ISREG(st.st_mode)) size_ = static_cast<uint64_t>(st.st_size);
+  }
+#ifdef POSIX_FADV_SEQUENTIAL
+  if (size_) ::posix_fadvise(fd_, 0, 0, POSIX_FADV_SEQUENTIAL);
+#endif
+  buf_.resize(std::max<std::size_t>(buffer_size, 4096));
+}
+
+InputStream::InputStream(std::string name, const void* data, std::size_t size)
+    : path_(std::move(name)), size_(size), mem_(static_cast<const char*>(data)), end_(size) {
+  eof_ = true;  // nothing more to fill: the whole input is in memory
+}
+
+InputStream::~InputStream() {
+  if (owns_fd_) ::close(fd_);
+}
+
+std::string InputStream::name() const { return display_name(path_); }
+
+void InputStream::fail(const std::string& what) const {
+  throw_bad_input(path_, "byte " + std::to_string(consumed_) + ": " + what);
+}
+
+std::optional<uint64_t> InputStream::remaining() const {
+  if (!size_) return std::nullopt;
+  return *size_ > consumed_ ? *size_ - consumed_ : 0;
+}
+
+bool InputStream::fill(std::size_t want) {
+  if (end_ - begin_ >= want) return true;
+  if (mem_ || eof_) return false;
+  if (want > buf_.size()) buf_.resize(want);
+  if (begin_ > 0) {
+    std::memmove(buf_.data(), buf_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    begin_ = 0;
+  }
+  while (end_ - begin_ < want && !eof_) {
+    ssize_t got = ::read(fd_, buf_.data() + end_, buf_.size() - end_);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      fail(std::string("read error: ") + std::strerror(errno));
+    }
+    if (got == 0) eof_ = true;
+    end_ += static_cast<std::size_t>(got);
+  }
+  return end_ - begin_ >= want;
+}
+
+std::string_view InputStream::peek(std::size_t n) {
+  fill(n);
+  const char* base = mem_ ? mem_ : buf_.data();
+  return {base + begin_, std::min(n, end_ - begin_)};
+}
+
+std::string_view InputStream::take(std::size_t n, const char* what) {
+  if (!fill(n)) fail(std::string("unexpected end of file while reading ") + what);
+  const char* base = mem_ ? mem_ : buf_.data();
+  std::string_view v(base + begin_, n);
+  begin_ += n;
+  consumed_ += n;
+  return v;
+}
+
+std::size_t InputStream::read_some(void* dst, std::size_t n) {
+  char* out = static_cast<char*>(dst);
+  std::size_t done = 0;
+  while (done < n) {
+    if (begin_ == end_) {
+      if (mem_ || eof_) break;
+      // Large reads bypass the buffer: no second copy of bulk data.
+      if (n - done >= buf_.size()) {
+        ssize_t got = ::read(fd_, out + done, n - done);
+        if (got < 0) {
+          if (errno == EINTR) continue;
+          fail(std::string("read error: ") + std::strerror(errno));
+        }
+        if (got == 0) { eof_ = true; break; }
+        done += static_cast<std::size_t>(got);
+        consumed_ += static_cast<std::size_t>(got);
+        continue;
+      }
+      begin_ = end_ = 0;
+      if (!fill(1)) break;
+    }
+    const char* base = mem_ ? mem_ : buf_.data();
+    std::size_t k = std::min(n - done, end_ - begin_);
+    std::memcpy(out + done, base + begin_, k);
+    begin_ += k;
+    consumed_ += k;
+    done += k;
+  }
+  return done;
+}
+
+void InputStream::read(void* dst, std::size_t n, const char* what) {
+  if (read_some(dst, n) != n) fail(std::string("unexpected end of file while reading ") + what);
+}
+
+void InputStream::skip(uint64_t n, const char* what) {
+  while (n > 0) {
+    if (begin_ == end_ && !fill(1)) fail(std::string("unexpected end of file while skipping ") + what);
+    std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(n, end_ - begin_));
+    begin_ += k;
+    consumed_ += k;
+    n -= k;
+  }
+}
+
+bool InputStream::read_line(std::string& line, std::size_t max_len) {
+  line.clear();
+  for (;;) {
+    if (begin_ == end_ && !fill(1)) return !line.empty();
+    const char* base = mem_ ? mem_ : buf_.data();
+    const char* start = base + begin_;
+    const char* nl = static_cast<const char*>(std::memchr(start, '\n', end_ - begin_));
+    std::size_t k = nl ? static_cast<std::size_t>(nl - start) : end_ - begin_;
+    if (line.size() + k > max_len) fail("line longer than " + std::to_string(max_len) + " bytes");
+    line.append(start, k);
+    begin_ += k + (nl ? 1 : 0);
+    consumed_ += k + (nl ? 1 : 0);
+    if (nl) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      return true;
+    }
+  }
+}
+
+bool InputStream::at_eof() { return !fill(1); }
+
+}  // namespace splatkit

@@ -1,0 +1,69 @@
+#include "splatkit/progress.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace splatkit {
+
+const ProgressFn& no_progress() {
+  static const ProgressFn kNone = [](double, const char*) {};
+  return kNone;
+}
+
+uint64_t peak_rss_bytes() {
+  struct rusage ru{};
+  ::getrusage(RUSAGE_SELF, &ru);
+  return static_cast<uint64_t>(ru.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+Progress::Progress(std::string tool, bool quiet)
+    : tool_(std::move(tool)), quiet_(quiet), tty_(!quiet && ::isatty(STDERR_FILENO)),
+      start_(std::chrono::steady_clock::now()) {}
+
+Progress::~Progress() { clear(); }
+
+double Progress::elapsed_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+ProgressFn Progress::callback() {
+  if (!tty_) return no_progress();
+  return [this](double fraction, const char* phase) { draw(fraction, phase); };
+}
+
+void Progress::draw(double fraction, const char* phase) {
+  auto now = std::chrono::steady_clock::now();
+  if (drawn_ && fraction < 1.0 && now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  if (fraction < 0) fraction = 0;
+  if (fraction > 1) fraction = 1;
+  constexpr int kWidth = 30;
+  int filled = static_cast<int>(fraction * kWidth);
+  std::fprintf(stderr, "\r%s: %-16.16s [%.*s%*s] %3d%%", tool_.c_str(), phase ? phase : "",
+               filled, "##############################", kWidth - filled, "",
+               static_cast<int>(fraction * 100));
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void Progress::clear() {
+  if (!drawn_) return;
+  std::fprintf(stderr, "\r\033[K");
+  std::fflush(stderr);
+  drawn_ = false;
+}
+
+void Progress::finish(uint64_t count, const std::string& unit, const std::string& extra) {
+  clear();
+  if (quiet_) return;
+  double t = elapsed_seconds();
+  double rate = t > 0 ? static_cast<double>(count) / t : 0.0;
+  std::fprintf(stderr, "%s: %llu %s in %.3f s (%.3g %s/s), peak RSS %.1f MiB%s%s\n", tool_.c_str(),
+               static_cast<unsigned long long>(count), unit.c_str(), t, rate, unit.c_str(),
+               static_cast<double>(peak_rss_bytes()) / (1024.0 * 1024.0),
+               extra.empty() ? "" : ", ", extra.c_str());
+}
+
+}  // namespace splatkit

@@ -1,0 +1,46 @@
+// Progress reporting: a GDAL-style callback for library code, and the reporter the tools attach.
+//
+// Library functions take `const ProgressFn&` and call it with a fraction in [0, 1] and a short
+// phase name; they never print. The tools' Progress draws a bar on stderr only when stderr is a
+// terminal and -q was not given, and prints one summary line at the end (count, time, rate, peak
+// RSS) unless -q.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace splatkit {
+
+using ProgressFn = std::function<void(double fraction, const char* phase)>;
+
+// A callback that does nothing (the default argument of library functions).
+const ProgressFn& no_progress();
+
+// Peak resident set size of this process in bytes.
+uint64_t peak_rss_bytes();
+
+class Progress {
+ public:
+  Progress(std::string tool, bool quiet);
+  ~Progress();
+  // The callback to hand to library code. Throttled to ~10 redraws per second.
+  ProgressFn callback();
+  // Clears the bar and prints "<tool>: <count> <unit> in <t> s (<rate> <unit>/s), peak RSS <m> MiB"
+  // plus `extra` when given.
+  void finish(uint64_t count, const std::string& unit = "points", const std::string& extra = "");
+  double elapsed_seconds() const;
+
+ private:
+  void draw(double fraction, const char* phase);
+  void clear();
+
+  std::string tool_;
+  bool quiet_;
+  bool tty_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_, last_draw_;
+};
+
+}  // namespace splatkit

@@ -1,0 +1,68 @@
+#include "splatkit/splat_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace splatkit {
+
+float Bounds::diagonal() const { return empty() ? 0.0f : norm(max - min); }
+
+const ExtraAttribute* SplatCloud::find_extra(const std::string& name) const {
+  for (const auto& e : extras)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+ExtraAttribute* SplatCloud::find_extra(const std::string& name) {
+  for (auto& e : extras)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+void SplatCloud::check_consistent() const {
+  const std::size_t n = size();
+  auto check = [n](std::size_t m, const char* what) {
+    if (m != 0 && m != n)
+      throw std::logic_error(std::string("splat cloud: ") + what + " has " + std::to_string(m) +
+                             " entries for " + std::to_string(n) + " points");
+  };
+  check(normals.size(), "normals");
+  check(radii.size(), "radii");
+  check(colors.size(), "colors");
+  for (const auto& e : extras)
+    if (e.values.size() != n)
+      throw std::logic_error("splat cloud: extra attribute '" + e.name + "' has " +
+                             std::to_string(e.values.size()) + " entries for " +
+                             std::to_string(n) + " points");
+  if (color_bits != 8 && color_bits != 16) throw std::logic_error("splat cloud: color_bits");
+  if (!face_offsets.empty()) {
+    if (face_offsets.front() != 0 || face_offsets.back() != face_indices.size())
+      throw std::logic_error("splat cloud: face offsets do not span the indices");
+    for (std::size_t f = 1; f < face_offsets.size(); ++f)
+      if (face_offsets[f] < face_offsets[f - 1])
+        throw std::logic_error("splat cloud: face offsets decrease");
+    for (uint32_t i : face_indices)
+      if (i >= n) throw std::logic_error("splat cloud: face index out of range");
+  }
+}
+
+Bounds compute_bounds(const SplatCloud& cloud) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  Bounds b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+  for (const Vec3f& p : cloud.positions) {
+    b.min = {std::min(b.min.x, p.x), std::min(b.min.y, p.y), std::min(b.min.z, p.z)};
+    b.max = {std::max(b.max.x, p.x), std::max(b.max.y, p.y), std::max(b.max.z, p.z)};
+  }
+  return b;
+}
+
+std::array<double, 3> choose_origin(const std::array<double, 3>& p) {
+  const double m = std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+  if (!(m >= 1e4) || !std::isfinite(m)) return {0, 0, 0};
+  return {std::trunc(p[0] / 1000) * 1000, std::trunc(p[1] / 1000) * 1000,
+          std::trunc(p[2] / 1000) * 1000};
+}
+
+}  // namespace splatkit

@@ -1,0 +1,71 @@
+// The splat cloud: structure-of-arrays storage shared by every tool.
+//
+// Positions are float32 in a local frame; `origin` (float64) is added back to get the file's
+// coordinates. Readers set origin with choose_origin() so that georeferenced scans (UTM, LAS
+// offsets) keep millimetre precision in float. Optional attributes are either empty or hold
+// exactly size() entries. Colours keep the source depth (8 or 16 bits per channel) losslessly.
+// Extra per-point attributes (intensity, classification, any unknown PLY property, ...) are
+// carried through by name with their original scalar type.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "splatkit/scalar_type.h"
+#include "splatkit/vec3.h"
+
+namespace splatkit {
+
+struct ExtraAttribute {
+  std::string name;
+  ScalarType type = ScalarType::kFloat32;  // type in the source file, used again when writing
+  std::vector<double> values;              // size() entries; double holds every source type exactly
+                                           // except 64-bit integers above 2^53
+};
+
+struct Bounds {
+  Vec3f min{0, 0, 0}, max{0, 0, 0};  // local frame; min > max when the cloud is empty
+  bool empty() const { return min.x > max.x; }
+  Vec3f center() const { return (min + max) * 0.5f; }
+  float diagonal() const;
+};
+
+struct SplatCloud {
+  std::array<double, 3> origin{0, 0, 0};
+  std::vector<Vec3f> positions;                // #N, local frame
+  std::vector<Vec3f> normals;                  // #N unit vectors, or empty
+  std::vector<float> radii;                    // #N disc radii (same units as positions), or empty
+  std::vector<std::array<uint16_t, 3>> colors; // #N RGB, or empty
+  int color_bits = 8;                          // 8 or 16: range of `colors` is [0, 2^bits - 1]
+  std::vector<ExtraAttribute> extras;          // each with #N values
+  // Polygonal faces when the source had them (PLY, OFF): CSR of vertex indices.
+  std::vector<uint32_t> face_offsets;          // #F+1 (empty when there are no faces)
+  std::vector<uint32_t> face_indices;
+  // Scanner position (file coordinates) when the source records one (PCD VIEWPOINT, ...).
+  std::optional<std::array<double, 3>> viewpoint;
+
+  std::size_t size() const { return positions.size(); }
+  std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
+  bool has_normals() const { return !normals.empty(); }
+  bool has_radii() const { return !radii.empty(); }
+  bool has_colors() const { return !colors.empty(); }
+  const ExtraAttribute* find_extra(const std::string& name) const;
+  ExtraAttribute* find_extra(const std::string& name);
+
+  // Throws std::logic_error when an attribute array does not match size() or a face index is out
+  // of range. Readers call it before returning so that every consumer can rely on the invariants.
+  void check_consistent() const;
+};
+
+// Bounding box of the positions (local frame).
+Bounds compute_bounds(const SplatCloud& cloud);
+
+// Origin for a cloud whose first point (file coordinates) is p: zero when every |p_i| < 1e4,
+// otherwise p truncated to a multiple of 1000 — keeps local float coordinates small.
+std::array<double, 3> choose_origin(const std::array<double, 3>& p);
+
+}  // namespace splatkit

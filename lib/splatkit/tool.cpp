@@ -1,0 +1,69 @@
+#include "splatkit/tool.h"
+
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/info.h>
+
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <new>
+
+#include "splatkit/error.h"
+#include "splatkit/version.h"
+
+namespace splatkit {
+
+Tool::Tool(std::string name, std::string description, std::string examples)
+    : name_(std::move(name)), app_(std::move(description), name_) {
+  app_.set_version_flag("--version", std::string(name_) + " (splatkit) " + kVersion);
+  app_.add_flag("-q,--quiet", quiet_, "No progress and no summary line on stderr");
+  app_.footer("Examples:\n" + examples +
+              "\nExit codes: 0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, "
+              "5 internal error.\n'-' reads standard input / writes standard output.");
+  app_.get_formatter()->column_width(30);
+}
+
+void Tool::add_threads_option() {
+  app_.add_option("--threads", threads_, "Worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+}
+
+int Tool::run(int argc, char** argv, const std::function<void()>& work) {
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app_.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: %s\nRun '%s --help' for usage.\n", name_.c_str(), e.what(),
+                 name_.c_str());
+    return static_cast<int>(ErrorKind::kUsage);
+  }
+  // A closed pipe downstream becomes a write error (exit 4) instead of a silent kill.
+  std::signal(SIGPIPE, SIG_IGN);
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads_ > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  static_cast<std::size_t>(threads_));
+  else
+    threads_ = tbb::info::default_concurrency();
+  try {
+    work();
+    return 0;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());
+    return e.exit_code();
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "%s: out of memory\n", name_.c_str());
+    return static_cast<int>(ErrorKind::kBadInput);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", name_.c_str(), e.what());
+    return 5;
+  }
+}
+
+}  // namespace splatkit
