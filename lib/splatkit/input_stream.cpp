@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "splatkit/crc32c.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -54,6 +55,11 @@ std::optional<uint64_t> InputStream::remaining() const {
   return *size_ > consumed_ ? *size_ - consumed_ : 0;
 }
 
+void InputStream::consume(const char* p, std::size_t n) {
+  crc_ = crc32c(crc_, p, n);
+  consumed_ += n;
+}
+
 bool InputStream::fill(std::size_t want) {
   if (end_ - begin_ >= want) return true;
   if (mem_ || eof_) return false;
@@ -86,7 +92,7 @@ std::string_view InputStream::take(std::size_t n, const char* what) {
   const char* base = mem_ ? mem_ : buf_.data();
   std::string_view v(base + begin_, n);
   begin_ += n;
-  consumed_ += n;
+  consume(v.data(), n);
   return v;
 }
 
@@ -104,8 +110,8 @@ std::size_t InputStream::read_some(void* dst, std::size_t n) {
           fail(std::string("read error: ") + std::strerror(errno));
         }
         if (got == 0) { eof_ = true; break; }
+        consume(out + done, static_cast<std::size_t>(got));
         done += static_cast<std::size_t>(got);
-        consumed_ += static_cast<std::size_t>(got);
         continue;
       }
       begin_ = end_ = 0;
@@ -114,8 +120,8 @@ std::size_t InputStream::read_some(void* dst, std::size_t n) {
     const char* base = mem_ ? mem_ : buf_.data();
     std::size_t k = std::min(n - done, end_ - begin_);
     std::memcpy(out + done, base + begin_, k);
+    consume(base + begin_, k);
     begin_ += k;
-    consumed_ += k;
     done += k;
   }
   return done;
@@ -129,8 +135,8 @@ void InputStream::skip(uint64_t n, const char* what) {
   while (n > 0) {
     if (begin_ == end_ && !fill(1)) fail(std::string("unexpected end of file while skipping ") + what);
     std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(n, end_ - begin_));
+    consume((mem_ ? mem_ : buf_.data()) + begin_, k);
     begin_ += k;
-    consumed_ += k;
     n -= k;
   }
 }
@@ -145,8 +151,8 @@ bool InputStream::read_line(std::string& line, std::size_t max_len) {
     std::size_t k = nl ? static_cast<std::size_t>(nl - start) : end_ - begin_;
     if (line.size() + k > max_len) fail("line longer than " + std::to_string(max_len) + " bytes");
     line.append(start, k);
+    consume(start, k + (nl ? 1 : 0));
     begin_ += k + (nl ? 1 : 0);
-    consumed_ += k + (nl ? 1 : 0);
     if (nl) {
       if (!line.empty() && line.back() == '\r') line.pop_back();
       return true;

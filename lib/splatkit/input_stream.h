@@ -30,6 +30,8 @@ class InputStream {
   std::string name() const;                           // for messages ("<stdin>" for "-")
   std::optional<uint64_t> size_hint() const { return size_; }
   uint64_t offset() const { return consumed_; }       // bytes consumed so far
+  // CRC-32C of every byte consumed so far (the input checksum recorded in .splk metadata).
+  uint32_t checksum() const { return crc_; }
 
   // Up to n bytes (n <= buffer size) without consuming them; fewer only at end of file.
   std::string_view peek(std::size_t n);
@@ -52,6 +54,7 @@ class InputStream {
 
  private:
   bool fill(std::size_t want);  // ensures `want` bytes are buffered if the file has them
+  void consume(const char* p, std::size_t n);  // advances the offset and the checksum
 
   std::string path_;
   int fd_ = -1;
@@ -61,6 +64,7 @@ class InputStream {
   const char* mem_ = nullptr;  // memory mode: the whole input
   std::size_t begin_ = 0, end_ = 0;
   uint64_t consumed_ = 0;
+  uint32_t crc_ = 0;
   bool eof_ = false;
 };
 

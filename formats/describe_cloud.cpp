@@ -1,0 +1,140 @@
+#include "formats/describe_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "splatkit/error.h"
+
+namespace splatkit {
+namespace {
+
+using nlohmann::json;
+
+struct Range {
+  double min = std::numeric_limits<double>::infinity();
+  double max = -std::numeric_limits<double>::infinity();
+  void add(double v) {
+    min = std::min(min, v);
+    max = std::max(max, v);
+  }
+};
+
+json attribute(const std::string& name, ScalarType type, const Range& r, std::size_t n) {
+  json a = {{"name", name}, {"type", std::string(scalar_name(type))}};
+  if (n > 0) {
+    a["min"] = r.min;
+    a["max"] = r.max;
+  }
+  return a;
+}
+
+// Float values printed through %.9g so the same float32 gives the same text in every format.
+double tidy(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return std::strtod(buf, nullptr);
+}
+
+}  // namespace
+
+json describe_cloud(const LoadedCloud& doc, const std::string& path,
+                    std::optional<uint64_t> file_bytes) {
+  const SplatCloud& c = doc.cloud;
+  const std::size_t n = c.size();
+  json r;
+  r["file"] = display_name(path);
+  r["format"] = doc.format;
+  if (file_bytes) r["bytes"] = *file_bytes;
+  r["points"] = n;
+  r["faces"] = c.face_count();
+
+  json attrs = json::array();
+  const char* axis[3] = {"x", "y", "z"};
+  const char* naxis[3] = {"nx", "ny", "nz"};
+  const char* caxis[3] = {"red", "green", "blue"};
+  Range pos[3], nrm[3], col[3], rad;
+  for (const Vec3f& p : c.positions)
+    for (int k = 0; k < 3; ++k) pos[k].add(p[k]);
+  for (int k = 0; k < 3; ++k) {
+    Range file_range{pos[k].min + c.origin[k], pos[k].max + c.origin[k]};
+    attrs.push_back(attribute(axis[k], ScalarType::kFloat32, file_range, n));
+  }
+  for (const Vec3f& v : c.normals)
+    for (int k = 0; k < 3; ++k) nrm[k].add(v[k]);
+  for (int k = 0; k < 3 && c.has_normals(); ++k)
+    attrs.push_back(attribute(naxis[k], ScalarType::kFloat32, nrm[k], n));
+  for (float v : c.radii) rad.add(v);
+  if (c.has_radii()) attrs.push_back(attribute("radius", ScalarType::kFloat32, rad, n));
+  for (const auto& rgb : c.colors)
+    for (int k = 0; k < 3; ++k) col[k].add(rgb[k]);
+  for (int k = 0; k < 3 && c.has_colors(); ++k)
+    attrs.push_back(attribute(caxis[k], c.color_bits == 16 ? ScalarType::kUInt16 : ScalarType::kUInt8,
+                              col[k], n));
+  for (const auto& e : c.extras) {
+    Range er;
+    for (double v : e.values) er.add(v);
+    attrs.push_back(attribute(e.name, e.type, er, n));
+  }
+  for (auto& a : attrs)
+    if (a.contains("min")) {
+      a["min"] = tidy(a["min"].get<double>());
+      a["max"] = tidy(a["max"].get<double>());
+    }
+  r["attributes"] = attrs;
+
+  if (n > 0) {
+    json mn = json::array(), mx = json::array();
+    for (int k = 0; k < 3; ++k) {
+      mn.push_back(tidy(pos[k].min + c.origin[k]));
+      mx.push_back(tidy(pos[k].max + c.origin[k]));
+    }
+    r["bounds"] = {{"min", mn}, {"max", mx}};
+  }
+  r["origin"] = {c.origin[0], c.origin[1], c.origin[2]};
+  if (c.viewpoint) r["viewpoint"] = {(*c.viewpoint)[0], (*c.viewpoint)[1], (*c.viewpoint)[2]};
+  r["header"] = doc.header;
+  if (!doc.metadata.empty()) r["metadata"] = doc.metadata;
+  return r;
+}
+
+std::string describe_cloud_text(const json& r) {
+  std::ostringstream o;
+  o << "File: " << r["file"].get<std::string>() << "\n";
+  o << "Format: " << r["format"].get<std::string>();
+  if (r.contains("bytes")) o << " (" << r["bytes"].get<uint64_t>() << " bytes)";
+  o << "\nPoints: " << r["points"].get<uint64_t>() << "\n";
+  if (r["faces"].get<uint64_t>() > 0) o << "Faces: " << r["faces"].get<uint64_t>() << "\n";
+  if (r.contains("bounds")) {
+    auto v3 = [](const json& a) {
+      return a[0].dump() + ", " + a[1].dump() + ", " + a[2].dump();
+    };
+    o << "Bounds: min (" << v3(r["bounds"]["min"]) << ")\n";
+    o << "        max (" << v3(r["bounds"]["max"]) << ")\n";
+  }
+  const auto& org = r["origin"];
+  if (org[0].get<double>() != 0 || org[1].get<double>() != 0 || org[2].get<double>() != 0)
+    o << "Local origin: (" << org[0].dump() << ", " << org[1].dump() << ", " << org[2].dump()
+      << ")\n";
+  if (r.contains("viewpoint")) o << "Viewpoint: " << r["viewpoint"].dump() << "\n";
+  o << "Attributes:\n";
+  for (const auto& a : r["attributes"]) {
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-16s %-8s", a["name"].get<std::string>().c_str(),
+                  a["type"].get<std::string>().c_str());
+    o << line;
+    if (a.contains("min")) o << "  [" << a["min"].dump() << ", " << a["max"].dump() << "]";
+    o << "\n";
+  }
+  if (!r["header"].empty()) {
+    o << "Header:\n";
+    for (auto it = r["header"].begin(); it != r["header"].end(); ++it)
+      o << "  " << it.key() << ": " << it.value().dump() << "\n";
+  }
+  if (r.contains("metadata")) o << "Metadata:\n  " << r["metadata"].dump() << "\n";
+  return o.str();
+}
+
+}  // namespace splatkit

@@ -1,0 +1,59 @@
+# The promises every tool keeps: exit codes by class, one-line errors naming the file, atomic
+# outputs, '-' for stdin/stdout, --help/--version.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+S=$SRC/data-samples
+
+for t in splat-info splat-convert; do
+  expect_exit 0 "$BIN/$t" --version
+  grep -q "(splatkit)" "$WORK/stdout" && pass || fail "$t --version output"
+  expect_exit 0 "$BIN/$t" --help
+  grep -q "Examples:" "$WORK/stdout" && pass || fail "$t --help has no examples"
+  expect_exit 1 "$BIN/$t" --no-such-option
+done
+
+# Missing file: exit 2, one line naming the tool and the file.
+expect_exit 2 "$BIN/splat-info" "$WORK/missing.ply"
+expect_stderr "^splat-info: .*missing.ply: cannot open"
+
+# Unknown content: exit 3.
+printf 'hello\n' > "$WORK/what.bin"
+expect_exit 3 "$BIN/splat-info" "$WORK/what.bin"
+expect_stderr "what.bin: unknown file format"
+
+# LAZ is recognised and refused clearly (exit 3).
+printf 'LASF' > "$WORK/scan.laz"; head -c 400 /dev/zero >> "$WORK/scan.laz"
+expect_exit 3 "$BIN/splat-info" "$WORK/scan.laz"
+expect_stderr "LAZ"
+
+# A good sample and conversions through pipes.
+sample=$S/sphere.ply
+expect_exit 0 "$BIN/splat-info" --json "$sample"
+points=$(grep -m1 '"points"' "$WORK/stdout" | tr -dc 0-9)
+[ -n "$points" ] && [ "$points" -gt 0 ] && pass || fail "no point count for $sample"
+"$BIN/splat-convert" -q "$sample" - | "$BIN/splat-info" --json - > "$WORK/piped.json" 2>"$WORK/stderr"
+expect_eq "pipe exit" "$?" 0
+expect_eq "points through a pipe" "$(grep -m1 '"points"' "$WORK/piped.json" | tr -dc 0-9)" "$points"
+cat "$sample" | "$BIN/splat-convert" -q - "$WORK/from-stdin.splk"
+expect_eq "stdin input" "$?" 0
+
+# Same input and options: byte-identical outputs.
+"$BIN/splat-convert" -q "$sample" "$WORK/a.splk"
+"$BIN/splat-convert" -q "$sample" "$WORK/b.splk"
+cmp -s "$WORK/a.splk" "$WORK/b.splk" && pass || fail "two runs differ"
+
+# Atomic output: a failing run leaves no file and does not clobber a good one.
+cp "$WORK/a.splk" "$WORK/keep.splk"
+head -c 300 "$sample" > "$WORK/truncated.ply"
+expect_exit 2 "$BIN/splat-convert" -q "$WORK/truncated.ply" "$WORK/keep.splk"
+cmp -s "$WORK/a.splk" "$WORK/keep.splk" && pass || fail "failed run clobbered the output"
+expect_exit 2 "$BIN/splat-convert" -q "$WORK/truncated.ply" "$WORK/new.splk"
+[ ! -e "$WORK/new.splk" ] && pass || fail "failed run left a partial output"
+ls "$WORK" | grep -q '\.tmp\.' && fail "temporary file left behind" || pass
+
+# Output failure: exit 4 naming the output.
+expect_exit 4 "$BIN/splat-convert" -q "$sample" "$WORK/no/such/dir/out.splk"
+expect_stderr "out.splk: cannot create"
+# Writing LAS is not supported: exit 3 before any work.
+expect_exit 3 "$BIN/splat-convert" -q "$sample" "$WORK/out.las"
+
+finish
