@@ -1,6 +1,7 @@
 // .splk, splatkit's own container. Spec: splk.md.
 #pragma once
 
+#include <cstdint>
 #include <string_view>
 
 #include "formats/loaded_cloud.h"
@@ -9,14 +10,28 @@
 
 namespace splatkit {
 
-// The 16-byte file magic at offset 0.
+// Chunk flag bits (splk.md): an unknown critical chunk makes readers fail; a chunk tied to the
+// splats indexes them, so a tool that reorders, adds or removes splats must drop or rebuild it.
+inline constexpr uint32_t kSplkChunkCritical = 1u << 0;
+inline constexpr uint32_t kSplkChunkTiedToSplats = 1u << 1;
+
+// True when the first bytes are the .splk magic (bytes 1-4 "SPLK" after 0x89, or 0x09 when a 7-bit
+// transfer stripped the high bit, so that read_splk reports a damaged magic as such). The fixed
+// header is 16 bytes: 8-byte magic, major and minor version, file flags.
 bool is_splk_magic(std::string_view first_bytes);
 
-// Reads every chunk: META into doc.metadata, SPLT into doc.cloud, any other chunk (known to a
-// later stage, or unknown) into doc.chunks in file order. Checks every size and checksum.
+// Reads every chunk: META into doc.metadata, SPLT into doc.cloud, FACE into the cloud's faces, any
+// other chunk (known to a later stage, or unknown and not critical) into doc.chunks in file order;
+// doc.header gets {"version", "flags", "chunks": [{type, offset, flags, bytes, crc}...]}. Checks
+// every size and checksum; works on pipes (no seeking; allocations grow with the bytes read).
+// Throws Error(kBadInput) for damaged files, Error(kUnsupported) for an unknown major version, file
+// flag, chunk flag or critical chunk.
 LoadedCloud read_splk(InputStream& in, const ReadOptions& options = {});
 
-// Writes META (doc.metadata), SPLT (doc.cloud), then doc.chunks in order, then END.
+// Writes META (doc.metadata), SPLT (doc.cloud), FACE (when the cloud has faces), then doc.chunks in
+// order, then END; version 1.0. Deterministic: the same doc gives the same bytes. Throws
+// Error(kOutput) for what the format cannot hold (non-finite positions, empty or duplicate extra
+// names, a carried chunk with an invalid or reserved type) and for write failures.
 void write_splk(const LoadedCloud& doc, OutputFile& out);
 
 }  // namespace splatkit
