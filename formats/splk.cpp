@@ -23,7 +23,7 @@ namespace {
 // Bulk columns are read, checksummed and converted in steps of this size: the step is still in
 // cache when its CRC is computed, and on a pipe a vector never grows by more than one step
 // beyond what was read (plus the vector's own geometric growth).
-constexpr std::size_t kStep = std::size_t{1} << 20;
+constexpr std::size_t kStep = std::size_t{4} << 20;
 
 constexpr unsigned char kMagic[8] = {0x89, 'S', 'P', 'L', 'K', '\r', '\n', 0x1A};
 constexpr uint16_t kMajor = 1;
