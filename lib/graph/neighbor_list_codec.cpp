@@ -1,0 +1,173 @@
+#include "graph/neighbor_list_codec.h"
+
+#include <stdexcept>
+
+#include "splatkit/error.h"
+
+namespace splatkit::graph {
+namespace {
+
+void put_varint(std::vector<uint8_t>& out, uint64_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<uint8_t>(v | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<uint8_t>(v));
+}
+
+uint64_t zigzag(int64_t x) { return (static_cast<uint64_t>(x) << 1) ^ static_cast<uint64_t>(x >> 63); }
+int64_t unzigzag(uint64_t u) { return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1); }
+
+void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("encode_neighbor_lists: " + what);
+  };
+  if (offsets.empty() || offsets[0] != 0 || offsets.back() != neighbors.size())
+    fail("offsets must run from 0 to the neighbour count");
+  const uint64_t n = offsets.size() - 1;
+  if (n >= (uint64_t{1} << 32)) fail("more than 2^32 - 1 rows");
+  for (uint64_t i = 0; i < n; ++i) {
+    if (offsets[i + 1] < offsets[i]) fail("offsets decrease at row " + std::to_string(i));
+    for (uint64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      if (neighbors[k] >= n || neighbors[k] == i)
+        fail("row " + std::to_string(i) + ": bad index " + std::to_string(neighbors[k]));
+      if (k > offsets[i] && neighbors[k] <= neighbors[k - 1])
+        fail("row " + std::to_string(i) + " is not strictly ascending");
+    }
+  }
+}
+
+// A bounds-checked reader over the payload; every failure names the byte and the row.
+class Cursor {
+ public:
+  Cursor(std::span<const uint8_t> bytes, const std::string& name) : bytes_(bytes), name_(name) {}
+
+  std::size_t pos() const { return pos_; }
+  std::size_t left() const { return bytes_.size() - pos_; }
+
+  [[noreturn]] void fail(uint64_t row, std::size_t at, const std::string& what) const {
+    throw_bad_input(name_, "graph payload: row " + std::to_string(row) + ": byte " +
+                               std::to_string(at) + ": " + what);
+  }
+
+  uint64_t varint(uint64_t row) {
+    const std::size_t start = pos_;
+    uint64_t v = 0;
+    for (int shift = 0;; shift += 7) {
+      if (pos_ >= bytes_.size()) fail(row, start, "truncated varint");
+      const uint8_t b = bytes_[pos_++];
+      if (shift == 63 && b > 1) fail(row, start, "varint overflows 64 bits");
+      v |= static_cast<uint64_t>(b & 0x7F) << shift;
+      if (!(b & 0x80)) {
+        if (b == 0 && shift > 0) fail(row, start, "varint not in shortest form");
+        return v;
+      }
+    }
+  }
+
+ private:
+  std::span<const uint8_t> bytes_;
+  const std::string& name_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
+                                           std::span<const uint32_t> neighbors,
+                                           NeighborListMode mode) {
+  check_layout(offsets, neighbors);
+  const uint64_t n = offsets.size() - 1;
+  std::vector<uint8_t> out;
+  out.reserve(n + neighbors.size() * (mode == NeighborListMode::kUpper ? 1 : 2));
+  for (uint64_t i = 0; i < n; ++i) {
+    uint64_t begin = offsets[i];
+    const uint64_t end = offsets[i + 1];
+    if (mode == NeighborListMode::kUpper)
+      while (begin < end && neighbors[begin] < i) ++begin;
+    put_varint(out, end - begin);
+    for (uint64_t k = begin; k < end; ++k) {
+      if (k > begin)
+        put_varint(out, uint64_t{neighbors[k]} - neighbors[k - 1] - 1);
+      else if (mode == NeighborListMode::kUpper)
+        put_varint(out, neighbors[k] - i - 1);
+      else
+        put_varint(out, zigzag(static_cast<int64_t>(neighbors[k]) - static_cast<int64_t>(i)));
+    }
+  }
+  return out;
+}
+
+NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num_rows,
+                                    NeighborListMode mode, const std::string& name) {
+  if (mode != NeighborListMode::kFull && mode != NeighborListMode::kUpper)
+    throw_bad_input(name, "graph payload: unknown neighbour list mode " +
+                              std::to_string(static_cast<int>(mode)));
+  // Every row takes at least its degree byte: bounds the allocations by the payload size.
+  if (num_rows > bytes.size())
+    throw_bad_input(name, "graph payload: " + std::to_string(num_rows) + " rows cannot fit in " +
+                              std::to_string(bytes.size()) + " bytes");
+  Cursor in(bytes, name);
+  NeighborLists rows;  // kUpper: the stored halves first, mirrored below
+  rows.offsets.reserve(num_rows + 1);
+  rows.offsets.push_back(0);
+  for (uint64_t i = 0; i < num_rows; ++i) {
+    const std::size_t at = in.pos();
+    const uint64_t degree = in.varint(i);
+    if (degree > in.left())  // each entry takes at least one byte
+      in.fail(i, at, "degree " + std::to_string(degree) + " exceeds the " +
+                         std::to_string(in.left()) + " bytes left");
+    uint64_t prev = 0;
+    for (uint64_t k = 0; k < degree; ++k) {
+      const std::size_t entry_at = in.pos();
+      const uint64_t code = in.varint(i);
+      uint64_t j;
+      // A code >= num_rows gives an index >= num_rows; testing it first keeps the sums below
+      // from wrapping around 2^64 back into range.
+      if (k > 0) {
+        j = code >= num_rows ? ~uint64_t{0} : prev + 1 + code;
+      } else if (mode == NeighborListMode::kUpper) {
+        j = code >= num_rows ? ~uint64_t{0} : i + 1 + code;
+      } else {
+        const int64_t delta = unzigzag(code);
+        // i < 2^64 / 2 here (num_rows <= bytes.size()), so the sum cannot wrap past a valid index.
+        j = delta < 0 && static_cast<uint64_t>(-(delta + 1)) >= i ? ~uint64_t{0}
+                                                                   : i + static_cast<uint64_t>(delta);
+        if (j == i) in.fail(i, entry_at, "row lists its own index");
+      }
+      if (j >= num_rows)
+        in.fail(i, entry_at, "neighbour index " + (j == ~uint64_t{0} ? std::string("overflow")
+                                                                      : std::to_string(j)) +
+                                 " out of range (rows: " + std::to_string(num_rows) + ")");
+      rows.neighbors.push_back(static_cast<uint32_t>(j));
+      prev = j;
+    }
+    rows.offsets.push_back(rows.neighbors.size());
+  }
+  if (in.left() != 0)
+    throw_bad_input(name, "graph payload: byte " + std::to_string(in.pos()) + ": " +
+                              std::to_string(in.left()) + " trailing bytes after the last row");
+  if (mode == NeighborListMode::kFull) return rows;
+
+  // Mirror: row j = (the i < j that store j, ascending i) followed by its stored j' > j.
+  std::vector<uint64_t> lower(num_rows + 1, 0);
+  for (uint32_t j : rows.neighbors) ++lower[j];
+  NeighborLists full;
+  full.offsets.assign(num_rows + 1, 0);
+  for (uint64_t i = 0; i < num_rows; ++i)
+    full.offsets[i + 1] = full.offsets[i] + lower[i] + (rows.offsets[i + 1] - rows.offsets[i]);
+  full.neighbors.resize(full.offsets[num_rows]);
+  std::vector<uint64_t> cursor(full.offsets.begin(), full.offsets.end() - 1);
+  for (uint64_t i = 0; i < num_rows; ++i) {
+    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k)
+      full.neighbors[cursor[rows.neighbors[k]]++] = static_cast<uint32_t>(i);
+  }
+  for (uint64_t i = 0; i < num_rows; ++i) {
+    uint64_t out = full.offsets[i] + lower[i];
+    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k)
+      full.neighbors[out++] = rows.neighbors[k];
+  }
+  return full;
+}
+
+}  // namespace splatkit::graph
