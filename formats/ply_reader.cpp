@@ -5,6 +5,8 @@
 // x y z / nx ny nz stored as three consecutive native float32 are copied as one 12-byte unit.
 // Everything else (ASCII, faces, vertex rows with lists) goes through a row-at-a-time path.
 // Every count is checked against the bytes left before anything is allocated. Spec: ply.md.
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -744,11 +746,35 @@ class PlyDecoder {
   }
 
   void resize_vertices(std::size_t n) {
-    cloud_.positions.resize(n);
-    if (plan_.has_normals) cloud_.normals.resize(n);
-    if (plan_.has_radii) cloud_.radii.resize(n);
-    if (plan_.has_colors) cloud_.colors.resize(n);
-    for (ExtraAttribute& x : cloud_.extras) x.values.resize(n);
+    resize_advised(cloud_.positions, n);
+    if (plan_.has_normals) resize_advised(cloud_.normals, n);
+    if (plan_.has_radii) resize_advised(cloud_.radii, n);
+    if (plan_.has_colors) resize_advised(cloud_.colors, n);
+    for (ExtraAttribute& x : cloud_.extras) resize_advised(x.values, n);
+  }
+
+  // Large arrays are filled once, front to back: transparent huge pages cut the page faults of
+  // that first touch (they dominate the decode time of a 10M-point file) by a factor of 512.
+  template <class V>
+  static void resize_advised(V& v, std::size_t n) {
+    if (n > v.capacity()) {
+      v.reserve(n);
+      advise_huge_pages(v.data(), v.capacity() * sizeof(v[0]));
+    }
+    v.resize(n);
+  }
+
+  static void advise_huge_pages(void* p, std::size_t bytes) {
+#ifdef MADV_HUGEPAGE
+    constexpr uintptr_t kHuge = uintptr_t{2} << 20;
+    if (bytes < 2 * kHuge) return;
+    const uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
+    const uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)p;
+    (void)bytes;
+#endif
   }
 
   void choose_origin_from(const double p[3]) {
@@ -862,7 +888,11 @@ class PlyDecoder {
         const int c = role - static_cast<int>(Role::kRed);
         auto* dst = cloud_.colors.data() + first;
         visit_column(swap_, s.type, col, stride, n, [&](std::size_t i, auto v) {
-          dst[i][c] = color_value(static_cast<double>(v), std::is_floating_point_v<decltype(v)>, s);
+          using T = decltype(v);
+          if constexpr (std::is_same_v<T, uint8_t> || std::is_same_v<T, uint16_t>)
+            dst[i][c] = static_cast<uint16_t>(v * s.color_scale);  // in range by construction
+          else
+            dst[i][c] = color_value(static_cast<double>(v), std::is_floating_point_v<T>, s);
         });
       } else if (s.role == Role::kExtra) {
         double* dst = cloud_.extras[s.extra].values.data() + first;
@@ -948,9 +978,11 @@ class PlyDecoder {
 
   template <class Rows>
   void read_face_indices(Rows& rows, ScalarType item, uint64_t n) {
+    // Faces index with uint32: vertices past 2^32 cannot be referenced.
+    const double limit = static_cast<double>(std::min<uint64_t>(vertex_count_, uint64_t{1} << 32));
     for (uint64_t k = 0; k < n; ++k) {
       const double v = rows.scalar(item);
-      if (!(v >= 0 && v < static_cast<double>(vertex_count_)))
+      if (!(v >= 0 && v < limit))
         rows.fail("vertex index " + number_text(v) + " out of range (" +
                   std::to_string(vertex_count_) + " vertices)");
       cloud_.face_indices.push_back(static_cast<uint32_t>(v));
