@@ -14,8 +14,9 @@ namespace splatkit {
 enum class ShapeKind {
   kSphere,      // unit sphere at the origin
   kTorus,       // major radius 1, minor radius 0.35, axis +z
-  kCadPart,     // a block with a cylindrical boss and a chamfer: planes and cylinders meeting at
-                // 60–120° creases, closed, every face a labelled smooth patch
+  kCadPart,     // a prism with a 60° bevel, a cylindrical boss and a through hole: planes and
+                // cylinders meeting at creases of 60°, 90° and 120°, closed; 9 labelled patches
+                // (layout and dimensions in synthetic_shapes.cpp and data-samples/README.md)
   kTwoSpheres,  // two unit spheres, centres 1.2 apart on x, interpenetrating; red and blue
   kCube,        // axis-aligned cube of side 2 at the origin, six patches
 };
@@ -24,15 +25,26 @@ struct ShapeOptions {
   ShapeKind kind = ShapeKind::kSphere;
   std::size_t points = 10000;  // approximately: uniform area sampling hits it within rounding
   uint64_t seed = 1;
-  double noise = 0.0;  // Gaussian noise, standard deviation as a fraction of the bbox diagonal,
-                       // applied along the true normal; true normals stay exact
-  bool random = false;   // false: stratified (near-uniform) sampling; true: i.i.d. uniform
+  double noise = 0.0;   // Gaussian noise, standard deviation as a fraction of the bbox diagonal,
+                        // applied along the true normal; true normals stay exact
+  bool random = false;  // false: stratified (near-uniform) sampling; true: i.i.d. uniform
   bool keep_inside = false;  // kTwoSpheres: keep the parts of each sphere inside the other
+                             // (false: the visible union, a closed surface whose intersection
+                             // circle is a crease; true: two whole interpenetrating spheres)
 };
 
 // Returns positions, exact outward unit normals, radii (mean distance to 5 nearest neighbours of
 // the ideal sampling density, so splats overlap), colours (kTwoSpheres: red/blue; else grey) and
 // an extra attribute "patch_id" (uint32: the true smooth patch each point was sampled from).
+//
+// Sampling is area-uniform. Stratified (random = false): each patch is cut into rows and cells of
+// area h² = total area / points; one point per cell, jittered over the central half of the cell,
+// so spacing is near-uniform and every surface point lies within radius of a sample. Random: i.i.d.
+// uniform, exactly `points` points. Radius: stratified, max(1.05 h, the cell's own covering
+// distance); random, 1.71 h (the expected mean 5-NN distance, 0.90 h, would leave ~8 % of a
+// Poisson sample's surface uncovered; 1.71 h leaves 1e-4). Points are ordered patch by patch
+// (random: in draw order). Throws Error(kUsage) for points == 0 or > 2^30, or noise negative or not
+// finite.
 SplatCloud make_shape(const ShapeOptions& options);
 
 // Parses "sphere", "torus", "cad", "two-spheres", "cube"; throws Error(kUsage) otherwise.
@@ -40,7 +52,19 @@ ShapeKind parse_shape_kind(const std::string& name);
 std::string shape_kind_name(ShapeKind kind);
 
 // For kCadPart (and kCube): distance from p to the nearest crease (edge between two patches),
-// used to report accuracy per distance band.
+// used to report accuracy per distance band. kTwoSpheres: distance to the intersection circle
+// (a crease of the union; where the surfaces cross with keep_inside). kSphere, kTorus: +infinity.
 float distance_to_crease(ShapeKind kind, const Vec3f& p);
+
+// Names of the smooth patches, indexed by patch_id ("bottom", "boss-side", "+x", ...).
+std::vector<std::string> shape_patch_names(const ShapeOptions& options);
+
+// Axis-aligned bounds of the noiseless shape; noise is a fraction of their diagonal.
+Bounds shape_bounds(const ShapeOptions& options);
+
+// Euclidean distance from p to the noiseless surface, and to one patch of it (patch < number of
+// patches, else std::out_of_range). Exact up to float rounding.
+float distance_to_shape(const ShapeOptions& options, const Vec3f& p);
+float distance_to_patch(const ShapeOptions& options, uint32_t patch, const Vec3f& p);
 
 }  // namespace splatkit
