@@ -1,0 +1,166 @@
+#include "normals/estimate_normals.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <vector>
+
+#include "normals/merge_duplicates.h"
+#include "normals/neighborhood_pca.h"
+#include "normals/resolve_degenerate_normals.h"
+#include "normals/splat_radius.h"
+#include "splatkit/error.h"
+#include "splatkit/spatial_index.h"
+
+namespace splatkit {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void check_options(const NormalOptions& o) {
+  if (o.k < 3) throw_usage("-k must be at least 3 (a plane needs 3 points)");
+  if (o.radius_k < 1) throw_usage("--radius-k must be at least 1");
+  if (!std::isfinite(o.radius_scale) || !(o.radius_scale > 0))
+    throw_usage("--radius-scale must be a finite number > 0");
+}
+
+// Calls `progress` from whichever worker gets the lock; the others skip (the tools' callbacks are
+// not thread-safe, and a skipped update is harmless).
+class SharedProgress {
+ public:
+  SharedProgress(const ProgressFn& fn, double from, double to, std::size_t total, const char* phase)
+      : fn_(fn), from_(from), to_(to), total_(std::max<std::size_t>(total, 1)), phase_(phase) {}
+  void add(std::size_t done) {
+    const std::size_t now = done_.fetch_add(done) + done;
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (lock.owns_lock())
+      fn_(from_ + (to_ - from_) * static_cast<double>(now) / static_cast<double>(total_), phase_);
+  }
+
+ private:
+  const ProgressFn& fn_;
+  double from_, to_;
+  std::size_t total_;
+  const char* phase_;
+  std::atomic<std::size_t> done_{0};
+  std::mutex mutex_;
+};
+
+// Phase 3: one streamed kNN pass gives every point its PCA normal and its radius; points whose
+// neighbourhood is degenerate are flagged for phase 4.
+void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
+                           std::vector<uint8_t>& degenerate, const ProgressFn& progress) {
+  const std::size_t row_k = std::max(o.k, o.radius_k + 1);
+  const std::span<const Vec3f> positions(cloud.positions);
+  SharedProgress shared(progress, 0.15, 0.85, cloud.size(), "normals");
+  index.for_each_knn_block(row_k, [&](std::span<const uint32_t> queries,
+                                      std::span<const uint32_t> indices,
+                                      std::span<const float> sq_dists) {
+    for (std::size_t r = 0; r < queries.size(); ++r) {
+      const uint32_t i = queries[r];
+      const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
+      cloud.normals[i] = pca.normal;
+      degenerate[i] = pca.degenerate ? 1 : 0;
+      cloud.radii[i] = splat_radius(sq_dists.subspan(r * row_k, row_k), o.radius_k);
+    }
+    shared.add(queries.size());
+  });
+}
+
+void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
+            NormalReport& report) {
+  if (o.orient == NormalOrientation::kNone) return;
+  if (o.orient == NormalOrientation::kViewpoint && !o.viewpoint && !cloud.viewpoint)
+    throw_usage("--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
+  (void)index;
+  (void)report;
+  throw Error(ErrorKind::kUnsupported,
+              "--orient " + orientation_name(o.orient) + " is not built yet; use --orient none");
+}
+
+}  // namespace
+
+std::string method_name(NormalMethod m) { return m == NormalMethod::kPca ? "pca" : "robust"; }
+
+std::string orientation_name(NormalOrientation o) {
+  switch (o) {
+    case NormalOrientation::kMst: return "mst";
+    case NormalOrientation::kViewpoint: return "viewpoint";
+    default: return "none";
+  }
+}
+
+nlohmann::json NormalReport::to_json() const {
+  const double total = timings.value("total", 0.0);
+  return {{"points", {{"input", input_points}, {"output", output_points}}},
+          {"duplicates_merged", duplicates_merged},
+          {"degenerate_points", degenerate_points},
+          {"unresolved_points", unresolved_points},
+          {"flipped_points", flipped_points},
+          {"components", components},
+          {"timings_s", timings},
+          {"points_per_s", total > 0 ? static_cast<double>(output_points) / total : 0.0}};
+}
+
+NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
+                              const ProgressFn& progress) {
+  check_options(options);
+  if (options.method == NormalMethod::kRobust)
+    throw Error(ErrorKind::kUnsupported, "--method robust is not built yet; use --method pca");
+  NormalReport report;
+  report.input_points = cloud.size();
+  const Clock::time_point start = Clock::now();
+  auto timed = [&](const char* phase, auto&& work) {
+    const Clock::time_point t0 = Clock::now();
+    work();
+    report.timings[phase] = seconds_since(t0);
+  };
+
+  if (!options.keep_duplicates) {
+    progress(0.0, "duplicates");
+    timed("merge_duplicates",
+          [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
+  }
+  const std::size_t n = cloud.size();
+  report.output_points = n;
+  progress(0.05, "kd-tree");
+  SpatialIndex index;
+  timed("index", [&] { index = SpatialIndex(cloud.positions); });
+
+  cloud.normals.assign(n, Vec3f{0, 0, 1});
+  cloud.radii.assign(n, 0.0f);
+  std::vector<uint8_t> degenerate(n, 0);
+  timed("normals_radii",
+        [&] { pca_normals_and_radii(index, cloud, options, degenerate, progress); });
+
+  progress(0.85, "degenerate");
+  timed("degenerate", [&] {
+    std::vector<uint32_t> points;
+    for (std::size_t i = 0; i < n; ++i)
+      if (degenerate[i]) points.push_back(static_cast<uint32_t>(i));
+    const DegenerateStats stats = resolve_degenerate_normals(
+        index, cloud.positions, points, options.k, options.radius_k, cloud.normals, cloud.radii);
+    report.degenerate_points = points.size();
+    report.unresolved_points = stats.unresolved;
+  });
+  degenerate = {};
+
+  progress(0.9, "orientation");
+  timed("orient", [&] { orient(cloud, index, options, report); });
+  if (options.radius_scale != 1.0f)
+    for (float& r : cloud.radii) r *= options.radius_scale;
+  report.timings["total"] = seconds_since(start);
+  progress(1.0, "done");
+  return report;
+}
+
+}  // namespace splatkit

@@ -1,0 +1,77 @@
+// estimate_normals: turns a raw point cloud into splats — unit normal and disc radius per point —
+// the work behind the estimate-normals tool (SPEC §1; seed 000 §2.1.1, seed 002 §2 and §6).
+//
+// Pipeline, each phase timed in the report:
+//   1. merge exact duplicates (merge_duplicates.h) unless keep_duplicates: fewer points out, the
+//      first occurrence's attributes kept;
+//   2. build the kd-tree (SpatialIndex) over the positions;
+//   3. one streamed kNN pass with max(k, radius_k + 1) points per row (the point itself first):
+//      PCA normal over the first k entries (neighborhood_pca.h), splat radius from the first
+//      radius_k neighbours (splat_radius.h); no n×k array is ever held;
+//   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear) get their normal from a
+//      wider neighbourhood (resolve_degenerate_normals.h);
+//   5. method robust: crease-preserving refinement (robust_normals.h);
+//   6. orientation: mst (consistent over a minimum spanning tree, outward per component), viewpoint
+//      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
+//
+// Output: the same cloud (positions, colours, extras, faces carried through; faces remapped after
+// merging) with normals and radii replaced; never NaN. Deterministic: byte-identical results for
+// any thread count (every per-point result depends only on the point's own kNN row, and kNN rows
+// are exact with ties broken by index). Runs in parallel with TBB under the caller's limits.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "splatkit/progress.h"
+#include "splatkit/splat_cloud.h"
+
+namespace splatkit {
+
+enum class NormalMethod { kPca, kRobust };
+enum class NormalOrientation { kMst, kViewpoint, kNone };
+
+struct NormalOptions {
+  std::size_t k = 16;          // points per PCA neighbourhood, the point itself included (>= 3)
+  std::size_t radius_k = 5;    // neighbours averaged for the radius (>= 1)
+  float radius_scale = 1.0f;   // radii are multiplied by this (finite, > 0)
+  NormalMethod method = NormalMethod::kPca;
+  NormalOrientation orient = NormalOrientation::kMst;
+  // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
+  // no value here, the cloud's own viewpoint is used; neither present is an Error(kUsage).
+  std::optional<std::array<double, 3>> viewpoint;
+  bool keep_duplicates = false;
+};
+
+struct NormalReport {
+  std::size_t input_points = 0;
+  std::size_t output_points = 0;
+  std::size_t duplicates_merged = 0;
+  std::size_t degenerate_points = 0;  // k-neighbourhood degenerate, normal taken from a wider one
+  std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
+  std::size_t flipped_points = 0;     // normals whose sign the orientation changed
+  std::size_t components = 0;         // kNN-graph components (orient mst only)
+  // Seconds per phase: "merge_duplicates", "index", "normals_radii", "degenerate", "robust",
+  // "orient" (only the phases that ran), and "total" (all of them).
+  nlohmann::json timings = nlohmann::json::object();
+
+  // {"points": {"input", "output"}, "duplicates_merged", "degenerate_points", ...,
+  //  "timings_s": {...}, "points_per_s": output / total}.
+  nlohmann::json to_json() const;
+};
+
+// Replaces cloud.normals and cloud.radii (and merges duplicates) in place. Throws Error(kUsage) for
+// bad options (k < 3, radius_k < 1, radius_scale not finite and > 0, viewpoint needed but absent)
+// and Error(kUnsupported) for a method or orientation not built in. An empty cloud is returned
+// empty. Progress fractions cover the whole call.
+NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
+                              const ProgressFn& progress = no_progress());
+
+std::string method_name(NormalMethod m);
+std::string orientation_name(NormalOrientation o);
+
+}  // namespace splatkit
