@@ -100,6 +100,14 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
   return r;
 }
 
+// Numbers as a person reads them: integers without ".0", others with up to 9 significant digits.
+static std::string num(const json& v) {
+  if (!v.is_number_float()) return v.dump();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
+  return buf;
+}
+
 std::string describe_cloud_text(const json& r) {
   std::ostringstream o;
   o << "File: " << r["file"].get<std::string>() << "\n";
@@ -109,15 +117,14 @@ std::string describe_cloud_text(const json& r) {
   if (r["faces"].get<uint64_t>() > 0) o << "Faces: " << r["faces"].get<uint64_t>() << "\n";
   if (r.contains("bounds")) {
     auto v3 = [](const json& a) {
-      return a[0].dump() + ", " + a[1].dump() + ", " + a[2].dump();
+      return num(a[0]) + ", " + num(a[1]) + ", " + num(a[2]);
     };
     o << "Bounds: min (" << v3(r["bounds"]["min"]) << ")\n";
     o << "        max (" << v3(r["bounds"]["max"]) << ")\n";
   }
   const auto& org = r["origin"];
   if (org[0].get<double>() != 0 || org[1].get<double>() != 0 || org[2].get<double>() != 0)
-    o << "Local origin: (" << org[0].dump() << ", " << org[1].dump() << ", " << org[2].dump()
-      << ")\n";
+    o << "Local origin: (" << num(org[0]) << ", " << num(org[1]) << ", " << num(org[2]) << ")\n";
   if (r.contains("viewpoint")) o << "Viewpoint: " << r["viewpoint"].dump() << "\n";
   o << "Attributes:\n";
   for (const auto& a : r["attributes"]) {
@@ -125,7 +132,7 @@ std::string describe_cloud_text(const json& r) {
     std::snprintf(line, sizeof line, "  %-16s %-8s", a["name"].get<std::string>().c_str(),
                   a["type"].get<std::string>().c_str());
     o << line;
-    if (a.contains("min")) o << "  [" << a["min"].dump() << ", " << a["max"].dump() << "]";
+    if (a.contains("min")) o << "  [" << num(a["min"]) << ", " << num(a["max"]) << "]";
     o << "\n";
   }
   if (!r["header"].empty()) {

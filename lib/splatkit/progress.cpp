@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <string>
 
 namespace splatkit {
 
@@ -55,13 +56,26 @@ void Progress::clear() {
   drawn_ = false;
 }
 
+namespace {
+// 1234567 -> "1.23 M"; 980 -> "980 ".
+std::string si(double v) {
+  char buf[32];
+  if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.3g G", v / 1e9);
+  else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.3g M", v / 1e6);
+  else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.3g k", v / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.3g ", v);
+  return buf;
+}
+}  // namespace
+
 void Progress::finish(uint64_t count, const std::string& unit, const std::string& extra) {
   clear();
   if (quiet_) return;
   double t = elapsed_seconds();
   double rate = t > 0 ? static_cast<double>(count) / t : 0.0;
-  std::fprintf(stderr, "%s: %llu %s in %.3f s (%.3g %s/s), peak RSS %.1f MiB%s%s\n", tool_.c_str(),
-               static_cast<unsigned long long>(count), unit.c_str(), t, rate, unit.c_str(),
+  std::fprintf(stderr, "%s: %llu %s in %.3f s (%s%s/s), peak RSS %.1f MiB%s%s\n", tool_.c_str(),
+               static_cast<unsigned long long>(count), unit.c_str(), t, si(rate).c_str(),
+               unit.c_str(),
                static_cast<double>(peak_rss_bytes()) / (1024.0 * 1024.0),
                extra.empty() ? "" : ", ", extra.c_str());
 }
