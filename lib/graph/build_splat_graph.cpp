@@ -1,0 +1,222 @@
+#include "graph/build_splat_graph.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "graph/classify_clip_partners.h"
+#include "graph/disc_disc_intersect.h"
+#include "graph/linsen_boundary_test.h"
+#include "splatkit/error.h"
+
+namespace splatkit::graph {
+namespace {
+
+// Splats per parallel task and per output block: fixed, so the block layout (and with it every
+// result) does not depend on the number of threads.
+constexpr std::size_t kBlock = 4096;
+
+template <class Fn>
+void for_each_splat(std::size_t n, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) fn(i);
+                    });
+}
+
+void check_inputs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                  std::span<const float> radii, const SplatGraphOptions& o) {
+  if (normals.size() != positions.size() || radii.size() != positions.size())
+    throw std::invalid_argument("build_splat_graph: positions, normals, radii differ in size");
+  if (!(o.sharp_threshold >= -1 && o.sharp_threshold <= 1))
+    throw_usage("--sharp must be in [-1, 1] (got " + std::to_string(o.sharp_threshold) + ")");
+  if (!(o.boundary_gap_degrees > 0 && o.boundary_gap_degrees <= 360))
+    throw_usage("--boundary-gap must be in (0, 360] degrees");
+  if (!(o.flat_tolerance >= 0 && std::isfinite(o.flat_tolerance)))
+    throw_usage("the flatness tolerance must be finite and >= 0");
+  for (std::size_t i = 0; i < radii.size(); ++i)
+    if (!(radii[i] >= 0) || !std::isfinite(radii[i]))
+      throw Error(ErrorKind::kBadInput, "splat " + std::to_string(i) + ": radius " +
+                                            std::to_string(radii[i]) + " is not a finite length");
+}
+
+void flag_sharp_edges(std::span<const Vec3f> normals, float w_s, SplatGraph& g) {
+  for_each_splat(normals.size(), [&](std::size_t i) {
+    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+      const float w = dot(normals[i], normals[g.graph.neighbors[k]]);  // [3.2]
+      // Written as "not >=" so that a NaN weight (a broken normal) counts as sharp.
+      g.edge_flags[k] = !(w >= w_s) ? kEdgeSharp : 0;
+    }
+  });
+}
+
+struct Scratch {
+  std::vector<Vec3f> centres, normals;
+  std::vector<uint32_t> surfaces, partners;
+  std::vector<double> angles;
+  ClipClassification classification;
+};
+
+void classify_splats(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                     double alpha, tbb::enumerable_thread_specific<Scratch>& scratch,
+                     SplatGraph& g) {
+  for_each_splat(positions.size(), [&](std::size_t i) {
+    const auto row = g.graph.row(i);
+    const uint8_t* flags = g.edge_flags.data() + g.graph.offsets[i];
+    if (std::none_of(flags, flags + row.size(), [](uint8_t f) { return f & kEdgeSharp; })) {
+      g.classes[i] = SplatClass::kSmooth;
+      return;
+    }
+    Scratch& s = scratch.local();
+    s.centres.clear();
+    for (std::size_t k = 0; k < row.size(); ++k)
+      if (!(flags[k] & kEdgeSharp)) s.centres.push_back(positions[row[k]]);
+    const bool boundary =
+        linsen_boundary_test(positions[i], normals[i], s.centres, alpha, s.angles).boundary;
+    g.classes[i] = boundary ? SplatClass::kEdge : SplatClass::kIntersection;
+  });
+}
+
+void flag_crossings(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                    std::span<const float> radii, SplatGraph& g) {
+  auto disc = [&](uint32_t i) { return SplatDisc::circle(positions[i], normals[i], radii[i]); };
+  for_each_splat(positions.size(), [&](std::size_t i) {
+    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+      if (!(g.edge_flags[k] & kEdgeSharp)) continue;
+      const uint32_t j = g.graph.neighbors[k];
+      const uint32_t lo = std::min<uint32_t>(i, j), hi = std::max<uint32_t>(i, j);
+      if (disc_disc_intersect(disc(lo), disc(hi)).crosses()) g.edge_flags[k] |= kEdgeCrossing;
+    }
+  });
+}
+
+// One block of rows of the clip table, filled independently of the other blocks.
+struct ClipBlock {
+  std::vector<uint32_t> counts, partners;
+  std::vector<uint8_t> flags, splat_flags;
+};
+
+void clip_row(std::size_t i, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+              std::span<const float> radii, const SplatGraphOptions& o, const SplatGraph& g,
+              Scratch& s, ClipBlock& out) {
+  s.centres.clear();
+  s.normals.clear();
+  s.surfaces.clear();
+  s.partners.clear();
+  if (g.classes[i] == SplatClass::kEdge) {
+    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+      if (!(g.edge_flags[k] & kEdgeCrossing)) continue;
+      const uint32_t j = g.graph.neighbors[k];
+      s.partners.push_back(j);
+      s.centres.push_back(positions[j]);
+      s.normals.push_back(normals[j]);
+      if (o.per_surface) s.surfaces.push_back(g.surfaces.surface[j]);
+    }
+  }
+  out.counts.push_back(static_cast<uint32_t>(s.partners.size()));
+  if (s.partners.empty()) {
+    out.splat_flags.push_back(0);
+    return;
+  }
+  ClipClassification& c = s.classification;
+  classify_clip_partners(positions[i], normals[i], s.centres, s.normals, s.surfaces,
+                         o.flat_tolerance * radii[i], c);
+  for (std::size_t k = 0; k < c.order.size(); ++k) {
+    out.partners.push_back(s.partners[c.order[k]]);
+    out.flags.push_back(c.flags[k]);
+  }
+  out.splat_flags.push_back(c.combine_intersection ? kClipCombineIntersection : 0);
+}
+
+void build_clip_table(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                      std::span<const float> radii, const SplatGraphOptions& o,
+                      tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
+  const std::size_t n = positions.size();
+  std::vector<ClipBlock> blocks((n + kBlock - 1) / kBlock);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    Scratch& s = scratch.local();
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
+      clip_row(i, positions, normals, radii, o, g, s, blocks[b]);
+  });
+  ClipPartnerTable& t = g.clip;
+  t.offsets.assign(1, 0);
+  t.offsets.reserve(n + 1);
+  for (const ClipBlock& b : blocks) {
+    for (uint32_t c : b.counts) t.offsets.push_back(t.offsets.back() + c);
+    t.partners.insert(t.partners.end(), b.partners.begin(), b.partners.end());
+    t.flags.insert(t.flags.end(), b.flags.begin(), b.flags.end());
+    t.splat_flags.insert(t.splat_flags.end(), b.splat_flags.begin(), b.splat_flags.end());
+  }
+}
+
+SplatGraphStats count_stats(const SplatGraph& g) {
+  SplatGraphStats st;
+  st.splats = g.classes.size();
+  st.edges = g.graph.neighbors.size() / 2;
+  st.mean_degree = st.splats ? double(g.graph.neighbors.size()) / double(st.splats) : 0;
+  for (uint8_t f : g.edge_flags) {
+    st.sharp_edges += (f & kEdgeSharp) != 0;
+    st.crossing_edges += (f & kEdgeCrossing) != 0;
+  }
+  st.sharp_edges /= 2;
+  st.crossing_edges /= 2;
+  for (SplatClass c : g.classes) {
+    st.candidate_splats += c != SplatClass::kSmooth;
+    st.edge_splats += c == SplatClass::kEdge;
+    st.intersection_splats += c == SplatClass::kIntersection;
+  }
+  for (std::size_t i = 0; i + 1 < g.clip.offsets.size(); ++i)
+    st.clipped_splats += g.clip.offsets[i + 1] > g.clip.offsets[i];
+  st.clip_partners = g.clip.partners.size();
+  st.surfaces = g.surfaces.count();
+  return st;
+}
+
+}  // namespace
+
+SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                             std::span<const float> radii, const SplatGraphOptions& options,
+                             const ProgressFn& progress) {
+  check_inputs(positions, normals, radii, options);
+  SplatGraph g;
+  progress(0.0, "index");
+  {
+    const SpatialIndex index(positions);
+    progress(0.2, "neighbour graph");
+    g.graph = index.sphere_overlaps(radii);
+  }
+  progress(0.6, "sharp edges");
+  g.edge_flags.resize(g.graph.neighbors.size());
+  flag_sharp_edges(normals, options.sharp_threshold, g);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  g.classes.resize(positions.size());
+  progress(0.7, "boundary test");
+  classify_splats(positions, normals, options.boundary_gap_degrees * std::numbers::pi / 180,
+                  scratch, g);
+  progress(0.75, "disc crossings");
+  flag_crossings(positions, normals, radii, g);
+  progress(0.85, "surfaces");
+  g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
+  progress(0.9, "clip partners");
+  build_clip_table(positions, normals, radii, options, scratch, g);
+  g.stats = count_stats(g);
+  progress(1.0, "done");
+  return g;
+}
+
+SplatGraph build_splat_graph(const SplatCloud& cloud, const SplatGraphOptions& options,
+                             const ProgressFn& progress) {
+  if (!cloud.has_normals())
+    throw Error(ErrorKind::kBadInput, "the splats have no normals: run estimate-normals first");
+  if (!cloud.has_radii())
+    throw Error(ErrorKind::kBadInput, "the splats have no radii: run estimate-normals first");
+  return build_splat_graph(cloud.positions, cloud.normals, cloud.radii, options, progress);
+}
+
+}  // namespace splatkit::graph

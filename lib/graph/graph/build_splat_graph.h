@@ -1,0 +1,78 @@
+// The splat graph of seed 002 ch. 3–4 (SPEC §4): neighbour graph by bounding spheres, sharp and
+// continuous edges, per-splat class (Linsen), disc–disc crossings, clip partners and their
+// classification, and the smooth surfaces (SPEC §5) used to group the partners.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "graph/clip_record.h"
+#include "graph/segment_surfaces.h"
+#include "splatkit/progress.h"
+#include "splatkit/spatial_index.h"
+#include "splatkit/splat_cloud.h"
+
+namespace splatkit::graph {
+
+enum class SplatClass : uint8_t {
+  kSmooth = 0,        // no sharp edge
+  kEdge = 1,          // a sharp edge, and its continuous neighbours leave a gap > α: it lies on a
+                      // boundary of its smooth surface (a crease, a corner, an open border); clipped
+  kIntersection = 2,  // a sharp edge, but surrounded by continuous neighbours: its surface is
+                      // crossed by another one; never clipped (§4.1)
+};
+
+// Per neighbour entry (parallel to NeighborGraph::neighbors; symmetric).
+inline constexpr uint8_t kEdgeSharp = 1;     // w_ij = n_i·n_j < w_s [3.3] (or not a number)
+inline constexpr uint8_t kEdgeCrossing = 2;  // sharp, and the discs cross (§4.2)
+
+struct SplatGraphOptions {
+  float sharp_threshold = 0.9f;        // w_s: an edge is sharp iff n_i·n_j < w_s, in [-1, 1]
+  double boundary_gap_degrees = 90;    // α of the Linsen test, in (0, 360]
+  double flat_tolerance = 1e-3;        // convexity tolerance, as a fraction of the splat's radius
+  bool per_surface = true;             // group clip partners by surface (false: the seed's
+                                       // single set per splat, for comparison)
+};
+
+// The columns of seed 002 tables 6.1–6.3. Edges are undirected pairs.
+struct SplatGraphStats {
+  uint64_t splats = 0;
+  uint64_t edges = 0;
+  double mean_degree = 0;          // m = 2 |E| / |V| [3.4]
+  uint64_t sharp_edges = 0;
+  uint64_t crossing_edges = 0;     // sharp edges whose discs cross: the real intersections
+  uint64_t candidate_splats = 0;   // splats with at least one sharp edge
+  uint64_t edge_splats = 0;        // class kEdge
+  uint64_t intersection_splats = 0;
+  uint64_t clipped_splats = 0;     // splats with at least one clip partner
+  uint64_t clip_partners = 0;      // entries of the clip table
+  uint32_t surfaces = 0;
+};
+
+struct SplatGraph {
+  NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} [3.1]
+  std::vector<uint8_t> edge_flags;  // kEdge* bits, parallel to graph.neighbors
+  std::vector<SplatClass> classes;  // #N
+  Segmentation surfaces;            // BFS over continuous edges (segment_surfaces)
+  ClipPartnerTable clip;            // partners of the kEdge splats; empty rows for the others
+  SplatGraphStats stats;
+};
+
+// positions, normals (unit), radii (bounding-sphere radii): #N each, same frame. Circular splats.
+// Partners: for a kEdge splat S_i, every sharp neighbour S_j whose disc crosses S_i's (the test
+// is always run with the lower index first, so it is symmetric); classified by
+// classify_clip_partners with the partners' surface ids (options.per_surface) and tolerance
+// flat_tolerance · r_i. Throws Error(kUsage) for options out of range, Error(kBadInput) for a
+// NaN/infinite position or a radius that is negative or not finite, std::invalid_argument for
+// arrays of different sizes. Runs in parallel with TBB; the result is identical for any thread
+// count. Memory: about 5 bytes per neighbour entry plus ~40 bytes per splat.
+SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                             std::span<const float> radii, const SplatGraphOptions& options,
+                             const ProgressFn& progress = no_progress());
+
+// Same, for a cloud; Error(kBadInput) when it has no normals or no radii (run estimate-normals).
+SplatGraph build_splat_graph(const SplatCloud& cloud, const SplatGraphOptions& options,
+                             const ProgressFn& progress = no_progress());
+
+}  // namespace splatkit::graph
