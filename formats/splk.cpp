@@ -51,7 +51,7 @@ static_assert(sizeof(Vec3f) == 12, "Vec3f columns are read and written as 3 pack
 static_assert(sizeof(std::array<uint16_t, 3>) == 6, "16-bit colours are 3 packed uint16");
 constexpr bool kLittleEndianHost = std::endian::native == std::endian::little;
 
-// --- little-endian encoding ---------------------------------------------------------------------
+// --- little-endian encoding ---
 
 template <class U>
 void put_le(std::string& s, U v) {
@@ -87,8 +87,11 @@ bool is_utf8(std::string_view s) {
   std::size_t i = 0, n = s.size();
   while (i < n) {
     unsigned char c = p[i];
-    std::size_t len = c < 0x80 ? 1 : (c >= 0xC2 && c <= 0xDF) ? 2 : (c >= 0xE0 && c <= 0xEF) ? 3
-                                  : (c >= 0xF0 && c <= 0xF4) ? 4 : 0;
+    std::size_t len = c < 0x80                   ? 1
+                      : (c >= 0xC2 && c <= 0xDF) ? 2
+                      : (c >= 0xE0 && c <= 0xEF) ? 3
+                      : (c >= 0xF0 && c <= 0xF4) ? 4
+                                                 : 0;
     if (len == 0 || i + len > n) return false;
     unsigned char lo = 0x80, hi = 0xBF;
     if (c == 0xE0) lo = 0xA0;
@@ -110,13 +113,15 @@ bool is_valid_type(const ChunkType& t) {
   for (std::size_t i = 0; i < 4; ++i) {
     unsigned char c = static_cast<unsigned char>(t[i]);
     bool alnum = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
-    if (c == ' ' && i > 0) padding = true;
-    else if (!alnum || padding) return false;
+    if (c == ' ' && i > 0)
+      padding = true;
+    else if (!alnum || padding)
+      return false;
   }
   return true;
 }
 
-// --- scalar conversion of extra attributes ------------------------------------------------------
+// --- scalar conversion of extra attributes ---
 
 // double -> integer type: rounded to nearest, saturated, NaN -> 0 (splk.md, "Writing an extra").
 template <class T>
@@ -136,17 +141,19 @@ T to_scalar(double v) {
 
 template <class T>
 T load_value(const unsigned char* p) {
-  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
-            std::conditional_t<sizeof(T) == 2, uint16_t,
-            std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+  using U = std::conditional_t<
+      sizeof(T) == 1, uint8_t,
+      std::conditional_t<sizeof(T) == 2, uint16_t,
+                         std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
   return std::bit_cast<T>(get_le<U>(p));
 }
 
 template <class T>
 void store_value(unsigned char* p, T v) {
-  using U = std::conditional_t<sizeof(T) == 1, uint8_t,
-            std::conditional_t<sizeof(T) == 2, uint16_t,
-            std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
+  using U = std::conditional_t<
+      sizeof(T) == 1, uint8_t,
+      std::conditional_t<sizeof(T) == 2, uint16_t,
+                         std::conditional_t<sizeof(T) == 4, uint32_t, uint64_t>>>;
   U u = std::bit_cast<U>(v);
   for (std::size_t i = 0; i < sizeof(T); ++i) p[i] = static_cast<unsigned char>(u >> (8 * i));
 }
@@ -155,16 +162,36 @@ void store_value(unsigned char* p, T v) {
 template <class F>
 void with_scalar_type(ScalarType t, F&& f) {
   switch (t) {
-    case ScalarType::kInt8: f(int8_t{}); break;
-    case ScalarType::kUInt8: f(uint8_t{}); break;
-    case ScalarType::kInt16: f(int16_t{}); break;
-    case ScalarType::kUInt16: f(uint16_t{}); break;
-    case ScalarType::kInt32: f(int32_t{}); break;
-    case ScalarType::kUInt32: f(uint32_t{}); break;
-    case ScalarType::kInt64: f(int64_t{}); break;
-    case ScalarType::kUInt64: f(uint64_t{}); break;
-    case ScalarType::kFloat32: f(float{}); break;
-    case ScalarType::kFloat64: f(double{}); break;
+    case ScalarType::kInt8:
+      f(int8_t{});
+      break;
+    case ScalarType::kUInt8:
+      f(uint8_t{});
+      break;
+    case ScalarType::kInt16:
+      f(int16_t{});
+      break;
+    case ScalarType::kUInt16:
+      f(uint16_t{});
+      break;
+    case ScalarType::kInt32:
+      f(int32_t{});
+      break;
+    case ScalarType::kUInt32:
+      f(uint32_t{});
+      break;
+    case ScalarType::kInt64:
+      f(int64_t{});
+      break;
+    case ScalarType::kUInt64:
+      f(uint64_t{});
+      break;
+    case ScalarType::kFloat32:
+      f(float{});
+      break;
+    case ScalarType::kFloat64:
+      f(double{});
+      break;
   }
 }
 
@@ -173,7 +200,7 @@ bool is_scalar_code(uint8_t code) {
          code <= static_cast<uint8_t>(ScalarType::kFloat64);
 }
 
-// --- writing --------------------------------------------------------------------------------------
+// --- writing ---
 
 // Where a payload goes: the first pass only measures and checksums it (the chunk header, which
 // precedes the payload, holds both and the output may be a pipe), the second pass writes it.
@@ -339,7 +366,7 @@ void check_writable(const LoadedCloud& doc, const OutputFile& out) {
   }
 }
 
-// --- reading --------------------------------------------------------------------------------------
+// --- reading ---
 
 struct ChunkHeader {
   ChunkType type{};
@@ -369,8 +396,8 @@ class Payload {
            " are left in the payload");
     std::size_t got = in_.read_some(dst, n);
     if (got != n)
-      fail("payload truncated: " + std::to_string(h_.size) + " bytes declared, the file ends after " +
-           std::to_string(h_.size - left_ + got));
+      fail("payload truncated: " + std::to_string(h_.size) +
+           " bytes declared, the file ends after " + std::to_string(h_.size - left_ + got));
     crc_ = crc32c(crc_, dst, n);
     left_ -= n;
   }
@@ -392,8 +419,9 @@ class Payload {
   // Reads `count` packed little-endian values (each T made of `width`-byte scalars) into v. The
   // vector grows step by step with what was read, so a lying size on a pipe cannot make it
   // allocate more than the bytes that really arrive (plus one step).
-  template <class T>
-  void read_array(std::vector<T>& v, uint64_t count, std::size_t width, const std::string& what) {
+  template <class Vector>
+  void read_array(Vector& v, uint64_t count, std::size_t width, const std::string& what) {
+    using T = typename Vector::value_type;
     check_fits(count, sizeof(T), what);
     v.clear();
     if (in_.size_hint()) v.reserve(static_cast<std::size_t>(count));  // checked against the file
@@ -402,14 +430,14 @@ class Payload {
       std::size_t old = v.size();
       v.resize(old + static_cast<std::size_t>(std::min<uint64_t>(per_step, count - old)));
       read(v.data() + old, (v.size() - old) * sizeof(T), what);
-      if constexpr (!kLittleEndianHost) swap_values(v.data() + old, (v.size() - old) * sizeof(T), width);
+      if constexpr (!kLittleEndianHost)
+        swap_values(v.data() + old, (v.size() - old) * sizeof(T), width);
     }
   }
 
   // Checks that the payload was used up exactly and that its checksum matches.
   void finish() {
-    if (left_ != 0)
-      fail(std::to_string(left_) + " unused bytes at the end of the payload");
+    if (left_ != 0) fail(std::to_string(left_) + " unused bytes at the end of the payload");
     if (crc_ != h_.crc)
       fail("checksum mismatch: CRC-32C of the payload is " + hex32(crc_) + ", the header says " +
            hex32(h_.crc));
@@ -428,14 +456,17 @@ void read_file_header(InputStream& in, LoadedCloud& doc) {
   if (got >= 5 && std::memcmp(h + 1, "SPLK", 4) == 0) {
     std::size_t n = std::min<std::size_t>(got, 8);
     if (h[0] == 0x09)
-      throw_bad_input(in.path(), "damaged .splk magic: the high bit of byte 0 was cleared "
-                                 "(7-bit transfer)");
+      throw_bad_input(in.path(),
+                      "damaged .splk magic: the high bit of byte 0 was cleared "
+                      "(7-bit transfer)");
     if (n >= 7 && h[5] == '\n')
-      throw_bad_input(in.path(), "damaged .splk magic: \\r\\n became \\n (text-mode transfer "
-                                 "converted the line endings)");
+      throw_bad_input(in.path(),
+                      "damaged .splk magic: \\r\\n became \\n (text-mode transfer "
+                      "converted the line endings)");
     if (n >= 7 && h[5] == '\r' && h[6] == '\r')
-      throw_bad_input(in.path(), "damaged .splk magic: \\n became \\r\\n (text-mode transfer "
-                                 "converted the line endings)");
+      throw_bad_input(in.path(),
+                      "damaged .splk magic: \\n became \\r\\n (text-mode transfer "
+                      "converted the line endings)");
   }
   if (got < 8 && std::memcmp(h, kMagic, got) == 0)
     throw_bad_input(in.path(), "truncated header: " + std::to_string(got) + " of 16 bytes");
@@ -446,11 +477,13 @@ void read_file_header(InputStream& in, LoadedCloud& doc) {
   const uint32_t flags = get_le<uint32_t>(h + 12);
   const std::string version = std::to_string(major) + "." + std::to_string(minor);
   if (major != kMajor)
-    throw_unsupported(in.path(), ".splk version " + version + " is not supported (this reader "
-                                 "reads 1.x; a newer splatkit may read it)");
+    throw_unsupported(in.path(), ".splk version " + version +
+                                     " is not supported (this reader "
+                                     "reads 1.x; a newer splatkit may read it)");
   if (flags & ~kKnownFileFlags)
-    throw_unsupported(in.path(), "file flags 0x" + hex32(flags) + " have bits this reader does not "
-                                 "know (a newer splatkit may read it)");
+    throw_unsupported(in.path(), "file flags 0x" + hex32(flags) +
+                                     " have bits this reader does not "
+                                     "know (a newer splatkit may read it)");
   doc.header["version"] = version;
   doc.header["flags"] = flags;
   doc.header["chunks"] = nlohmann::json::array();
@@ -473,8 +506,9 @@ bool read_chunk_header(InputStream& in, ChunkHeader& h) {
   if (!is_valid_type(h.type)) {
     char hex[24];
     std::snprintf(hex, sizeof hex, "%02x %02x %02x %02x", b[0], b[1], b[2], b[3]);
-    throw_bad_input(in.path(), where + "type " + hex + " is not four letters or digits (damaged "
-                                                       "file or not a chunk boundary)");
+    throw_bad_input(in.path(), where + "type " + hex +
+                                   " is not four letters or digits (damaged "
+                                   "file or not a chunk boundary)");
   }
   const std::string name = where + "'" + type_name(h.type) + "'";
   if (h.flags & ~kKnownChunkFlags)
@@ -491,20 +525,25 @@ bool read_chunk_header(InputStream& in, ChunkHeader& h) {
   return true;
 }
 
-std::string read_bytes(Payload& p, const std::string& what) {
-  std::vector<char> v;
-  p.read_array(v, p.left(), 1, what);
-  return std::string(v.begin(), v.end());
-}
+// nlohmann-json parses any depth but dumps recursively: a deeply nested META would overflow the
+// stack of whoever shows or rewrites it, so the depth is bounded here (real metadata uses ~4).
+constexpr int kMaxMetaDepth = 64;
+struct MetaTooDeep {};
 
 nlohmann::json read_meta(Payload& p) {
-  std::string text = read_bytes(p, "metadata");
+  std::string text;
+  p.read_array(text, p.left(), 1, "metadata");
   p.finish();
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = nlohmann::json::parse(text, [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      if (depth > kMaxMetaDepth) throw MetaTooDeep{};
+      return true;
+    });
   } catch (const nlohmann::json::exception& e) {
     p.fail(std::string("invalid JSON: ") + e.what());
+  } catch (const MetaTooDeep&) {
+    p.fail("the metadata JSON nests deeper than " + std::to_string(kMaxMetaDepth) + " levels");
   }
   if (!j.is_object()) p.fail("the metadata is JSON but not an object");
   return j;
@@ -621,8 +660,8 @@ void read_splt(Payload& p, SplatCloud& c) {
   const uint32_t columns = get_le<uint32_t>(h.data() + 60);
   if (flags & ~kSpltHasViewpoint) p.fail("unknown SPLT flag bits 0x" + hex32(flags));
   if (n > p.left() / 12)
-    p.fail("point count " + std::to_string(n) + " needs " + (n > UINT64_MAX / 12 ? "more than 2^64"
-                                                              : std::to_string(n * 12)) +
+    p.fail("point count " + std::to_string(n) + " needs " +
+           (n > UINT64_MAX / 12 ? "more than 2^64" : std::to_string(n * 12)) +
            " bytes of positions alone, but the payload has " + std::to_string(p.left()) + " left");
 
   std::set<std::pair<uint8_t, std::string>> seen;
@@ -656,7 +695,8 @@ void read_face(Payload& p, SplatCloud& c) {
   const uint64_t words = p.left() / 4;
   if (p.left() % 4 != 0 || faces >= words || indices != words - faces - 1)
     p.fail(std::to_string(faces) + " faces and " + std::to_string(indices) +
-           " indices do not match the " + std::to_string(p.left()) + " bytes of offsets and indices");
+           " indices do not match the " + std::to_string(p.left()) +
+           " bytes of offsets and indices");
   if (indices > UINT32_MAX) p.fail(std::to_string(indices) + " indices exceed 32-bit offsets");
   p.read_array(c.face_offsets, faces + 1, 4, "face offsets");
   p.read_array(c.face_indices, indices, 4, "face indices");
@@ -741,7 +781,8 @@ LoadedCloud read_splk(InputStream& in, const ReadOptions& /*options*/) {
                                     {"crc", hex32(h.crc)}});
     if (h.type == kEnd) {
       Payload p(in, h);
-      if (h.size != 0) p.fail("the END chunk has a payload of " + std::to_string(h.size) + " bytes");
+      if (h.size != 0)
+        p.fail("the END chunk has a payload of " + std::to_string(h.size) + " bytes");
       p.finish();
       break;
     }
@@ -784,6 +825,11 @@ void write_splk(const LoadedCloud& doc, OutputFile& out) {
     write_chunk(out, ChunkType{r.type[0], r.type[1], r.type[2], r.type[3]}, r.flags,
                 [&](PayloadSink& s) { s.put(r.payload.data(), r.payload.size()); });
   write_chunk(out, kEnd, kSplkChunkCritical, [](PayloadSink&) {});
+}
+
+std::size_t drop_chunks_tied_to_splats(LoadedCloud& doc) {
+  return std::erase_if(doc.chunks,
+                       [](const RawChunk& c) { return (c.flags & kSplkChunkTiedToSplats) != 0; });
 }
 
 }  // namespace splatkit

@@ -1,6 +1,7 @@
 // .splk, splatkit's own container. Spec: splk.md.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -22,7 +23,8 @@ bool is_splk_magic(std::string_view first_bytes);
 
 // Reads every chunk: META into doc.metadata, SPLT into doc.cloud, FACE into the cloud's faces, any
 // other chunk (known to a later stage, or unknown and not critical) into doc.chunks in file order;
-// doc.header gets {"version", "flags", "chunks": [{type, offset, flags, bytes, crc}...]}. Checks
+// doc.header gets {"version": "1.0", "flags": 0, "chunks": [{"type", "offset", "flags", "bytes",
+// "crc" (8 hex digits)}, ...]} in file order, END included (what splat-info shows). Checks
 // every size and checksum; works on pipes (no seeking; allocations grow with the bytes read).
 // Throws Error(kBadInput) for damaged files, Error(kUnsupported) for an unknown major version, file
 // flag, chunk flag or critical chunk.
@@ -33,5 +35,9 @@ LoadedCloud read_splk(InputStream& in, const ReadOptions& options = {});
 // Error(kOutput) for what the format cannot hold (non-finite positions, empty or duplicate extra
 // names, a carried chunk with an invalid or reserved type) and for write failures.
 void write_splk(const LoadedCloud& doc, OutputFile& out);
+
+// Removes the carried chunks flagged kSplkChunkTiedToSplats: for tools that reorder, add or remove
+// splats, whose carried per-splat data would otherwise refer to the wrong splats. Returns how many.
+std::size_t drop_chunks_tied_to_splats(LoadedCloud& doc);
 
 }  // namespace splatkit

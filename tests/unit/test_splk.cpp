@@ -27,7 +27,7 @@
 namespace splatkit {
 namespace {
 
-// --- building files by hand --------------------------------------------------------------------
+// --- building files by hand ---
 
 std::string le(uint64_t v, int bytes) {
   std::string s;
@@ -76,7 +76,7 @@ std::string meta_chunk(const std::string& json = R"({"tool":"test"})") {
 // The pinned tiny file, byte by byte (splk.md, "The smallest file").
 std::string tiny_file() { return file_header() + meta_chunk() + one_point_splt() + end_chunk(); }
 
-// --- running the reader and writer ---------------------------------------------------------------
+// --- running the reader and writer ---
 
 LoadedCloud read_bytes(const std::string& bytes) {
   InputStream in("mem.splk", bytes.data(), bytes.size());
@@ -154,12 +154,14 @@ LoadedCloud full_doc() {
 void expect_same_values(const std::vector<double>& a, const std::vector<double>& b) {
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (std::isnan(a[i])) EXPECT_TRUE(std::isnan(b[i])) << i;
-    else EXPECT_EQ(a[i], b[i]) << i;
+    if (std::isnan(a[i]))
+      EXPECT_TRUE(std::isnan(b[i])) << i;
+    else
+      EXPECT_EQ(a[i], b[i]) << i;
   }
 }
 
-// --- round trips ---------------------------------------------------------------------------------
+// --- round trips ---
 
 TEST(SplkMagic, RecognisesTheMagicAndDamagedForms) {
   EXPECT_TRUE(is_splk_magic(std::string("\x89SPLK\r\n\x1A\x01\x00", 10)));
@@ -217,15 +219,13 @@ TEST_F(SplkTest, EmptyCloudRoundTrips) {
   EXPECT_EQ(back.cloud.size(), 0u);
 }
 
-TEST_F(SplkTest, WritingIsDeterministic) {
-  EXPECT_EQ(encode(full_doc()), encode(full_doc()));
-}
+TEST_F(SplkTest, WritingIsDeterministic) { EXPECT_EQ(encode(full_doc()), encode(full_doc())); }
 
 TEST_F(SplkTest, ExtrasAreRoundedAndSaturatedToTheirType) {
   LoadedCloud doc;
   doc.cloud.positions = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-  doc.cloud.extras.push_back({"u8", ScalarType::kUInt8,
-                              {300, -4, 2.5, std::numeric_limits<double>::quiet_NaN()}});
+  doc.cloud.extras.push_back(
+      {"u8", ScalarType::kUInt8, {300, -4, 2.5, std::numeric_limits<double>::quiet_NaN()}});
   doc.cloud.extras.push_back({"i64", ScalarType::kInt64, {1e30, -1e30, -2.5, 0}});
   LoadedCloud back = read_bytes(encode(doc));
   EXPECT_EQ(back.cloud.extras[0].values, (std::vector<double>{255, 0, 3, 0}));
@@ -233,7 +233,7 @@ TEST_F(SplkTest, ExtrasAreRoundedAndSaturatedToTheirType) {
             (std::vector<double>{9223372036854775807.0, -9223372036854775808.0, -3, 0}));
 }
 
-// --- pinned bytes --------------------------------------------------------------------------------
+// --- pinned bytes ---
 
 std::string read_source_file(const std::string& rel) {
   std::ifstream f(std::string(SPLATKIT_SOURCE_DIR) + "/" + rel, std::ios::binary);
@@ -298,7 +298,7 @@ TEST_F(SplkTest, ChunksMayComeInAnyOrder) {
   EXPECT_EQ(back.metadata["tool"], "test");
 }
 
-// --- carried chunks ------------------------------------------------------------------------------
+// --- carried chunks ---
 
 TEST_F(SplkTest, UnknownChunkIsCarriedThroughByteForByte) {
   const std::string payload("\x00\x01\xFFhello\r\n", 10);
@@ -311,6 +311,16 @@ TEST_F(SplkTest, UnknownChunkIsCarriedThroughByteForByte) {
   EXPECT_EQ(std::string(doc.chunks[0].payload.begin(), doc.chunks[0].payload.end()), payload);
   EXPECT_EQ(std::string(doc.chunks[1].type, 4), "ZZZ9");
   EXPECT_EQ(encode(doc), f);
+}
+
+TEST_F(SplkTest, ChunksTiedToSplatsCanBeDropped) {
+  const std::string f = file_header() + one_point_splt() + chunk("xPER", 2, "per-splat") +
+                        chunk("xALL", 0, "global") + chunk("xTWO", 3 & ~1, "") + end_chunk();
+  LoadedCloud doc = read_bytes(f);
+  ASSERT_EQ(doc.chunks.size(), 3u);
+  EXPECT_EQ(drop_chunks_tied_to_splats(doc), 2u);
+  ASSERT_EQ(doc.chunks.size(), 1u);
+  EXPECT_EQ(std::string(doc.chunks[0].type, 4), "xALL");
 }
 
 TEST_F(SplkTest, WriterRefusesWhatTheFormatCannotHold) {
@@ -341,7 +351,7 @@ TEST_F(SplkTest, WriterRefusesWhatTheFormatCannotHold) {
   EXPECT_FALSE(std::ifstream(dir_ + "/out.splk").good()) << "a failed write left a file";
 }
 
-// --- pipes (size unknown: no size check, allocations must follow the bytes that arrive) -----------
+// --- pipes (size unknown: no size check, allocations must follow the bytes that arrive) ---
 
 // Feeds `bytes` through a pipe and reads it as /dev/fd/N, where the size is unknown.
 LoadedCloud read_through_pipe(const std::string& bytes) {
@@ -399,9 +409,10 @@ TEST_F(SplkTest, PipeWithTruncatedPayloadFailsWithoutTrustingTheSize) {
     ADD_FAILURE() << "accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
-    EXPECT_NE(std::string(e.what()).find("chunk 'xBIG' at byte 125: payload truncated: "
-                                         "1099511627776 bytes declared, the file ends after 3000000"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("chunk 'xBIG' at byte 125: payload truncated: "
+                                   "1099511627776 bytes declared, the file ends after 3000000"),
+        std::string::npos)
         << e.what();
   }
 }
@@ -419,7 +430,7 @@ TEST_F(SplkTest, PipeWithHugePointCountFailsAtTheEndOfTheData) {
   }
 }
 
-// --- malformed files: one test per case, each with its own message --------------------------------
+// --- malformed files: one test per case, each with its own message ---
 
 TEST(SplkReject, BadMagic) {
   expect_rejected("ply\nformat ascii 1.0\nend_header\n", ErrorKind::kBadInput,
@@ -539,8 +550,8 @@ TEST(SplkReject, NanCoordinates) {
 }
 
 TEST(SplkReject, InfiniteOrigin) {
-  std::string p = splt(1, {position_column({{1, 2, 3}})}, 0,
-                       {0, std::numeric_limits<double>::infinity(), 0});
+  std::string p =
+      splt(1, {position_column({{1, 2, 3}})}, 0, {0, std::numeric_limits<double>::infinity(), 0});
   expect_rejected(file_header() + splt_chunk(p) + end_chunk(), ErrorKind::kBadInput,
                   "the origin is not finite");
 }
@@ -566,13 +577,25 @@ TEST(SplkReject, InvalidJsonInMeta) {
                   ErrorKind::kBadInput, "chunk 'META' at byte 16: invalid JSON: ");
 }
 
+TEST(SplkReject, MetaNestedTooDeep) {
+  const std::string deep = "{\"a\":" + std::string(100000, '[') + std::string(100000, ']') + "}";
+  expect_rejected(file_header() + meta_chunk(deep) + one_point_splt() + end_chunk(),
+                  ErrorKind::kBadInput, "the metadata JSON nests deeper than 64 levels");
+  const std::string ok = "{\"a\":" + std::string(63, '[') + std::string(63, ']') + "}";
+  EXPECT_EQ(read_bytes(file_header() + meta_chunk(ok) + one_point_splt() + end_chunk())
+                .metadata.dump()
+                .size(),
+            ok.size());
+}
+
 TEST(SplkReject, MetaThatIsNotAnObject) {
   expect_rejected(file_header() + meta_chunk("[1,2]") + one_point_splt() + end_chunk(),
                   ErrorKind::kBadInput, "the metadata is JSON but not an object");
 }
 
 TEST(SplkReject, UnknownCoreColumn) {
-  std::string p = splt(1, {position_column({{1, 2, 3}}), column("tangent", 0, 9, 3, f32(0) + f32(0) + f32(1))});
+  std::string p =
+      splt(1, {position_column({{1, 2, 3}}), column("tangent", 0, 9, 3, f32(0) + f32(0) + f32(1))});
   expect_rejected(file_header() + splt_chunk(p) + end_chunk(), ErrorKind::kBadInput,
                   "unknown core column 'tangent'");
 }
@@ -602,8 +625,8 @@ TEST(SplkReject, ExtraWithSeveralComponents) {
 }
 
 TEST(SplkReject, DuplicateColumnNames) {
-  std::string p = splt(1, {position_column({{1, 2, 3}}), column("w", 1, 2, 1, "a"),
-                           column("w", 1, 2, 1, "b")});
+  std::string p =
+      splt(1, {position_column({{1, 2, 3}}), column("w", 1, 2, 1, "a"), column("w", 1, 2, 1, "b")});
   expect_rejected(file_header() + splt_chunk(p) + end_chunk(), ErrorKind::kBadInput,
                   "two extra columns named 'w'");
 }
@@ -639,8 +662,8 @@ TEST(SplkReject, FaceIndexOutOfRange) {
 }
 
 TEST(SplkReject, FaceOffsetsThatDecrease) {
-  std::string face = chunk("FACE", 2, le(2, 8) + le(1, 8) + le(0, 4) + le(2, 4) + le(1, 4) +
-                                          le(0, 4));
+  std::string face =
+      chunk("FACE", 2, le(2, 8) + le(1, 8) + le(0, 4) + le(2, 4) + le(1, 4) + le(0, 4));
   expect_rejected(file_header() + one_point_splt() + face + end_chunk(), ErrorKind::kBadInput,
                   "face offsets decrease at face 1");
 }
