@@ -5,6 +5,10 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -16,6 +20,7 @@ namespace splatkit {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr uint32_t kInfBits = 0x7f800000;
 // Batch queries are handed out in blocks of at most this many points (bounded scratch memory).
 constexpr std::size_t kBlockSize = 1024;
 // Below this many points a subtree is built on the current thread.
@@ -41,32 +46,56 @@ inline bool before(float d_a, uint32_t id_a, float d_b, uint32_t id_b) {
   return d_a < d_b || (d_a == d_b && id_a < id_b);
 }
 
+// A candidate as one integer: the bits of a non-negative float order like its value, so
+// (squared distance, index) compares as a single uint64_t and the insertion loop stays tight.
+inline uint64_t make_key(float d2, uint32_t id) {
+  return uint64_t{std::bit_cast<uint32_t>(d2)} << 32 | id;
+}
+inline uint32_t key_bits(uint64_t key) { return static_cast<uint32_t>(key >> 32); }
+inline float key_d2(uint64_t key) { return std::bit_cast<float>(key_bits(key)); }
+inline uint32_t key_id(uint64_t key) { return static_cast<uint32_t>(key); }
+// The distance part of a bound key as a float; +inf for the "no bound yet" key ~0.
+inline float key_d2_or_inf(uint64_t key) {
+  return std::bit_cast<float>(std::min(key_bits(key), kInfBits));
+}
+
 }  // namespace
 
-// The k best candidates so far, sorted by (squared distance, index): a fixed-size insertion array,
-// which beats a heap for the small k of normal estimation.
+// The k best candidates so far, sorted: a fixed-size insertion array, which beats a heap for the
+// small k of normal estimation. `cap` rejects candidates beyond a distance already known to hold
+// k points (a warm start from the previous query); ~0 when nothing is known.
 struct SpatialIndex::KnnState {
-  std::size_t k = 0;
-  std::size_t count = 0;
-  uint32_t* ids = nullptr;
-  float* d2 = nullptr;
+  KnnState(std::size_t k_, uint64_t* keys_, uint64_t cap_ = ~uint64_t{0})
+      : k(k_), keys(keys_), cap(cap_), worst(cap_) {}
 
-  float bound() const { return count < k ? kInf : d2[k - 1]; }
-  void offer(float d, uint32_t id) {
-    std::size_t pos;
+  std::size_t k;
+  uint64_t* keys;
+  uint64_t cap;
+  uint64_t worst;  // a candidate must be smaller to enter: cap until full, then keys[k - 1]
+  std::size_t count = 0;
+
+  // Precondition: key < worst. The first k candidates are appended and sorted once, which costs
+  // less than k insertions into a growing sorted array.
+  void insert(uint64_t key) {
     if (count < k) {
-      pos = count++;
-    } else {
-      if (!before(d, id, d2[k - 1], ids[k - 1])) return;
-      pos = k - 1;
+      keys[count++] = key;
+      if (count == k) {
+        std::sort(keys, keys + k);
+        worst = keys[k - 1];
+      }
+      return;
     }
-    while (pos > 0 && before(d, id, d2[pos - 1], ids[pos - 1])) {
-      d2[pos] = d2[pos - 1];
-      ids[pos] = ids[pos - 1];
+    std::size_t pos = k - 1;
+    while (pos > 0 && key < keys[pos - 1]) {
+      keys[pos] = keys[pos - 1];
       --pos;
     }
-    d2[pos] = d;
-    ids[pos] = id;
+    keys[pos] = key;
+    worst = keys[k - 1];
+  }
+  // Sorts a result that never filled up (fewer than k points within reach).
+  void finish() {
+    if (count < k) std::sort(keys, keys + count);
   }
 };
 
@@ -136,9 +165,10 @@ SpatialIndex::SpatialIndex(std::span<const Vec3f> points, std::size_t max_leaf_s
   boxes_.resize(2 * std::size_t{leaves} - 1);
   Builder{pts, boxes_, leaf_start_, first_leaf_}.build(0, 0, leaves);
 
-  xs_.resize(n);
-  ys_.resize(n);
-  zs_.resize(n);
+  // Padded by three so that four-wide loads at the end of the last leaf stay in bounds.
+  xs_.assign(n + 3, 0.0f);
+  ys_.assign(n + 3, 0.0f);
+  zs_.assign(n + 3, 0.0f);
   ids_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     xs_[i] = pts[i].c[0];
@@ -154,93 +184,175 @@ std::size_t SpatialIndex::memory_bytes() const {
          leaf_start_.capacity() * sizeof(uint32_t);
 }
 
-// Depth-first, nearer child first, pruning every box farther than the current k-th candidate.
-// A box exactly as far as the k-th candidate is still visited: it may hold a tie with a smaller
-// index. The point at tree position skip_position (the query itself in batches) is ignored.
-void SpatialIndex::search_knn(float qx, float qy, float qz, uint32_t skip_position,
-                              KnnState& state) const {
-  struct Pending {
-    uint32_t node;
-    float d2;
-  };
-  Pending stack[64];
-  int top = 0;
-  float d2_buffer[256];
-  const float* xs = xs_.data();
-  const float* ys = ys_.data();
-  const float* zs = zs_.data();
+// One k-nearest query: depth-first, nearer child first, pruning every box farther than the
+// current k-th candidate. A box exactly as far as the k-th candidate is still visited: it may hold
+// a tie with a smaller index. Box distances are compared by their bits, like the keys.
+struct SpatialIndex::KnnSearch {
+  const SpatialIndex& index;
+  float qx, qy, qz;
+  uint32_t skip_position;  // the query itself in batches (kNone: none)
+  KnnState& state;
 
-  uint32_t node = 0;
-  float node_d2 = box_sq_dist(boxes_[0], qx, qy, qz);
-  for (;;) {
-    if (node_d2 <= state.bound()) {
-      while (node < first_leaf_) {
-        uint32_t near = 2 * node + 1, far = near + 1;
-        float near_d2 = box_sq_dist(boxes_[near], qx, qy, qz);
-        float far_d2 = box_sq_dist(boxes_[far], qx, qy, qz);
-        if (far_d2 < near_d2) {
-          std::swap(near, far);
-          std::swap(near_d2, far_d2);
-        }
-        float bound = state.bound();
-        if (far_d2 <= bound) stack[top++] = {far, far_d2};
-        if (near_d2 > bound) break;
-        node = near;
-      }
-      if (node >= first_leaf_) {
-        uint32_t leaf = node - first_leaf_;
-        uint32_t begin = leaf_start_[leaf], end = leaf_start_[leaf + 1];
-        // Distances first, in a loop the compiler vectorises; candidates second.
-        for (uint32_t start = begin; start < end; start += 256) {
-          uint32_t stop = std::min(end, start + 256);
-          for (uint32_t p = start; p < stop; ++p) {
-            float dx = xs[p] - qx, dy = ys[p] - qy, dz = zs[p] - qz;
-            d2_buffer[p - start] = dx * dx + dy * dy + dz * dz;
-          }
-          for (uint32_t p = start; p < stop; ++p) {
-            float d = d2_buffer[p - start];
-            if (d <= state.bound() && p != skip_position) state.offer(d, ids_[p]);
-          }
-        }
-      }
-    }
-    if (top == 0) break;
-    --top;
-    node = stack[top].node;
-    node_d2 = stack[top].d2;
+  uint32_t box_bits(uint32_t node) const {
+    return std::bit_cast<uint32_t>(box_sq_dist(index.boxes_[node], qx, qy, qz));
   }
-}
+
+  void offer(uint32_t p, float d2) {
+    uint64_t key = make_key(d2, index.ids_[p]);
+    if (key < state.worst && p != skip_position) state.insert(key);
+  }
+
+  // Most points of a visited leaf are farther than the k-th candidate: compare four at a time and
+  // branch only on the few that pass. The lanes compute exactly the scalar expression.
+  void scan_leaf(uint32_t leaf) {
+    const uint32_t begin = index.leaf_start_[leaf], end = index.leaf_start_[leaf + 1];
+#if defined(__SSE2__)
+    const __m128 vqx = _mm_set1_ps(qx), vqy = _mm_set1_ps(qy), vqz = _mm_set1_ps(qz);
+    __m128 bound = _mm_set1_ps(key_d2_or_inf(state.worst));
+    for (uint32_t p = begin; p < end; p += 4) {
+      __m128 dx = _mm_sub_ps(_mm_loadu_ps(index.xs_.data() + p), vqx);
+      __m128 dy = _mm_sub_ps(_mm_loadu_ps(index.ys_.data() + p), vqy);
+      __m128 dz = _mm_sub_ps(_mm_loadu_ps(index.zs_.data() + p), vqz);
+      __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+      int mask = _mm_movemask_ps(_mm_cmple_ps(d2, bound));
+      if (end - p < 4) mask &= (1 << (end - p)) - 1;  // lanes past the leaf (padding or next leaf)
+      if (mask == 0) continue;
+      alignas(16) float lanes[4];
+      _mm_store_ps(lanes, d2);
+      for (; mask != 0; mask &= mask - 1) {
+        int lane = std::countr_zero(static_cast<unsigned>(mask));
+        offer(p + lane, lanes[lane]);
+      }
+      bound = _mm_set1_ps(key_d2_or_inf(state.worst));
+    }
+#else
+    for (uint32_t p = begin; p < end; ++p) {
+      float dx = index.xs_[p] - qx, dy = index.ys_[p] - qy, dz = index.zs_[p] - qz;
+      float d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 <= key_d2_or_inf(state.worst)) offer(p, d2);
+    }
+#endif
+  }
+
+  // Searches the subtree `node`, whose box distance is node_bits.
+  void descend(uint32_t node, uint32_t node_bits) {
+    struct Pending {
+      uint32_t node;
+      uint32_t d2_bits;
+    };
+    Pending stack[64];
+    int top = 0;
+    const uint32_t first_leaf = index.first_leaf_;
+    for (;;) {
+      if (node_bits <= key_bits(state.worst)) {
+        while (node < first_leaf) {
+          uint32_t near = 2 * node + 1, far = near + 1;
+          uint32_t near_bits = box_bits(near), far_bits = box_bits(far);
+          if (far_bits < near_bits) {
+            std::swap(near, far);
+            std::swap(near_bits, far_bits);
+          }
+          uint32_t bound = key_bits(state.worst);
+          if (far_bits <= bound) stack[top++] = {far, far_bits};
+          if (near_bits > bound) break;
+          node = near;
+        }
+        if (node >= first_leaf) scan_leaf(node - first_leaf);
+      }
+      if (top == 0) return;
+      --top;
+      node = stack[top].node;
+      node_bits = stack[top].d2_bits;
+    }
+  }
+
+  void from_root() { descend(0, box_bits(0)); }
+
+  // Squared distance (as bits) from q, inside the node's box, to the box's nearest face. Every
+  // point outside the node is outside or on the face of its tight box (cells meet only on split
+  // planes), so its float distance is at least this: the same monotonic-rounding argument as
+  // box_sq_dist.
+  uint32_t inner_margin_bits(uint32_t node) const {
+    const Box& b = index.boxes_[node];
+    float m = std::min(
+        {qx - b.lo[0], b.hi[0] - qx, qy - b.lo[1], b.hi[1] - qy, qz - b.lo[2], b.hi[2] - qz});
+    return std::bit_cast<uint32_t>(m * m);
+  }
+
+  // For a query inside leaf `leaf`: that leaf first (the best first candidates), then the
+  // sibling of each node on the way up, until the k-th candidate is nearer than every face of
+  // the node reached (nothing outside it can then compete). This covers the tree once and skips
+  // the descent from the root.
+  void from_leaf(uint32_t leaf) {
+    scan_leaf(leaf);
+    for (uint32_t node = index.first_leaf_ + leaf; node > 0; node = (node - 1) / 2) {
+      if (inner_margin_bits(node) > key_bits(state.worst)) return;
+      uint32_t sibling = (node & 1) ? node + 1 : node - 1;
+      descend(sibling, box_bits(sibling));
+    }
+  }
+};
 
 std::size_t SpatialIndex::knn(const Vec3f& q, std::size_t k, uint32_t* out_indices,
                               float* out_sq_dists) const {
   k = std::min(k, size());
   if (k == 0) return 0;
-  std::vector<float> scratch;
-  if (out_sq_dists == nullptr) {
-    scratch.resize(k);
-    out_sq_dists = scratch.data();
+  std::vector<uint64_t> keys(k);
+  KnnState state(k, keys.data());
+  KnnSearch{*this, q.x, q.y, q.z, kNone, state}.from_root();
+  state.finish();
+  for (std::size_t c = 0; c < state.count; ++c) {
+    out_indices[c] = key_id(keys[c]);
+    if (out_sq_dists != nullptr) out_sq_dists[c] = key_d2(keys[c]);
   }
-  KnnState state{k, 0, out_indices, out_sq_dists};
-  search_knn(q.x, q.y, q.z, kNone, state);
   return state.count;
 }
 
 // Rows for the points at tree positions [begin, end), written consecutively (row r for position
 // begin + r), each laid out as documented for knn_all.
+//
+// Warm start: consecutive positions are close in space. If the previous point p' has its k - 1
+// others within distance D, then those and p' itself (k points, at most one of them the current
+// point) lie within D + |q - q'| of q, so the current row needs nothing farther. The bound is
+// computed in double and widened far beyond float rounding, so it never cuts a true neighbour.
 void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                             float* sq_dists) const {
   const std::size_t others = std::min(k - 1, size() - 1);
+  std::vector<uint64_t> keys(others);
+  double previous_reach = -1.0;  // D above, or < 0 when unknown
+  uint32_t leaf = static_cast<uint32_t>(
+      std::upper_bound(leaf_start_.begin(), leaf_start_.end(), begin) - leaf_start_.begin() - 1);
   for (std::size_t p = begin; p < end; ++p) {
+    while (leaf_start_[leaf + 1] <= p) ++leaf;
     uint32_t* row_ids = indices + (p - begin) * k;
     float* row_d2 = sq_dists + (p - begin) * k;
     row_ids[0] = ids_[p];
     row_d2[0] = 0.0f;
-    KnnState state{others, 0, row_ids + 1, row_d2 + 1};
-    if (others > 0) search_knn(xs_[p], ys_[p], zs_[p], static_cast<uint32_t>(p), state);
+    uint64_t cap = ~uint64_t{0};
+    if (previous_reach >= 0.0) {
+      double dx = double{xs_[p]} - xs_[p - 1], dy = double{ys_[p]} - ys_[p - 1],
+             dz = double{zs_[p]} - zs_[p - 1];
+      double reach = previous_reach + std::sqrt(dx * dx + dy * dy + dz * dz);
+      double bound = reach * reach * (1.0 + 1e-5) + 1e-30;
+      if (bound < std::numeric_limits<float>::max()) {
+        cap = make_key(std::nextafter(static_cast<float>(bound), kInf), kNone);
+      }
+    }
+    KnnState state(others, keys.data(), cap);
+    if (others > 0) {
+      KnnSearch{*this, xs_[p], ys_[p], zs_[p], static_cast<uint32_t>(p), state}.from_leaf(leaf);
+      state.finish();
+    }
+    for (std::size_t c = 0; c < state.count; ++c) {
+      row_ids[1 + c] = key_id(keys[c]);
+      row_d2[1 + c] = key_d2(keys[c]);
+    }
     for (std::size_t c = 1 + state.count; c < k; ++c) {
       row_ids[c] = kNone;
       row_d2[c] = kInf;
     }
+    previous_reach = others > 0 && state.count == others ? std::sqrt(double{row_d2[others]}) : -1.0;
   }
 }
 

@@ -2,13 +2,18 @@
 // set of 3D points, built for the batch case "for every point, find its neighbours".
 //
 // Design: a balanced kd-tree (median split on the widest axis of each node's tight bounding box)
-// with 2^D leaves of at most `max_leaf_size` points. The points are copied in the tree's own order
-// into three coordinate arrays (structure of arrays), so a leaf is a contiguous run that the
-// compiler vectorises, and a batch walks the points in that order so consecutive queries share
-// cache lines and tree paths. Every node stores its tight box; the tree layout is implicit (heap
-// order), so no child pointers. Memory: 16 bytes/point (12 for coordinates, 4 for the original
-// index) plus ~48/max_leaf_size bytes/point for the boxes (≈ 19 bytes/point at the default 16).
-// Building needs another 16 bytes/point transiently.
+// with 2^D leaves of max_leaf_size / 2 to max_leaf_size points. The points are copied in the
+// tree's own order into three coordinate arrays (structure of arrays), so a leaf is a contiguous
+// run scanned four points at a time, and the batch queries walk the points in that order, so
+// consecutive queries share cache lines and tree paths. Every node stores its tight box; the
+// layout is implicit (heap order), so there are no child pointers. A batch query starts in its
+// own leaf and climbs, and is warm-started with a distance bound from the previous query
+// (triangle inequality). Candidates are (squared distance, index) packed in one uint64_t kept in
+// a small sorted array.
+//
+// Memory: 16 bytes/point (12 for coordinates, 4 for the original index) plus 48 bytes per leaf
+// for the boxes (≈ 2 bytes/point at the default max_leaf_size of 32). Building needs another
+// 16 bytes/point transiently.
 //
 // Every answer is exact and fully determined: neighbours are ordered by (squared distance,
 // original index), squared distances are computed in float as dx*dx + dy*dy + dz*dz (the same
@@ -49,7 +54,7 @@ class SpatialIndex {
  public:
   // Marks an unused slot in a k-row when the cloud has fewer than k points (its distance is +inf).
   static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  static constexpr std::size_t kDefaultLeafSize = 16;
+  static constexpr std::size_t kDefaultLeafSize = 32;
 
   // Called by for_each_knn_block, concurrently from several threads, each call for a different
   // block of query points. `queries` holds the original indices of the block's points (in tree
@@ -108,9 +113,9 @@ class SpatialIndex {
     float hi[3];
   };
   struct KnnState;
+  struct KnnSearch;
   struct Builder;
 
-  void search_knn(float qx, float qy, float qz, uint32_t skip_position, KnnState& state) const;
   void knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                 float* sq_dists) const;
   void overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
