@@ -1,0 +1,77 @@
+#include "render/camera.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "splatkit/error.h"
+
+namespace splatkit::render {
+
+namespace {
+
+constexpr float kDegToRad = std::numbers::pi_v<float> / 180.0f;
+
+}  // namespace
+
+Projection make_projection(const Camera& camera) {
+  if (camera.width <= 0 || camera.height <= 0)
+    throw_usage("image size must be positive, got " + std::to_string(camera.width) + "x" +
+                std::to_string(camera.height));
+  if (!(camera.fov_y_deg > 0 && camera.fov_y_deg < 180))
+    throw_usage("--fov must be in (0, 180) degrees");
+  Vec3f view = camera.target - camera.eye;
+  float distance = norm(view);
+  if (!(distance > 0) || !std::isfinite(distance))
+    throw_usage("camera eye and target must be distinct finite points");
+  Projection p;
+  p.eye = camera.eye;
+  p.forward = view / distance;
+  Vec3f right = cross(p.forward, camera.up);
+  if (!(norm(right) > 1e-6f * norm(camera.up)))
+    throw_usage("camera up vector is parallel to the viewing direction");
+  p.right = normalized(right);
+  p.down = cross(p.forward, p.right);
+  p.width = camera.width;
+  p.height = camera.height;
+  p.focal_px = 0.5f * camera.height / std::tan(0.5f * camera.fov_y_deg * kDegToRad);
+  p.cx = 0.5f * camera.width;
+  p.cy = 0.5f * camera.height;
+  p.near = 1e-4f * distance;
+  return p;
+}
+
+float framing_distance(const BoundingSphere& sphere, float fov_y_deg, int width, int height) {
+  float half_y = 0.5f * fov_y_deg * kDegToRad;
+  float half_x = std::atan(std::tan(half_y) * width / std::max(height, 1));
+  float half = std::min(half_x, half_y);
+  constexpr float kMargin = 1.08f;
+  return kMargin * std::max(sphere.radius, 1e-6f) / std::sin(half);
+}
+
+Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float elevation_deg,
+                    std::optional<float> distance, const Vec3f& up, float fov_y_deg, int width,
+                    int height) {
+  Vec3f w = normalized(up);
+  if (!(norm(w) > 0)) throw_usage("--up must be a non-zero vector");
+  // Reference azimuth axis: +x unless up is close to x, then +y; made perpendicular to up.
+  Vec3f ref = std::fabs(w.x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
+  Vec3f a = normalized(ref - w * dot(ref, w));
+  Vec3f b = cross(w, a);
+  float az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
+  Vec3f dir =
+      a * (std::cos(el) * std::cos(az)) + b * (std::cos(el) * std::sin(az)) + w * std::sin(el);
+  float d = distance ? *distance : framing_distance(sphere, fov_y_deg, width, height);
+  if (!(d > 0) || !std::isfinite(d)) throw_usage("--view distance must be positive");
+  Camera c;
+  c.target = sphere.center;
+  c.eye = sphere.center + dir * d;
+  // Looking straight along up: keep the image upright by using the reference axis as up.
+  c.up = std::fabs(std::sin(el)) > 0.9999f ? a : w;
+  c.fov_y_deg = fov_y_deg;
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+}  // namespace splatkit::render

@@ -1,0 +1,70 @@
+// The scene/camera layer: a pinhole camera, its per-frame projection, and the orbit cameras that
+// frame a model (--view AZ,EL[,DIST], the default three-quarter view, turntables).
+//
+// Conventions: scene units and the cloud's local frame (SplatCloud::positions). Image pixel (i, j)
+// has its centre at pixel coordinates (i + 0.5, j + 0.5); x grows to the right, y downwards. The
+// field of view is vertical, in degrees. Camera space has x right, y down, z forward (depth), so a
+// point's camera-space z is its distance along the viewing axis.
+#pragma once
+
+#include <optional>
+
+#include "splatkit/vec3.h"
+
+namespace splatkit::render {
+
+struct Camera {
+  Vec3f eye{0, 0, 5};
+  Vec3f target{0, 0, 0};
+  Vec3f up{0, 0, 1};
+  float fov_y_deg = 40.0f;
+  int width = 1280;
+  int height = 720;
+};
+
+struct BoundingSphere {
+  Vec3f center{0, 0, 0};
+  float radius = 0;
+};
+
+// What every stage needs from the camera for one frame.
+struct Projection {
+  Vec3f eye;
+  Vec3f right, down, forward;  // orthonormal camera axes in the scene frame
+  float focal_px = 1;          // pixels per unit of tan(angle): height / (2 tan(fov_y / 2))
+  float cx = 0, cy = 0;        // principal point, pixel coordinates (width / 2, height / 2)
+  int width = 0, height = 0;
+  float near = 0;  // splats reaching closer than this depth are not drawn
+
+  // Direction (forward component 1, so its parameter is camera depth) of the ray through pixel
+  // coordinates (x, y); the centre of pixel (i, j) is (i + 0.5, j + 0.5).
+  Vec3f ray(float x, float y) const {
+    return forward + right * ((x - cx) / focal_px) + down * ((y - cy) / focal_px);
+  }
+  // Camera-space coordinates of a scene point.
+  Vec3f to_camera(const Vec3f& p) const {
+    Vec3f d = p - eye;
+    return {dot(d, right), dot(d, down), dot(d, forward)};
+  }
+};
+
+// Throws Error(kUsage) when the camera is degenerate: eye == target, up parallel to the view
+// direction, fov outside (0, 180), or an empty image.
+Projection make_projection(const Camera& camera);
+
+// Distance from the sphere's centre at which it fits the view (the smaller of the two fields of
+// view) with a small margin.
+float framing_distance(const BoundingSphere& sphere, float fov_y_deg, int width, int height);
+
+// A camera on a sphere around `sphere.center`, looking at it: azimuth measured around `up` (0° on
+// the axis most perpendicular to `up` among +x, +y, turning right-handed about `up`), elevation
+// above the plane perpendicular to `up`. `distance` in scene units; default framing_distance().
+Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float elevation_deg,
+                    std::optional<float> distance, const Vec3f& up, float fov_y_deg, int width,
+                    int height);
+
+// The default view: a three-quarter view (azimuth 35°, elevation 25°) that frames the model.
+inline constexpr float kDefaultAzimuthDeg = 35.0f;
+inline constexpr float kDefaultElevationDeg = 25.0f;
+
+}  // namespace splatkit::render

@@ -1,0 +1,63 @@
+// The A-buffer of one tile, with bounded memory: a fixed number of fragment slots per pixel
+// (RenderOptions::max_fragments, default 8). A fragment is (depth, weight, splat index); the
+// splat index gives everything else at reconstruction time (normal, colour, depth range, surface
+// id), which keeps a slot at 12 bytes and a 32×32 tile with 8 slots at 96 KiB.
+//
+// Overflow: when a pixel's slots are full, the new fragment replaces the farthest stored one if it
+// is nearer, else it is dropped (ties keep the earlier splat); the pixel is flagged as
+// overflowed. So the K nearest fragments survive, which is all an opaque front surface needs
+// unless more than K fragments lie in front of its far side.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace splatkit::render {
+
+class FragmentStore {
+ public:
+  // Empties the store for a tile of `pixels` pixels with `capacity` slots each (1..255).
+  void reset(int pixels, int capacity) {
+    capacity_ = capacity;
+    const std::size_t slots = std::size_t(pixels) * capacity;
+    if (depth_.size() < slots) {
+      depth_.resize(slots);
+      weight_.resize(slots);
+      splat_.resize(slots);
+    }
+    count_.assign(pixels, 0);
+    overflowed_.assign(pixels, 0);
+  }
+
+  void add(int pixel, float depth, float weight, uint32_t splat) {
+    const std::size_t base = std::size_t(pixel) * capacity_;
+    uint8_t& n = count_[pixel];
+    std::size_t slot;
+    if (n < capacity_) {
+      slot = base + n++;
+    } else {
+      overflowed_[pixel] = 1;
+      slot = base;
+      for (std::size_t k = base + 1; k < base + capacity_; ++k)
+        if (depth_[k] > depth_[slot]) slot = k;
+      if (!(depth < depth_[slot])) return;
+    }
+    depth_[slot] = depth;
+    weight_[slot] = weight;
+    splat_[slot] = splat;
+  }
+
+  int count(int pixel) const { return count_[pixel]; }
+  bool overflowed(int pixel) const { return overflowed_[pixel] != 0; }
+  const float* depths(int pixel) const { return depth_.data() + std::size_t(pixel) * capacity_; }
+  const float* weights(int pixel) const { return weight_.data() + std::size_t(pixel) * capacity_; }
+  const uint32_t* splats(int pixel) const { return splat_.data() + std::size_t(pixel) * capacity_; }
+
+ private:
+  int capacity_ = 0;
+  std::vector<float> depth_, weight_;
+  std::vector<uint32_t> splat_;
+  std::vector<uint8_t> count_, overflowed_;
+};
+
+}  // namespace splatkit::render

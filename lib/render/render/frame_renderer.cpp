@@ -1,0 +1,222 @@
+#include "render/frame_renderer.h"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "render/rasterize_tile.h"
+#include "render/select_splats.h"
+#include "splatkit/error.h"
+
+namespace splatkit::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+// sRGB encoding of linear [0, 1] to 8 bits through a table fine enough to be exact for every
+// code value above the linear toe.
+class SrgbEncoder {
+ public:
+  SrgbEncoder() {
+    for (int i = 0; i < kSize; ++i) {
+      float v = linear_to_srgb((i + 0.5f) / kSize);
+      table_[i] = static_cast<uint8_t>(std::lround(v * 255.0f));
+    }
+  }
+  uint8_t operator()(float linear) const {
+    return table_[static_cast<int>(std::clamp(linear, 0.0f, 1.0f) * (kSize - 1))];
+  }
+
+ private:
+  static constexpr int kSize = 1 << 16;
+  std::array<uint8_t, kSize> table_;
+};
+
+const SrgbEncoder& srgb_encoder() {
+  static const SrgbEncoder encoder;
+  return encoder;
+}
+
+uint8_t to_byte(float v) {
+  return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
+}
+
+struct TileCounters {
+  uint64_t fragments = 0, covered = 0, overflowed = 0;
+  double raster_s = 0, reconstruct_s = 0, shade_s = 0;
+};
+
+// One thread's tile A-buffer, tile G-buffer and counters, reused from tile to tile.
+struct TileScratch {
+  FragmentStore store;
+  std::vector<PixelSurface> gbuffer;
+  TileCounters counters;
+};
+
+}  // namespace
+
+struct FrameRenderer::Scratch {
+  tbb::enumerable_thread_specific<TileScratch> threads;
+};
+
+FrameRenderer::FrameRenderer() : scratch_(std::make_unique<Scratch>()) {}
+FrameRenderer::~FrameRenderer() = default;
+
+namespace {
+
+struct FrameContext {
+  const DrawList& draws;
+  const FrameBins& bins;
+  const Projection& projection;
+  const RenderOptions& options;
+  const BlendOptions& blend;
+  const Shading& shading;
+  Framebuffer& out;
+};
+
+void write_pixel(const FrameContext& f, std::size_t p, const PixelSurface& s, const Vec3f& color) {
+  Framebuffer& out = f.out;
+  if (out.planes.rgb8) {
+    const float a = s.alpha;
+    const Vec3f bg = f.options.background;
+    uint8_t* px = out.rgb8.data() + 3 * p;
+    if (f.shading.linear_output || a == 0) {
+      const SrgbEncoder& enc = srgb_encoder();
+      const Vec3f c = a == 0 ? bg : color;
+      px[0] = enc(c.x);
+      px[1] = enc(c.y);
+      px[2] = enc(c.z);
+    } else {
+      px[0] = to_byte(color.x);
+      px[1] = to_byte(color.y);
+      px[2] = to_byte(color.z);
+    }
+  }
+  if (out.planes.float_color) {
+    float* px = out.rgba.data() + 4 * p;
+    px[0] = color.x * s.alpha;
+    px[1] = color.y * s.alpha;
+    px[2] = color.z * s.alpha;
+    px[3] = s.alpha;
+  }
+  if (out.planes.aovs) {
+    const bool hit = s.alpha > 0;
+    out.depth[p] = hit ? s.depth : std::numeric_limits<float>::infinity();
+    const Vec3f n = hit ? normalized(s.normal) : Vec3f{0, 0, 0};
+    out.normal[3 * p] = n.x;
+    out.normal[3 * p + 1] = n.y;
+    out.normal[3 * p + 2] = n.z;
+    out.alpha[p] = s.alpha;
+  }
+}
+
+void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
+  const int tx = static_cast<int>(t % f.bins.tiles_x), ty = static_cast<int>(t / f.bins.tiles_x);
+  TileRect rect{tx * kTileSize, ty * kTileSize,
+                std::min(f.projection.width, (tx + 1) * kTileSize) - 1,
+                std::min(f.projection.height, (ty + 1) * kTileSize) - 1};
+  const int pixels = rect.width() * rect.height();
+  auto t0 = Clock::now();
+  local.store.reset(pixels, f.options.max_fragments);
+  const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
+  local.counters.fragments += rasterize_tile(f.bins.rasters.data(), f.bins.indices.data() + begin,
+                                             end - begin, rect, local.store);
+  auto t1 = Clock::now();
+  local.gbuffer.resize(pixels);
+  for (int p = 0; p < pixels; ++p) {
+    const int n = local.store.count(p);
+    local.gbuffer[p] =
+        reconstruct_pixel(local.store.depths(p), local.store.weights(p), local.store.splats(p), n,
+                          f.draws, f.bins.rasters.data(), f.blend, f.options.default_albedo);
+    local.counters.covered += n > 0;
+    local.counters.overflowed += local.store.overflowed(p);
+  }
+  auto t2 = Clock::now();
+  const Projection& pr = f.projection;
+  for (int y = rect.y0, p = 0; y <= rect.y1; ++y) {
+    for (int x = rect.x0; x <= rect.x1; ++x, ++p) {
+      const PixelSurface& s = local.gbuffer[p];
+      Vec3f color{0, 0, 0};
+      if (s.alpha > 0) {
+        const Vec3f view = -normalized(pr.ray(x + 0.5f, y + 0.5f));
+        color = shade_pixel(f.shading, s.normal, view, s.albedo, s.depth);
+      }
+      write_pixel(f, std::size_t(y) * pr.width + x, s, color);
+    }
+  }
+  auto t3 = Clock::now();
+  local.counters.raster_s += seconds(t0, t1);
+  local.counters.reconstruct_s += seconds(t1, t2);
+  local.counters.shade_s += seconds(t2, t3);
+}
+
+void check_options(const RenderOptions& o) {
+  if (o.max_fragments < 1 || o.max_fragments > kMaxFragmentsPerPixel)
+    throw_usage("--max-fragments must be in 1.." + std::to_string(kMaxFragmentsPerPixel));
+  if (o.blend == BlendMode::kZThreshold && !(std::isfinite(o.epsilon)))
+    throw_usage("the Z-threshold epsilon must be finite");
+}
+
+}  // namespace
+
+FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
+                                 const RenderOptions& options, Framebuffer& out) {
+  check_options(options);
+  const auto start = Clock::now();
+  const Projection projection = make_projection(camera);
+  FrameStats stats;
+  const DrawList draws = select_splats(scene, projection);
+  const auto selected = Clock::now();
+  stats.select_s = seconds(start, selected);
+  stats.splats_in = draws.count;
+
+  bin_splats(draws, projection, SetupOptions{options.cull_backfaces}, bins_);
+  stats.splats_drawn = bins_.drawn;
+  stats.setup_s = bins_.setup_seconds;
+  stats.binning_s = bins_.binning_seconds;
+
+  out.allocate(camera.width, camera.height, options.planes);
+  BlendOptions blend{options.blend,
+                     options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius};
+  const Shading shading = make_shading(options.shade, projection, scene.bounds);
+  FrameContext context{draws, bins_, projection, options, blend, shading, out};
+  for (auto& local : scratch_->threads) local.counters = {};
+  const auto tiles_start = Clock::now();
+  tbb::parallel_for(std::size_t{0}, bins_.tile_count(),
+                    [&](std::size_t t) { render_tile(context, t, scratch_->threads.local()); });
+  const auto tiles_end = Clock::now();
+
+  TileCounters sum;
+  for (const auto& local : scratch_->threads) {
+    sum.fragments += local.counters.fragments;
+    sum.covered += local.counters.covered;
+    sum.overflowed += local.counters.overflowed;
+    sum.raster_s += local.counters.raster_s;
+    sum.reconstruct_s += local.counters.reconstruct_s;
+    sum.shade_s += local.counters.shade_s;
+  }
+  stats.fragments = sum.fragments;
+  stats.pixels_covered = sum.covered;
+  stats.pixels_overflowed = sum.overflowed;
+  const double tiles_wall = seconds(tiles_start, tiles_end);
+  const double cpu = sum.raster_s + sum.reconstruct_s + sum.shade_s;
+  if (cpu > 0) {
+    stats.raster_s = tiles_wall * sum.raster_s / cpu;
+    stats.reconstruct_s = tiles_wall * sum.reconstruct_s / cpu;
+    stats.shade_s = tiles_wall * sum.shade_s / cpu;
+  }
+  stats.total_s = seconds(start, tiles_end);
+  return stats;
+}
+
+}  // namespace splatkit::render

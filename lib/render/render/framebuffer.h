@@ -1,0 +1,40 @@
+// The images one frame produces, each plane only when asked for (an 8-bit PNG needs only rgb8).
+// Row-major, top row first, width × height pixels.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace splatkit::render {
+
+struct FramebufferPlanes {
+  bool rgb8 = true;          // 8-bit colour over the background, sRGB-encoded when the shading is
+                             // linear (phong, flat)
+  bool float_color = false;  // linear RGBA, premultiplied by coverage (background 0)
+  bool aovs = false;         // depth, normal, alpha
+};
+
+struct Framebuffer {
+  int width = 0, height = 0;
+  FramebufferPlanes planes;
+  std::vector<uint8_t> rgb8;  // #H×W×3
+  std::vector<float> rgba;    // #H×W×4
+  std::vector<float> depth;   // #H×W camera depth (scene units), +inf where nothing is drawn
+  std::vector<float> normal;  // #H×W×3 unit world-space normal, 0 where nothing is drawn
+  std::vector<float> alpha;   // #H×W coverage in [0, 1]
+
+  // Sizes the requested planes (contents are overwritten by every frame).
+  void allocate(int w, int h, const FramebufferPlanes& p) {
+    width = w;
+    height = h;
+    planes = p;
+    const std::size_t n = std::size_t(w) * h;
+    rgb8.resize(p.rgb8 ? n * 3 : 0);
+    rgba.resize(p.float_color ? n * 4 : 0);
+    depth.resize(p.aovs ? n : 0);
+    normal.resize(p.aovs ? n * 3 : 0);
+    alpha.resize(p.aovs ? n : 0);
+  }
+};
+
+}  // namespace splatkit::render

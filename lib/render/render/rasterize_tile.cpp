@@ -1,0 +1,67 @@
+#include "render/rasterize_tile.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace splatkit::render {
+
+namespace {
+
+constexpr int kWeightTableSize = 1024;
+
+// Sampled at the centres of kWeightTableSize equal steps of rho2.
+const std::array<float, kWeightTableSize + 1>& weight_table() {
+  static const auto table = [] {
+    std::array<float, kWeightTableSize + 1> t{};
+    for (int i = 0; i <= kWeightTableSize; ++i)
+      t[i] = std::exp(-kGaussianSharpness * std::min(1.0f, (i + 0.5f) / kWeightTableSize));
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+float gaussian_weight(float rho2) {
+  return weight_table()[static_cast<int>(std::clamp(rho2, 0.0f, 1.0f) * kWeightTableSize)];
+}
+
+uint64_t rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
+                        const TileRect& tile, FragmentStore& store) {
+  const float* table = weight_table().data();
+  const int stride = tile.width();
+  uint64_t fragments = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const uint32_t index = splats[k];
+    const SplatRaster& s = rasters[index];
+    const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
+    const int ys = std::max<int>(s.y0, tile.y0), ye = std::min<int>(s.y1, tile.y1);
+    const float di = float(xs - s.x0), dj = float(ys - s.y0);
+    float l_row = s.l[0] * di + s.l[1] * dj + s.l[2];
+    float u_row = s.u[0] * di + s.u[1] * dj + s.u[2];
+    float v_row = s.v[0] * di + s.v[1] * dj + s.v[2];
+    for (int y = ys; y <= ye; ++y) {
+      float l = l_row, u = u_row, v = v_row;
+      int pixel = (y - tile.y0) * stride + (xs - tile.x0);
+      for (int x = xs; x <= xe; ++x, ++pixel) {
+        const float q = u * u + v * v, l2 = l * l;
+        if (q <= l2 && l2 > 0) {
+          const float inv = 1.0f / l;
+          const float rho2 = q * inv * inv;
+          store.add(pixel, s.nc * inv, table[static_cast<int>(rho2 * kWeightTableSize)], index);
+          ++fragments;
+        }
+        l += s.l[0];
+        u += s.u[0];
+        v += s.v[0];
+      }
+      l_row += s.l[1];
+      u_row += s.u[1];
+      v_row += s.v[1];
+    }
+  }
+  return fragments;
+}
+
+}  // namespace splatkit::render

@@ -1,0 +1,47 @@
+// Surface reconstruction of one pixel from its A-buffer fragments (SPEC §5, seed 002 ch. 5).
+//
+// Fragments are sorted front to back by depth (ties by splat index). The adapted method of seed
+// 002 §5.5 finds the nearest fragment f1, sets aside the fragments of other surface ids, and
+// runs the classic method on the rest from f1:
+//   Z-threshold (Zwicker et al. 2001): the next fragment joins while its depth is less than
+//     epsilon beyond the previous joined one;
+//   Z-range (Räsänen 2002): the next fragment joins while its splat's depth range overlaps the
+//     union of the joined fragments' ranges.
+// The joined fragments are blended by their weights, c = Σ c_k w_k / Σ w_k [5.2] (normal, colour
+// and depth alike). Surfaces composite front to back [5.1]; splats are opaque, so the first
+// surface decides the pixel. Without surface ids every fragment is on surface 0 and the method
+// is the classic one.
+#pragma once
+
+#include <cstdint>
+
+#include "render/select_splats.h"
+#include "render/setup_splats.h"
+
+namespace splatkit::render {
+
+enum class BlendMode { kZThreshold, kZRange };
+
+struct BlendOptions {
+  BlendMode mode = BlendMode::kZThreshold;
+  float epsilon = 0;  // Z-threshold, scene units (> 0)
+};
+
+struct PixelSurface {
+  Vec3f normal{0, 0, 0};  // blended, not normalised (zero when nothing covers the pixel)
+  Vec3f albedo{0, 0, 0};  // blended linear colour
+  float depth = 0;        // blended camera depth
+  float alpha = 0;        // coverage: 1 when a surface covers the pixel
+  uint32_t surface_id = 0;
+};
+
+// Maximum fragments per pixel the reconstruction accepts (FragmentStore capacity).
+inline constexpr int kMaxFragmentsPerPixel = 64;
+
+// `depths`, `weights`, `splats`: #count fragments in any order (count <= kMaxFragmentsPerPixel).
+// `default_albedo` is used when the DrawList has no colours.
+PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,
+                               int count, const DrawList& draws, const SplatRaster* rasters,
+                               const BlendOptions& options, const Vec3f& default_albedo);
+
+}  // namespace splatkit::render

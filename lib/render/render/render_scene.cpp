@@ -1,0 +1,98 @@
+#include "render/render_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "splatkit/error.h"
+
+namespace splatkit::render {
+
+float srgb_to_linear(float v) {
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+namespace {
+
+std::vector<Vec3f> linear_colors(const SplatCloud& cloud) {
+  std::vector<Vec3f> out;
+  if (!cloud.has_colors()) return out;
+  const int levels = (1 << cloud.color_bits) - 1;
+  // A table per code value: 8-bit clouds need 256 entries, 16-bit ones 65536.
+  std::vector<float> table(static_cast<std::size_t>(levels) + 1);
+  for (int i = 0; i <= levels; ++i) table[i] = srgb_to_linear(static_cast<float>(i) / levels);
+  out.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto& c = cloud.colors[i];
+    auto at = [&](uint16_t v) { return table[std::min<int>(v, levels)]; };
+    out[i] = {at(c[0]), at(c[1]), at(c[2])};
+  }
+  return out;
+}
+
+BoundingSphere enclosing_sphere(const RenderScene& s) {
+  constexpr float kInf = 3.4e38f;
+  Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  for (const Vec3f& p : s.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  BoundingSphere b;
+  b.center = (lo + hi) * 0.5f;
+  float radius = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    float d = norm(s.positions[i] - b.center) + s.radii[i];
+    radius = std::max(radius, d);
+  }
+  b.radius = radius;
+  return b;
+}
+
+}  // namespace
+
+RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
+  if (cloud.size() == 0) throw_bad_input(name, "the cloud has no points; nothing to render");
+  if (!cloud.has_normals() && !cloud.has_radii())
+    throw_bad_input(name, "the cloud has no normals and no radii; run estimate-normals first");
+  if (!cloud.has_normals())
+    throw_bad_input(name, "the cloud has no normals; run estimate-normals first");
+  if (!cloud.has_radii())
+    throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
+  RenderScene s;
+  s.colors = linear_colors(cloud);
+  s.positions = std::move(cloud.positions);
+  s.normals = std::move(cloud.normals);
+  s.radii = std::move(cloud.radii);
+  double sum = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    float r = s.radii[i];
+    if (!(r > 0) || !std::isfinite(r))
+      throw_bad_input(name, "splat " + std::to_string(i) + " has radius " + std::to_string(r) +
+                                "; radii must be positive");
+    Vec3f& n = s.normals[i];
+    float len = norm(n);
+    if (!(len > 0) || !std::isfinite(len))
+      throw_bad_input(name, "splat " + std::to_string(i) + " has a zero or non-finite normal");
+    n = n / len;
+    sum += r;
+  }
+  if (const ExtraAttribute* ids = cloud.find_extra("surface_id")) {
+    s.surface_ids.resize(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      double v = ids->values[i];
+      if (!(v >= 0 && v <= 4294967295.0))
+        throw_bad_input(name, "splat " + std::to_string(i) + " has surface_id " +
+                                  std::to_string(v) + "; ids must be in [0, 2^32)");
+      s.surface_ids[i] = static_cast<uint32_t>(v);
+    }
+  }
+  s.mean_radius = static_cast<float>(sum / s.size());
+  s.bounds = enclosing_sphere(s);
+  return s;
+}
+
+}  // namespace splatkit::render

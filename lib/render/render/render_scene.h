@@ -1,0 +1,37 @@
+// The renderer's copy of a splat cloud: structure-of-arrays in the cloud's local frame, colours
+// converted once to linear RGB, plus the bounds the camera layer frames. Built once per input and
+// shared by every frame (turntables render many frames of one scene).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "splatkit/splat_cloud.h"
+
+namespace splatkit::render {
+
+struct RenderScene {
+  std::vector<Vec3f> positions;       // #N disc centres
+  std::vector<Vec3f> normals;         // #N unit normals
+  std::vector<float> radii;           // #N disc radii (> 0)
+  std::vector<Vec3f> colors;          // #N linear RGB in [0, 1], or empty (grey albedo)
+  std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface
+  BoundingSphere bounds;              // encloses every disc
+  float mean_radius = 0;
+
+  std::size_t size() const { return positions.size(); }
+};
+
+// Converts `cloud` (taking its arrays). Throws Error(kBadInput) naming `name` when the cloud has
+// no normals or no radii (the message names the tool that computes them: estimate-normals), when
+// it is empty, or when a radius is not a positive finite number. Zero-length normals are
+// rejected the same way. sRGB-encoded 8- or 16-bit colours become linear floats.
+RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name);
+
+// Linear value of an sRGB-encoded channel in [0, 1], and back.
+float srgb_to_linear(float v);
+float linear_to_srgb(float v);
+
+}  // namespace splatkit::render

@@ -1,0 +1,16 @@
+#include "render/select_splats.h"
+
+namespace splatkit::render {
+
+DrawList select_splats(const RenderScene& scene, const Projection&) {
+  DrawList d;
+  d.count = scene.size();
+  d.positions = scene.positions.data();
+  d.normals = scene.normals.data();
+  d.radii = scene.radii.data();
+  d.colors = scene.colors.empty() ? nullptr : scene.colors.data();
+  d.surface_ids = scene.surface_ids.empty() ? nullptr : scene.surface_ids.data();
+  return d;
+}
+
+}  // namespace splatkit::render

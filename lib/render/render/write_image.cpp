@@ -1,0 +1,104 @@
+#include "render/write_image.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <memory>
+#include <vector>
+
+#include "splatkit/error.h"
+#include "splatkit/output_file.h"
+
+namespace splatkit::render {
+
+namespace {
+
+std::string extension_of(const std::string& path) {
+  if (path == "-") return "png";
+  auto slash = path.find_last_of('/');
+  auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool is_exr(const std::string& path) { return extension_of(path) == "exr"; }
+
+std::unique_ptr<OIIO::ImageOutput> create_output(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext.empty())
+    throw_usage(display_name(path, true) +
+                ": no file extension; use .png, .exr or another image extension");
+  auto out = OIIO::ImageOutput::create("x." + ext);
+  if (!out)
+    throw_usage(display_name(path, true) + ": OpenImageIO cannot write '." + ext + "' images");
+  if (!out->supports("ioproxy"))
+    throw_usage(display_name(path, true) + ": the '." + ext +
+                "' writer of OpenImageIO cannot write to memory; use .png or .exr");
+  return out;
+}
+
+OIIO::ImageSpec exr_spec(const Framebuffer& f) {
+  OIIO::ImageSpec spec(f.width, f.height, 8, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B", "A", "Z", "N.X", "N.Y", "N.Z"};
+  spec.alpha_channel = 3;
+  spec.z_channel = 4;
+  spec.attribute("compression", "zip");
+  return spec;
+}
+
+std::vector<float> interleave_exr(const Framebuffer& f) {
+  const std::size_t n = std::size_t(f.width) * f.height;
+  std::vector<float> px(n * 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    float* o = px.data() + 8 * i;
+    for (int c = 0; c < 4; ++c) o[c] = f.rgba[4 * i + c];
+    o[4] = f.depth[i];
+    for (int c = 0; c < 3; ++c) o[5 + c] = f.normal[3 * i + c];
+  }
+  return px;
+}
+
+}  // namespace
+
+FramebufferPlanes planes_for_output(const std::string& path) {
+  FramebufferPlanes p;
+  p.rgb8 = !is_exr(path);
+  p.float_color = p.aovs = is_exr(path);
+  return p;
+}
+
+void check_output_format(const std::string& path) { create_output(path); }
+
+void write_image(const Framebuffer& frame, const std::string& path) {
+  auto out = create_output(path);
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  const bool exr = is_exr(path);
+  if (exr && (frame.rgba.empty() || frame.depth.empty()))
+    throw std::logic_error("write_image: .exr needs the float colour and AOV planes");
+  if (!exr && frame.rgb8.empty()) throw std::logic_error("write_image: no 8-bit colour plane");
+  OIIO::ImageSpec spec =
+      exr ? exr_spec(frame) : OIIO::ImageSpec(frame.width, frame.height, 3, OIIO::TypeDesc::UINT8);
+  if (!exr) spec.attribute("oiio:ColorSpace", "sRGB");
+  const std::string name = display_name(path, true);
+  if (!out->set_ioproxy(&proxy)) throw_output(name, out->geterror());
+  if (!out->open(name, spec)) throw_output(name, out->geterror());
+  bool ok;
+  if (exr) {
+    std::vector<float> px = interleave_exr(frame);
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  } else {
+    ok = out->write_image(OIIO::TypeDesc::UINT8, frame.rgb8.data());
+  }
+  if (!ok || !out->close()) throw_output(name, out->geterror());
+  OutputFile file(path);
+  file.write(bytes.data(), bytes.size());
+  file.commit();
+}
+
+}  // namespace splatkit::render

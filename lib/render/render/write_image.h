@@ -1,0 +1,27 @@
+// Image output through OpenImageIO, atomically (temporary file renamed into place; see
+// OutputFile) or to standard output for "-".
+//
+// The format follows the extension: .exr writes float linear colour premultiplied by coverage
+// plus the AOVs with OpenEXR's channel names — R G B A, depth Z (camera depth, scene units,
+// +inf where nothing is drawn), world-space unit normal N.X N.Y N.Z; any other extension that
+// OpenImageIO writes (.png default, .jpg, .tif, .bmp, ...) gets 8-bit RGB composited over the
+// background, sRGB-encoded. "-" writes PNG.
+#pragma once
+
+#include <string>
+
+#include "render/framebuffer.h"
+
+namespace splatkit::render {
+
+// The planes a frame must produce for `path`.
+FramebufferPlanes planes_for_output(const std::string& path);
+
+// Throws Error(kUsage) for an extension OpenImageIO cannot write, Error(kOutput) when writing
+// fails (the message names the file and the cause).
+void write_image(const Framebuffer& frame, const std::string& path);
+
+// Throws Error(kUsage) unless OpenImageIO can write `path`'s format (checked before rendering).
+void check_output_format(const std::string& path);
+
+}  // namespace splatkit::render
