@@ -285,17 +285,20 @@ void PcdValidator::copy_bytes(uint64_t n, const char* what) {
   }
 }
 
+// Exactly `expected` bytes of data, then nothing but zero bytes: PCL's own writer pads binary
+// files (it sizes them for mmap), so zero padding is part of the format as written in practice.
 void PcdValidator::check_binary(uint64_t expected) {
-  if (auto left = in_.remaining()) {
-    if (*left < expected)
-      in_.fail("binary data truncated: " + std::to_string(expected) + " bytes expected, " +
-               std::to_string(*left) + " left");
-    if (*left > expected)
-      in_.fail(std::to_string(*left - expected) + " bytes of trailing data after the binary points");
-    return copy_bytes(expected, "binary point data");
-  }
+  if (auto left = in_.remaining(); left && *left < expected)
+    in_.fail("binary data truncated: " + std::to_string(expected) + " bytes expected, " +
+             std::to_string(*left) + " left");
   copy_bytes(expected, "binary point data");
-  if (!in_.at_eof()) in_.fail("trailing data after the binary points");
+  char buf[1 << 16];
+  while (std::size_t n = in_.read_some(buf, sizeof buf)) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (buf[i] != 0)
+        throw_bad_input(in_.path(), "byte " + std::to_string(in_.offset() - n + i) +
+                                        ": trailing data after the binary points");
+  }
 }
 
 void PcdValidator::check_compressed(const PcdHeader& h) {

@@ -122,7 +122,7 @@ void XyzReader::set_columns(const std::vector<std::string_view>& names, const st
     if (n.empty()) fail("empty column name");
     Column c;
     c.role = role_for(n);
-    c.name = std::string(n);
+    c.name = text::clean_name(n);
     if (c.role == Role::kExtra) {
       for (auto& e : doc_.cloud.extras)
         if (e.name == c.name) fail("column '" + c.name + "' named twice");

@@ -156,6 +156,26 @@ TEST(Pcd, ReadsARegularFileInPlace) {
   EXPECT_EQ(read_pcd(in).cloud.positions[0], (Vec3f{7, 8, 9}));
 }
 
+// Written by PCL 1.13's own writer (pcl_convert_pcd_ascii_binary, see tests/data/pcd/README.md):
+// real LZF back references and PCL's zero padding to the page size after the data.
+TEST(Pcd, FileWrittenByPcl) {
+  InputStream in(std::string(SPLATKIT_SOURCE_DIR) + "/tests/data/pcd/pcl_written_compressed.pcd");
+  auto doc = read_pcd(in);
+  const auto& c = doc.cloud;
+  ASSERT_EQ(c.size(), 200u);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    ASSERT_EQ(c.positions[i], (Vec3f{i * 0.5f, (i % 10) * 0.25f, 1})) << i;
+    ASSERT_EQ(c.normals[i], (Vec3f{0, 0, 1})) << i;
+    ASSERT_EQ(c.colors[i], (std::array<uint16_t, 3>{static_cast<uint16_t>(i % 256),
+                                                     static_cast<uint16_t>(2 * i % 256),
+                                                     static_cast<uint16_t>(3 * i % 256)}))
+        << i;
+    ASSERT_EQ(c.extras[0].values[i], static_cast<double>(static_cast<float>(i / 1000.0))) << i;
+  }
+  EXPECT_EQ(*c.viewpoint, (std::array<double, 3>{1.5, 2.5, 3.5}));
+  EXPECT_EQ(doc.header["data"], "binary_compressed");
+}
+
 TEST(Pcd, HeaderErrors) {
   const auto bad = ErrorKind::kBadInput;
   const std::string xyz = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
@@ -200,7 +220,8 @@ TEST(Pcd, BodyErrors) {
   std::string body;
   for (float v : {1.f, 2.f, 3.f, 4.f, 5.f, 6.f}) append(body, v);
   expect_error(hb + body.substr(0, 20), bad, "binary data truncated: 24 bytes expected, 20 left");
-  expect_error(hb + body + "xx", bad, "2 bytes of trailing data after the binary points");
+  expect_error(hb + body + std::string(5, '\0') + "x", bad, "byte 193: trailing data after the binary points");
+  EXPECT_EQ(read_bytes(hb + body + std::string(3000, '\0')).cloud.size(), 2u);  // PCL's page padding
   expect_error(hb + "POINTS 9\n" + body.substr(9), bad,
                "binary data starts with a line that PCL would read as a header line ('POINTS')");
   expect_error(hb + "#\n\nDATA a\n" + body.substr(11), bad, "as a header line ('DATA')");
@@ -219,7 +240,7 @@ TEST(Pcd, BodyErrors) {
   expect_error(hc + sizes(static_cast<uint32_t>(packed.size()) + 1, 24) + packed, bad,
                "binary data truncated");
   expect_error(hc + sizes(static_cast<uint32_t>(packed.size()), 24) + packed + "z", bad,
-               "1 bytes of trailing data");
+               "trailing data after the binary points");
   std::string corrupt = packed;
   corrupt[0] = 31;  // a literal run longer than the output
   expect_error(hc + sizes(static_cast<uint32_t>(corrupt.size()), 24) + corrupt, bad,

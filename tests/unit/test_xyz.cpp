@@ -134,6 +134,14 @@ TEST(Xyz, OriginFromFirstPoint) {
   EXPECT_EQ(c.positions[1], (Vec3f{124.25f, 1.5f, 11}));
 }
 
+TEST(Xyz, ColumnNamesAreValidUtf8) {
+  auto c = read_text("x y z temp\xe9 \xc3\xa9t\xc3\xa9\n1 2 3 4 5\n").cloud;
+  ASSERT_EQ(c.extras.size(), 2u);
+  EXPECT_EQ(c.extras[0].name, "temp?");          // Latin-1 byte: not UTF-8
+  EXPECT_EQ(c.extras[1].name, "\xc3\xa9t\xc3\xa9");  // UTF-8 kept
+  EXPECT_NO_THROW((void)read_text("x y z \xed\xa0\x80\n1 2 3 4\n").header.dump());  // surrogate
+}
+
 TEST(Xyz, EmptyAndHeaderOnly) {
   EXPECT_EQ(read_text("").cloud.size(), 0u);
   EXPECT_EQ(read_text("x y z\n").cloud.size(), 0u);
