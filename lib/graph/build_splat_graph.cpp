@@ -21,6 +21,9 @@ namespace {
 // Splats per parallel task and per output block: fixed, so the block layout (and with it every
 // result) does not depend on the number of threads.
 constexpr std::size_t kBlock = 4096;
+// How far (in splat radii) a continuous neighbour must lie beyond a partner's plane to show that
+// the surface passes through it; below that, sampling noise.
+constexpr float kSideMargin = 0.25f;
 
 template <class Fn>
 void for_each_splat(std::size_t n, Fn&& fn) {
@@ -63,9 +66,25 @@ struct Scratch {
   ClipClassification classification;
 };
 
+// True when S_i's continuous neighbours all lie on one side of the line where S_i's plane meets
+// S_j's (none further than tau beyond it, measured in S_i's plane): S_i's surface stops at S_j,
+// an edge, rather than passing through it. A point of S_i's plane at in-plane distance x from
+// the line is x sin θ from S_j's plane, θ the angle between the normals.
+bool stops_at(std::span<const Vec3f> continuous, const Vec3f& n_i, const Vec3f& c_j,
+              const Vec3f& n_j, float tau) {
+  tau *= norm(cross(n_i, n_j));
+  bool above = false, below = false;
+  for (const Vec3f& c_k : continuous) {
+    const float d = dot(c_k - c_j, n_j);
+    above = above || d > tau;
+    below = below || d < -tau;
+  }
+  return !(above && below);
+}
+
 void classify_splats(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                     double alpha, tbb::enumerable_thread_specific<Scratch>& scratch,
-                     SplatGraph& g) {
+                     std::span<const float> radii, double alpha,
+                     tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
   for_each_splat(positions.size(), [&](std::size_t i) {
     const auto row = g.graph.row(i);
     const uint8_t* flags = g.edge_flags.data() + g.graph.offsets[i];
@@ -77,9 +96,20 @@ void classify_splats(std::span<const Vec3f> positions, std::span<const Vec3f> no
     s.centres.clear();
     for (std::size_t k = 0; k < row.size(); ++k)
       if (!(flags[k] & kEdgeSharp)) s.centres.push_back(positions[row[k]]);
-    const bool boundary =
-        linsen_boundary_test(positions[i], normals[i], s.centres, alpha, s.angles).boundary;
-    g.classes[i] = boundary ? SplatClass::kEdge : SplatClass::kIntersection;
+    bool edge = linsen_boundary_test(positions[i], normals[i], s.centres, alpha, s.angles).boundary;
+    if (!edge) {
+      // Every crossing partner must agree: on a curved surface a partner whose plane line only
+      // grazes S_i's rim can leave all neighbours on one side even where the surfaces cross.
+      const float tau = kSideMargin * radii[i];
+      bool any_crossing = false, all_stop = true;
+      for (std::size_t k = 0; k < row.size() && all_stop; ++k) {
+        if (!(flags[k] & kEdgeCrossing)) continue;
+        any_crossing = true;
+        all_stop = stops_at(s.centres, normals[i], positions[row[k]], normals[row[k]], tau);
+      }
+      edge = any_crossing && all_stop;
+    }
+    g.classes[i] = edge ? SplatClass::kEdge : SplatClass::kIntersection;
   });
 }
 
@@ -194,13 +224,13 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   progress(0.6, "sharp edges");
   g.edge_flags.resize(g.graph.neighbors.size());
   flag_sharp_edges(normals, options.sharp_threshold, g);
+  progress(0.7, "disc crossings");
+  flag_crossings(positions, normals, radii, g);
   tbb::enumerable_thread_specific<Scratch> scratch;
   g.classes.resize(positions.size());
-  progress(0.7, "boundary test");
-  classify_splats(positions, normals, options.boundary_gap_degrees * std::numbers::pi / 180,
-                  scratch, g);
-  progress(0.75, "disc crossings");
-  flag_crossings(positions, normals, radii, g);
+  progress(0.8, "boundary test");
+  classify_splats(positions, normals, radii,
+                  options.boundary_gap_degrees * std::numbers::pi / 180, scratch, g);
   progress(0.85, "surfaces");
   g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
   progress(0.9, "clip partners");

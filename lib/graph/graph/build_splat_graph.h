@@ -17,11 +17,20 @@ namespace splatkit::graph {
 
 enum class SplatClass : uint8_t {
   kSmooth = 0,        // no sharp edge
-  kEdge = 1,          // a sharp edge, and its continuous neighbours leave a gap > α: it lies on a
-                      // boundary of its smooth surface (a crease, a corner, an open border); clipped
-  kIntersection = 2,  // a sharp edge, but surrounded by continuous neighbours: its surface is
-                      // crossed by another one; never clipped (§4.1)
+  kEdge = 1,          // on a boundary of its smooth surface (a crease, a corner, an open border)
+                      // next to another surface; its crossing sharp neighbours clip it
+  kIntersection = 2,  // inside its smooth surface, which another surface crosses; never clipped
 };
+// A splat with a sharp edge is kEdge when
+//   (a) Linsen's test (linsen_boundary_test over its continuous neighbours, gap > α) finds it on
+//       a boundary — the seed's test (§4.1); or, beyond the seed,
+//   (b) it has sharp neighbours whose discs cross its own, and for every such S_j all its
+//       continuous neighbours' centres lie on one side of the line where the two planes meet
+//       (none more than r_i / 4 beyond it, measured in S_i's plane): its surface stops at S_j
+//       instead of passing through. Without (b) the second row of splats behind a crease, whose
+//       discs still reach across it when splats overlap a lot (m ≈ 13), is surrounded by its own
+//       surface, comes out as an "intersection" and is never clipped.
+// Otherwise it is kIntersection.
 
 // Per neighbour entry (parallel to NeighborGraph::neighbors; symmetric).
 inline constexpr uint8_t kEdgeSharp = 1;     // w_ij = n_i·n_j < w_s [3.3] (or not a number)
