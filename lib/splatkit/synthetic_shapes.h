@@ -34,17 +34,21 @@ struct ShapeOptions {
 };
 
 // Returns positions, exact outward unit normals, radii (mean distance to 5 nearest neighbours of
-// the ideal sampling density, so splats overlap), colours (kTwoSpheres: red/blue; else grey) and
-// an extra attribute "patch_id" (uint32: the true smooth patch each point was sampled from).
+// the ideal sampling density, so splats overlap), colours (kTwoSpheres: patch 0 red, patch 1 blue;
+// else light grey 200) and an extra attribute "patch_id" (uint32: the true smooth patch each point
+// was sampled from). Units: the shapes' own (unit sphere, cube of side 2, ...), origin zero.
 //
-// Sampling is area-uniform. Stratified (random = false): each patch is cut into rows and cells of
-// area h² = total area / points; one point per cell, jittered over the central half of the cell,
-// so spacing is near-uniform and every surface point lies within radius of a sample. Random: i.i.d.
-// uniform, exactly `points` points. Radius: stratified, max(1.05 h, the cell's own covering
-// distance); random, 1.71 h (the expected mean 5-NN distance, 0.90 h, would leave ~8 % of a
-// Poisson sample's surface uncovered; 1.71 h leaves 1e-4). Points are ordered patch by patch
-// (random: in draw order). Throws Error(kUsage) for points == 0 or > 2^30, or noise negative or not
-// finite.
+// Sampling is area-uniform. Stratified (random = false): each patch is cut into rows of cells of
+// area h², h² = total area / points; one point per cell, jittered over the central half of the
+// cell, so spacing is near-uniform and every point of a cell lies within the radius of the cell's
+// sample (planar faces: except thin slivers that rows cut off along slanted edges and holes, within
+// h/2 of a crease). Random: i.i.d. uniform, exactly `points` points. Radius: stratified,
+// max(1.05 h = the measured mean 5-NN distance, the cell's covering distance), 1.06 h for square
+// cells; random, 1.71 h (the mean 5-NN distance of a Poisson sample, 0.90 h, would leave ~8 % of
+// the surface uncovered; 1.71 h leaves 1e-4). Points are ordered patch by patch (random: in draw
+// order). Noise moves points after sampling, so the same seed with and without noise gives the
+// same normals and labels. Throws Error(kUsage) for points == 0 or > 2^30, or noise negative or
+// not finite.
 SplatCloud make_shape(const ShapeOptions& options);
 
 // Parses "sphere", "torus", "cad", "two-spheres", "cube"; throws Error(kUsage) otherwise.
