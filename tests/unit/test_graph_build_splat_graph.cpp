@@ -15,10 +15,11 @@ namespace {
 struct Cloud {
   std::vector<Vec3f> positions, normals;
   std::vector<float> radii;
+  float radius = 0.75f;  // grid step 1: the 8-neighbourhood overlaps (sqrt 2 < 1.5)
   void add(const Vec3f& p, const Vec3f& n) {
     positions.push_back(p);
     normals.push_back(n);
-    radii.push_back(0.75f);  // grid step 1: the 8-neighbourhood overlaps (sqrt 2 < 1.5)
+    radii.push_back(radius);
   }
 };
 
@@ -32,8 +33,9 @@ void add_grid(Cloud& c, const Vec3f& origin, const Vec3f& a, const Vec3f& b, con
 }
 
 // Floor z = 0 (x > 0) and wall x = 0 (z > 0) meet at 90° along the y axis: a concave crease.
-Cloud floor_and_wall() {
+Cloud floor_and_wall(float radius = 0.75f) {
   Cloud c;
+  c.radius = radius;
   add_grid(c, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});  // splats 0..99, x = i + 0.5
   add_grid(c, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {1, 0, 0});  // splats 100..199, z = i + 0.5
   return c;
@@ -115,6 +117,40 @@ TEST(GraphBuildSplatGraph, CrossingPlanesAreIntersectionsNotClipped) {
     EXPECT_EQ(g.clip.offsets[i + 1], g.clip.offsets[i]) << i;
   }
   EXPECT_EQ(g.stats.intersection_splats, 4 * 8u);
+}
+
+TEST(GraphBuildSplatGraph, SecondRowReachingAcrossTheCreaseIsClipped) {
+  // Radius 1.6: the floor splat at x = 1.5 reaches x = -0.1, across the crease, and crosses wall
+  // splats. Its continuous neighbours surround it (Linsen alone says "intersection"), but all
+  // lie on its side of the crease: an edge, clipped.
+  const Cloud c = floor_and_wall(1.6f);
+  const SplatGraph g = build(c);
+  const std::size_t second_row = 41;
+  ASSERT_EQ(c.positions[second_row], (Vec3f{1.5f, 4.5f, 0}));
+  EXPECT_EQ(g.classes[second_row], SplatClass::kEdge);
+  EXPECT_GT(g.clip.offsets[second_row + 1], g.clip.offsets[second_row]);
+  EXPECT_TRUE(discards(g, c, second_row, {-0.05f, 4.5f, 0}));
+  EXPECT_FALSE(discards(g, c, second_row, {0.25f, 4.5f, 0}));
+  // Every splat whose disc crosses the other surface is an edge here. (The third row, x = 2.5,
+  // has sharp edges but no crossing: Linsen's "intersection", harmless, nothing to clip.)
+  for (std::size_t i = 0; i < c.positions.size(); ++i) {
+    bool crosses = false;
+    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k)
+      crosses = crosses || (g.edge_flags[k] & kEdgeCrossing);
+    if (crosses) {
+      EXPECT_EQ(g.classes[i], SplatClass::kEdge) << i;
+    }
+  }
+  EXPECT_EQ(g.stats.intersection_splats, 16u);
+  // Crossing planes with the same radius stay intersections (neighbours on both sides).
+  Cloud x;
+  x.radius = 1.6f;
+  add_grid(x, {-5, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  add_grid(x, {0, 0, -5}, {0, 0, 1}, {0, 1, 0}, {1, 0, 0});
+  const SplatGraph gx = build(x);
+  EXPECT_EQ(gx.classes[44], SplatClass::kIntersection);  // (-0.5, 4.5, 0)
+  EXPECT_EQ(gx.classes[45], SplatClass::kIntersection);  // (0.5, 4.5, 0)
+  EXPECT_EQ(gx.clip.offsets[46], gx.clip.offsets[44]);
 }
 
 TEST(GraphBuildSplatGraph, SameResultForAnyThreadCount) {
