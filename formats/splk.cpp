@@ -68,7 +68,7 @@ U get_le(const unsigned char* p) {
 double get_f64(const unsigned char* p) { return std::bit_cast<double>(get_le<uint64_t>(p)); }
 
 // Reverses each `width`-byte value in place (big-endian hosts only).
-void swap_values(void* data, std::size_t bytes, std::size_t width) {
+[[maybe_unused]] void swap_values(void* data, std::size_t bytes, std::size_t width) {
   auto* p = static_cast<unsigned char*>(data);
   for (std::size_t i = 0; i + width <= bytes; i += width) std::reverse(p + i, p + i + width);
 }
