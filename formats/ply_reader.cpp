@@ -5,8 +5,6 @@
 // x y z / nx ny nz stored as three consecutive native float32 are copied as one 12-byte unit.
 // Everything else (ASCII, faces, vertex rows with lists) goes through a row-at-a-time path.
 // Every count is checked against the bytes left before anything is allocated. Spec: ply.md.
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -746,35 +744,18 @@ class PlyDecoder {
   }
 
   void resize_vertices(std::size_t n) {
-    resize_advised(cloud_.positions, n);
-    if (plan_.has_normals) resize_advised(cloud_.normals, n);
-    if (plan_.has_radii) resize_advised(cloud_.radii, n);
-    if (plan_.has_colors) resize_advised(cloud_.colors, n);
-    for (ExtraAttribute& x : cloud_.extras) resize_advised(x.values, n);
+    resize_geometric(cloud_.positions, n);
+    if (plan_.has_normals) resize_geometric(cloud_.normals, n);
+    if (plan_.has_radii) resize_geometric(cloud_.radii, n);
+    if (plan_.has_colors) resize_geometric(cloud_.colors, n);
+    for (ExtraAttribute& x : cloud_.extras) resize_geometric(x.values, n);
   }
 
-  // Large arrays are filled once, front to back: transparent huge pages cut the page faults of
-  // that first touch (they dominate the decode time of a 10M-point file) by a factor of 512.
+  // Geometric growth: a pipe (unknown size) grows the arrays one block at a time.
   template <class V>
-  static void resize_advised(V& v, std::size_t n) {
-    if (n > v.capacity()) {
-      v.reserve(n);
-      advise_huge_pages(v.data(), v.capacity() * sizeof(v[0]));
-    }
+  static void resize_geometric(V& v, std::size_t n) {
+    if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
     v.resize(n);
-  }
-
-  static void advise_huge_pages(void* p, std::size_t bytes) {
-#ifdef MADV_HUGEPAGE
-    constexpr uintptr_t kHuge = uintptr_t{2} << 20;
-    if (bytes < 2 * kHuge) return;
-    const uintptr_t begin = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t end = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
-    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-    (void)p;
-    (void)bytes;
-#endif
   }
 
   void choose_origin_from(const double p[3]) {

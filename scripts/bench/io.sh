@@ -11,13 +11,13 @@ build=${BUILD_DIR:-$root/build-bench}
 points=${1:-10000000}
 repeats=${2:-3}
 
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
-  -DSPLATKIT_BUILD_TESTS=OFF >/dev/null
-ninja -C "$build" -j2 bench_read_ply >/dev/null
-bench=$build/scripts/bench/bench_read_ply
-
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
+  -DSPLATKIT_BUILD_TESTS=OFF >"$tmp/build.log" 2>&1 &&
+  ninja -C "$build" -j2 bench_read_ply >>"$tmp/build.log" 2>&1 || { cat "$tmp/build.log"; exit 1; }
+bench=$build/scripts/bench/bench_read_ply
+
 file=$tmp/points.ply
 "$bench" --make "$points" "$file"
 cat "$file" >/dev/null  # warm the page cache
