@@ -247,6 +247,11 @@ PcdHeader PcdValidator::read_header() {
     // PCL skips empty lines but ends its header at a line of spaces.
     if (t.empty()) fail_line("line of only spaces in the header");
     if (t.front() == '#') continue;
+    // PCL splits header words at space, tab and CR but reads numbers at any white space: other
+    // control characters would make the two disagree on the field count.
+    for (char ch : t)
+      if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\r')
+        fail_line("control character in a header line");
     text::split(t, 0, toks_);
     if (toks_[0] == "DATA") {
       if (toks_.size() != 2) fail_line("DATA needs one value (ascii, binary or binary_compressed)");

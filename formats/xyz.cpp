@@ -257,8 +257,10 @@ LoadedCloud XyzReader::read() {
       pts_count = count;
       have_data = next_content_line(content);
     } else if (!last_comment_.empty()) {
+      // A comment naming x, y, z and as many columns as the data is a header (ours is one).
+      const std::size_t data_columns = toks.size();
       text::split(last_comment_, separator_of(last_comment_), toks);
-      if (has_xyz_names(toks)) {
+      if (has_xyz_names(toks) && toks.size() == data_columns) {
         header_kind = "comment";
         header_source = "the header comment";
         header_names.assign(toks.begin(), toks.end());

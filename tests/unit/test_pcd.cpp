@@ -200,6 +200,7 @@ TEST(Pcd, HeaderErrors) {
   expect_error("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 2 1\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n", bad,
                "field 'y' must be one value of 4 or 8 bytes");
   expect_error("FIELDS x y z x\nSIZE 4 4 4 4\n", bad, "field 'x' named twice");
+  expect_error("FIELDS x y z\fw\n", bad, "line 1: control character in a header line");
   expect_error(xyz + "WIDTH 4294967296\n", bad, "WIDTH exceeds 2^32 - 1");
   expect_error(xyz + "WIDTH 200000000\nPOINTS 200000000\nDATA binary\n", bad, "exceed the 2 GiB that PCL can read");
 }

@@ -127,6 +127,12 @@ TEST(Xyz, CommentsBlankLinesAndCommentHeader) {
   EXPECT_TRUE(c.extras.empty());
 }
 
+TEST(Xyz, CommentWithOtherColumnCountIsNoHeader) {
+  auto doc = read_text("# x y z\n1 2 3 0 0 1\n");
+  EXPECT_EQ(doc.header["header"], "none");
+  EXPECT_TRUE(doc.cloud.has_normals());
+}
+
 TEST(Xyz, OriginFromFirstPoint) {
   auto c = read_text("500123.25 4100000.5 10\n500124.25 4100001.5 11\n").cloud;
   EXPECT_EQ(c.origin, (std::array<double, 3>{500000, 4100000, 0}));
