@@ -406,6 +406,19 @@ ShapeModel make_model(ShapeKind kind, bool keep_inside) {
   throw std::logic_error("synthetic shapes: unknown kind");
 }
 
+// The models are immutable: built once (thread-safe static initialisation), so that per-point
+// queries such as distance_to_crease() cost no allocation.
+const ShapeModel& model_for(ShapeKind kind, bool keep_inside) {
+  static const std::vector<ShapeModel> models = [] {
+    std::vector<ShapeModel> all;  // in ShapeKind's declaration order, then keep_inside
+    for (ShapeKind k : {ShapeKind::kSphere, ShapeKind::kTorus, ShapeKind::kCadPart,
+                        ShapeKind::kTwoSpheres, ShapeKind::kCube})
+      for (bool inside : {false, true}) all.push_back(make_model(k, inside));
+    return all;
+  }();
+  return models.at(2 * static_cast<std::size_t>(kind) + (keep_inside ? 1 : 0));
+}
+
 double patch_area(const Patch& p) {
   if (const auto* r = std::get_if<PlanarRegion>(&p.surface)) return region_area(*r);
   const auto& rev = std::get<Revolution>(p.surface);
@@ -574,7 +587,7 @@ void check_options(const ShapeOptions& o) {
 
 SplatCloud make_shape(const ShapeOptions& options) {
   check_options(options);
-  const ShapeModel model = make_model(options.kind, options.keep_inside);
+  const ShapeModel& model = model_for(options.kind, options.keep_inside);
   std::vector<double> areas;
   double total_area = 0;
   for (const Patch& p : model.patches) total_area += areas.emplace_back(patch_area(p));
@@ -584,6 +597,12 @@ SplatCloud make_shape(const ShapeOptions& options) {
 
   SplatCloud cloud;
   ExtraAttribute patch_ids{"patch_id", ScalarType::kUInt32, {}};
+  const std::size_t expected = options.points + options.points / 50 + 16;  // stratified rounding
+  cloud.positions.reserve(expected);
+  cloud.normals.reserve(expected);
+  cloud.radii.reserve(expected);
+  cloud.colors.reserve(expected);
+  patch_ids.values.reserve(expected);
   DeterministicRng noise_rng(options.seed, 0x6E6F697365ull);
   const bool two_colours = options.kind == ShapeKind::kTwoSpheres;
   const Emit emit = [&](const D3& p, const D3& n, double cover, uint32_t patch) {
@@ -648,7 +667,7 @@ std::string shape_kind_name(ShapeKind kind) {
 }
 
 float distance_to_crease(ShapeKind kind, const Vec3f& p) {
-  const ShapeModel model = make_model(kind, false);
+  const ShapeModel& model = model_for(kind, false);
   double best = std::numeric_limits<double>::infinity();
   for (const Crease& c : model.creases) best = std::min(best, distance_to(c, to_d3(p)));
   return static_cast<float>(best);
@@ -656,26 +675,26 @@ float distance_to_crease(ShapeKind kind, const Vec3f& p) {
 
 std::vector<std::string> shape_patch_names(const ShapeOptions& options) {
   std::vector<std::string> names;
-  for (const Patch& p : make_model(options.kind, options.keep_inside).patches)
+  for (const Patch& p : model_for(options.kind, options.keep_inside).patches)
     names.push_back(p.name);
   return names;
 }
 
 Bounds shape_bounds(const ShapeOptions& options) {
-  const ShapeModel m = make_model(options.kind, options.keep_inside);
+  const ShapeModel& m = model_for(options.kind, options.keep_inside);
   return {{static_cast<float>(m.min.x), static_cast<float>(m.min.y), static_cast<float>(m.min.z)},
           {static_cast<float>(m.max.x), static_cast<float>(m.max.y), static_cast<float>(m.max.z)}};
 }
 
 float distance_to_shape(const ShapeOptions& options, const Vec3f& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Patch& patch : make_model(options.kind, options.keep_inside).patches)
+  for (const Patch& patch : model_for(options.kind, options.keep_inside).patches)
     best = std::min(best, distance_to(patch, to_d3(p)));
   return static_cast<float>(best);
 }
 
 float distance_to_patch(const ShapeOptions& options, uint32_t patch, const Vec3f& p) {
-  const ShapeModel m = make_model(options.kind, options.keep_inside);
+  const ShapeModel& m = model_for(options.kind, options.keep_inside);
   return static_cast<float>(distance_to(m.patches.at(patch), to_d3(p)));
 }
 

@@ -1,6 +1,9 @@
 // Synthetic shapes sampled with exact normals and exact smooth-patch labels: the ground truth for
 // tests and benchmarks (normals accuracy, orientation, segmentation, rendering against analytic
-// images). Deterministic for a given seed on every platform (own RNG, no std:: distributions).
+// images). Deterministic for a given seed on every platform (own RNG, no std:: distributions,
+// single-threaded). One caveat: std::sin/cos/log are not required to be correctly rounded, so a
+// libm that differs in the last bit could change a float's last bit; tests/e2e/synth.sh compares
+// the checked-in data-samples byte for byte and would show it.
 #pragma once
 
 #include <cstdint>
