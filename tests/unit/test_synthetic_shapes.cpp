@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -307,9 +308,9 @@ TEST(SyntheticShapes, SameSeedSameBytesOtherSeedOtherBytes) {
 }
 
 TEST(SyntheticShapes, SameSeedSameFileBytes) {
-  const std::string dir = testing::TempDir() + "synthetic_shapes_" +
-                          std::to_string(::testing::UnitTest::GetInstance()->random_seed());
-  std::filesystem::create_directories(dir);
+  std::string pattern = testing::TempDir() + "synthetic_shapes_XXXXXX";
+  ASSERT_NE(mkdtemp(pattern.data()), nullptr);  // unique even across concurrent test runs
+  const std::string dir = pattern;
   auto write = [&](uint64_t seed, const std::string& name) {
     ShapeOptions o = shape(ShapeKind::kTwoSpheres, 3000);
     o.seed = seed;
