@@ -26,7 +26,7 @@ enum class ShapeKind {
 
 struct ShapeOptions {
   ShapeKind kind = ShapeKind::kSphere;
-  std::size_t points = 10000;  // random: exactly; stratified: within rounding (±1 % from 1000
+  std::size_t points = 10000;  // random: exactly; stratified: within rounding (±2 % from 1000
                                // points up; a tiny request can give a few more or fewer, even 0)
   uint64_t seed = 1;
   double noise = 0.0;   // Gaussian noise, standard deviation as a fraction of the bbox diagonal,
