@@ -35,11 +35,11 @@ struct ClipClassification {
 // Throws std::invalid_argument when the sizes differ.
 //
 // 1. Partners are grouped by surface id (stable: input order within a subset).
-// 2. Per subset: [4.13] and [4.14]. The side of every partner is the subset's S ∪ N class
-//    (concave -> behind, convex -> front, [4.17]); when that class is kFlat or kMixed, each
-//    partner takes its own sign of (C_j - C)·n, and when that is within tol the sign of the
-//    symmetric crease test (C_j - C)·(n - n_j) (> 0: concave, behind; else front). The subset's
-//    rule is clip_rule([4.13] class, side) [4.15]; if its partners' sides disagree, intersection.
+// 2. Per subset: [4.13] and [4.14]. All partners of a subset share one side: the subset's
+//    S ∪ N class (concave -> behind, convex -> front, [4.17]); when that is kFlat or kMixed, the
+//    sign of the symmetric crease test on the subset's mean centre M and normalised mean normal
+//    N, (M - C)·(n - N) (> 0: concave, behind; else front). The subset's rule is
+//    clip_rule([4.13] class, side) [4.15].
 // 3. Across subsets (when there are two or more), a fragment must be tested against the surfaces
 //    as the solid is built from them:
 //    - if S sees some surfaces and not others (sides differ), union: a point of S's plane is
