@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the synthetic files in data-samples/ with the built splat-synth (byte-identical on
 # every run: fixed seeds, deterministic sampling). The PCD variant is converted by PCL's own
-# pcl_ply2pcd (package pcl-tools) when it is installed. With --cgal it also fetches the two real
+# pcl_ply2pcd (package pcl-tools) when it is installed, the LAS variants by
+# scripts/make-las-samples.py (python3). With --cgal it also fetches the two real
 # samples (kitten.xyz, nefertiti.off) from Debian's libcgal-demo package (downloaded into a temp
 # dir, not installed). Provenance of every file: data-samples/README.md.
 #
@@ -16,7 +17,7 @@ bin=
 for arg in "$@"; do
   case $arg in
     --cgal) cgal=1 ;;
-    -h | --help) sed -n '2,9p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h | --help) sed -n '2,10p' "${BASH_SOURCE[0]}"; exit 0 ;;
     -*) echo "make-samples: unknown option $arg" >&2; exit 1 ;;
     *) bin=$arg ;;
   esac
@@ -63,6 +64,15 @@ if command -v pcl_ply2pcd > /dev/null; then
   made+=(cad-pcl.pcd)
 else
   echo "make-samples: pcl_ply2pcd not found (apt-get install pcl-tools); kept the old cad-pcl.pcd" >&2
+fi
+
+# The LAS variants come from the text variants above through an independent writer (plain
+# struct packing of the ASPRS layouts), so they follow them.
+if command -v python3 > /dev/null; then
+  python3 "$top/scripts/make-las-samples.py" "$tmp"
+  made+=(torus-las12.las cad-utm-las14.las)
+else
+  echo "make-samples: python3 not found; kept the old LAS samples" >&2
 fi
 
 if ((cgal)); then

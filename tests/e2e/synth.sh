@@ -42,7 +42,7 @@ grep -q '"tool":"splat-synth"' "$WORK/piped.txt" && pass || fail "no splat-synth
 # The checked-in samples are exactly what the generator makes today.
 if [ -x "$SRC/scripts/make-samples.sh" ]; then
   mkdir -p "$WORK/regen/scripts"
-  cp "$SRC/scripts/make-samples.sh" "$WORK/regen/scripts/"
+  cp "$SRC/scripts/make-samples.sh" "$SRC"/scripts/make-las-samples.py "$WORK/regen/scripts/"
   if "$WORK/regen/scripts/make-samples.sh" "$BIN" > /dev/null 2>"$WORK/stderr"; then
     for f in "$WORK"/regen/data-samples/*; do
       name=$(basename "$f")
