@@ -129,6 +129,9 @@ TEST(GraphNeighborListCodec, HostileInputsEachHaveTheirOwnMessage) {
   EXPECT_NE(error_of({0, 1, 3}, 3).find("row 1: byte 2: neighbour index overflow"),
             std::string::npos);
   EXPECT_NE(error_of({1, 0, 0}, 2).find("row lists its own index"), std::string::npos);
+  // Found by fuzzing: row 1 = {0, 1}, its own index as a later entry.
+  EXPECT_NE(error_of({2, 2, 1, 2, 1, 0, 1, 2, 1, 5}, 4).find("row 1: byte 5: row lists its own"),
+            std::string::npos);
   // A gap of 2^64 - 1 after index 1 would wrap back to 1: must be out of range, not a repeat.
   const std::vector<uint8_t> wrap{2, 2, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
                                   0x01, 0, 0, 0};
