@@ -229,8 +229,8 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   tbb::enumerable_thread_specific<Scratch> scratch;
   g.classes.resize(positions.size());
   progress(0.8, "boundary test");
-  classify_splats(positions, normals, radii,
-                  options.boundary_gap_degrees * std::numbers::pi / 180, scratch, g);
+  classify_splats(positions, normals, radii, options.boundary_gap_degrees * std::numbers::pi / 180,
+                  scratch, g);
   progress(0.85, "surfaces");
   g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
   progress(0.9, "clip partners");

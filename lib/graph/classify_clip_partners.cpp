@@ -49,7 +49,8 @@ void classify_clip_partners(const Vec3f& c, const Vec3f& n, std::span<const Vec3
                             double tol, ClipClassification& out) {
   const std::size_t count = centres.size();
   if (normals.size() != count || (!surfaces.empty() && surfaces.size() != count))
-    throw std::invalid_argument("classify_clip_partners: centres, normals, surfaces differ in size");
+    throw std::invalid_argument(
+        "classify_clip_partners: centres, normals, surfaces differ in size");
   out.order.resize(count);
   std::iota(out.order.begin(), out.order.end(), 0u);
   if (!surfaces.empty())

@@ -15,7 +15,9 @@ void put_varint(std::vector<uint8_t>& out, uint64_t v) {
   out.push_back(static_cast<uint8_t>(v));
 }
 
-uint64_t zigzag(int64_t x) { return (static_cast<uint64_t>(x) << 1) ^ static_cast<uint64_t>(x >> 63); }
+uint64_t zigzag(int64_t x) {
+  return (static_cast<uint64_t>(x) << 1) ^ static_cast<uint64_t>(x >> 63);
+}
 int64_t unzigzag(uint64_t u) { return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1); }
 
 void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
@@ -115,8 +117,9 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
     const std::size_t at = in.pos();
     const uint64_t degree = in.varint(i);
     if (degree > in.left())  // each entry takes at least one byte
-      in.fail(i, at, "degree " + std::to_string(degree) + " exceeds the " +
-                         std::to_string(in.left()) + " bytes left");
+      in.fail(i, at,
+              "degree " + std::to_string(degree) + " exceeds the " + std::to_string(in.left()) +
+                  " bytes left");
     uint64_t prev = 0;
     for (uint64_t k = 0; k < degree; ++k) {
       const std::size_t entry_at = in.pos();
@@ -131,15 +134,17 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
       } else {
         const int64_t delta = unzigzag(code);
         // i < 2^64 / 2 here (num_rows <= bytes.size()), so the sum cannot wrap past a valid index.
-        j = delta < 0 && static_cast<uint64_t>(-(delta + 1)) >= i ? ~uint64_t{0}
-                                                                   : i + static_cast<uint64_t>(delta);
+        j = delta < 0 && static_cast<uint64_t>(-(delta + 1)) >= i
+                ? ~uint64_t{0}
+                : i + static_cast<uint64_t>(delta);
       }
       // kFull rows may pass over their own index (0 -> 1 -> 3 in row 2) but never land on it.
       if (j == i) in.fail(i, entry_at, "row lists its own index");
       if (j >= num_rows)
-        in.fail(i, entry_at, "neighbour index " + (j == ~uint64_t{0} ? std::string("overflow")
-                                                                      : std::to_string(j)) +
-                                 " out of range (rows: " + std::to_string(num_rows) + ")");
+        in.fail(i, entry_at,
+                "neighbour index " +
+                    (j == ~uint64_t{0} ? std::string("overflow") : std::to_string(j)) +
+                    " out of range (rows: " + std::to_string(num_rows) + ")");
       rows.neighbors.push_back(static_cast<uint32_t>(j));
       prev = j;
     }

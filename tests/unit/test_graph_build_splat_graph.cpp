@@ -28,8 +28,7 @@ struct Cloud {
 void add_grid(Cloud& c, const Vec3f& origin, const Vec3f& a, const Vec3f& b, const Vec3f& n,
               int rows = 10) {
   for (int j = 0; j < 10; ++j)
-    for (int i = 0; i < rows; ++i)
-      c.add(origin + a * (i + 0.5f) + b * (j + 0.5f), n);
+    for (int i = 0; i < rows; ++i) c.add(origin + a * (i + 0.5f) + b * (j + 0.5f), n);
 }
 
 // Floor z = 0 (x > 0) and wall x = 0 (z > 0) meet at 90° along the y axis: a concave crease.
@@ -74,8 +73,7 @@ TEST(GraphBuildSplatGraph, TwoPlanesAt90DegreesGiveOneSharpLineAndTwoSurfaces) {
   const std::size_t floor_splat = 40;
   ASSERT_EQ(c.positions[floor_splat], (Vec3f{0.5f, 4.5f, 0}));
   const auto row = std::span(g.clip.partners).subspan(g.clip.offsets[floor_splat], 3);
-  EXPECT_EQ(std::vector<uint32_t>(row.begin(), row.end()),
-            (std::vector<uint32_t>{130, 140, 150}));
+  EXPECT_EQ(std::vector<uint32_t>(row.begin(), row.end()), (std::vector<uint32_t>{130, 140, 150}));
   // Concave crease: what lies behind the wall (x < 0) goes, the floor stays; likewise below
   // the floor for a wall splat.
   EXPECT_TRUE(discards(g, c, floor_splat, {-0.25f, 4.5f, 0}));
@@ -93,9 +91,9 @@ TEST(GraphBuildSplatGraph, ConvexBoxEdgeClipsTheOverhang) {
   const SplatGraph g = build(c);
   EXPECT_EQ(g.stats.sharp_edges, 28u);
   EXPECT_EQ(g.surfaces.count(), 2u);
-  EXPECT_TRUE(discards(g, c, 40, {-0.25f, 4.5f, 0}));   // top splat beyond the edge
+  EXPECT_TRUE(discards(g, c, 40, {-0.25f, 4.5f, 0}));  // top splat beyond the edge
   EXPECT_FALSE(discards(g, c, 40, {0.25f, 4.5f, 0}));
-  EXPECT_TRUE(discards(g, c, 140, {0, 4.5f, 0.25f}));   // side splat above the top
+  EXPECT_TRUE(discards(g, c, 140, {0, 4.5f, 0.25f}));  // side splat above the top
   EXPECT_FALSE(discards(g, c, 140, {0, 4.5f, -0.25f}));
 }
 

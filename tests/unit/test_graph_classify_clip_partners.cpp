@@ -28,8 +28,8 @@ ClipClassification classify(const Config& cfg, double tol = 1e-4) {
 bool discarded(const Config& cfg, const ClipClassification& cls, const Vec3f& p) {
   std::vector<ClipPlane> planes;
   for (std::size_t k = 0; k < cls.order.size(); ++k)
-    planes.push_back(make_clip_plane(cfg.centres[cls.order[k]], cfg.normals[cls.order[k]],
-                                     cls.flags[k]));
+    planes.push_back(
+        make_clip_plane(cfg.centres[cls.order[k]], cfg.normals[cls.order[k]], cls.flags[k]));
   ClipView view{planes.data(), cls.flags.data(), static_cast<uint32_t>(planes.size()),
                 cls.combine_intersection};
   return fragment_discarded(view, p);
@@ -164,8 +164,8 @@ Config cube_corner(bool with_surfaces) {
   Config cfg;
   cfg.c = {1, 0.875f, 0.875f};
   cfg.n = {1, 0, 0};
-  cfg.centres = {{0.875f, 1, 0.875f}, {0.875f, 0.875f, 1}, {0.875f, 1, 0.625f},
-                 {0.875f, 0.625f, 1}};
+  cfg.centres = {
+      {0.875f, 1, 0.875f}, {0.875f, 0.875f, 1}, {0.875f, 1, 0.625f}, {0.875f, 0.625f, 1}};
   cfg.normals = {{0, 1, 0}, {0, 0, 1}, {0, 1, 0}, {0, 0, 1}};
   if (with_surfaces) cfg.surfaces = {1, 2, 1, 2};
   return cfg;
@@ -195,8 +195,8 @@ TEST(GraphClipClassification, CubeCornerPerSurface) {
   ASSERT_EQ(seed.subsets.size(), 1u);
   EXPECT_EQ(seed.subsets[0].partners, Convexity::kConvex);
   EXPECT_EQ(seed.subsets[0].rule, ClipRule::kUnion);
-  for (const Vec3f& p : {Vec3f{1, 0.9375f, 0.9375f}, Vec3f{1, 1.0625f, 0.9375f},
-                         Vec3f{1, 0.9375f, 1.0625f}})
+  for (const Vec3f& p :
+       {Vec3f{1, 0.9375f, 0.9375f}, Vec3f{1, 1.0625f, 0.9375f}, Vec3f{1, 0.9375f, 1.0625f}})
     EXPECT_EQ(discarded(seed_cfg, seed, p), discarded(cfg, cls, p));
 }
 
@@ -208,8 +208,8 @@ Config box_on_floor(bool with_surfaces) {
   Config cfg;
   cfg.c = {1, 0.875f, 0.125f};
   cfg.n = {1, 0, 0};
-  cfg.centres = {{1.125f, 0.875f, 0}, {1.125f, 0.625f, 0}, {0.875f, 1, 0.125f},
-                 {0.875f, 1, 0.375f}};
+  cfg.centres = {
+      {1.125f, 0.875f, 0}, {1.125f, 0.625f, 0}, {0.875f, 1, 0.125f}, {0.875f, 1, 0.375f}};
   cfg.normals = {{0, 0, 1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
   if (with_surfaces) cfg.surfaces = {7, 7, 3, 3};
   return cfg;
@@ -251,8 +251,8 @@ TEST(GraphClipClassification, FloorAtOuterBoxEdgeCombinesByIntersection) {
   Config cfg;
   cfg.c = {1.125f, 1.125f, 0};
   cfg.n = {0, 0, 1};
-  cfg.centres = {{1, 0.875f, 0.125f}, {1, 0.625f, 0.125f}, {0.875f, 1, 0.125f},
-                 {0.625f, 1, 0.125f}};
+  cfg.centres = {
+      {1, 0.875f, 0.125f}, {1, 0.625f, 0.125f}, {0.875f, 1, 0.125f}, {0.625f, 1, 0.125f}};
   cfg.normals = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}};
   cfg.surfaces = {1, 1, 2, 2};
   const auto cls = classify(cfg);
@@ -269,8 +269,8 @@ TEST(GraphClipClassification, RoomCornerCombinesByUnion) {
   Config cfg;
   cfg.c = {0.125f, 0.125f, 0};
   cfg.n = {0, 0, 1};
-  cfg.centres = {{0, 0.125f, 0.125f}, {0, 0.375f, 0.125f}, {0.125f, 0, 0.125f},
-                 {0.375f, 0, 0.125f}};
+  cfg.centres = {
+      {0, 0.125f, 0.125f}, {0, 0.375f, 0.125f}, {0.125f, 0, 0.125f}, {0.375f, 0, 0.125f}};
   cfg.normals = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}};
   cfg.surfaces = {4, 4, 5, 5};
   const auto cls = classify(cfg);

@@ -83,7 +83,8 @@ Errors sample_discs(const Scene& s, bool per_surface, bool clip = true) {
       for (int ai = 0; ai < 32; ++ai) {
         const double t = (ai + 0.5) * 2 * std::numbers::pi / 32;
         const float r = s.radii[i] * ri / 8;
-        const Vec3f p = s.positions[i] + a * (r * float(std::cos(t))) + b * (r * float(std::sin(t)));
+        const Vec3f p =
+            s.positions[i] + a * (r * float(std::cos(t))) + b * (r * float(std::sin(t)));
         const bool discard = clip && fragment_discarded(view, p);
         const float d = sdf(p);
         if (std::abs(d) > 1e-4f) {

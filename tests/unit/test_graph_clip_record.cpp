@@ -87,7 +87,9 @@ TEST(GraphClipRecord, TableToViews) {
 }
 
 TEST(GraphClipRecord, ConsistencyViolations) {
-  auto expect_bad = [](ClipPartnerTable t) { EXPECT_THROW(t.check_consistent(), std::logic_error); };
+  auto expect_bad = [](ClipPartnerTable t) {
+    EXPECT_THROW(t.check_consistent(), std::logic_error);
+  };
   ClipPartnerTable t = small_table();
   t.partners[0] = 3;  // out of range
   expect_bad(t);

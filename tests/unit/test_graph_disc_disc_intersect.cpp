@@ -63,8 +63,7 @@ TEST(GraphDiscDiscIntersect, EllipseReachesWhereItsBoundingCircleWouldNot) {
   const SplatDisc wall = SplatDisc::circle({1.5f, 0, 0}, {1, 0, 0}, 1);
   EXPECT_EQ(disc_disc_intersect(SplatDisc::circle({0, 0, 0}, {0, 0, 1}, 0.5f), wall).status,
             DiscCrossing::kMissI);
-  const SplatDisc ellipse =
-      SplatDisc::ellipse({0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 2, 0.5f);
+  const SplatDisc ellipse = SplatDisc::ellipse({0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 2, 0.5f);
   EXPECT_EQ(ellipse.radius, 2);
   const auto r = disc_disc_intersect(ellipse, wall);
   ASSERT_EQ(r.status, DiscCrossing::kCross);

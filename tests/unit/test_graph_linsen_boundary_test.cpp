@@ -34,8 +34,7 @@ TEST(GraphLinsenBoundaryTest, FullRingIsInsideASurface) {
 }
 
 TEST(GraphLinsenBoundaryTest, HalfRingIsAnEdge) {
-  const auto r =
-      linsen_boundary_test({0, 0, 0}, {0, 0, 1}, ring({0, 45, 90, 135, 180}), kPi / 2);
+  const auto r = linsen_boundary_test({0, 0, 0}, {0, 0, 1}, ring({0, 45, 90, 135, 180}), kPi / 2);
   EXPECT_TRUE(r.boundary);
   EXPECT_NEAR(r.max_gap, kPi, 1e-6);
 }
@@ -46,8 +45,8 @@ TEST(GraphLinsenBoundaryTest, GapAcrossTheAngleSeam) {
   EXPECT_TRUE(r.boundary);
   EXPECT_NEAR(r.max_gap, 340 * kPi / 180, 1e-6);
   // A full ring turned by 3° so that neighbours sit on both sides of the seam.
-  r = linsen_boundary_test({0, 0, 0}, {0, 0, 1},
-                           ring({3, 48, 93, 138, 183, 228, 273, 318}), kPi / 2);
+  r = linsen_boundary_test({0, 0, 0}, {0, 0, 1}, ring({3, 48, 93, 138, 183, 228, 273, 318}),
+                           kPi / 2);
   EXPECT_FALSE(r.boundary);
   EXPECT_NEAR(r.max_gap, kPi / 4, 1e-6);
 }

@@ -133,8 +133,8 @@ TEST(GraphNeighborListCodec, HostileInputsEachHaveTheirOwnMessage) {
   EXPECT_NE(error_of({2, 2, 1, 2, 1, 0, 1, 2, 1, 5}, 4).find("row 1: byte 5: row lists its own"),
             std::string::npos);
   // A gap of 2^64 - 1 after index 1 would wrap back to 1: must be out of range, not a repeat.
-  const std::vector<uint8_t> wrap{2, 2, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
-                                  0x01, 0, 0, 0};
+  const std::vector<uint8_t> wrap{2,    2,    0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
+                                  0xFF, 0xFF, 0xFF, 0x01, 0,    0,    0};
   EXPECT_NE(error_of(wrap, 4).find("row 0: byte 2: neighbour index overflow"), std::string::npos);
   EXPECT_NE(error_of({0, 0, 7}, 2).find("byte 2: 1 trailing bytes after the last row"),
             std::string::npos);
@@ -151,13 +151,13 @@ TEST(GraphNeighborListCodec, EncoderRejectsBrokenLayouts) {
   auto bad = [](std::vector<uint64_t> o, std::vector<uint32_t> n) {
     EXPECT_THROW(encode_neighbor_lists(o, n, M::kFull), std::invalid_argument);
   };
-  bad({}, {});                      // no offsets
-  bad({1, 1}, {0});                 // not starting at 0
-  bad({0, 1}, {0});                 // own index
-  bad({0, 2, 2}, {1, 1});           // duplicate
-  bad({0, 2, 2, 2}, {2, 1});        // descending
-  bad({0, 1, 1}, {2});              // out of range
-  bad({0, 1, 2}, {1});              // does not end at the neighbour count
+  bad({}, {});                // no offsets
+  bad({1, 1}, {0});           // not starting at 0
+  bad({0, 1}, {0});           // own index
+  bad({0, 2, 2}, {1, 1});     // duplicate
+  bad({0, 2, 2, 2}, {2, 1});  // descending
+  bad({0, 1, 1}, {2});        // out of range
+  bad({0, 1, 2}, {1});        // does not end at the neighbour count
 }
 
 }  // namespace

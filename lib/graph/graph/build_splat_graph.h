@@ -37,25 +37,25 @@ inline constexpr uint8_t kEdgeSharp = 1;     // w_ij = n_i·n_j < w_s [3.3] (or 
 inline constexpr uint8_t kEdgeCrossing = 2;  // sharp, and the discs cross (§4.2)
 
 struct SplatGraphOptions {
-  float sharp_threshold = 0.9f;        // w_s: an edge is sharp iff n_i·n_j < w_s, in [-1, 1]
-  double boundary_gap_degrees = 90;    // α of the Linsen test, in (0, 360]
-  double flat_tolerance = 1e-3;        // convexity tolerance, as a fraction of the splat's radius
-  bool per_surface = true;             // group clip partners by surface (false: the seed's
-                                       // single set per splat, for comparison)
+  float sharp_threshold = 0.9f;      // w_s: an edge is sharp iff n_i·n_j < w_s, in [-1, 1]
+  double boundary_gap_degrees = 90;  // α of the Linsen test, in (0, 360]
+  double flat_tolerance = 1e-3;      // convexity tolerance, as a fraction of the splat's radius
+  bool per_surface = true;           // group clip partners by surface (false: the seed's
+                                     // single set per splat, for comparison)
 };
 
 // The columns of seed 002 tables 6.1–6.3. Edges are undirected pairs.
 struct SplatGraphStats {
   uint64_t splats = 0;
   uint64_t edges = 0;
-  double mean_degree = 0;          // m = 2 |E| / |V| [3.4]
+  double mean_degree = 0;  // m = 2 |E| / |V| [3.4]
   uint64_t sharp_edges = 0;
-  uint64_t crossing_edges = 0;     // sharp edges whose discs cross: the real intersections
-  uint64_t candidate_splats = 0;   // splats with at least one sharp edge
-  uint64_t edge_splats = 0;        // class kEdge
+  uint64_t crossing_edges = 0;    // sharp edges whose discs cross: the real intersections
+  uint64_t candidate_splats = 0;  // splats with at least one sharp edge
+  uint64_t edge_splats = 0;       // class kEdge
   uint64_t intersection_splats = 0;
-  uint64_t clipped_splats = 0;     // splats with at least one clip partner
-  uint64_t clip_partners = 0;      // entries of the clip table
+  uint64_t clipped_splats = 0;  // splats with at least one clip partner
+  uint64_t clip_partners = 0;   // entries of the clip table
   uint32_t surfaces = 0;
 };
 

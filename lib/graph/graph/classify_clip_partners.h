@@ -13,17 +13,17 @@
 namespace splatkit::graph {
 
 struct ClipSubsetInfo {
-  uint32_t surface = 0;         // the partners' surface id (0 when none were given)
-  uint32_t begin = 0, end = 0;  // its partners' positions in ClipClassification::order
+  uint32_t surface = 0;                   // the partners' surface id (0 when none were given)
+  uint32_t begin = 0, end = 0;            // its partners' positions in ClipClassification::order
   Convexity partners = Convexity::kFlat;  // [4.13] over this subset
   Convexity splat = Convexity::kFlat;     // [4.14]: S with this subset
   ClipRule rule = ClipRule::kUnion;       // how this subset's areas combine
 };
 
 struct ClipClassification {
-  std::vector<uint32_t> order;  // #K: order[k] = input position of the partner stored k-th
-  std::vector<uint8_t> flags;   // #K, stored order: kClipFront, kClipSubsetStart,
-                                // kClipSubsetIntersection (see clip_record.h)
+  std::vector<uint32_t> order;        // #K: order[k] = input position of the partner stored k-th
+  std::vector<uint8_t> flags;         // #K, stored order: kClipFront, kClipSubsetStart,
+                                      // kClipSubsetIntersection (see clip_record.h)
   bool combine_intersection = false;  // across subsets (false with one subset)
   Convexity subsets_convexity = Convexity::kFlat;  // [4.13] over the subsets' representatives
   std::vector<ClipSubsetInfo> subsets;             // ascending surface id

@@ -1,4 +1,5 @@
-// Do two splats cross? (seed 002 §4.2: plane line [4.4]–[4.7], chords [4.11]/[4.12], overlap §4.2.3)
+// Do two splats cross? (seed 002 §4.2: plane line [4.4]–[4.7], chords [4.11]/[4.12], overlap
+// §4.2.3)
 #pragma once
 
 #include "graph/geometry_types.h"

@@ -40,8 +40,8 @@ struct SplatDisc {
     s.radius = r;
     return s;
   }
-  static SplatDisc ellipse(const Vec3f& c, const Vec3f& n, const Vec3f& u, const Vec3f& v,
-                           float a, float b) {
+  static SplatDisc ellipse(const Vec3f& c, const Vec3f& n, const Vec3f& u, const Vec3f& v, float a,
+                           float b) {
     SplatDisc s;
     s.center = c;
     s.normal = n;

@@ -20,7 +20,7 @@ namespace splatkit::graph {
 // is <= 0, or on NaN input. With a == b and any in-plane orthonormal axes the result equals
 // line_disc_segment's.
 std::optional<Interval> line_ellipse_segment(const Line3& line, const Vec3f& center,
-                                             const Vec3f& axis_u, const Vec3f& axis_v,
-                                             float semi_u, float semi_v);
+                                             const Vec3f& axis_u, const Vec3f& axis_v, float semi_u,
+                                             float semi_v);
 
 }  // namespace splatkit::graph
