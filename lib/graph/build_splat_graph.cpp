@@ -49,16 +49,6 @@ void check_inputs(std::span<const Vec3f> positions, std::span<const Vec3f> norma
                                             std::to_string(radii[i]) + " is not a finite length");
 }
 
-void flag_sharp_edges(std::span<const Vec3f> normals, float w_s, SplatGraph& g) {
-  for_each_splat(normals.size(), [&](std::size_t i) {
-    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
-      const float w = dot(normals[i], normals[g.graph.neighbors[k]]);  // [3.2]
-      // Written as "not >=" so that a NaN weight (a broken normal) counts as sharp.
-      g.edge_flags[k] = !(w >= w_s) ? kEdgeSharp : 0;
-    }
-  });
-}
-
 struct Scratch {
   std::vector<Vec3f> centres, normals;
   std::vector<uint32_t> surfaces, partners;
@@ -82,47 +72,62 @@ bool stops_at(std::span<const Vec3f> continuous, const Vec3f& n_i, const Vec3f& 
   return !(above && below);
 }
 
-void classify_splats(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                     std::span<const float> radii, double alpha,
-                     tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
-  for_each_splat(positions.size(), [&](std::size_t i) {
-    const auto row = g.graph.row(i);
-    const uint8_t* flags = g.edge_flags.data() + g.graph.offsets[i];
-    if (std::none_of(flags, flags + row.size(), [](uint8_t f) { return f & kEdgeSharp; })) {
-      g.classes[i] = SplatClass::kSmooth;
-      return;
+struct Splats {
+  std::span<const Vec3f> positions, normals;
+  std::span<const float> radii;
+  SplatDisc disc(uint32_t i) const { return SplatDisc::circle(positions[i], normals[i], radii[i]); }
+};
+
+// Sets the kEdge* flags of row i; returns whether any of its edges is sharp.
+bool flag_row(std::size_t i, const Splats& in, float w_s, SplatGraph& g) {
+  bool any_sharp = false;
+  for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+    const uint32_t j = g.graph.neighbors[k];
+    const float w = dot(in.normals[i], in.normals[j]);  // [3.2]
+    // Written as "not >=" so that a NaN weight (a broken normal) counts as sharp.
+    uint8_t flags = 0;
+    if (!(w >= w_s)) {
+      any_sharp = true;
+      flags = kEdgeSharp;
+      const uint32_t lo = std::min<uint32_t>(i, j), hi = std::max<uint32_t>(i, j);
+      if (disc_disc_intersect(in.disc(lo), in.disc(hi)).crosses()) flags |= kEdgeCrossing;
     }
-    Scratch& s = scratch.local();
-    s.centres.clear();
-    for (std::size_t k = 0; k < row.size(); ++k)
-      if (!(flags[k] & kEdgeSharp)) s.centres.push_back(positions[row[k]]);
-    bool edge = linsen_boundary_test(positions[i], normals[i], s.centres, alpha, s.angles).boundary;
-    if (!edge) {
-      // Every crossing partner must agree: on a curved surface a partner whose plane line only
-      // grazes S_i's rim can leave all neighbours on one side even where the surfaces cross.
-      const float tau = kSideMargin * radii[i];
-      bool any_crossing = false, all_stop = true;
-      for (std::size_t k = 0; k < row.size() && all_stop; ++k) {
-        if (!(flags[k] & kEdgeCrossing)) continue;
-        any_crossing = true;
-        all_stop = stops_at(s.centres, normals[i], positions[row[k]], normals[row[k]], tau);
-      }
-      edge = any_crossing && all_stop;
-    }
-    g.classes[i] = edge ? SplatClass::kEdge : SplatClass::kIntersection;
-  });
+    g.edge_flags[k] = flags;
+  }
+  return any_sharp;
 }
 
-void flag_crossings(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                    std::span<const float> radii, SplatGraph& g) {
-  auto disc = [&](uint32_t i) { return SplatDisc::circle(positions[i], normals[i], radii[i]); };
-  for_each_splat(positions.size(), [&](std::size_t i) {
-    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
-      if (!(g.edge_flags[k] & kEdgeSharp)) continue;
-      const uint32_t j = g.graph.neighbors[k];
-      const uint32_t lo = std::min<uint32_t>(i, j), hi = std::max<uint32_t>(i, j);
-      if (disc_disc_intersect(disc(lo), disc(hi)).crosses()) g.edge_flags[k] |= kEdgeCrossing;
-    }
+// The class of a splat with a sharp edge (see SplatClass), from its flagged row.
+SplatClass classify_row(std::size_t i, const Splats& in, double alpha, Scratch& s,
+                        const SplatGraph& g) {
+  const auto row = g.graph.row(i);
+  const uint8_t* flags = g.edge_flags.data() + g.graph.offsets[i];
+  s.centres.clear();
+  for (std::size_t k = 0; k < row.size(); ++k)
+    if (!(flags[k] & kEdgeSharp)) s.centres.push_back(in.positions[row[k]]);
+  if (linsen_boundary_test(in.positions[i], in.normals[i], s.centres, alpha, s.angles).boundary)
+    return SplatClass::kEdge;
+  // Every crossing partner must agree: on a curved surface a partner whose plane line only
+  // grazes S_i's rim can leave all neighbours on one side even where the surfaces cross.
+  const float tau = kSideMargin * in.radii[i];
+  bool any_crossing = false;
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    if (!(flags[k] & kEdgeCrossing)) continue;
+    any_crossing = true;
+    if (!stops_at(s.centres, in.normals[i], in.positions[row[k]], in.normals[row[k]], tau))
+      return SplatClass::kIntersection;
+  }
+  return any_crossing ? SplatClass::kEdge : SplatClass::kIntersection;
+}
+
+// One pass over the rows: edge flags, then the class, while the row is in cache.
+void flag_and_classify(const Splats& in, const SplatGraphOptions& o,
+                       tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
+  const double alpha = o.boundary_gap_degrees * std::numbers::pi / 180;
+  for_each_splat(in.positions.size(), [&](std::size_t i) {
+    g.classes[i] = flag_row(i, in, o.sharp_threshold, g)
+                       ? classify_row(i, in, alpha, scratch.local(), g)
+                       : SplatClass::kSmooth;
   });
 }
 
@@ -223,14 +228,9 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   }
   progress(0.6, "sharp edges");
   g.edge_flags.resize(g.graph.neighbors.size());
-  flag_sharp_edges(normals, options.sharp_threshold, g);
-  progress(0.7, "disc crossings");
-  flag_crossings(positions, normals, radii, g);
-  tbb::enumerable_thread_specific<Scratch> scratch;
   g.classes.resize(positions.size());
-  progress(0.8, "boundary test");
-  classify_splats(positions, normals, radii, options.boundary_gap_degrees * std::numbers::pi / 180,
-                  scratch, g);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  flag_and_classify(Splats{positions, normals, radii}, options, scratch, g);
   progress(0.85, "surfaces");
   g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
   progress(0.9, "clip partners");
