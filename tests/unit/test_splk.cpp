@@ -398,6 +398,33 @@ TEST_F(SplkTest, ReadsALargeCloudFromAPipe) {
   EXPECT_EQ(back.cloud.radii, doc.cloud.radii);
 }
 
+TEST_F(SplkTest, WritesToAPipeWithoutSeeking) {
+  // Standard output is pointed at a pipe for the duration of the write; a thread drains it.
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  std::string piped;
+  std::thread drain([&] {
+    char buf[65536];
+    ssize_t k;
+    while ((k = ::read(fds[0], buf, sizeof buf)) > 0)
+      piped.append(buf, static_cast<std::size_t>(k));
+  });
+  std::fflush(stdout);
+  const int saved = ::dup(STDOUT_FILENO);
+  ::dup2(fds[1], STDOUT_FILENO);
+  ::close(fds[1]);
+  {
+    OutputFile out("-");
+    write_splk(full_doc(), out);
+    out.commit();
+  }
+  ::dup2(saved, STDOUT_FILENO);  // drops the last write end: the drain sees end of file
+  ::close(saved);
+  drain.join();
+  ::close(fds[0]);
+  EXPECT_EQ(piped, encode(full_doc()));
+}
+
 TEST_F(SplkTest, PipeWithTruncatedPayloadFailsWithoutTrustingTheSize) {
   // The chunk claims 2^40 bytes: on a pipe that cannot be checked up front, and the reader must
   // fail at the end of the data instead of allocating a terabyte.
@@ -442,7 +469,7 @@ TEST(SplkReject, MagicDamagedByLineEndingConversion) {
   f.erase(5, 1);  // \r\n -> \n
   expect_rejected(f, ErrorKind::kBadInput, "damaged .splk magic: \\r\\n became \\n");
   f = tiny_file();
-  f.insert(6, "\r");  // \n -> \r\n
+  f = f.substr(0, 6) + "\r" + f.substr(6);  // \n -> \r\n
   expect_rejected(f, ErrorKind::kBadInput, "damaged .splk magic: \\n became \\r\\n");
 }
 
