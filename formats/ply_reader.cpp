@@ -23,7 +23,6 @@ enum class Encoding { kAscii, kLittle, kBig };
 
 constexpr std::size_t kMaxHeaderLine = 64 * 1024;
 constexpr std::size_t kBlockBytes = 256 * 1024;  // decode block: stays in L2 while columns run
-constexpr std::size_t kMaxChunkItems = 64 * 1024;
 
 struct Property {
   std::string name;
@@ -680,7 +679,7 @@ class PlyDecoder {
   }
 
   // Rejects counts the file cannot hold before anything is allocated: binary rows take at least
-  // min_row_bytes, ASCII rows at least one byte per value.
+  // min_row_bytes, ASCII rows of p values at least 2p - 1 bytes (digits and separators).
   void check_counts_against_file() {
     const std::optional<uint64_t> left = in_.remaining();
     if (!left) return;

@@ -299,7 +299,7 @@ void write_binary_faces(const SplatCloud& cloud, const FaceLayout& f, bool swap,
       buf.clear();
     }
   }
-  out.write(buf.data(), buf.size());
+  if (!buf.empty()) out.write(buf.data(), buf.size());
 }
 
 void write_ascii(const SplatCloud& cloud, const std::vector<Column>& cols, const FaceLayout& f,

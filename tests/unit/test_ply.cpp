@@ -206,6 +206,27 @@ TEST(Ply, PinnedBinaryLittleEndianBytes) {
   EXPECT_EQ(write_bytes(c, PlyEncoding::kBinaryLittleEndian, {"t"}), expected);
 }
 
+TEST(Ply, PinnedBinaryBigEndianBytes) {
+  SplatCloud c;
+  c.positions = {{1, -2, 0.5f}};
+  c.extras.push_back({"i", ScalarType::kInt16, {-2}});
+  const std::string header =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty float x\n"
+      "property float y\nproperty float z\nproperty short i\nend_header\n";
+  const unsigned char body[] = {0x3f, 0x80, 0x00, 0x00, 0xc0, 0x00, 0x00,
+                                0x00, 0x3f, 0x00, 0x00, 0x00, 0xff, 0xfe};
+  EXPECT_EQ(write_bytes(c, PlyEncoding::kBinaryBigEndian),
+            header + std::string(reinterpret_cast<const char*>(body), sizeof body));
+}
+
+TEST(Ply, WindowsLineEndingsInHeaderAndAsciiData) {
+  const SplatCloud c = read_bytes(
+                           "ply\r\nformat ascii 1.0\r\nelement vertex 1\r\nproperty float x\r\n"
+                           "property float y\r\nproperty float z\r\nend_header\r\n1 2 3\r\n")
+                           .cloud;
+  EXPECT_EQ(c.positions, (std::vector<Vec3f>{{1, 2, 3}}));
+}
+
 TEST(Ply, PinnedAsciiText) {
   SplatCloud c;
   c.positions = {{0.1f, 2, -3.5f}};
