@@ -62,25 +62,26 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
   const std::size_t row_k = std::max(o.k, o.radius_k + 1);
   const std::span<const Vec3f> positions(cloud.positions);
   SharedProgress shared(progress, 0.15, 0.85, cloud.size(), "normals");
-  index.for_each_knn_block(row_k, [&](std::span<const uint32_t> queries,
-                                      std::span<const uint32_t> indices,
-                                      std::span<const float> sq_dists) {
-    for (std::size_t r = 0; r < queries.size(); ++r) {
-      const uint32_t i = queries[r];
-      const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
-      cloud.normals[i] = pca.normal;
-      degenerate[i] = pca.degenerate ? 1 : 0;
-      cloud.radii[i] = splat_radius(sq_dists.subspan(r * row_k, row_k), o.radius_k);
-    }
-    shared.add(queries.size());
-  });
+  index.for_each_knn_block(
+      row_k, [&](std::span<const uint32_t> queries, std::span<const uint32_t> indices,
+                 std::span<const float> sq_dists) {
+        for (std::size_t r = 0; r < queries.size(); ++r) {
+          const uint32_t i = queries[r];
+          const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
+          cloud.normals[i] = pca.normal;
+          degenerate[i] = pca.degenerate ? 1 : 0;
+          cloud.radii[i] = splat_radius(sq_dists.subspan(r * row_k, row_k), o.radius_k);
+        }
+        shared.add(queries.size());
+      });
 }
 
 void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
             NormalReport& report) {
   if (o.orient == NormalOrientation::kNone) return;
   if (o.orient == NormalOrientation::kViewpoint && !o.viewpoint && !cloud.viewpoint)
-    throw_usage("--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
+    throw_usage(
+        "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
   (void)index;
   (void)report;
   throw Error(ErrorKind::kUnsupported,
@@ -93,15 +94,19 @@ std::string method_name(NormalMethod m) { return m == NormalMethod::kPca ? "pca"
 
 std::string orientation_name(NormalOrientation o) {
   switch (o) {
-    case NormalOrientation::kMst: return "mst";
-    case NormalOrientation::kViewpoint: return "viewpoint";
-    default: return "none";
+    case NormalOrientation::kMst:
+      return "mst";
+    case NormalOrientation::kViewpoint:
+      return "viewpoint";
+    default:
+      return "none";
   }
 }
 
 nlohmann::json NormalReport::to_json() const {
   const double total = timings.value("total", 0.0);
-  return {{"points", {{"input", input_points}, {"output", output_points}}},
+  return {{"input_points", input_points},
+          {"output_points", output_points},
           {"duplicates_merged", duplicates_merged},
           {"degenerate_points", degenerate_points},
           {"unresolved_points", unresolved_points},
@@ -127,8 +132,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
 
   if (!options.keep_duplicates) {
     progress(0.0, "duplicates");
-    timed("merge_duplicates",
-          [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
+    timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
   }
   const std::size_t n = cloud.size();
   report.output_points = n;

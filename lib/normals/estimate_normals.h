@@ -36,9 +36,9 @@ enum class NormalMethod { kPca, kRobust };
 enum class NormalOrientation { kMst, kViewpoint, kNone };
 
 struct NormalOptions {
-  std::size_t k = 16;          // points per PCA neighbourhood, the point itself included (>= 3)
-  std::size_t radius_k = 5;    // neighbours averaged for the radius (>= 1)
-  float radius_scale = 1.0f;   // radii are multiplied by this (finite, > 0)
+  std::size_t k = 16;         // points per PCA neighbourhood, the point itself included (>= 3)
+  std::size_t radius_k = 5;   // neighbours averaged for the radius (>= 1)
+  float radius_scale = 1.0f;  // radii are multiplied by this (finite, > 0)
   NormalMethod method = NormalMethod::kPca;
   NormalOrientation orient = NormalOrientation::kMst;
   // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
@@ -59,7 +59,7 @@ struct NormalReport {
   // "orient" (only the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
 
-  // {"points": {"input", "output"}, "duplicates_merged", "degenerate_points", ...,
+  // {"input_points", "output_points", "duplicates_merged", "degenerate_points", ...,
   //  "timings_s": {...}, "points_per_s": output / total}.
   nlohmann::json to_json() const;
 };

@@ -1,26 +1,32 @@
 #include "normals/merge_duplicates.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
-#include <tuple>
 
 namespace splatkit {
 
 namespace {
 
-struct Key {
-  uint32_t x, y, z;
-  uint32_t index;
-  bool operator<(const Key& o) const {
-    return std::tie(x, y, z, index) < std::tie(o.x, o.y, o.z, o.index);
-  }
-  bool same_position(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-
 // Bit pattern with -0 folded onto +0, so that positions equal as floats get equal keys.
 uint32_t key_bits(float v) { return std::bit_cast<uint32_t>(v == 0.0f ? 0.0f : v); }
+
+bool same_position(const Vec3f& a, const Vec3f& b) {
+  return key_bits(a.x) == key_bits(b.x) && key_bits(a.y) == key_bits(b.y) &&
+         key_bits(a.z) == key_bits(b.z);
+}
+
+// 32 well-mixed bits of a position: equal positions hash equal; the rare collisions of different
+// positions are sorted out by comparing the positions themselves.
+uint64_t position_hash(const Vec3f& p) {
+  uint64_t h = (uint64_t{key_bits(p.x)} << 32 | key_bits(p.y)) * 0x9E3779B97F4A7C15ull;
+  h ^= (h >> 29) ^ (uint64_t{key_bits(p.z)} * 0xBF58476D1CE4E5B9ull);
+  h *= 0x94D049BB133111EBull;
+  return h >> 32;
+}
 
 template <typename T>
 void compact(std::vector<T>& values, const std::vector<uint32_t>& kept) {
@@ -30,28 +36,43 @@ void compact(std::vector<T>& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
+// first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
+std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
+  const std::size_t n = positions.size();
+  // (hash << 32 | index): unique keys, so the unstable parallel sort is deterministic, and equal
+  // hashes come out in ascending index order.
+  std::vector<uint64_t> keys(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      keys[i] = position_hash(positions[i]) << 32 | i;
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  std::vector<uint32_t> first(n);
+  for (std::size_t s = 0; s < n;) {
+    std::size_t e = s + 1;
+    while (e < n && keys[e] >> 32 == keys[s] >> 32) ++e;
+    for (std::size_t t = s; t < e; ++t) {
+      const uint32_t i = static_cast<uint32_t>(keys[t]);
+      first[i] = i;
+      for (std::size_t u = s; u < t; ++u) {  // runs are tiny unless the cloud has duplicates
+        const uint32_t j = static_cast<uint32_t>(keys[u]);
+        if (first[j] == j && same_position(positions[j], positions[i])) {
+          first[i] = j;
+          break;
+        }
+      }
+    }
+    s = e;
+  }
+  return first;
+}
+
 }  // namespace
 
 MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
   const std::size_t n = cloud.size();
   MergeResult result;
-  std::vector<Key> keys(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3f& p = cloud.positions[i];
-    keys[i] = {key_bits(p.x), key_bits(p.y), key_bits(p.z), static_cast<uint32_t>(i)};
-  }
-  // Keys are unique (the index is part of them), so the unstable parallel sort is deterministic.
-  tbb::parallel_sort(keys.begin(), keys.end());
-
-  // first[i]: the lowest index with point i's position (i itself when i is the first occurrence).
-  std::vector<uint32_t> first(n);
-  for (std::size_t s = 0; s < n;) {
-    std::size_t e = s + 1;
-    while (e < n && keys[e].same_position(keys[s])) ++e;
-    for (std::size_t t = s; t < e; ++t) first[keys[t].index] = keys[s].index;
-    s = e;
-  }
-  keys = {};
+  std::vector<uint32_t> first = first_occurrences(cloud.positions);
 
   std::vector<uint32_t> kept;  // input indices of the output points, ascending
   for (std::size_t i = 0; i < n; ++i)

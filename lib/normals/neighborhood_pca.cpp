@@ -26,25 +26,28 @@ Vec3f canonical_sign(const Vec3f& n) {
 
 PcaNormal neighborhood_pca(std::span<const Vec3f> positions, std::span<const uint32_t> indices) {
   PcaNormal out;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  // One pass about the first point (the query itself in a kNN row): the sums stay small, so the
+  // double-precision C = S - s sᵀ / count loses nothing to cancellation at neighbourhood scale.
+  const uint32_t* first = indices.data();
+  const uint32_t* end = first + indices.size();
+  while (first != end && *first == kNone) ++first;
+  if (first == end) return out;
+  const Vec3f o = positions[*first];
+  double sx = 0, sy = 0, sz = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
   std::size_t count = 0;
-  for (uint32_t idx : indices) {
-    if (idx == kNone) continue;
-    const Vec3f& p = positions[idx];
-    mean += Eigen::Vector3d(p.x, p.y, p.z);
+  for (const uint32_t* it = first; it != end; ++it) {
+    if (*it == kNone) continue;
+    const Vec3f& p = positions[*it];
+    const double dx = double{p.x} - o.x, dy = double{p.y} - o.y, dz = double{p.z} - o.z;
+    sx += dx, sy += dy, sz += dz;
+    xx += dx * dx, xy += dx * dy, xz += dx * dz;
+    yy += dy * dy, yz += dy * dz, zz += dz * dz;
     ++count;
   }
   if (count < 2) return out;
-  mean /= static_cast<double>(count);
-
-  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
-  for (uint32_t idx : indices) {
-    if (idx == kNone) continue;
-    const Vec3f& p = positions[idx];
-    const double dx = p.x - mean.x(), dy = p.y - mean.y(), dz = p.z - mean.z();
-    xx += dx * dx, xy += dx * dy, xz += dx * dz;
-    yy += dy * dy, yz += dy * dz, zz += dz * dz;
-  }
+  const double inv = 1.0 / static_cast<double>(count);
+  xx -= sx * sx * inv, xy -= sx * sy * inv, xz -= sx * sz * inv;
+  yy -= sy * sy * inv, yz -= sy * sz * inv, zz -= sz * sz * inv;
   Eigen::Matrix3d c;
   c << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;

@@ -2,11 +2,11 @@
 // C = Σ (x_j − x̄)(x_j − x̄)ᵀ over the neighbourhood, normal = eigenvector of the smallest
 // eigenvalue of C.
 //
-// Accumulated in double about the mean (two passes over the points), so clouds far from the
-// origin or with tiny spacing keep their precision. The normal is a unit vector with a canonical
-// sign (its largest-magnitude component positive, the first such component on ties) so that the
-// unoriented result is fully determined by the set of points. Never NaN: an empty or single-point
-// neighbourhood gives (0, 0, 1) and degenerate = true.
+// Accumulated in double in one pass, relative to the first point of the neighbourhood, so clouds
+// far from the origin or with tiny spacing keep their precision. The normal is a unit vector with a
+// canonical sign (its largest-magnitude component positive, the first such component on ties) so
+// that the unoriented result is fully determined by the set of points. Never NaN: an empty or
+// single-point neighbourhood gives (0, 0, 1) and degenerate = true.
 //
 // Degenerate (SPEC §1: fewer than 3 distinct points or rank < 2): the middle eigenvalue is at most
 // kCollinearRatio times the largest one (points on a line, or all identical). Such a normal is an
@@ -22,7 +22,7 @@ namespace splatkit {
 
 struct PcaNormal {
   Vec3f normal{0, 0, 1};  // unit, canonical sign
-  Vec3f axis{1, 0, 0};    // unit eigenvector of the largest eigenvalue (the line of a collinear set)
+  Vec3f axis{1, 0, 0};  // unit eigenvector of the largest eigenvalue (the line of a collinear set)
   double eigenvalues[3] = {0, 0, 0};  // of C, ascending
   bool degenerate = true;
 };

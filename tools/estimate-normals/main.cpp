@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
     const Clock::time_point start = Clock::now();
     splatkit::WriteOptions write;
     write.format = output_format(output, format);
-    options.method = method == "robust" ? splatkit::NormalMethod::kRobust : splatkit::NormalMethod::kPca;
+    options.method =
+        method == "robust" ? splatkit::NormalMethod::kRobust : splatkit::NormalMethod::kPca;
     if (!viewpoint.empty()) {
       if (orient_opt->count() > 0 && orient != "viewpoint")
         splatkit::throw_usage("--viewpoint conflicts with --orient " + orient);

@@ -1,0 +1,108 @@
+# estimate-normals end to end: the real binary on synthetic samples (made here by splat-synth, plus
+# data-samples/*.ply when present): normals, radii, duplicates, --report, pipes, thread-count
+# determinism, exit codes and one-line errors for bad input and bad options.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+EN=$BIN/estimate-normals
+
+# json_value KEY FILE: the first number after "KEY": in a pretty-printed JSON file.
+json_value() { grep -m1 "\"$1\":" "$2" | sed 's/.*: *//; s/,$//'; }
+
+expect_exit 0 "$EN" --version
+grep -q "(splatkit)" "$WORK/stdout" && pass || fail "--version output"
+expect_exit 0 "$EN" --help
+grep -q "Examples:" "$WORK/stdout" && pass || fail "--help has no examples"
+expect_exit 1 "$EN" --no-such-option
+
+"$BIN/splat-synth" -q sphere "$WORK/sphere.ply" -n 3000 --seed 3
+"$BIN/splat-synth" -q torus "$WORK/torus.ply" -n 20000 --random
+points=3000
+[ -s "$WORK/sphere.ply" ] && pass || fail "splat-synth made no sample"
+
+# Sphere: every normal radial (up to sign with --orient none), every radius > 0.
+expect_exit 0 "$EN" -q "$WORK/sphere.ply" "$WORK/sphere-n.ply" --orient none --report "$WORK/r.json"
+"$BIN/splat-convert" -q "$WORK/sphere-n.ply" "$WORK/sphere-n.xyz"
+bad=$(awk '/^#/ { for (c = 2; c <= NF; c++) if ($c == "radius") rc = c - 1; next }
+        { r = sqrt($1*$1 + $2*$2 + $3*$3); d = ($1*$4 + $2*$5 + $3*$6) / r; if (d < 0) d = -d;
+          if (!rc || d < 0.998 || $rc <= 0) n++ } END { print n + 0 }' "$WORK/sphere-n.xyz")
+expect_eq "sphere points with a non-radial normal or no radius" "$bad" 0
+head -1 "$WORK/sphere-n.xyz" | grep -q "nx ny nz.*radius" && pass || fail "no normals/radius columns"
+
+# --report: counts, timings per phase, rate, peak RSS.
+points=$(json_value input_points "$WORK/r.json")
+[ "$points" -gt 2900 ] && pass || fail "report input points '$points'"
+expect_eq "report output points" "$(json_value output_points "$WORK/r.json")" "$points"
+expect_eq "report duplicates" "$(json_value duplicates_merged "$WORK/r.json")" 0
+expect_eq "report degenerate" "$(json_value degenerate_points "$WORK/r.json")" 0
+for key in read index normals_radii write total command points_per_s peak_rss_bytes; do
+  v=$(json_value "$key" "$WORK/r.json")
+  awk -v v="$v" 'BEGIN { exit !(v + 0 > 0) }' && pass || fail "report $key = '$v'"
+done
+
+# 20 % duplicated points: merged, counted, same output as without them.
+"$BIN/splat-convert" -q "$WORK/sphere.ply" "$WORK/s.xyz"
+{ cat "$WORK/s.xyz"; grep -v '^#' "$WORK/s.xyz" | awk 'NR % 5 == 0'; } > "$WORK/dup.xyz"
+expect_exit 0 "$EN" -q "$WORK/dup.xyz" "$WORK/dup-n.ply" --orient none --report "$WORK/rd.json"
+expect_eq "duplicates merged" "$(json_value duplicates_merged "$WORK/rd.json")" $((points / 5))
+expect_eq "points after merging" "$(json_value output_points "$WORK/rd.json")" "$points"
+"$EN" -q "$WORK/s.xyz" "$WORK/nodup-n.ply" --orient none
+cmp -s "$WORK/dup-n.ply" "$WORK/nodup-n.ply" && pass || fail "duplicates changed the splats"
+expect_exit 0 "$EN" -q "$WORK/dup.xyz" "$WORK/keep.ply" --orient none --keep-duplicates \
+  --report "$WORK/rk.json"
+expect_eq "--keep-duplicates keeps every point" "$(json_value output_points "$WORK/rk.json")" \
+  $((points + points / 5))
+"$BIN/splat-convert" -q "$WORK/keep.ply" "$WORK/keep.xyz"
+grep -qi nan "$WORK/keep.xyz" && fail "NaN with --keep-duplicates" || pass
+
+# A collinear cloud: every point degenerate, still a finite unit normal.
+awk 'BEGIN { for (i = 0; i < 100; i++) print i * 0.1, i * 0.2, 1 }' > "$WORK/line.xyz"
+expect_exit 0 "$EN" -q "$WORK/line.xyz" "$WORK/line.ply" --orient none --report "$WORK/rl.json"
+expect_eq "collinear points degenerate" "$(json_value degenerate_points "$WORK/rl.json")" 100
+"$BIN/splat-convert" -q "$WORK/line.ply" "$WORK/line-n.xyz"
+grep -qi nan "$WORK/line-n.xyz" && fail "NaN for a collinear cloud" || pass
+
+# Pipes: '-' writes .splk to stdout (quietly), '--format ply' overrides, '-' reads stdin.
+"$EN" "$WORK/sphere.ply" - --orient none | "$BIN/splat-info" --json - > "$WORK/piped.json"
+expect_eq "pipe exit" "$?" 0
+expect_eq "points through a pipe" "$(grep -m1 '"points"' "$WORK/piped.json" | tr -dc 0-9)" "$points"
+"$EN" -q "$WORK/sphere.ply" - --orient none --format ply 2>/dev/null | head -c 3 > "$WORK/magic"
+expect_eq "--format ply on stdout" "$(cat "$WORK/magic")" "ply"
+cat "$WORK/sphere.ply" | "$EN" -q - "$WORK/from-stdin.splk" --orient none
+expect_eq "stdin input" "$?" 0
+"$BIN/splat-info" --json "$WORK/from-stdin.splk" > "$WORK/meta.json"
+grep -q '"estimate-normals"' "$WORK/meta.json" && pass || fail "no provenance in .splk"
+
+# Same output for 1 and 2 threads, byte for byte, and no timings in the file.
+"$EN" -q "$WORK/torus.ply" "$WORK/t1.splk" --orient none --threads 1
+"$EN" -q "$WORK/torus.ply" "$WORK/t2.splk" --orient none --threads 2
+cmp -s "$WORK/t1.splk" "$WORK/t2.splk" && pass || fail "--threads 1 and 2 differ"
+
+# Real samples from data-samples/, when there are any.
+for sample in "$SRC"/data-samples/*.ply; do
+  [ -e "$sample" ] || continue
+  expect_exit 0 "$EN" -q "$sample" "$WORK/sample.splk" --orient none
+done
+
+# Bad input and bad options: exit code by class, one line naming the cause, no output left.
+expect_exit 2 "$EN" -q "$WORK/missing.ply" "$WORK/o.ply"
+expect_stderr "^estimate-normals: .*missing.ply: cannot open"
+head -c 300 "$WORK/sphere.ply" > "$WORK/truncated.ply"
+expect_exit 2 "$EN" -q "$WORK/truncated.ply" "$WORK/o.ply"
+expect_stderr "^estimate-normals: .*truncated.ply"
+[ ! -e "$WORK/o.ply" ] && pass || fail "a failed run left an output"
+printf 'hello\n' > "$WORK/what.bin"
+expect_exit 3 "$EN" -q "$WORK/what.bin" "$WORK/o.ply"
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.xyz"
+expect_stderr "OUT must end in .ply or .splk"
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.ply" -k 2
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.ply" --radius-scale -1
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.ply" --viewpoint 1,2
+expect_stderr "--viewpoint must be three finite numbers"
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.ply" --viewpoint 1,2,3 --orient none
+expect_stderr "conflicts with --orient none"
+expect_exit 1 "$EN" -q "$WORK/sphere.ply" "$WORK/o.ply" --orient viewpoint
+expect_stderr "--orient viewpoint needs --viewpoint"
+expect_exit 4 "$EN" -q "$WORK/sphere.ply" "$WORK/no/such/dir/o.ply" --orient none
+expect_stderr "o.ply: cannot create"
+[ ! -e "$WORK/o.ply" ] && pass || fail "a failed run left an output"
+
+finish

@@ -1,0 +1,247 @@
+// estimate_normals: plane and sphere normals, radii, duplicates, degenerate neighbourhoods,
+// n < k, option checks, and byte-identical output for 1 and 2 threads.
+#include "normals/estimate_normals.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "splatkit/error.h"
+#include "splatkit/synthetic_shapes.h"
+#include "test_normals_support.h"
+
+namespace splatkit {
+namespace {
+
+using normals_test::all_finite;
+using normals_test::all_unit;
+using normals_test::jittered_plane;
+using normals_test::random_sphere;
+using normals_test::Rng;
+
+NormalOptions pca_unoriented() {
+  NormalOptions o;
+  o.orient = NormalOrientation::kNone;
+  return o;
+}
+
+TEST(NormalsEstimate, PlaneGivesUnitZ) {
+  SplatCloud c = jittered_plane(40, 30, 0.01f, 2.5f, 1);
+  NormalReport r = estimate_normals(c, pca_unoriented());
+  ASSERT_EQ(c.normals.size(), 1200u);
+  for (const Vec3f& n : c.normals) EXPECT_EQ(n, (Vec3f{0, 0, 1}));  // exact: the plane is exact
+  EXPECT_EQ(r.degenerate_points, 0u);
+  EXPECT_EQ(r.duplicates_merged, 0u);
+  EXPECT_EQ(r.output_points, 1200u);
+}
+
+TEST(NormalsEstimate, SphereNormalsAreRadial) {
+  ShapeOptions shape;  // stratified: near-uniform spacing, as a scanner would give
+  shape.kind = ShapeKind::kSphere;
+  shape.points = 4000;
+  SplatCloud c = make_shape(shape);
+  c.normals.clear();
+  estimate_normals(c, pca_unoriented());
+  ASSERT_TRUE(all_unit(c));
+  float worst = 1;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    worst = std::min(worst, std::fabs(dot(c.normals[i], normalized(c.positions[i]))));
+  EXPECT_GT(worst, std::cos(2.0f * 3.14159265f / 180));  // k = 16 on a curved cap: 1.4° at worst
+
+  // An i.i.d. sample has clumps and gaps: 95 % within 2°, none beyond 10°.
+  SplatCloud r = random_sphere(4000, 0.5f, {3, -1, 2}, 2);
+  estimate_normals(r, pca_unoriented());
+  std::size_t within2 = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const float d = std::fabs(dot(r.normals[i], normalized(r.positions[i] - Vec3f{3, -1, 2})));
+    within2 += d > std::cos(2.0f * 3.14159265f / 180);
+    EXPECT_GT(d, std::cos(10.0f * 3.14159265f / 180)) << i;
+  }
+  EXPECT_GE(within2, r.size() * 95 / 100);
+}
+
+TEST(NormalsEstimate, RadiusIsMeanDistanceToNeighbours) {
+  // A regular grid of spacing h: an interior point's 5 nearest are 4 at h and one at h√2.
+  SplatCloud c;
+  const float h = 0.5f;
+  for (int j = 0; j < 9; ++j)
+    for (int i = 0; i < 9; ++i) c.positions.push_back({i * h, j * h, 0});
+  NormalOptions o = pca_unoriented();
+  estimate_normals(c, o);
+  const float want = (4 * h + h * std::sqrt(2.0f)) / 5;
+  EXPECT_NEAR(c.radii[4 * 9 + 4], want, 1e-6);
+  EXPECT_NEAR(c.radii[0], (2 * h + h * std::sqrt(2.0f) + 2 * 2 * h) / 5, 1e-6);  // a corner
+
+  SplatCloud scaled = c;
+  o.radius_scale = 2.5f;
+  o.radius_k = 4;
+  estimate_normals(scaled, o);
+  EXPECT_NEAR(scaled.radii[4 * 9 + 4], 2.5f * h, 1e-6);
+}
+
+// Inserts a copy of ~20 % of the points, each right after a random later position, with a
+// different colour: the copies must vanish and change nothing.
+TEST(NormalsEstimate, TwentyPercentDuplicatesChangeNothing) {
+  SplatCloud base = random_sphere(3000, 1.0f, {0, 0, 0}, 3);
+  base.colors.assign(base.size(), {{1, 2, 3}});
+  SplatCloud dup;
+  Rng rng{4};
+  std::vector<std::size_t> pending;  // originals whose copy is still to be inserted
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    dup.positions.push_back(base.positions[i]);
+    dup.colors.push_back(base.colors[i]);
+    if (rng.next() % 5 == 0) pending.push_back(i);
+    if (!pending.empty() && rng.next() % 2 == 0) {
+      dup.positions.push_back(base.positions[pending.back()]);
+      dup.colors.push_back({{9, 9, 9}});
+      pending.pop_back();
+    }
+  }
+  for (std::size_t i : pending) {
+    dup.positions.push_back(base.positions[i]);
+    dup.colors.push_back({{9, 9, 9}});
+  }
+  const std::size_t copies = dup.size() - base.size();
+  ASSERT_GT(copies, base.size() / 6);
+
+  NormalReport rb = estimate_normals(base, pca_unoriented());
+  NormalReport rd = estimate_normals(dup, pca_unoriented());
+  EXPECT_EQ(rd.duplicates_merged, copies);
+  EXPECT_EQ(rd.output_points, base.size());
+  ASSERT_EQ(dup.size(), base.size());
+  EXPECT_EQ(dup.positions, base.positions);
+  EXPECT_EQ(dup.normals, base.normals);
+  EXPECT_EQ(dup.radii, base.radii);
+  EXPECT_EQ(dup.colors, base.colors);  // the first occurrence's colour
+  EXPECT_EQ(rb.duplicates_merged, 0u);
+}
+
+TEST(NormalsEstimate, KeptDuplicatesGiveNoNaN) {
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kSphere;
+  shape.points = 2000;
+  SplatCloud c = make_shape(shape);
+  c.normals.clear(), c.radii.clear(), c.colors.clear(), c.extras.clear();
+  const std::size_t n = c.size();
+  for (std::size_t i = 0; i < n; i += 3) c.positions.push_back(c.positions[i]);
+  for (int copy = 0; copy < 30; ++copy) c.positions.push_back(c.positions[7]);  // fills a k-row
+  NormalOptions o = pca_unoriented();
+  o.keep_duplicates = true;
+  NormalReport r = estimate_normals(c, o);
+  EXPECT_EQ(r.duplicates_merged, 0u);
+  EXPECT_EQ(c.size(), n + (n + 2) / 3 + 30);
+  EXPECT_GE(r.degenerate_points, 31u);  // point 7 and its copies: one distinct point per row
+  EXPECT_EQ(r.unresolved_points, 0u);
+  EXPECT_TRUE(all_finite(c));
+  EXPECT_TRUE(all_unit(c));
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    EXPECT_GT(c.radii[i], 0.0f) << i;  // duplicates do not shrink a splat to nothing
+    EXPECT_GT(std::fabs(dot(c.normals[i], normalized(c.positions[i]))), 0.95f) << i;
+  }
+}
+
+TEST(NormalsEstimate, CollinearCloudIsDegenerateButFinite) {
+  SplatCloud c;
+  for (int i = 0; i < 200; ++i) c.positions.push_back({0.1f * i, 0.05f * i, 0});
+  NormalReport r = estimate_normals(c, pca_unoriented());
+  EXPECT_EQ(r.degenerate_points, 200u);
+  EXPECT_EQ(r.unresolved_points, 200u);
+  EXPECT_TRUE(all_finite(c) && all_unit(c));
+  const Vec3f dir = normalized({0.1f, 0.05f, 0});
+  for (const Vec3f& n : c.normals) {
+    EXPECT_NEAR(dot(n, dir), 0.0f, 1e-6);
+    EXPECT_EQ(n, (Vec3f{0, 0, 1}));  // the perpendicular closest to +z
+  }
+}
+
+TEST(NormalsEstimate, LineStrandTakesNormalFromWiderNeighbourhood) {
+  // A plane z = 0 and a short strand of points along x just above it: the strand's 16 nearest are
+  // all on the strand (collinear); the wider neighbourhood reaches the plane.
+  SplatCloud c = jittered_plane(30, 30, 0.1f, 0.0f, 6);
+  const std::size_t plane = c.size();
+  for (int i = 0; i < 20; ++i) c.positions.push_back({1.0f + 0.002f * i, 1.5f, 0.05f});
+  NormalReport r = estimate_normals(c, pca_unoriented());
+  EXPECT_GE(r.degenerate_points, 20u);
+  EXPECT_EQ(r.unresolved_points, 0u);
+  EXPECT_TRUE(all_finite(c) && all_unit(c));
+  for (std::size_t i = plane; i < c.size(); ++i) EXPECT_GT(c.normals[i].z, 0.9f) << i;
+}
+
+TEST(NormalsEstimate, AllIdenticalPoints) {
+  SplatCloud c;
+  c.positions.assign(50, Vec3f{1, 2, 3});
+  SplatCloud kept = c;
+  NormalReport r = estimate_normals(c, pca_unoriented());
+  EXPECT_EQ(r.duplicates_merged, 49u);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c.normals[0], (Vec3f{0, 0, 1}));
+  EXPECT_EQ(c.radii[0], 0.0f);
+
+  NormalOptions o = pca_unoriented();
+  o.keep_duplicates = true;
+  r = estimate_normals(kept, o);
+  EXPECT_EQ(r.degenerate_points, 50u);
+  for (const Vec3f& n : kept.normals) EXPECT_EQ(n, (Vec3f{0, 0, 1}));
+  EXPECT_TRUE(all_finite(kept));
+}
+
+TEST(NormalsEstimate, FewerPointsThanK) {
+  SplatCloud c;
+  c.positions = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}, {0.5f, 0.5f, 1}};
+  NormalOptions o = pca_unoriented();
+  o.k = 16;
+  NormalReport r = estimate_normals(c, o);
+  EXPECT_EQ(r.degenerate_points, 0u);
+  for (const Vec3f& n : c.normals) EXPECT_EQ(n, (Vec3f{0, 0, 1}));
+  // Centre point: 4 neighbours at √0.5 (fewer than radius_k = 5 exist).
+  EXPECT_NEAR(c.radii[4], std::sqrt(0.5f), 1e-6);
+  SplatCloud empty;
+  EXPECT_EQ(estimate_normals(empty, o).output_points, 0u);
+}
+
+TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kTorus;
+  shape.points = 30000;
+  shape.random = true;
+  SplatCloud one = make_shape(shape);
+  // Some duplicates, so that the merge runs too.
+  for (std::size_t i = 0; i < one.size(); i += 7) one.positions.push_back(one.positions[i]);
+  one.colors.clear(), one.extras.clear(), one.normals.clear(), one.radii.clear();
+  SplatCloud two = one;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    estimate_normals(one, pca_unoriented());
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    estimate_normals(two, pca_unoriented());
+  }
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(0, std::memcmp(one.normals.data(), two.normals.data(), one.size() * sizeof(Vec3f)));
+  EXPECT_EQ(0, std::memcmp(one.radii.data(), two.radii.data(), one.size() * sizeof(float)));
+}
+
+TEST(NormalsEstimate, RejectsBadOptions) {
+  SplatCloud c = jittered_plane(5, 5, 1, 0, 7);
+  NormalOptions o = pca_unoriented();
+  o.k = 2;
+  try {
+    estimate_normals(c, o);
+    FAIL() << "k = 2 accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+  }
+  o = pca_unoriented();
+  o.radius_scale = 0;
+  EXPECT_THROW(estimate_normals(c, o), Error);
+  o = pca_unoriented();
+  o.radius_k = 0;
+  EXPECT_THROW(estimate_normals(c, o), Error);
+}
+
+}  // namespace
+}  // namespace splatkit

@@ -1,0 +1,65 @@
+// merge_duplicates: first occurrence kept with its attributes, order kept, faces remapped, -0 = +0.
+#include "normals/merge_duplicates.h"
+
+#include <gtest/gtest.h>
+
+namespace splatkit {
+namespace {
+
+SplatCloud cloud_with_attributes() {
+  SplatCloud c;
+  c.positions = {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {2, 0, 0}, {1, 0, 0}, {-0.0f, 0, 0}};
+  c.colors = {{{10, 0, 0}}, {{11, 0, 0}}, {{12, 0, 0}}, {{13, 0, 0}}, {{14, 0, 0}}, {{15, 0, 0}}};
+  c.extras.push_back({"intensity", ScalarType::kUInt16, {100, 101, 102, 103, 104, 105}});
+  c.face_offsets = {0, 3, 6};
+  c.face_indices = {0, 1, 3, 2, 4, 5};
+  return c;
+}
+
+TEST(NormalsMergeDuplicates, KeepsFirstOccurrenceAndOrder) {
+  SplatCloud c = cloud_with_attributes();
+  MergeResult r = merge_duplicates(c, true);
+  EXPECT_EQ(r.merged, 3u);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c.positions[0], (Vec3f{0, 0, 0}));
+  EXPECT_EQ(c.positions[1], (Vec3f{1, 0, 0}));
+  EXPECT_EQ(c.positions[2], (Vec3f{2, 0, 0}));
+  EXPECT_EQ(c.colors[0][0], 10);  // the first's colour, not 12 or 15
+  EXPECT_EQ(c.colors[1][0], 11);
+  EXPECT_EQ(c.colors[2][0], 13);
+  EXPECT_EQ(c.extras[0].values, (std::vector<double>{100, 101, 103}));
+  EXPECT_EQ(r.representative, (std::vector<uint32_t>{0, 1, 0, 2, 1, 0}));
+  EXPECT_NO_THROW(c.check_consistent());
+}
+
+TEST(NormalsMergeDuplicates, RemapsFaces) {
+  SplatCloud c = cloud_with_attributes();
+  merge_duplicates(c);
+  EXPECT_EQ(c.face_indices, (std::vector<uint32_t>{0, 1, 2, 0, 1, 0}));
+  EXPECT_EQ(c.face_count(), 2u);
+}
+
+TEST(NormalsMergeDuplicates, NoDuplicatesLeavesCloudUnchanged) {
+  SplatCloud c;
+  c.positions = {{3, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 0, 1e-7f}};
+  SplatCloud before = c;
+  MergeResult r = merge_duplicates(c, true);
+  EXPECT_EQ(r.merged, 0u);
+  EXPECT_EQ(c.positions, before.positions);
+  EXPECT_EQ(r.representative, (std::vector<uint32_t>{0, 1, 2, 3}));
+}
+
+TEST(NormalsMergeDuplicates, AllIdenticalAndEmpty) {
+  SplatCloud c;
+  c.positions.assign(100, Vec3f{0.5f, -2, 7});
+  c.radii.assign(100, 0.25f);
+  EXPECT_EQ(merge_duplicates(c).merged, 99u);
+  EXPECT_EQ(c.size(), 1u);
+  EXPECT_EQ(c.radii.size(), 1u);
+  SplatCloud empty;
+  EXPECT_EQ(merge_duplicates(empty).merged, 0u);
+  EXPECT_EQ(empty.size(), 0u);
+}
+
+}  // namespace
+}  // namespace splatkit

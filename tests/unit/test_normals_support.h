@@ -1,0 +1,63 @@
+// Small helpers shared by the test_normals_*.cpp files: a platform-independent RNG and tiny
+// synthetic clouds with analytic normals.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "splatkit/splat_cloud.h"
+
+namespace splatkit::normals_test {
+
+// SplitMix64: the same numbers on every platform.
+struct Rng {
+  uint64_t state;
+  uint64_t next() {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  float uniform() { return static_cast<float>(next() >> 40) / static_cast<float>(1 << 24); }
+};
+
+// A jittered nx × ny grid of spacing h on the plane z = z0.
+inline SplatCloud jittered_plane(int nx, int ny, float h, float z0, uint64_t seed) {
+  Rng rng{seed};
+  SplatCloud c;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      c.positions.push_back({(static_cast<float>(i) + 0.3f * (rng.uniform() - 0.5f)) * h,
+                             (static_cast<float>(j) + 0.3f * (rng.uniform() - 0.5f)) * h, z0});
+  return c;
+}
+
+// n points uniform on the sphere of radius r centred at `centre`.
+inline SplatCloud random_sphere(std::size_t n, float r, Vec3f centre, uint64_t seed) {
+  Rng rng{seed};
+  SplatCloud c;
+  while (c.positions.size() < n) {
+    Vec3f v{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};
+    float len = norm(v);
+    if (len < 0.1f || len > 1.0f) continue;
+    c.positions.push_back(centre + v * (r / len));
+  }
+  return c;
+}
+
+inline bool all_finite(const SplatCloud& c) {
+  for (const Vec3f& n : c.normals)
+    if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) return false;
+  for (float r : c.radii)
+    if (!std::isfinite(r)) return false;
+  return true;
+}
+
+inline bool all_unit(const SplatCloud& c) {
+  for (const Vec3f& n : c.normals)
+    if (std::fabs(norm(n) - 1.0f) > 1e-5f) return false;
+  return true;
+}
+
+}  // namespace splatkit::normals_test
