@@ -14,7 +14,7 @@
 namespace splatkit::render {
 
 struct Camera {
-  Vec3f eye{0, 0, 5};
+  Vec3f eye{0, -5, 0};
   Vec3f target{0, 0, 0};
   Vec3f up{0, 0, 1};
   float fov_y_deg = 40.0f;

@@ -7,9 +7,18 @@
 // is nearer, else it is dropped (ties keep the earlier splat); the pixel is flagged as
 // overflowed. So the K nearest fragments survive, which is all an opaque front surface needs
 // unless more than K fragments lie in front of its far side.
+//
+// Depth window: a fragment deeper than `window` behind the nearest fragment stored so far is
+// dropped at once, and reconstruction ignores those deeper than `window` behind the final
+// nearest one. Since the nearest depth only decreases, the two together keep exactly the
+// fragments within the window whatever the arrival order; the window is chosen so that no
+// fragment beyond it could join the front surface (reconstruct_pixel.h), so it changes nothing
+// but the work and the overflows spent on hidden surfaces.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace splatkit::render {
@@ -17,8 +26,9 @@ namespace splatkit::render {
 class FragmentStore {
  public:
   // Empties the store for a tile of `pixels` pixels with `capacity` slots each (1..255).
-  void reset(int pixels, int capacity) {
+  void reset(int pixels, int capacity, float window) {
     capacity_ = capacity;
+    window_ = window;
     const std::size_t slots = std::size_t(pixels) * capacity;
     if (depth_.size() < slots) {
       depth_.resize(slots);
@@ -27,9 +37,15 @@ class FragmentStore {
     }
     count_.assign(pixels, 0);
     overflowed_.assign(pixels, 0);
+    nearest_.assign(pixels, std::numeric_limits<float>::infinity());
   }
 
-  void add(int pixel, float depth, float weight, uint32_t splat) {
+  // Returns false when the fragment is dropped at once (beyond the depth window, or on overflow
+  // when it is not nearer than the farthest stored one).
+  bool add(int pixel, float depth, float weight, uint32_t splat) {
+    float& nearest = nearest_[pixel];
+    if (depth > nearest + window_) return false;
+    nearest = std::min(nearest, depth);
     const std::size_t base = std::size_t(pixel) * capacity_;
     uint8_t& n = count_[pixel];
     std::size_t slot;
@@ -40,14 +56,25 @@ class FragmentStore {
       slot = base;
       for (std::size_t k = base + 1; k < base + capacity_; ++k)
         if (depth_[k] > depth_[slot]) slot = k;
-      if (!(depth < depth_[slot])) return;
+      if (!(depth < depth_[slot])) return false;
     }
     depth_[slot] = depth;
     weight_[slot] = weight;
     splat_[slot] = splat;
+    return true;
+  }
+
+  float window() const { return window_; }
+  // The largest nearest depth over the first `pixels` pixels (+inf if one has no fragment): a
+  // splat whose whole disc lies deeper than this plus the window cannot add a fragment.
+  float farthest_nearest(int pixels) const {
+    float m = 0;
+    for (int p = 0; p < pixels; ++p) m = std::max(m, nearest_[p]);
+    return m;
   }
 
   int count(int pixel) const { return count_[pixel]; }
+  float nearest(int pixel) const { return nearest_[pixel]; }
   bool overflowed(int pixel) const { return overflowed_[pixel] != 0; }
   const float* depths(int pixel) const { return depth_.data() + std::size_t(pixel) * capacity_; }
   const float* weights(int pixel) const { return weight_.data() + std::size_t(pixel) * capacity_; }
@@ -55,7 +82,8 @@ class FragmentStore {
 
  private:
   int capacity_ = 0;
-  std::vector<float> depth_, weight_;
+  float window_ = std::numeric_limits<float>::infinity();
+  std::vector<float> depth_, weight_, nearest_;
   std::vector<uint32_t> splat_;
   std::vector<uint8_t> count_, overflowed_;
 };

@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "render/rasterize_tile.h"
@@ -52,7 +53,7 @@ uint8_t to_byte(float v) {
 }
 
 struct TileCounters {
-  uint64_t fragments = 0, covered = 0, overflowed = 0;
+  uint64_t fragments = 0, covered = 0, overflowed = 0, skipped = 0;
   double raster_s = 0, reconstruct_s = 0, shade_s = 0;
 };
 
@@ -82,26 +83,38 @@ struct FrameContext {
   const BlendOptions& blend;
   const Shading& shading;
   Framebuffer& out;
+  uint8_t background_rgb8[3];
 };
 
-void write_pixel(const FrameContext& f, std::size_t p, const PixelSurface& s, const Vec3f& color) {
-  Framebuffer& out = f.out;
-  if (out.planes.rgb8) {
-    const float a = s.alpha;
-    const Vec3f bg = f.options.background;
-    uint8_t* px = out.rgb8.data() + 3 * p;
-    if (f.shading.linear_output || a == 0) {
-      const SrgbEncoder& enc = srgb_encoder();
-      const Vec3f c = a == 0 ? bg : color;
-      px[0] = enc(c.x);
-      px[1] = enc(c.y);
-      px[2] = enc(c.z);
-    } else {
-      px[0] = to_byte(color.x);
-      px[1] = to_byte(color.y);
-      px[2] = to_byte(color.z);
-    }
+// The bytes of one pixel of the rgb8 plane.
+inline void encode_rgb8(const FrameContext& f, const Vec3f& color, uint8_t* px) {
+  if (f.shading.linear_output) {
+    const SrgbEncoder& enc = srgb_encoder();
+    px[0] = enc(color.x);
+    px[1] = enc(color.y);
+    px[2] = enc(color.z);
+  } else {
+    px[0] = to_byte(color.x);
+    px[1] = to_byte(color.y);
+    px[2] = to_byte(color.z);
   }
+}
+
+void write_background(const FrameContext& f, std::size_t p) {
+  Framebuffer& out = f.out;
+  if (out.planes.rgb8) std::memcpy(out.rgb8.data() + 3 * p, f.background_rgb8, 3);
+  if (out.planes.float_color) std::fill_n(out.rgba.data() + 4 * p, 4, 0.0f);
+  if (out.planes.aovs) {
+    out.depth[p] = std::numeric_limits<float>::infinity();
+    std::fill_n(out.normal.data() + 3 * p, 3, 0.0f);
+    out.alpha[p] = 0;
+  }
+}
+
+void write_surface(const FrameContext& f, std::size_t p, const PixelSurface& s,
+                   const Vec3f& color) {
+  Framebuffer& out = f.out;
+  if (out.planes.rgb8) encode_rgb8(f, color, out.rgb8.data() + 3 * p);
   if (out.planes.float_color) {
     float* px = out.rgba.data() + 4 * p;
     px[0] = color.x * s.alpha;
@@ -110,9 +123,8 @@ void write_pixel(const FrameContext& f, std::size_t p, const PixelSurface& s, co
     px[3] = s.alpha;
   }
   if (out.planes.aovs) {
-    const bool hit = s.alpha > 0;
-    out.depth[p] = hit ? s.depth : std::numeric_limits<float>::infinity();
-    const Vec3f n = hit ? normalized(s.normal) : Vec3f{0, 0, 0};
+    out.depth[p] = s.depth;
+    const Vec3f n = normalized(s.normal);
     out.normal[3 * p] = n.x;
     out.normal[3 * p + 1] = n.y;
     out.normal[3 * p + 2] = n.z;
@@ -126,32 +138,46 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
                 std::min(f.projection.width, (tx + 1) * kTileSize) - 1,
                 std::min(f.projection.height, (ty + 1) * kTileSize) - 1};
   const int pixels = rect.width() * rect.height();
-  auto t0 = Clock::now();
-  local.store.reset(pixels, f.options.max_fragments);
+  const Projection& pr = f.projection;
   const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
-  local.counters.fragments += rasterize_tile(f.bins.rasters.data(), f.bins.indices.data() + begin,
+  if (begin == end) {
+    auto t0 = Clock::now();
+    for (int y = rect.y0; y <= rect.y1; ++y)
+      for (int x = rect.x0; x <= rect.x1; ++x) write_background(f, std::size_t(y) * pr.width + x);
+    local.counters.shade_s += seconds(t0, Clock::now());
+    return;
+  }
+  auto t0 = Clock::now();
+  local.store.reset(pixels, f.options.max_fragments, f.blend.window);
+  const RasterCounts raster = rasterize_tile(f.bins.rasters.data(), f.bins.indices.data() + begin,
                                              end - begin, rect, local.store);
+  local.counters.fragments += raster.fragments;
+  local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
   for (int p = 0; p < pixels; ++p) {
     const int n = local.store.count(p);
+    if (n == 0) {
+      local.gbuffer[p].alpha = 0;
+      continue;
+    }
     local.gbuffer[p] =
         reconstruct_pixel(local.store.depths(p), local.store.weights(p), local.store.splats(p), n,
                           f.draws, f.bins.rasters.data(), f.blend, f.options.default_albedo);
-    local.counters.covered += n > 0;
+    ++local.counters.covered;
     local.counters.overflowed += local.store.overflowed(p);
   }
   auto t2 = Clock::now();
-  const Projection& pr = f.projection;
   for (int y = rect.y0, p = 0; y <= rect.y1; ++y) {
     for (int x = rect.x0; x <= rect.x1; ++x, ++p) {
       const PixelSurface& s = local.gbuffer[p];
-      Vec3f color{0, 0, 0};
-      if (s.alpha > 0) {
-        const Vec3f view = -normalized(pr.ray(x + 0.5f, y + 0.5f));
-        color = shade_pixel(f.shading, s.normal, view, s.albedo, s.depth);
+      const std::size_t out = std::size_t(y) * pr.width + x;
+      if (s.alpha == 0) {
+        write_background(f, out);
+        continue;
       }
-      write_pixel(f, std::size_t(y) * pr.width + x, s, color);
+      const Vec3f view = -normalized(pr.ray(x + 0.5f, y + 0.5f));
+      write_surface(f, out, s, shade_pixel(f.shading, s.normal, view, s.albedo, s.depth));
     }
   }
   auto t3 = Clock::now();
@@ -186,10 +212,16 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   stats.binning_s = bins_.binning_seconds;
 
   out.allocate(camera.width, camera.height, options.planes);
-  BlendOptions blend{options.blend,
-                     options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius};
+  BlendOptions blend;
+  blend.mode = options.blend;
+  blend.epsilon = options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius;
+  blend.window = depth_window(blend.mode, blend.epsilon, scene.max_radius, options.max_fragments);
   const Shading shading = make_shading(options.shade, projection, scene.bounds);
-  FrameContext context{draws, bins_, projection, options, blend, shading, out};
+  FrameContext context{draws, bins_, projection, options, blend, shading, out, {}};
+  const SrgbEncoder& enc = srgb_encoder();
+  context.background_rgb8[0] = enc(options.background.x);
+  context.background_rgb8[1] = enc(options.background.y);
+  context.background_rgb8[2] = enc(options.background.z);
   for (auto& local : scratch_->threads) local.counters = {};
   const auto tiles_start = Clock::now();
   tbb::parallel_for(std::size_t{0}, bins_.tile_count(),
@@ -201,6 +233,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
     sum.fragments += local.counters.fragments;
     sum.covered += local.counters.covered;
     sum.overflowed += local.counters.overflowed;
+    sum.skipped += local.counters.skipped;
     sum.raster_s += local.counters.raster_s;
     sum.reconstruct_s += local.counters.reconstruct_s;
     sum.shade_s += local.counters.shade_s;
@@ -208,6 +241,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   stats.fragments = sum.fragments;
   stats.pixels_covered = sum.covered;
   stats.pixels_overflowed = sum.overflowed;
+  stats.splats_hidden = sum.skipped;
   const double tiles_wall = seconds(tiles_start, tiles_end);
   const double cpu = sum.raster_s + sum.reconstruct_s + sum.shade_s;
   if (cpu > 0) {

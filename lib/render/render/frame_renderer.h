@@ -33,8 +33,10 @@ struct RenderOptions {
 };
 
 struct FrameStats {
-  uint64_t splats_in = 0, splats_drawn = 0, fragments = 0;
+  uint64_t splats_in = 0, splats_drawn = 0;
+  uint64_t fragments = 0;  // stored in the A-buffer
   uint64_t pixels_covered = 0, pixels_overflowed = 0;
+  uint64_t splats_hidden = 0;  // (splat, tile) pairs skipped as hidden behind the tile's surface
   // Wall-clock seconds per stage. The tile pass runs rasterise, reconstruct and shade per tile;
   // its wall time is split between them in proportion to their summed thread time.
   double select_s = 0, setup_s = 0, binning_s = 0, raster_s = 0, reconstruct_s = 0, shade_s = 0;

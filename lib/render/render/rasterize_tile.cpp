@@ -27,41 +27,62 @@ float gaussian_weight(float rho2) {
   return weight_table()[static_cast<int>(std::clamp(rho2, 0.0f, 1.0f) * kWeightTableSize)];
 }
 
-uint64_t rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                        const TileRect& tile, FragmentStore& store) {
-  const float* table = weight_table().data();
+namespace {
+
+// Ray casts splat `index` over its box clipped to `tile`; returns the fragments stored.
+inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const TileRect& tile,
+                                const float* table, FragmentStore& store) {
   const int stride = tile.width();
+  const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
+  const int ys = std::max<int>(s.y0, tile.y0), ye = std::min<int>(s.y1, tile.y1);
+  const float di = float(xs - s.x0), dj = float(ys - s.y0);
+  float l_row = s.l[0] * di + s.l[1] * dj + s.l[2];
+  float u_row = s.u[0] * di + s.u[1] * dj + s.u[2];
+  float v_row = s.v[0] * di + s.v[1] * dj + s.v[2];
   uint64_t fragments = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const uint32_t index = splats[k];
-    const SplatRaster& s = rasters[index];
-    const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
-    const int ys = std::max<int>(s.y0, tile.y0), ye = std::min<int>(s.y1, tile.y1);
-    const float di = float(xs - s.x0), dj = float(ys - s.y0);
-    float l_row = s.l[0] * di + s.l[1] * dj + s.l[2];
-    float u_row = s.u[0] * di + s.u[1] * dj + s.u[2];
-    float v_row = s.v[0] * di + s.v[1] * dj + s.v[2];
-    for (int y = ys; y <= ye; ++y) {
-      float l = l_row, u = u_row, v = v_row;
-      int pixel = (y - tile.y0) * stride + (xs - tile.x0);
-      for (int x = xs; x <= xe; ++x, ++pixel) {
-        const float q = u * u + v * v, l2 = l * l;
-        if (q <= l2 && l2 > 0) {
-          const float inv = 1.0f / l;
-          const float rho2 = q * inv * inv;
-          store.add(pixel, s.nc * inv, table[static_cast<int>(rho2 * kWeightTableSize)], index);
-          ++fragments;
-        }
-        l += s.l[0];
-        u += s.u[0];
-        v += s.v[0];
+  for (int y = ys; y <= ye; ++y) {
+    float l = l_row, u = u_row, v = v_row;
+    int pixel = (y - tile.y0) * stride + (xs - tile.x0);
+    for (int x = xs; x <= xe; ++x, ++pixel) {
+      const float q = u * u + v * v, l2 = l * l;
+      if (q <= l2 && l2 > 0) {
+        const float inv = 1.0f / l;
+        const float rho2 = q * inv * inv;
+        fragments +=
+            store.add(pixel, s.nc * inv, table[static_cast<int>(rho2 * kWeightTableSize)], index);
       }
-      l_row += s.l[1];
-      u_row += s.u[1];
-      v_row += s.v[1];
+      l += s.l[0];
+      u += s.u[0];
+      v += s.v[0];
     }
+    l_row += s.l[1];
+    u_row += s.u[1];
+    v_row += s.v[1];
   }
   return fragments;
+}
+
+}  // namespace
+
+RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
+                            const TileRect& tile, FragmentStore& store) {
+  const float* table = weight_table().data();
+  RasterCounts counts;
+  for (std::size_t k = 0; k < count; ++k) {
+    const SplatRaster& s = rasters[splats[k]];
+    if (s.nc <= 0) counts.fragments += rasterize_splat(s, splats[k], tile, table, store);
+  }
+  const float hidden_beyond = store.farthest_nearest(tile.width() * tile.height()) + store.window();
+  for (std::size_t k = 0; k < count; ++k) {
+    const SplatRaster& s = rasters[splats[k]];
+    if (s.nc <= 0) continue;
+    if (s.zmin > hidden_beyond) {
+      ++counts.skipped_splats;
+      continue;
+    }
+    counts.fragments += rasterize_splat(s, splats[k], tile, table, store);
+  }
+  return counts;
 }
 
 }  // namespace splatkit::render

@@ -1,6 +1,13 @@
-// Rasterisation of one tile: every splat binned to the tile, in ascending splat index order, is
-// ray cast over its pixel box clipped to the tile (setup_splats.h); pixels whose ray hits the disc
-// add a fragment (depth, Gaussian weight, splat index) to the tile's FragmentStore.
+// Rasterisation of one tile: every splat binned to the tile is ray cast over its pixel box
+// clipped to the tile (setup_splats.h); pixels whose ray hits the disc add a fragment (depth,
+// Gaussian weight, splat index) to the tile's FragmentStore.
+//
+// Order: the splats facing the eye first, then those facing away, each group in ascending splat
+// index order. On closed models the front faces then set every pixel's nearest depth before the
+// hidden back faces arrive, so the store's depth window drops those at once, and a back-facing
+// splat whose whole depth range lies beyond the tile's farthest nearest depth + window is
+// skipped without ray casting. What the store keeps (the K nearest fragments within the window)
+// does not depend on the order, so neither does the image.
 #pragma once
 
 #include <cstdint>
@@ -21,8 +28,12 @@ struct TileRect {
 inline constexpr float kGaussianSharpness = 2.0f;
 float gaussian_weight(float rho2);
 
-// Returns the number of fragments produced (including any dropped on overflow).
-uint64_t rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                        const TileRect& tile, FragmentStore& store);
+struct RasterCounts {
+  uint64_t fragments = 0;       // fragments stored (before any later overflow replacement)
+  uint64_t skipped_splats = 0;  // back-facing splats skipped as hidden for the whole tile
+};
+
+RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
+                            const TileRect& tile, FragmentStore& store);
 
 }  // namespace splatkit::render

@@ -53,6 +53,10 @@ int first_surface(const Fragment* f, int n, int first, const DrawList& draws,
 
 }  // namespace
 
+float depth_window(BlendMode mode, float epsilon, float max_radius, int capacity) {
+  return mode == BlendMode::kZThreshold ? capacity * epsilon : (capacity + 1) * 2.0f * max_radius;
+}
+
 PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,
                                int count, const DrawList& draws, const SplatRaster* rasters,
                                const BlendOptions& options, const Vec3f& default_albedo) {
@@ -62,6 +66,8 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
   bool joined[kMaxFragmentsPerPixel] = {};
   for (int k = 0; k < count; ++k) f[k] = {depths[k], weights[k], splats[k]};
   sort_front_to_back(f, count);
+  const float limit = f[0].depth + options.window;
+  while (count > 1 && f[count - 1].depth > limit) --count;
   first_surface(f, count, 0, draws, rasters, options, joined);
   Vec3f normal{0, 0, 0}, albedo{0, 0, 0};
   float depth = 0, weight = 0;

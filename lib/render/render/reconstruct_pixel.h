@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "render/select_splats.h"
 #include "render/setup_splats.h"
@@ -25,7 +26,15 @@ enum class BlendMode { kZThreshold, kZRange };
 struct BlendOptions {
   BlendMode mode = BlendMode::kZThreshold;
   float epsilon = 0;  // Z-threshold, scene units (> 0)
+  // Fragments deeper than this behind the nearest one are ignored (FragmentStore's window).
+  float window = std::numeric_limits<float>::infinity();
 };
+
+// The smallest depth window that cannot cut the front surface of a pixel holding at most
+// `capacity` fragments: a Z-threshold chain spans less than (capacity − 1)·ε; a Z-range chain
+// ends before the nearest fragment's depth + capacity × the widest splat depth range
+// (2 × max_radius).
+float depth_window(BlendMode mode, float epsilon, float max_radius, int capacity);
 
 struct PixelSurface {
   Vec3f normal{0, 0, 0};  // blended, not normalised (zero when nothing covers the pixel)

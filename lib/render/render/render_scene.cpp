@@ -79,6 +79,7 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
       throw_bad_input(name, "splat " + std::to_string(i) + " has a zero or non-finite normal");
     n = n / len;
     sum += r;
+    s.max_radius = std::max(s.max_radius, r);
   }
   if (const ExtraAttribute* ids = cloud.find_extra("surface_id")) {
     s.surface_ids.resize(s.size());

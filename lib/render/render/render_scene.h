@@ -19,7 +19,7 @@ struct RenderScene {
   std::vector<Vec3f> colors;          // #N linear RGB in [0, 1], or empty (grey albedo)
   std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface
   BoundingSphere bounds;              // encloses every disc
-  float mean_radius = 0;
+  float mean_radius = 0, max_radius = 0;
 
   std::size_t size() const { return positions.size(); }
 };

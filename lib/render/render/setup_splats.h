@@ -9,7 +9,8 @@
 // all linear in (i, j). The ray meets the plane at depth z = (n·c)/L, at disc coordinates
 // (U/L, V/L); the pixel is inside the disc iff U² + V² ≤ L².
 // The box is the exact bounding box of the projected disc (an ellipse under perspective): the
-// two tangent lines x = const and y = const of the dual conic K[r²(I − nnᵀ) − ccᵀ]Kᵀ.
+// tangent lines x = const and y = const of the dual conic K[r²(I − nnᵀ) − ccᵀ]Kᵀ, solved
+// relative to the projected centre (setup_splats.cpp) so that float keeps it accurate.
 #pragma once
 
 #include <cstddef>

@@ -80,6 +80,7 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
           {"fragments", s.fragments},
           {"pixels_covered", s.pixels_covered},
           {"pixels_overflowed", s.pixels_overflowed},
+          {"splat_tiles_hidden", s.splats_hidden},
           {"time_ms",
            {{"select", ms(s.select_s)},
             {"setup", ms(s.setup_s)},

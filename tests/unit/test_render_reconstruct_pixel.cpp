@@ -1,0 +1,109 @@
+// reconstruct_pixel on hand-made fragment lists with exact answers: Z-threshold chains, Z-range
+// overlaps, the adapted method with surface ids (seed 002 §5.5), the depth window.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "render/reconstruct_pixel.h"
+
+namespace splatkit::render {
+namespace {
+
+// Four splats: normals along x, y, z, -x; colours red, green, blue, white; depth ranges given.
+struct Fixture {
+  std::vector<Vec3f> pos{4}, normals{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}};
+  std::vector<float> radii{1, 1, 1, 1};
+  std::vector<Vec3f> colors{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  std::vector<uint32_t> ids{0, 0, 0, 0};
+  std::vector<SplatRaster> rasters{4};
+  DrawList draws() {
+    return {4, pos.data(), normals.data(), radii.data(), colors.data(), ids.data()};
+  }
+  void range(int i, float lo, float hi) {
+    rasters[i].zmin = lo;
+    rasters[i].zmax = hi;
+  }
+};
+
+TEST(RenderReconstructPixel, ZThresholdChainsConsecutiveFragments) {
+  Fixture fx;
+  // Given out of order: depths 1.0 (splat 1), 1.08 (splat 0), 1.15 (splat 2), 3.0 (splat 3).
+  const float depth[] = {1.08f, 3.0f, 1.0f, 1.15f};
+  const float weight[] = {1, 1, 3, 1};
+  const uint32_t splat[] = {0, 3, 1, 2};
+  BlendOptions o{BlendMode::kZThreshold, 0.1f};
+  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o,
+                                     {0.5f, 0.5f, 0.5f});
+  // 1.0 -> 1.08 -> 1.15 chain (steps < 0.1); 3.0 is another surface.
+  EXPECT_FLOAT_EQ(s.alpha, 1);
+  EXPECT_NEAR(s.normal.x, 1.0 / 5, 1e-6);
+  EXPECT_NEAR(s.normal.y, 3.0 / 5, 1e-6);
+  EXPECT_NEAR(s.normal.z, 1.0 / 5, 1e-6);
+  EXPECT_NEAR(s.albedo.y, 3.0 / 5, 1e-6);
+  EXPECT_NEAR(s.depth, (1.08 + 3 * 1.0 + 1.15) / 5, 1e-6);
+  // A smaller threshold stops the chain after the first fragment.
+  o.epsilon = 0.05f;
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  EXPECT_NEAR(s.normal.y, 1.0, 1e-6);
+  EXPECT_NEAR(s.depth, 1.0, 1e-6);
+}
+
+TEST(RenderReconstructPixel, ZRangeJoinsOverlappingDepthRanges) {
+  Fixture fx;
+  fx.range(0, 0.9f, 1.1f);
+  fx.range(1, 1.05f, 1.3f);  // overlaps splat 0
+  fx.range(2, 1.25f, 1.5f);  // overlaps the union [0.9, 1.3]
+  fx.range(3, 1.6f, 2.0f);   // gap
+  const float depth[] = {1.0f, 1.2f, 1.3f, 1.7f};
+  const float weight[] = {1, 1, 1, 1};
+  const uint32_t splat[] = {0, 1, 2, 3};
+  BlendOptions o{BlendMode::kZRange, 0};
+  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  EXPECT_NEAR(s.normal.x, 1.0 / 3, 1e-6);
+  EXPECT_NEAR(s.normal.y, 1.0 / 3, 1e-6);
+  EXPECT_NEAR(s.normal.z, 1.0 / 3, 1e-6);
+  fx.range(1, 1.15f, 1.3f);  // now a gap after splat 0
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  EXPECT_NEAR(s.normal.x, 1.0, 1e-6);
+}
+
+TEST(RenderReconstructPixel, OtherSurfaceIdsAreSetAsideNotBlended) {
+  Fixture fx;
+  fx.ids = {7, 9, 7, 7};  // splat 1 lies between splats 0 and 2 in depth but is another surface
+  const float depth[] = {1.0f, 1.05f, 1.1f, 5.0f};
+  const float weight[] = {1, 1, 1, 1};
+  const uint32_t splat[] = {0, 1, 2, 3};
+  BlendOptions o{BlendMode::kZThreshold, 0.12f};
+  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  EXPECT_EQ(s.surface_id, 7u);
+  EXPECT_NEAR(s.normal.x, 0.5, 1e-6);  // splats 0 and 2 only
+  EXPECT_NEAR(s.normal.y, 0.0, 1e-6);
+  EXPECT_NEAR(s.normal.z, 0.5, 1e-6);
+  // Classic Z-threshold (one surface id) would blend all three.
+  fx.ids = {0, 0, 0, 0};
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  EXPECT_NEAR(s.normal.y, 1.0 / 3, 1e-6);
+}
+
+TEST(RenderReconstructPixel, DefaultAlbedoWithoutColoursAndDepthWindow) {
+  Fixture fx;
+  DrawList d = fx.draws();
+  d.colors = nullptr;
+  const float depth[] = {1.0f, 1.01f};
+  const float weight[] = {1, 1};
+  const uint32_t splat[] = {0, 1};
+  BlendOptions o{BlendMode::kZThreshold, 0.1f};
+  PixelSurface s =
+      reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {0.25f, 0.5f, 0.75f});
+  EXPECT_NEAR(s.albedo.x, 0.25, 1e-6);
+  EXPECT_NEAR(s.albedo.z, 0.75, 1e-6);
+  o.window = 0.005f;  // the second fragment is beyond the window: ignored
+  s = reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {});
+  EXPECT_NEAR(s.normal.x, 1.0, 1e-6);
+  EXPECT_EQ(reconstruct_pixel(depth, weight, splat, 0, d, fx.rasters.data(), o, {}).alpha, 0);
+  EXPECT_EQ(depth_window(BlendMode::kZThreshold, 0.1f, 1, 8), 0.8f);
+  EXPECT_EQ(depth_window(BlendMode::kZRange, 0.1f, 0.5f, 8), 9.0f);
+}
+
+}  // namespace
+}  // namespace splatkit::render
