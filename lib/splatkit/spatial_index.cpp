@@ -42,6 +42,10 @@ inline float box_sq_dist(const Box& b, float qx, float qy, float qz) {
   return dx * dx + dy * dy + dz * dz;
 }
 
+inline bool is_finite(const Vec3f& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
 inline bool before(float d_a, uint32_t id_a, float d_b, uint32_t id_b) {
   return d_a < d_b || (d_a == d_b && id_a < id_b);
 }
@@ -148,7 +152,7 @@ SpatialIndex::SpatialIndex(std::span<const Vec3f> points, std::size_t max_leaf_s
   std::vector<BuildPoint> pts(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3f& p = points[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    if (!is_finite(p)) {
       throw Error(ErrorKind::kBadInput,
                   "spatial index: point " + std::to_string(i) + " has a non-finite coordinate");
     }
@@ -297,7 +301,7 @@ struct SpatialIndex::KnnSearch {
 std::size_t SpatialIndex::knn(const Vec3f& q, std::size_t k, uint32_t* out_indices,
                               float* out_sq_dists) const {
   k = std::min(k, size());
-  if (k == 0) return 0;
+  if (k == 0 || !is_finite(q)) return 0;
   std::vector<uint64_t> keys(k);
   KnnState state(k, keys.data());
   KnnSearch{*this, q.x, q.y, q.z, kNone, state}.from_root();
@@ -392,7 +396,7 @@ void SpatialIndex::radius(const Vec3f& q, float r, std::vector<uint32_t>& out_in
   }
   out_indices.clear();
   if (out_sq_dists != nullptr) out_sq_dists->clear();
-  if (size() == 0) return;
+  if (size() == 0 || !is_finite(q)) return;
   const float r2 = r * r;
   struct Hit {
     float d2;

@@ -76,7 +76,8 @@ class SpatialIndex {
 
   // The min(k, size()) points nearest to q, ordered by (squared distance, index), written to
   // out_indices[0..) and out_sq_dists[0..) (each must have room for k entries; out_sq_dists may be
-  // null). Returns the count written. A point equal to q is included, at distance 0.
+  // null). Returns the count written. A point equal to q is included, at distance 0. A q with a
+  // NaN or infinite coordinate finds nothing (returns 0).
   std::size_t knn(const Vec3f& q, std::size_t k, uint32_t* out_indices, float* out_sq_dists) const;
 
   // The neighbourhood of every point, in parallel. Row i (k entries) starts with i itself at
@@ -96,7 +97,7 @@ class SpatialIndex {
 
   // All points p with squared_distance(p, q) <= r * r (r * r computed in float), ordered by
   // (squared distance, index). out_sq_dists may be null. Throws std::invalid_argument if r is
-  // negative or not finite.
+  // negative or not finite; a non-finite q finds nothing.
   void radius(const Vec3f& q, float r, std::vector<uint32_t>& out_indices,
               std::vector<float>* out_sq_dists = nullptr) const;
 

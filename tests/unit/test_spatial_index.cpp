@@ -302,6 +302,12 @@ TEST(SpatialIndex, RejectsBadInput) {
   std::vector<uint32_t> ids;
   EXPECT_THROW(index.radius({0, 0, 0}, -1.0f, ids), std::invalid_argument);
   EXPECT_THROW(index.radius({0, 0, 0}, std::nanf(""), ids), std::invalid_argument);
+  uint32_t id = 7;
+  EXPECT_EQ(index.knn({std::nanf(""), 0, 0}, 1, &id, nullptr), 0u);
+  EXPECT_EQ(index.knn({0, kInf, 0}, 1, &id, nullptr), 0u);
+  ids.push_back(3);
+  index.radius({0, 0, -kInf}, 1.0f, ids);
+  EXPECT_TRUE(ids.empty());
   std::vector<uint32_t> too_small(3);
   EXPECT_THROW(index.knn_all(2, too_small), std::invalid_argument);
   EXPECT_LT(index.memory_bytes(), 1000u);
