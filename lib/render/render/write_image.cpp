@@ -48,6 +48,9 @@ OIIO::ImageSpec exr_spec(const Framebuffer& f) {
   spec.alpha_channel = 3;
   spec.z_channel = 4;
   spec.attribute("compression", "zip");
+  // OpenImageIO stamps EXR files with the current time unless DateTime is set; an empty one keeps
+  // the output byte-identical from run to run.
+  spec.attribute("DateTime", "");
   return spec;
 }
 

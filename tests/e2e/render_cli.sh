@@ -1,0 +1,77 @@
+# splat-view end to end: renders the bundled samples to PNG and EXR (checked with OpenImageIO's
+# iinfo when installed), turntables, the JSON report, identical bytes for any thread count, and
+# one-line errors with the right exit codes for clouds without normals/radii and bad options.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+S=$SRC/data-samples
+V=$BIN/splat-view
+
+expect_exit 0 "$V" --version
+expect_exit 0 "$V" --help
+grep -q "Examples:" "$WORK/stdout" && pass || fail "splat-view --help has no examples"
+
+# PNG by default, 8-bit RGB of the requested size; the model is drawn (not all background).
+expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/torus.png" --width 200 --height 150
+if command -v iinfo >/dev/null; then
+  info=$(iinfo "$WORK/torus.png")
+  grep -q "200 x  150, 3 channel, uint8 png" <<<"$info" && pass || fail "torus.png: $info"
+  stats=$(iinfo --stats "$WORK/torus.png" | grep "Stats Max")
+  grep -q "Stats Max: 2[0-9][0-9] " <<<"$stats" && pass || fail "torus.png looks empty: $stats"
+fi
+
+# EXR: float colour and AOVs with OpenEXR channel names.
+expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/cad.exr" --width 120 --height 90 --view 30,40
+if command -v iinfo >/dev/null; then
+  channels=$(iinfo -v "$WORK/cad.exr" | grep "channel list")
+  expect_eq "exr channels" "$(echo $channels)" "channel list: R, G, B, A, Z, N.X, N.Y, N.Z"
+fi
+
+# Same bytes whatever the thread count; every shading mode and both blend methods run.
+expect_exit 0 "$V" -q "$S/two-spheres.ply" -o "$WORK/t1.png" --threads 1 --width 160 --height 120
+expect_exit 0 "$V" -q "$S/two-spheres.ply" -o "$WORK/t2.png" --threads 2 --width 160 --height 120
+cmp -s "$WORK/t1.png" "$WORK/t2.png" && pass || fail "images differ between 1 and 2 threads"
+expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/cad1.exr" --width 120 --height 90 --view 30,40 --threads 1
+cmp -s "$WORK/cad.exr" "$WORK/cad1.exr" && pass || fail "EXR differs between runs or thread counts"
+for shade in phong normals depth flat; do
+  expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/s_$shade.png" --shade $shade --width 64 --height 48
+done
+expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/zr.png" --blend zrange --width 64 --height 48
+expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/zt.png" --blend zthreshold=0.05 --width 64 --height 48
+expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/eye.png" --eye 3,0,1 --target 0,0,0 --fov 30 \
+  --width 64 --height 48
+
+# Turntable: N frames named by the %04d field; the JSON report has the counts and stage times.
+expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/turn_%04d.png" --turntable 3 --width 64 --height 48 \
+  --stats "$WORK/stats.json"
+for i in 0000 0001 0002; do [ -s "$WORK/turn_$i.png" ] && pass || fail "turntable frame $i missing"; done
+cmp -s "$WORK/turn_0000.png" "$WORK/turn_0001.png" && fail "turntable frames 0 and 1 are equal" || pass
+if command -v python3 >/dev/null; then
+  python3 - "$WORK/stats.json" <<'PY' && pass || fail "stats.json content"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["splats_in"] == 12001 and 0 < j["splats_drawn"] <= 12001, j
+assert j["fragments"] > 0 and j["pixels_covered"] > 0 and "pixels_overflowed" in j
+for k in ("setup", "binning", "rasterize", "reconstruct", "shade", "frame", "write"):
+    assert j["time_ms"][k] >= 0, k
+assert j["splats_per_second"] > 0 and len(j["frames"]) == 3
+PY
+fi
+
+# PNG to standard output.
+"$V" -q "$S/sphere.ply" -o - --width 32 --height 24 > "$WORK/stdout.png" 2>"$WORK/stderr" && pass || fail "-o -"
+head -c 8 "$WORK/stdout.png" | od -An -c | grep -q "P   N   G" && pass || fail "stdout is not a PNG"
+
+# Errors: one line naming the file and the tool to run first; nothing written.
+expect_exit 2 "$V" "$S/kitten.xyz" -o "$WORK/kitten.png"
+expect_stderr "^splat-view: .*kitten.xyz: .*no radii; run estimate-normals first"
+[ -e "$WORK/kitten.png" ] && fail "kitten.png written after an error" || pass
+expect_exit 2 "$V" "$S/nefertiti.off" -o "$WORK/n.png"
+expect_stderr "no normals and no radii; run estimate-normals first"
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --blend median
+expect_stderr "--blend must be zthreshold"
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --turntable 4
+expect_stderr "one frame number field"
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 1,2,3 --view 10,20
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,0 --target 0,0,0
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.nosuchformat"
+expect_exit 2 "$V" "$WORK/missing.ply" -o "$WORK/x.png"
+finish
