@@ -42,6 +42,15 @@ inline float box_sq_dist(const Box& b, float qx, float qy, float qz) {
   return dx * dx + dy * dy + dz * dz;
 }
 
+// For q inside the box: squared distance to its nearest face, a lower bound of the float
+// distance of every point outside the box or on its surface, by the same argument.
+template <typename Box>
+inline float inner_margin_sq(const Box& b, float qx, float qy, float qz) {
+  float m = std::min(
+      {qx - b.lo[0], b.hi[0] - qx, qy - b.lo[1], b.hi[1] - qy, qz - b.lo[2], b.hi[2] - qz});
+  return m * m;
+}
+
 inline bool is_finite(const Vec3f& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
@@ -278,10 +287,7 @@ struct SpatialIndex::KnnSearch {
   // planes), so its float distance is at least this: the same monotonic-rounding argument as
   // box_sq_dist.
   uint32_t inner_margin_bits(uint32_t node) const {
-    const Box& b = index.boxes_[node];
-    float m = std::min(
-        {qx - b.lo[0], b.hi[0] - qx, qy - b.lo[1], b.hi[1] - qy, qz - b.lo[2], b.hi[2] - qz});
-    return std::bit_cast<uint32_t>(m * m);
+    return std::bit_cast<uint32_t>(inner_margin_sq(index.boxes_[node], qx, qy, qz));
   }
 
   // For a query inside leaf `leaf`: that leaf first (the best first candidates), then the
@@ -431,32 +437,47 @@ void SpatialIndex::radius(const Vec3f& q, float r, std::vector<uint32_t>& out_in
 }
 
 // Rows of the overlap graph for tree positions [begin, end): original indices, each row sorted.
-// A node is skipped when even its largest radius cannot reach: box distance^2 >= (r_i + r_max)^2
-// implies d^2 >= (r_i + r_j)^2 for every point inside (rounding is monotonic), so it is exact.
+// Like the batch kNN, a query starts in its own leaf and climbs, visiting each sibling subtree
+// unless even its largest radius cannot reach: box distance^2 >= (r_i + r_max)^2 implies
+// d^2 >= (r_i + r_j)^2 for every point inside (rounding is monotonic), so pruning is exact. The
+// climb stops once the node's faces are out of reach of the largest radius of all.
 void SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
                                 const float* node_max_radius, std::vector<uint32_t>& neighbors,
                                 std::vector<uint32_t>& counts) const {
-  std::vector<uint32_t> stack;
+  uint32_t leaf = static_cast<uint32_t>(
+      std::upper_bound(leaf_start_.begin(), leaf_start_.end(), begin) - leaf_start_.begin() - 1);
   for (std::size_t p = begin; p < end; ++p) {
+    while (leaf_start_[leaf + 1] <= p) ++leaf;
     const float qx = xs_[p], qy = ys_[p], qz = zs_[p], r = tree_radii[p];
     const std::size_t row_begin = neighbors.size();
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-      uint32_t node = stack.back();
-      stack.pop_back();
-      float reach = r + node_max_radius[node];
-      if (box_sq_dist(boxes_[node], qx, qy, qz) >= reach * reach) continue;
-      if (node < first_leaf_) {
-        stack.push_back(2 * node + 2);
-        stack.push_back(2 * node + 1);
-        continue;
-      }
-      uint32_t leaf = node - first_leaf_;
-      for (uint32_t o = leaf_start_[leaf]; o < leaf_start_[leaf + 1]; ++o) {
+    auto scan_leaf = [&](uint32_t l) {
+      for (uint32_t o = leaf_start_[l]; o < leaf_start_[l + 1]; ++o) {
         float dx = xs_[o] - qx, dy = ys_[o] - qy, dz = zs_[o] - qz;
         float sum = r + tree_radii[o];
         if (dx * dx + dy * dy + dz * dz < sum * sum && o != p) neighbors.push_back(ids_[o]);
       }
+    };
+    auto descend = [&](uint32_t root) {
+      uint32_t stack[64];  // depth-first: at most one pending node per level, plus one
+      int top = 0;
+      stack[top++] = root;
+      while (top > 0) {
+        uint32_t node = stack[--top];
+        float reach = r + node_max_radius[node];
+        if (box_sq_dist(boxes_[node], qx, qy, qz) >= reach * reach) continue;
+        if (node < first_leaf_) {
+          stack[top++] = 2 * node + 2;
+          stack[top++] = 2 * node + 1;
+        } else {
+          scan_leaf(node - first_leaf_);
+        }
+      }
+    };
+    scan_leaf(leaf);
+    const float reach_all = r + node_max_radius[0];
+    for (uint32_t node = first_leaf_ + leaf; node > 0; node = (node - 1) / 2) {
+      if (inner_margin_sq(boxes_[node], qx, qy, qz) >= reach_all * reach_all) break;
+      descend((node & 1) ? node + 1 : node - 1);
     }
     std::sort(neighbors.begin() + row_begin, neighbors.end());
     counts.push_back(static_cast<uint32_t>(neighbors.size() - row_begin));
