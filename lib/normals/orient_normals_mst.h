@@ -33,7 +33,7 @@
 
 namespace splatkit {
 
-inline constexpr std::size_t kOrientK = 10;        // kNN row length, the point itself included
+inline constexpr std::size_t kOrientK = 10;  // kNN row length, the point itself included
 inline constexpr std::size_t kOrientBuckets = 4096;
 
 struct OrientStats {

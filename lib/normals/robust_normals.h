@@ -23,6 +23,12 @@
 // noise raises the bar with the typical planar value and only outliers of the distribution — the
 // creases, corners and strongly curved parts — are refined.
 //
+// Noise: with noisy points, PCA over k = 16 is itself too noisy on plain faces (at a noise of 0.5
+// spacing, ~8° RMS). The median surface variation v of the k-neighbourhoods measures it: for a flat
+// sample the RMS angle error of PCA over K points is about 2 sqrt(v k) / K. When that exceeds
+// kTargetRmsRad at K = k, the cloud is "noisy": every point is refit over the K that meets the
+// target (capped at max_k) — PCA for the planar ones, the robust fit for the others.
+//
 // Determinism: each point's random triplets come from DeterministicRng(seed, point index), and its
 // result depends only on its own exact kNN row, so the output is identical for any thread count.
 // Never NaN: a point whose robust fit fails (too few neighbours, all candidate triplets
@@ -40,11 +46,14 @@ namespace splatkit {
 
 struct PcaNormal;
 
-inline constexpr double kMinVariation = 1e-4;   // below: planar up to float rounding
+inline constexpr double kMinVariation = 1e-4;    // below: planar up to float rounding
 inline constexpr double kVariationFactor = 3.0;  // times the median surface variation
+inline constexpr double kTargetRmsRad = 0.05;    // ~3°: the noise level that switches to larger K
 
 struct RobustNormalOptions {
+  std::size_t pca_k = 16;       // the k of the neighbourhoods the variations come from
   std::size_t k = 32;           // points in the robust neighbourhood, the point itself included
+  std::size_t max_k = 64;       // cap of the neighbourhood of noisy clouds
   std::size_t candidates = 48;  // random triplets (candidate planes) per refined point
   uint64_t seed = 0x5eed5eed;
 };
@@ -53,6 +62,9 @@ struct RobustNormalStats {
   std::size_t candidates = 0;  // points above the variation threshold
   std::size_t refined = 0;     // of those, points whose normal came from the robust fit
   double threshold = 0;        // the surface-variation threshold used
+  double median_variation = 0;
+  std::size_t k = 0;   // neighbourhood used (> options.k for a noisy cloud)
+  bool noisy = false;  // every point refit over k neighbours
 };
 
 // λ0 / (λ0 + λ1 + λ2) of a PCA (eigenvalues ascending): 0 on a plane, 1/3 for an isotropic
@@ -61,8 +73,9 @@ double surface_variation(const PcaNormal& pca);
 
 // index: built over positions (#N). variation: #N surface variations from the PCA pass (values
 // < 0 mark points to skip, e.g. degenerate ones whose normal came from a wider neighbourhood).
-// normals: #N unit PCA normals in, refined normals out (only the refined points change; the sign
-// of a refined normal is made to agree with its PCA normal). Runs in parallel with TBB.
+// normals: #N unit PCA normals in, refined normals out, unoriented with neighborhood_pca's
+// canonical sign (a clean cloud changes only the refined points; a noisy one every point that
+// is not skipped). Runs in parallel with TBB.
 RobustNormalStats robust_normals(const SpatialIndex& index, std::span<const Vec3f> positions,
                                  std::span<const float> variation, std::span<Vec3f> normals,
                                  const RobustNormalOptions& options = {});

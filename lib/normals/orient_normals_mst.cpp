@@ -1,0 +1,206 @@
+#include "normals/orient_normals_mst.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace splatkit {
+
+namespace {
+
+constexpr uint32_t kNone = SpatialIndex::kNone;
+
+// The kNN graph as fixed-length rows (k - 1 neighbours per point, kNone where the cloud is
+// smaller) with one quantised weight per entry.
+struct KnnGraph {
+  std::size_t width = 0;  // neighbours per row
+  std::vector<uint32_t> neighbors;
+  std::vector<uint16_t> keys;
+};
+
+uint16_t weight_key(const Vec3f& a, const Vec3f& b) {
+  const float w = std::max(0.0f, 1.0f - std::fabs(dot(a, b)));
+  const float q = std::sqrt(w) * static_cast<float>(kOrientBuckets);
+  return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
+}
+
+KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> guide, std::size_t k) {
+  KnnGraph g;
+  g.width = k - 1;
+  const std::size_t n = index.size();
+  g.neighbors.assign(n * g.width, kNone);
+  g.keys.assign(n * g.width, 0);
+  index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
+                                  std::span<const uint32_t> indices, std::span<const float>) {
+    for (std::size_t r = 0; r < queries.size(); ++r) {
+      const uint32_t i = queries[r];
+      // Column 0 is the point itself; the rest are its neighbours.
+      for (std::size_t c = 1; c < k; ++c) {
+        const uint32_t j = indices[r * k + c];
+        const std::size_t e = i * g.width + (c - 1);
+        g.neighbors[e] = j;
+        if (j != kNone) g.keys[e] = weight_key(guide[i], guide[j]);
+      }
+    }
+  });
+  return g;
+}
+
+// Edge ids sorted by key, ties by id (a stable counting sort).
+template <typename Id>
+std::vector<Id> sort_edges(const KnnGraph& g) {
+  std::vector<std::size_t> start(kOrientBuckets + 1, 0);
+  for (std::size_t e = 0; e < g.keys.size(); ++e)
+    if (g.neighbors[e] != kNone) ++start[g.keys[e] + 1];
+  for (std::size_t b = 0; b < kOrientBuckets; ++b) start[b + 1] += start[b];
+  std::vector<Id> order(start[kOrientBuckets]);
+  for (std::size_t e = 0; e < g.keys.size(); ++e)
+    if (g.neighbors[e] != kNone) order[start[g.keys[e]]++] = static_cast<Id>(e);
+  return order;
+}
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n), rank_(n, 0) {
+    for (std::size_t i = 0; i < n; ++i) parent_[i] = static_cast<uint32_t>(i);
+  }
+  uint32_t find(uint32_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];  // path halving
+      x = parent_[x];
+    }
+    return x;
+  }
+  // Joins the sets of a and b; false when they were already one.
+  bool unite(uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a == b) return false;
+    if (rank_[a] < rank_[b]) std::swap(a, b);
+    parent_[b] = a;
+    if (rank_[a] == rank_[b]) ++rank_[a];
+    return true;
+  }
+
+ private:
+  std::vector<uint32_t> parent_;
+  std::vector<uint8_t> rank_;
+};
+
+// Kruskal over the sorted edges: the minimum spanning forest as (i, j) pairs, plus each point's
+// component root.
+template <typename Id>
+std::vector<std::pair<uint32_t, uint32_t>> spanning_forest(const KnnGraph& g, std::size_t n,
+                                                           std::vector<uint32_t>& root) {
+  std::vector<std::pair<uint32_t, uint32_t>> tree;
+  tree.reserve(n > 0 ? n - 1 : 0);
+  UnionFind sets(n);
+  {
+    const std::vector<Id> order = sort_edges<Id>(g);
+    for (const Id e : order) {
+      const auto i = static_cast<uint32_t>(e / g.width);
+      const uint32_t j = g.neighbors[e];
+      if (sets.unite(i, j)) {
+        tree.emplace_back(i, j);
+        if (tree.size() + 1 == n) break;  // one component: the tree is complete
+      }
+    }
+  }
+  root.resize(n);
+  for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i));
+  return tree;
+}
+
+// Compressed adjacency of the forest.
+struct Adjacency {
+  std::vector<uint32_t> offsets;
+  std::vector<uint32_t> targets;
+};
+
+Adjacency forest_adjacency(const std::vector<std::pair<uint32_t, uint32_t>>& tree, std::size_t n) {
+  Adjacency a;
+  a.offsets.assign(n + 1, 0);
+  for (const auto& [i, j] : tree) ++a.offsets[i + 1], ++a.offsets[j + 1];
+  for (std::size_t i = 0; i < n; ++i) a.offsets[i + 1] += a.offsets[i];
+  a.targets.resize(a.offsets[n]);
+  std::vector<uint32_t> fill(a.offsets.begin(), a.offsets.end() - 1);
+  for (const auto& [i, j] : tree) a.targets[fill[i]++] = j, a.targets[fill[j]++] = i;
+  return a;
+}
+
+// +1 / -1 per point: the sign that makes guide[i] consistent over its tree and outward at the
+// component's top-most point. Returns the number of components.
+std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Vec3f> guide,
+                            const Adjacency& adj, const std::vector<uint32_t>& root,
+                            std::vector<int8_t>& sign) {
+  const std::size_t n = positions.size();
+  std::vector<uint32_t> seed(n, kNone);  // per root: its component's top-most point
+  for (std::size_t i = 0; i < n; ++i) {
+    uint32_t& s = seed[root[i]];
+    if (s == kNone || positions[i].z > positions[s].z) s = static_cast<uint32_t>(i);
+  }
+  sign.assign(n, 0);
+  std::size_t components = 0;
+  std::vector<uint32_t> queue;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (seed[r] == kNone) continue;
+    ++components;
+    const uint32_t s = seed[r];
+    sign[s] = guide[s].z < 0 ? -1 : 1;
+    queue.assign(1, s);
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const uint32_t i = queue[head];
+      for (uint32_t e = adj.offsets[i]; e < adj.offsets[i + 1]; ++e) {
+        const uint32_t j = adj.targets[e];
+        if (sign[j] != 0) continue;
+        sign[j] = static_cast<int8_t>(dot(guide[i], guide[j]) < 0 ? -sign[i] : sign[i]);
+        queue.push_back(j);
+      }
+    }
+  }
+  return components;
+}
+
+}  // namespace
+
+OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f> positions,
+                               std::span<Vec3f> normals, std::span<const Vec3f> guide,
+                               std::size_t k) {
+  if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
+  const std::size_t n = positions.size();
+  if (normals.size() != n || index.size() != n || (!guide.empty() && guide.size() != n))
+    throw std::invalid_argument("orient_normals_mst: positions, normals, guide and index differ");
+  OrientStats stats;
+  if (n == 0) return stats;
+  if (guide.empty()) guide = normals;
+
+  std::vector<uint32_t> root;
+  std::vector<std::pair<uint32_t, uint32_t>> tree;
+  {
+    const KnnGraph graph = build_graph(index, guide, std::min(k, n));
+    tree = graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
+               ? spanning_forest<uint32_t>(graph, n, root)
+               : spanning_forest<uint64_t>(graph, n, root);
+  }
+  std::vector<int8_t> sign;
+  {
+    const Adjacency adj = forest_adjacency(tree, n);
+    tree = {};
+    stats.components = propagate_signs(positions, guide, adj, root, sign);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const float oriented = dot(normals[i], guide[i]) * static_cast<float>(sign[i]);
+    if (oriented < 0) {
+      normals[i] = -normals[i];
+      ++stats.flipped;
+    }
+  }
+  return stats;
+}
+
+}  // namespace splatkit

@@ -1,0 +1,270 @@
+#include "normals/robust_normals.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+#include "normals/neighborhood_pca.h"
+#include "splatkit/deterministic_rng.h"
+#include "splatkit/pca_normal.h"
+
+namespace splatkit {
+
+namespace {
+
+// The residual quantile that sets the scale: a third of the neighbourhood, so a point near a
+// corner, whose own face holds only about a third of its neighbours, still finds that face.
+constexpr double kScaleQuantile = 1.0 / 3.0;
+// Φ⁻¹((1 + q) / 2) for q = 1/3: turns that order statistic of |residual| into a Gaussian σ.
+constexpr double kScaleToSigma = 1.0 / 0.4307;
+constexpr double kInlierSigmas = 2.5;  // kernel bandwidth and inlier band, in σ
+// Floor of the bandwidth relative to the neighbourhood radius: on exact planes σ is ~0 and the
+// band must still absorb float rounding of the coordinates.
+constexpr double kMinBandwidth = 1e-4;
+// Triplets whose sine of the smallest angle is below this give unstable planes: skipped.
+constexpr float kMinTripletSine2 = 0.01f;
+constexpr int kRefits = 2;
+// Noisy clouds: a wide row is planar while its variation is below this factor times the median
+// variation scaled to its size.
+constexpr double kNoisyFactor = 2.0;
+
+struct Plane {
+  Vec3f n;       // unit
+  float offset;  // n·x = offset, x relative to the query point
+};
+
+// A unit normal through three points, or false when they are (nearly) collinear.
+bool triplet_plane(const Vec3f& a, const Vec3f& b, const Vec3f& c, Plane& out) {
+  const Vec3f u = b - a, v = c - a;
+  const Vec3f n = cross(u, v);
+  const float n2 = squared_norm(n);
+  const float uv = squared_norm(u) * squared_norm(v);
+  if (!(n2 > kMinTripletSine2 * uv)) return false;
+  out.n = n / std::sqrt(n2);
+  out.offset = dot(out.n, a);
+  return true;
+}
+
+// Per-thread scratch for one point's fit.
+struct Scratch {
+  std::vector<Vec3f> local;  // neighbours relative to the query point
+  std::vector<float> residuals;
+  std::vector<Plane> planes;
+};
+
+// PCA plane of the points of `local` whose residual to `plane` is <= band; false when fewer than
+// 3 or degenerate. The plane goes through the inliers' centroid.
+bool refit(std::span<const Vec3f> local, const Plane& plane, float band, Plane& out) {
+  double s[3] = {0, 0, 0}, c[6] = {0, 0, 0, 0, 0, 0};
+  std::size_t count = 0;
+  for (const Vec3f& q : local) {
+    if (!(std::fabs(dot(plane.n, q) - plane.offset) <= band)) continue;
+    const double x = q.x, y = q.y, z = q.z;
+    s[0] += x, s[1] += y, s[2] += z;
+    c[0] += x * x, c[1] += x * y, c[2] += x * z, c[3] += y * y, c[4] += y * z, c[5] += z * z;
+    ++count;
+  }
+  if (count < 3) return false;
+  const double inv = 1.0 / static_cast<double>(count);
+  c[0] -= s[0] * s[0] * inv, c[1] -= s[0] * s[1] * inv, c[2] -= s[0] * s[2] * inv;
+  c[3] -= s[1] * s[1] * inv, c[4] -= s[1] * s[2] * inv, c[5] -= s[2] * s[2] * inv;
+  const CovarianceEigen e = pca_normal({c[0], c[1], c[2], c[3], c[4], c[5]});
+  if (!(e.eigenvalues[1] > kCollinearRatio * e.eigenvalues[2])) return false;
+  out.n = Vec3f{static_cast<float>(e.normal[0]), static_cast<float>(e.normal[1]),
+                static_cast<float>(e.normal[2])};
+  out.offset = static_cast<float>(e.normal[0] * s[0] * inv + e.normal[1] * s[1] * inv +
+                                  e.normal[2] * s[2] * inv);
+  return true;
+}
+
+// Candidate planes through random triplets of the neighbourhood; every other one passes through
+// the query point itself (local[0] = origin), which raises the odds of a triplet lying wholly on
+// the point's own side when that side holds only a third of the ball.
+void sample_planes(std::span<const Vec3f> local, std::size_t count, DeterministicRng& rng,
+                   std::vector<Plane>& planes) {
+  planes.clear();
+  const uint64_t m = local.size();
+  for (std::size_t attempt = 0; attempt < 4 * count && planes.size() < count; ++attempt) {
+    const uint64_t a = (attempt % 2 == 0) ? 0 : rng.next() % m;
+    const uint64_t b = rng.next() % m, c = rng.next() % m;
+    if (a == b || a == c || b == c) continue;
+    Plane p;
+    if (triplet_plane(local[a], local[b], local[c], p)) planes.push_back(p);
+  }
+}
+
+// The robust normal of one point from its neighbourhood (local[0] is the point, at the origin);
+// false when no fit is found.
+bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, DeterministicRng& rng,
+                Scratch& s, Vec3f& normal) {
+  const std::size_t m = local.size();
+  sample_planes(local, candidates, rng, s.planes);
+  if (s.planes.empty()) return false;
+  float radius2 = 0;
+  for (const Vec3f& q : local) radius2 = std::max(radius2, squared_norm(q));
+  const float floor_band = static_cast<float>(kMinBandwidth) * std::sqrt(radius2);
+
+  // Pass 1: the robust scale, the smallest residual order statistic over the candidates that pass
+  // within their own band of the query point (least k-th order statistic).
+  const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(kScaleQuantile * m));
+  float best_stat = INFINITY;
+  s.residuals.resize(m);
+  for (const Plane& p : s.planes) {
+    for (std::size_t j = 0; j < m; ++j) s.residuals[j] = std::fabs(dot(p.n, local[j]) - p.offset);
+    std::nth_element(s.residuals.begin(), s.residuals.begin() + (rank - 1), s.residuals.end());
+    const float stat = s.residuals[rank - 1];
+    const float band =
+        std::max(floor_band, static_cast<float>(kInlierSigmas * kScaleToSigma) * stat);
+    if (std::fabs(p.offset) <= band && stat < best_stat) best_stat = stat;
+  }
+  if (!std::isfinite(best_stat)) return false;
+  const float h =
+      std::max(floor_band, static_cast<float>(kInlierSigmas * kScaleToSigma) * best_stat);
+
+  // Pass 2: kernel density of the residuals at bandwidth h (Epanechnikov), among the planes that
+  // pass within h of the query point; the first best wins ties.
+  const float inv_h2 = 1.0f / (h * h);
+  float best_score = -1;
+  const Plane* best = nullptr;
+  for (const Plane& p : s.planes) {
+    if (!(std::fabs(p.offset) <= h)) continue;
+    float score = 0;
+    for (const Vec3f& q : local) {
+      const float r = dot(p.n, q) - p.offset;
+      score += std::max(0.0f, 1.0f - r * r * inv_h2);
+    }
+    if (score > best_score) best_score = score, best = &p;
+  }
+  if (!best) return false;
+
+  // Refit by PCA over the inliers, twice: the second pass uses the refit plane's own inliers.
+  Plane plane = *best;
+  for (int pass = 0; pass < kRefits; ++pass) {
+    Plane next;
+    if (!refit(local, plane, h, next)) break;
+    plane = next;
+  }
+  if (!(std::fabs(plane.offset) <= 2 * h)) return false;
+  normal = canonical_sign(plane.n);
+  return true;
+}
+
+// The median of the valid (>= 0) variations; 0 when there are none.
+double median_variation(std::span<const float> variation) {
+  std::vector<float> valid;
+  valid.reserve(variation.size());
+  for (float v : variation)
+    if (v >= 0) valid.push_back(v);
+  if (valid.empty()) return 0;
+  const auto mid = valid.begin() + static_cast<std::ptrdiff_t>(valid.size() / 2);
+  std::nth_element(valid.begin(), mid, valid.end());
+  return *mid;
+}
+
+// The robust normal of point i from its kNN row (ids[0] is i or a duplicate of it).
+bool fit_point(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t> ids,
+               const RobustNormalOptions& options, Scratch& s, Vec3f& normal) {
+  const Vec3f p = positions[i];
+  s.local.clear();
+  for (const uint32_t j : ids)
+    if (j != SpatialIndex::kNone) s.local.push_back(positions[j] - p);
+  if (s.local.size() < 6) return false;
+  s.local[0] = Vec3f{0, 0, 0};
+  DeterministicRng rng(options.seed, i);
+  return robust_fit(s.local, options.candidates, rng, s, normal);
+}
+
+// Clean cloud: only the listed points, each with its own kNN query.
+std::size_t refine_points(const SpatialIndex& index, std::span<const Vec3f> positions,
+                          std::span<const uint32_t> points, std::size_t k, std::span<Vec3f> normals,
+                          const RobustNormalOptions& options) {
+  std::atomic<std::size_t> refined{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      Scratch s;
+                      std::vector<uint32_t> ids(k);
+                      std::size_t done = 0;
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        const uint32_t i = points[r];
+                        const std::size_t m = index.knn(positions[i], k, ids.data(), nullptr);
+                        Vec3f n;
+                        if (fit_point(positions, i, std::span(ids).first(m), options, s, n)) {
+                          normals[i] = n;
+                          ++done;
+                        }
+                      }
+                      refined += done;
+                    });
+  return refined;
+}
+
+// Noisy cloud: every point over k neighbours, streamed. The PCA of the wider row decides: planar
+// (its variation within kNoisyFactor of the typical planar value at this k, which falls as 1/k)
+// keeps it, anything else gets the robust fit.
+std::size_t refine_all(const SpatialIndex& index, std::span<const Vec3f> positions,
+                       std::span<const float> variation, float threshold, std::size_t k,
+                       std::span<Vec3f> normals, const RobustNormalOptions& options) {
+  std::atomic<std::size_t> refined{0};
+  index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
+                                  std::span<const uint32_t> indices, std::span<const float>) {
+    Scratch s;
+    std::size_t done = 0;
+    for (std::size_t r = 0; r < queries.size(); ++r) {
+      const uint32_t i = queries[r];
+      if (variation[i] < 0) continue;
+      const std::span<const uint32_t> row = indices.subspan(r * k, k);
+      const PcaNormal pca = neighborhood_pca(positions, row);
+      Vec3f n;
+      if (surface_variation(pca) > threshold) {
+        if (fit_point(positions, i, row, options, s, n)) normals[i] = n, ++done;
+      } else if (!pca.degenerate) {
+        normals[i] = pca.normal;
+      }
+    }
+    refined += done;
+  });
+  return refined;
+}
+
+}  // namespace
+
+double surface_variation(const PcaNormal& pca) {
+  const double sum = pca.eigenvalues[0] + pca.eigenvalues[1] + pca.eigenvalues[2];
+  return sum > 0 ? pca.eigenvalues[0] / sum : 0.0;
+}
+
+RobustNormalStats robust_normals(const SpatialIndex& index, std::span<const Vec3f> positions,
+                                 std::span<const float> variation, std::span<Vec3f> normals,
+                                 const RobustNormalOptions& options) {
+  RobustNormalStats stats;
+  stats.median_variation = median_variation(variation);
+  stats.threshold = std::max(kMinVariation, kVariationFactor * stats.median_variation);
+  const auto threshold = static_cast<float>(stats.threshold);
+  std::vector<uint32_t> points;
+  for (std::size_t i = 0; i < variation.size(); ++i)
+    if (variation[i] > threshold) points.push_back(static_cast<uint32_t>(i));
+  stats.candidates = points.size();
+
+  // K meeting the target RMS error on flat parts: 2 sqrt(v k) / K <= kTargetRmsRad.
+  const double pca_k = static_cast<double>(std::max<std::size_t>(options.pca_k, 3));
+  const double needed = 2 * std::sqrt(stats.median_variation * pca_k) / kTargetRmsRad;
+  stats.noisy = needed > pca_k;
+  stats.k = stats.noisy ? std::clamp(static_cast<std::size_t>(std::ceil(needed)), options.k,
+                                     std::max(options.k, options.max_k))
+                        : options.k;
+  stats.k = std::min(stats.k, index.size());
+  if (stats.k < 6 || options.candidates == 0) return stats;
+  const auto wide_threshold = static_cast<float>(kNoisyFactor * stats.median_variation * pca_k /
+                                                 static_cast<double>(stats.k));
+  stats.refined = stats.noisy ? refine_all(index, positions, variation, wide_threshold, stats.k,
+                                           normals, options)
+                              : refine_points(index, positions, points, stats.k, normals, options);
+  return stats;
+}
+
+}  // namespace splatkit
