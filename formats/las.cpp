@@ -95,7 +95,8 @@ void check_transform(const InputStream& in, const LasHeader& h) {
 LasHeader read_header(InputStream& in) {
   unsigned char b[kHeaderSize14] = {};
   in.read(b, kHeaderSize12, "LAS header");
-  if (std::memcmp(b, "LASF", 4) != 0) throw_bad_input(in.path(), "not a LAS file (no LASF signature)");
+  if (std::memcmp(b, "LASF", 4) != 0)
+    throw_bad_input(in.path(), "not a LAS file (no LASF signature)");
   LasHeader h;
   h.major = b[24];
   h.minor = b[25];
@@ -161,14 +162,12 @@ void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names) {
   for (uint32_t k = 0; k < h.vlr_count; ++k) {
     unsigned char v[kVlrHeaderSize];
     if (in.offset() + kVlrHeaderSize > h.point_offset)
-      throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " +
-                                     std::to_string(h.vlr_count) +
+      throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " + std::to_string(h.vlr_count) +
                                      " extends past the offset to point data");
     in.read(v, kVlrHeaderSize, "VLR header");
     const uint16_t length = u16(v + 20);
     if (in.offset() + length > h.point_offset)
-      throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " +
-                                     std::to_string(h.vlr_count) +
+      throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " + std::to_string(h.vlr_count) +
                                      " extends past the offset to point data");
     in.skip(length, "VLR");
     if (names.size() < 64)
@@ -181,7 +180,12 @@ enum Extra { kIntensity, kReturn, kReturns, kClass, kAngle, kUser, kSource, kGps
 
 void add_extras(SplatCloud& c, int format, std::size_t reserve, int slot[kExtras]) {
   const bool v14 = format >= 6;
-  struct Spec { Extra e; const char* name; ScalarType type; bool present; };
+  struct Spec {
+    Extra e;
+    const char* name;
+    ScalarType type;
+    bool present;
+  };
   const Spec specs[] = {
       {kIntensity, "intensity", ScalarType::kUInt16, true},
       {kReturn, "return_number", ScalarType::kUInt8, true},
@@ -218,20 +222,22 @@ class PointDecoder {
   void run() {
     std::vector<unsigned char> block;
     for (uint64_t done = 0; done < h_.count;) {
-      const std::size_t n = static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h_.count - done));
+      const std::size_t n =
+          static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h_.count - done));
       block.resize(n * h_.record_length);
       const std::size_t got = in_.read_some(block.data(), block.size());
       if (got != block.size())
         in_.fail("unexpected end of file in point record " +
-                 std::to_string(done + got / h_.record_length) + " of " +
-                 std::to_string(h_.count));
+                 std::to_string(done + got / h_.record_length) + " of " + std::to_string(h_.count));
       for (std::size_t i = 0; i < n; ++i) decode(block.data() + i * h_.record_length, done + i);
       done += n;
     }
   }
 
  private:
-  bool has_rgb() const { return h_.format == 2 || h_.format == 3 || h_.format == 7 || h_.format == 8; }
+  bool has_rgb() const {
+    return h_.format == 2 || h_.format == 3 || h_.format == 7 || h_.format == 8;
+  }
   void put(Extra e, double v) { c_.extras[static_cast<std::size_t>(slot_[e])].values.push_back(v); }
 
   void decode(const unsigned char* r, uint64_t index) {

@@ -88,7 +88,8 @@ void OffReader::read_counts() {
   uint64_t* dst[3] = {&nv_, &nf_, &ne_};
   for (int i = 0; i < 3; ++i)
     if (!text::parse_uint64(toks_[i], *dst[i]))
-      fail_line("count '" + std::string(toks_[i].substr(0, 40)) + "' is not a non-negative integer");
+      fail_line("count '" + std::string(toks_[i].substr(0, 40)) +
+                "' is not a non-negative integer");
   const uint64_t per_vertex = (3 + (normals_ ? 3 : 0) + (colors_ ? 3 : 0)) * kMinBytesPerValue;
   if (auto remaining = in_.remaining()) {
     const uint64_t left = *remaining + 1;  // the last line may lack its newline
@@ -146,9 +147,8 @@ void OffReader::read_vertex(uint64_t k) {
     // Integers are 0-255; any value written with a '.' or exponent makes the vertex 0-1 floats.
     bool as_float = false;
     for (std::size_t i = base; i < n; ++i) as_float |= !text::is_integer_literal(toks_[i]);
-    c.colors.push_back(
-        {colour(toks_[base], as_float), colour(toks_[base + 1], as_float),
-         colour(toks_[base + 2], as_float)});
+    c.colors.push_back({colour(toks_[base], as_float), colour(toks_[base + 1], as_float),
+                        colour(toks_[base + 2], as_float)});
     if (n == base + 4) colour(toks_[base + 3], as_float);  // alpha: checked, not kept
   }
 }
@@ -161,8 +161,9 @@ void OffReader::read_face(uint64_t k) {
   if (!text::parse_uint64(toks_[0], n))
     fail_line("face " + std::to_string(k) + ": vertex count '" +
               std::string(toks_[0].substr(0, 40)) + "' is not a non-negative integer");
-  if (n < 3) fail_line("face " + std::to_string(k) + " has " + std::to_string(n) +
-                       " vertices (at least 3 needed)");
+  if (n < 3)
+    fail_line("face " + std::to_string(k) + " has " + std::to_string(n) +
+              " vertices (at least 3 needed)");
   // After the indices an optional face colour (1-4 values) may follow; it is ignored.
   if (toks_.size() < n + 1 || toks_.size() > n + 5)
     fail_line("face " + std::to_string(k) + ": expected " + std::to_string(n) +
@@ -205,9 +206,7 @@ LoadedCloud OffReader::read() {
 
 }  // namespace
 
-LoadedCloud read_off(InputStream& in, const ReadOptions& options) {
-  return OffReader(in).read();
-}
+LoadedCloud read_off(InputStream& in, const ReadOptions& options) { return OffReader(in).read(); }
 
 void write_off(const SplatCloud& cloud, OutputFile& out) {
   std::string s = std::string(cloud.has_colors() ? "C" : "") + (cloud.has_normals() ? "N" : "") +

@@ -57,7 +57,8 @@ class SpillFile {
     const char* dir = std::getenv("TMPDIR");
     path_ = std::string(dir && *dir ? dir : "/tmp") + "/splatkit-pcd-XXXXXX";
     fd_ = ::mkstemp(path_.data());
-    if (fd_ < 0) throw_output(path_, std::string("cannot create temporary file: ") + std::strerror(errno));
+    if (fd_ < 0)
+      throw_output(path_, std::string("cannot create temporary file: ") + std::strerror(errno));
   }
   ~SpillFile() {
     if (fd_ >= 0) ::close(fd_);
@@ -71,13 +72,15 @@ class SpillFile {
     while (n > 0) {
       ssize_t w = ::write(fd_, p, n);
       if (w < 0 && errno == EINTR) continue;
-      if (w <= 0) throw_output(path_, std::string("cannot write temporary file: ") + std::strerror(errno));
+      if (w <= 0)
+        throw_output(path_, std::string("cannot write temporary file: ") + std::strerror(errno));
       p += w;
       n -= static_cast<std::size_t>(w);
     }
   }
   void close() {
-    if (::close(fd_) != 0) throw_output(path_, std::string("cannot close temporary file: ") + std::strerror(errno));
+    if (::close(fd_) != 0)
+      throw_output(path_, std::string("cannot close temporary file: ") + std::strerror(errno));
     fd_ = -1;
   }
   const std::string& path() const { return path_; }
@@ -128,7 +131,8 @@ bool PcdValidator::next_line() {
 uint64_t PcdValidator::parse_count(std::string_view tok, const char* what) const {
   uint64_t v = 0;
   if (!text::parse_uint64(tok, v))
-    fail_line(std::string(what) + " '" + std::string(tok.substr(0, 40)) + "' is not a non-negative integer");
+    fail_line(std::string(what) + " '" + std::string(tok.substr(0, 40)) +
+              "' is not a non-negative integer");
   return v;
 }
 
@@ -143,8 +147,9 @@ void PcdValidator::parse_keyword(PcdHeader& h, std::string_view key, int& last) 
     if (key == kKeywords[i]) kw = i;
   if (kw < 0) fail_line("unknown header keyword '" + std::string(key.substr(0, 40)) + "'");
   if (kw <= last)
-    fail_line(std::string(key) + " repeated or out of order (PCD order: VERSION FIELDS SIZE TYPE "
-                                 "COUNT WIDTH HEIGHT VIEWPOINT POINTS DATA)");
+    fail_line(std::string(key) +
+              " repeated or out of order (PCD order: VERSION FIELDS SIZE TYPE "
+              "COUNT WIDTH HEIGHT VIEWPOINT POINTS DATA)");
   last = kw;
   const std::size_t n = toks_.size() - 1;
   auto arg = [&](std::size_t i) { return toks_[i + 1]; };
@@ -203,7 +208,9 @@ void PcdValidator::parse_keyword(PcdHeader& h, std::string_view key, int& last) 
         h.fields[i].count = v;
       }
       break;
-    case kWidth: case kHeight: case kPoints: {
+    case kWidth:
+    case kHeight:
+    case kPoints: {
       if (n != 1) fail_line(std::string(key) + " needs one value");
       uint64_t v = parse_count(arg(0), kKeywords[kw].data());
       if (v > std::numeric_limits<uint32_t>::max())
@@ -231,8 +238,8 @@ void check_xyz_fields(const InputStream& in, const PcdHeader& h) {
       if (g.name == name) f = &g;
     if (!f) throw_bad_input(in.path(), "no x, y and z fields");
     if (f->count != 1 || f->size < 4)
-      throw_bad_input(in.path(), std::string("field '") + name +
-                                     "' must be one value of 4 or 8 bytes");
+      throw_bad_input(in.path(),
+                      std::string("field '") + name + "' must be one value of 4 or 8 bytes");
   }
 }
 
@@ -338,7 +345,8 @@ void PcdValidator::check_ascii(const PcdHeader& h) {
     if (line_.empty()) continue;
     std::string_view t = text::trim(line_);
     if (t.empty()) fail_line("line of only spaces among the points");
-    if (seen == h.points) fail_line("trailing data after the last of " + std::to_string(h.points) + " points");
+    if (seen == h.points)
+      fail_line("trailing data after the last of " + std::to_string(h.points) + " points");
     // PCL splits ascii lines at space, tab and CR only.
     toks_.clear();
     for (std::size_t i = 0; i < t.size();) {
@@ -348,10 +356,12 @@ void PcdValidator::check_ascii(const PcdHeader& h) {
       i = e + 1;
     }
     if (toks_.size() != values_per_line)
-      fail_line("expected " + std::to_string(values_per_line) + " values, found " + std::to_string(toks_.size()));
+      fail_line("expected " + std::to_string(values_per_line) + " values, found " +
+                std::to_string(toks_.size()));
     double v;
     for (auto tok : toks_)
-      if (!text::parse_double(tok, v)) fail_line("not a number: '" + std::string(tok.substr(0, 40)) + "'");
+      if (!text::parse_double(tok, v))
+        fail_line("not a number: '" + std::string(tok.substr(0, 40)) + "'");
     ++seen;
   }
   if (seen < h.points)
@@ -366,8 +376,8 @@ bool is_c_space(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
 // DATA, ...) would resize its cloud or move its data offset: reject it.
 void PcdValidator::check_binary_start() {
   constexpr std::size_t kWindow = std::size_t{1} << 16;
-  static constexpr std::string_view kPrefixes[] = {"FIELDS", "COLUMNS", "SIZE",      "TYPE",
-                                                   "COUNT",  "WIDTH",   "HEIGHT",    "VIEWPOINT",
+  static constexpr std::string_view kPrefixes[] = {"FIELDS", "COLUMNS", "SIZE",   "TYPE",
+                                                   "COUNT",  "WIDTH",   "HEIGHT", "VIEWPOINT",
                                                    "POINTS", "DATA"};
   const std::string_view w = in_.peek(kWindow);
   for (std::size_t pos = 0; pos < w.size();) {
@@ -401,7 +411,7 @@ void PcdValidator::check_body(const PcdHeader& h) {
 // PCL's reader takes a path: a regular file is read in place; anything else is spilled.
 bool readable_in_place(const InputStream& in) {
   if (in.path() == "-" || in.offset() != 0 || !in.size_hint()) return false;
-  struct stat st{};
+  struct stat st {};
   return ::stat(in.path().c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
          static_cast<uint64_t>(st.st_size) == *in.size_hint();
 }
@@ -412,44 +422,74 @@ double load(const uint8_t* p, uint8_t type) {
     return static_cast<double>(v);
   };
   switch (type) {
-    case pcl::PCLPointField::INT8: return get(int8_t{});
-    case pcl::PCLPointField::UINT8: return get(uint8_t{});
-    case pcl::PCLPointField::INT16: return get(int16_t{});
-    case pcl::PCLPointField::UINT16: return get(uint16_t{});
-    case pcl::PCLPointField::INT32: return get(int32_t{});
-    case pcl::PCLPointField::UINT32: return get(uint32_t{});
-    case pcl::PCLPointField::INT64: return get(int64_t{});
-    case pcl::PCLPointField::UINT64: return get(uint64_t{});
-    case pcl::PCLPointField::FLOAT32: return get(float{});
-    case pcl::PCLPointField::FLOAT64: return get(double{});
-    default: return 0;
+    case pcl::PCLPointField::INT8:
+      return get(int8_t{});
+    case pcl::PCLPointField::UINT8:
+      return get(uint8_t{});
+    case pcl::PCLPointField::INT16:
+      return get(int16_t{});
+    case pcl::PCLPointField::UINT16:
+      return get(uint16_t{});
+    case pcl::PCLPointField::INT32:
+      return get(int32_t{});
+    case pcl::PCLPointField::UINT32:
+      return get(uint32_t{});
+    case pcl::PCLPointField::INT64:
+      return get(int64_t{});
+    case pcl::PCLPointField::UINT64:
+      return get(uint64_t{});
+    case pcl::PCLPointField::FLOAT32:
+      return get(float{});
+    case pcl::PCLPointField::FLOAT64:
+      return get(double{});
+    default:
+      return 0;
   }
 }
 
 ScalarType scalar_type(uint8_t type) {
   switch (type) {
-    case pcl::PCLPointField::INT8: return ScalarType::kInt8;
-    case pcl::PCLPointField::UINT8: return ScalarType::kUInt8;
-    case pcl::PCLPointField::INT16: return ScalarType::kInt16;
-    case pcl::PCLPointField::UINT16: return ScalarType::kUInt16;
-    case pcl::PCLPointField::INT32: return ScalarType::kInt32;
-    case pcl::PCLPointField::UINT32: return ScalarType::kUInt32;
-    case pcl::PCLPointField::INT64: return ScalarType::kInt64;
-    case pcl::PCLPointField::UINT64: return ScalarType::kUInt64;
-    case pcl::PCLPointField::FLOAT64: return ScalarType::kFloat64;
-    default: return ScalarType::kFloat32;
+    case pcl::PCLPointField::INT8:
+      return ScalarType::kInt8;
+    case pcl::PCLPointField::UINT8:
+      return ScalarType::kUInt8;
+    case pcl::PCLPointField::INT16:
+      return ScalarType::kInt16;
+    case pcl::PCLPointField::UINT16:
+      return ScalarType::kUInt16;
+    case pcl::PCLPointField::INT32:
+      return ScalarType::kInt32;
+    case pcl::PCLPointField::UINT32:
+      return ScalarType::kUInt32;
+    case pcl::PCLPointField::INT64:
+      return ScalarType::kInt64;
+    case pcl::PCLPointField::UINT64:
+      return ScalarType::kUInt64;
+    case pcl::PCLPointField::FLOAT64:
+      return ScalarType::kFloat64;
+    default:
+      return ScalarType::kFloat32;
   }
 }
 
 std::size_t type_size(uint8_t type) {
   switch (type) {
-    case pcl::PCLPointField::INT8: case pcl::PCLPointField::UINT8: return 1;
-    case pcl::PCLPointField::INT16: case pcl::PCLPointField::UINT16: return 2;
-    case pcl::PCLPointField::INT32: case pcl::PCLPointField::UINT32:
-    case pcl::PCLPointField::FLOAT32: return 4;
-    case pcl::PCLPointField::INT64: case pcl::PCLPointField::UINT64:
-    case pcl::PCLPointField::FLOAT64: return 8;
-    default: return 0;
+    case pcl::PCLPointField::INT8:
+    case pcl::PCLPointField::UINT8:
+      return 1;
+    case pcl::PCLPointField::INT16:
+    case pcl::PCLPointField::UINT16:
+      return 2;
+    case pcl::PCLPointField::INT32:
+    case pcl::PCLPointField::UINT32:
+    case pcl::PCLPointField::FLOAT32:
+      return 4;
+    case pcl::PCLPointField::INT64:
+    case pcl::PCLPointField::UINT64:
+    case pcl::PCLPointField::FLOAT64:
+      return 8;
+    default:
+      return 0;
   }
 }
 
@@ -492,7 +532,10 @@ uint64_t FieldMapper::map(SplatCloud& c) {
   if (!rgb) rgb = find("rgba");
   if (rgb && type_size(rgb->datatype) != 4) rgb = nullptr;
 
-  struct Slot { const pcl::PCLPointField* f; uint32_t k; };
+  struct Slot {
+    const pcl::PCLPointField* f;
+    uint32_t k;
+  };
   std::vector<Slot> slots;
   for (const auto& f : pc_.fields) {
     bool core = &f == xyz[0] || &f == xyz[1] || &f == xyz[2] || &f == rgb ||
@@ -500,8 +543,8 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     if (core || f.name == "_") continue;
     for (uint32_t k = 0; k < f.count; ++k) {
       slots.push_back({&f, k});
-      c.extras.push_back({f.count == 1 ? f.name : f.name + "_" + std::to_string(k),
-                          scalar_type(f.datatype), {}});
+      c.extras.push_back(
+          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), scalar_type(f.datatype), {}});
     }
   }
 
@@ -523,7 +566,8 @@ uint64_t FieldMapper::map(SplatCloud& c) {
                            static_cast<float>(p[2] - c.origin[2])});
     if (has_normals) {
       Vec3f v;
-      for (int k = 0; k < 3; ++k) v[k] = static_cast<float>(load(rec + nrm[k]->offset, nrm[k]->datatype));
+      for (int k = 0; k < 3; ++k)
+        v[k] = static_cast<float>(load(rec + nrm[k]->offset, nrm[k]->datatype));
       // A failed normal estimate is NaN in PCL; keep the point with a zero normal.
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) v = {0, 0, 0};
       c.normals.push_back(v);
@@ -537,7 +581,8 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     }
     for (std::size_t s = 0; s < slots.size(); ++s) {
       const auto& f = *slots[s].f;
-      c.extras[s].values.push_back(load(rec + f.offset + slots[s].k * type_size(f.datatype), f.datatype));
+      c.extras[s].values.push_back(
+          load(rec + f.offset + slots[s].k * type_size(f.datatype), f.datatype));
     }
   }
   return dropped;
@@ -546,15 +591,19 @@ uint64_t FieldMapper::map(SplatCloud& c) {
 nlohmann::json header_json(const PcdHeader& h, uint64_t dropped) {
   nlohmann::json fields = nlohmann::json::array();
   for (const auto& f : h.fields)
-    fields.push_back({{"name", f.name}, {"size", f.size}, {"type", std::string(1, f.type)}, {"count", f.count}});
-  return {{"version", h.version}, {"fields", fields}, {"width", h.width}, {"height", h.height},
-          {"points", h.points}, {"data", h.data}, {"viewpoint", h.viewpoint}, {"dropped_nan", dropped}};
+    fields.push_back(
+        {{"name", f.name}, {"size", f.size}, {"type", std::string(1, f.type)}, {"count", f.count}});
+  return {{"version", h.version},     {"fields", fields},      {"width", h.width},
+          {"height", h.height},       {"points", h.points},    {"data", h.data},
+          {"viewpoint", h.viewpoint}, {"dropped_nan", dropped}};
 }
 
 // PCL prints its own errors on stderr; splatkit reports them as one Error instead.
 class QuietPcl {
  public:
-  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
+  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  }
   ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
 
  private:
@@ -581,11 +630,13 @@ LoadedCloud read_pcd(InputStream& in, const ReadOptions& options) {
     int rc = -1;
     try {
       QuietPcl quiet;
-      rc = pcl::PCDReader().read(spill ? spill->path() : in.path(), pc, origin, orientation, version);
+      rc = pcl::PCDReader().read(spill ? spill->path() : in.path(), pc, origin, orientation,
+                                 version);
     } catch (const std::exception& e) {
       throw_bad_input(in.path(), std::string("PCL could not read the file: ") + e.what());
     }
-    if (rc < 0) throw_bad_input(in.path(), "PCL could not read the file (error " + std::to_string(rc) + ")");
+    if (rc < 0)
+      throw_bad_input(in.path(), "PCL could not read the file (error " + std::to_string(rc) + ")");
     dropped = FieldMapper(in.path(), pc).map(doc.cloud);
   }
   if (h.viewpoint[0] != 0 || h.viewpoint[1] != 0 || h.viewpoint[2] != 0)

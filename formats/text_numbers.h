@@ -40,7 +40,9 @@ inline bool is_integer_literal(std::string_view tok) {
   return true;
 }
 
-inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+inline bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 // Splits `line` at whitespace (sep == 0) or at `sep` (spaces around each field trimmed) into
 // `out` (cleared first; its capacity is reused from line to line).
@@ -83,13 +85,19 @@ inline std::string clean_name(std::string_view s) {
   out.reserve(s.size());
   for (std::size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
-    std::size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    std::size_t len = c < 0x80         ? 1
+                      : (c >> 5) == 6  ? 2
+                      : (c >> 4) == 14 ? 3
+                      : (c >> 3) == 30 ? 4
+                                       : 0;
     bool ok = len > 0 && i + len <= s.size() && !(c < 0x20 || c == 0x7f);
-    for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 2;
+    for (std::size_t k = 1; ok && k < len; ++k)
+      ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 2;
     if (ok && len > 1) {
       // Reject overlong forms, surrogates and code points above U+10FFFF.
       uint32_t cp = c & (0x7f >> len);
-      for (std::size_t k = 1; k < len; ++k) cp = cp << 6 | (static_cast<unsigned char>(s[i + k]) & 0x3f);
+      for (std::size_t k = 1; k < len; ++k)
+        cp = cp << 6 | (static_cast<unsigned char>(s[i + k]) & 0x3f);
       static constexpr uint32_t kMin[5] = {0, 0, 0x80, 0x800, 0x10000};
       ok = cp >= kMin[len] && cp <= 0x10ffff && !(cp >= 0xd800 && cp <= 0xdfff);
     }

@@ -134,8 +134,7 @@ void XyzReader::set_columns(const std::vector<std::string_view>& names, const st
     columns_.push_back(std::move(c));
   }
   auto n = [&](Role r) { return count[static_cast<int>(r)]; };
-  if (!n(Role::kX) || !n(Role::kY) || !n(Role::kZ))
-    fail("no x, y and z columns");
+  if (!n(Role::kX) || !n(Role::kY) || !n(Role::kZ)) fail("no x, y and z columns");
   has_normals_ = n(Role::kNx) + n(Role::kNy) + n(Role::kNz) > 0;
   if (has_normals_ && !(n(Role::kNx) && n(Role::kNy) && n(Role::kNz)))
     fail("incomplete normal (need nx, ny and nz)");
@@ -199,15 +198,23 @@ void XyzReader::add_point(const std::vector<std::string_view>& toks) {
     if (col.role == Role::kSkip) continue;
     const double v = number(toks[i], i);
     switch (col.role) {
-      case Role::kX: case Role::kY: case Role::kZ:
-        if (!std::isfinite(v)) fail_line("NaN or infinite coordinate in column " + std::to_string(i + 1));
+      case Role::kX:
+      case Role::kY:
+      case Role::kZ:
+        if (!std::isfinite(v))
+          fail_line("NaN or infinite coordinate in column " + std::to_string(i + 1));
         p[static_cast<int>(col.role) - static_cast<int>(Role::kX)] = v;
         break;
-      case Role::kNx: case Role::kNy: case Role::kNz:
-        if (!std::isfinite(v)) fail_line("NaN or infinite normal in column " + std::to_string(i + 1));
+      case Role::kNx:
+      case Role::kNy:
+      case Role::kNz:
+        if (!std::isfinite(v))
+          fail_line("NaN or infinite normal in column " + std::to_string(i + 1));
         nrm[static_cast<int>(col.role) - static_cast<int>(Role::kNx)] = v;
         break;
-      case Role::kR: case Role::kG: case Role::kB:
+      case Role::kR:
+      case Role::kG:
+      case Role::kB:
         if (!(v >= 0 && v <= 255) || v != std::floor(v))
           fail_line("colour value '" + std::string(toks[i].substr(0, 40)) +
                     "' out of range (integers 0-255) in column " + std::to_string(i + 1));
@@ -217,8 +224,11 @@ void XyzReader::add_point(const std::vector<std::string_view>& toks) {
         if (!(v >= 0) || !std::isfinite(v)) fail_line("radius must be finite and >= 0");
         radius = static_cast<float>(v);
         break;
-      case Role::kExtra: c.extras[col.extra].values.push_back(v); break;
-      case Role::kSkip: break;
+      case Role::kExtra:
+        c.extras[col.extra].values.push_back(v);
+        break;
+      case Role::kSkip:
+        break;
     }
   }
   if (c.positions.empty()) c.origin = choose_origin(p);

@@ -38,7 +38,7 @@ struct LasSpec {
   double offset[3] = {0, 0, 0};
   std::vector<std::string> vlrs;  // payloads
   std::vector<std::string> evlrs;
-  int vlr_length_bias = 0;        // added to the first VLR's declared length
+  int vlr_length_bias = 0;  // added to the first VLR's declared length
   std::string trailing;
   std::vector<LasPoint> points;
 };
@@ -56,8 +56,9 @@ const int kMinLength[] = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
 
 std::string encode_point(const LasSpec& spec, const LasPoint& p) {
   const int f = spec.format;
-  std::string r(static_cast<std::size_t>(spec.record_length >= 0 ? spec.record_length : kMinLength[f]),
-                '\x5a');  // filler: extra bytes must be skipped
+  std::string r(
+      static_cast<std::size_t>(spec.record_length >= 0 ? spec.record_length : kMinLength[f]),
+      '\x5a');  // filler: extra bytes must be skipped
   put(r, 0, p.x);
   put(r, 4, p.y);
   put(r, 8, p.z);
@@ -87,9 +88,9 @@ std::string encode_point(const LasSpec& spec, const LasPoint& p) {
 
 std::string make_las(const LasSpec& spec) {
   const int hs = spec.header_size >= 0 ? spec.header_size
-                 : spec.minor >= 4    ? 375
-                 : spec.minor == 3    ? 235
-                                      : 227;
+                 : spec.minor >= 4     ? 375
+                 : spec.minor == 3     ? 235
+                                       : 227;
   std::string s;
   put(s, 0, "LASF", 4);
   put(s, 24, static_cast<uint8_t>(spec.major));
@@ -101,16 +102,18 @@ std::string make_las(const LasSpec& spec) {
   put(s, 94, static_cast<uint16_t>(hs));
   std::size_t vlr_bytes = 0;
   for (const auto& v : spec.vlrs) vlr_bytes += 54 + v.size();
-  const uint32_t offset = static_cast<uint32_t>(spec.point_offset >= 0 ? spec.point_offset
-                                                                       : hs + static_cast<int64_t>(vlr_bytes));
+  const uint32_t offset = static_cast<uint32_t>(
+      spec.point_offset >= 0 ? spec.point_offset : hs + static_cast<int64_t>(vlr_bytes));
   put(s, 96, offset);
   put(s, 100, static_cast<uint32_t>(spec.vlrs.size()));
   put(s, 104, static_cast<uint8_t>(spec.format_byte >= 0 ? spec.format_byte : spec.format));
-  put(s, 105, static_cast<uint16_t>(spec.record_length >= 0 ? spec.record_length : kMinLength[spec.format]));
+  put(s, 105,
+      static_cast<uint16_t>(spec.record_length >= 0 ? spec.record_length
+                                                    : kMinLength[spec.format]));
   const uint64_t n = spec.count >= 0 ? static_cast<uint64_t>(spec.count) : spec.points.size();
   const uint32_t legacy = spec.legacy_count >= 0 ? static_cast<uint32_t>(spec.legacy_count)
-                          : spec.format >= 6    ? 0
-                                                : static_cast<uint32_t>(n);
+                          : spec.format >= 6     ? 0
+                                                 : static_cast<uint32_t>(n);
   put(s, 107, legacy);
   for (int k = 0; k < 3; ++k) {
     put(s, 131 + 8 * k, spec.scale[k]);
@@ -202,7 +205,8 @@ void check_format(int minor, int format) {
   EXPECT_EQ(extra(c, "classification", 0), format >= 6 ? 40 : 2);
   EXPECT_EQ(extra(c, "classification", 1), 6);
   EXPECT_EQ(extra(c, "scan_angle", 0), format >= 6 ? static_cast<double>(-2500 * 0.006f) : -15);
-  EXPECT_EQ(c.find_extra("scan_angle")->type, format >= 6 ? ScalarType::kFloat32 : ScalarType::kInt8);
+  EXPECT_EQ(c.find_extra("scan_angle")->type,
+            format >= 6 ? ScalarType::kFloat32 : ScalarType::kInt8);
   EXPECT_EQ(extra(c, "user_data", 0), 7);
   EXPECT_EQ(extra(c, "point_source_id", 0), 42);
   const bool gps = format == 1 || format == 3 || format >= 6;
@@ -300,7 +304,8 @@ TEST(Las, StreamsFromAFileInBlocks) {
     p.x = i, p.y = -i, p.z = i % 7, p.r = static_cast<uint16_t>(i);
     spec.points.push_back(p);
   }
-  auto dir = std::filesystem::path(testing::TempDir()) / ("splatkit_las_" + std::to_string(::getpid()));
+  auto dir =
+      std::filesystem::path(testing::TempDir()) / ("splatkit_las_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "big.las").string();
   std::ofstream(path, std::ios::binary) << make_las(spec);
@@ -325,7 +330,8 @@ TEST(Las, Errors) {
   expect_error("LASX" + good.substr(4), bad, "not a LAS file (no LASF signature)");
   expect_error(with([](LasSpec& s) { s.major = 2, s.minor = 0; }), unsupported,
                "LAS version 2.0 is not supported (1.0-1.4 are)");
-  expect_error(with([](LasSpec& s) { s.minor = 5; }), unsupported, "LAS version 1.5 is not supported");
+  expect_error(with([](LasSpec& s) { s.minor = 5; }), unsupported,
+               "LAS version 1.5 is not supported");
   expect_error(with([](LasSpec& s) { s.header_size = 200; }), bad,
                "header size 200 is smaller than the 227 bytes of a LAS 1.2 header");
   expect_error(with([](LasSpec& s) { s.minor = 4, s.header_size = 235; }), bad,
@@ -335,10 +341,15 @@ TEST(Las, Errors) {
   for (int f : {4, 5, 9, 10})
     expect_error(with([f](LasSpec& s) { s.minor = 4, s.format_byte = f, s.record_length = 80; }),
                  unsupported, "LAS point data format " + std::to_string(f) + " (with waveform");
-  expect_error(with([](LasSpec& s) { s.format_byte = 11; }), bad, "unknown LAS point data format 11");
-  expect_error(with([](LasSpec& s) { s.format = 6; }), bad, "point data format 6 needs LAS 1.4, the file says 1.2");
-  expect_error(with([](LasSpec& s) { s.record_length = 19; s.points.clear(); }), bad,
-               "point record length 19 is shorter than the 20 bytes of point data format 0");
+  expect_error(with([](LasSpec& s) { s.format_byte = 11; }), bad,
+               "unknown LAS point data format 11");
+  expect_error(with([](LasSpec& s) { s.format = 6; }), bad,
+               "point data format 6 needs LAS 1.4, the file says 1.2");
+  expect_error(with([](LasSpec& s) {
+                 s.record_length = 19;
+                 s.points.clear();
+               }),
+               bad, "point record length 19 is shorter than the 20 bytes of point data format 0");
   expect_error(with([](LasSpec& s) { s.point_offset = 100; }), bad,
                "offset to point data 100 lies inside the 227-byte header");
   {
@@ -348,10 +359,12 @@ TEST(Las, Errors) {
   }
   expect_error(with([](LasSpec& s) { s.count = 3; }), bad,
                "header says 3 points of 20 bytes but only 40 bytes follow the point data offset");
-  expect_error(with([](LasSpec& s) { s.count = 4000000000; }), bad, "header says 4000000000 points");
+  expect_error(with([](LasSpec& s) { s.count = 4000000000; }), bad,
+               "header says 4000000000 points");
   expect_error(with([](LasSpec& s) { s.minor = 4, s.legacy_count = 1; }), bad,
                "legacy point count 1 disagrees with the 64-bit point count 2");
-  expect_error(with([](LasSpec& s) { s.scale[0] = 0; }), bad, "x scale factor is zero or not finite");
+  expect_error(with([](LasSpec& s) { s.scale[0] = 0; }), bad,
+               "x scale factor is zero or not finite");
   expect_error(with([](LasSpec& s) { s.offset[2] = std::numeric_limits<double>::infinity(); }), bad,
                "z offset is not finite");
   expect_error(with([](LasSpec& s) { s.vlrs = {"abc"}, s.vlr_length_bias = 50; }), bad,

@@ -105,11 +105,14 @@ TEST(Off, Errors) {
                "unexpected end of file after 2 of 3 vertices");
   expect_error("OFF\n1 2 0\n0.000 0.000 0.000\n3   0   0   0\n", ErrorKind::kBadInput,
                "unexpected end of file after 1 of 2 faces");
-  expect_error("OFF\n1 0 0\n0     0\n", ErrorKind::kBadInput, "line 3: vertex 0: expected 3 values, found 2");
+  expect_error("OFF\n1 0 0\n0     0\n", ErrorKind::kBadInput,
+               "line 3: vertex 0: expected 3 values, found 2");
   expect_error("OFF\n1 0 0\n0 x 0\n", ErrorKind::kBadInput, "vertex 0: not a number: 'x'");
-  expect_error("OFF\n1 0 0\n0 nan 0\n", ErrorKind::kBadInput, "vertex 0: NaN or infinite coordinate");
+  expect_error("OFF\n1 0 0\n0 nan 0\n", ErrorKind::kBadInput,
+               "vertex 0: NaN or infinite coordinate");
   expect_error("NOFF\n1 0 0\n0 0 0 0 inf 0\n", ErrorKind::kBadInput, "NaN or infinite normal");
-  expect_error("COFF\n1 0 0\n0 0 0 256 0 0\n", ErrorKind::kBadInput, "colour value '256' out of range 0-255");
+  expect_error("COFF\n1 0 0\n0 0 0 256 0 0\n", ErrorKind::kBadInput,
+               "colour value '256' out of range 0-255");
   expect_error("COFF\n1 0 0\n0 0 0 1.5 0 0\n", ErrorKind::kBadInput, "out of range 0-1");
   expect_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", ErrorKind::kBadInput,
                "face 0: vertex index 3 out of range (3 vertices)");

@@ -20,10 +20,10 @@ namespace {
 std::string header(const std::string& fields, const std::string& size, const std::string& type,
                    const std::string& count, int width, int height, const std::string& data,
                    const std::string& viewpoint = "0 0 0 1 0 0 0") {
-  return "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " + fields +
-         "\nSIZE " + size + "\nTYPE " + type + "\nCOUNT " + count + "\nWIDTH " +
-         std::to_string(width) + "\nHEIGHT " + std::to_string(height) + "\nVIEWPOINT " +
-         viewpoint + "\nPOINTS " + std::to_string(width * height) + "\nDATA " + data + "\n";
+  return "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " +
+         size + "\nTYPE " + type + "\nCOUNT " + count + "\nWIDTH " + std::to_string(width) +
+         "\nHEIGHT " + std::to_string(height) + "\nVIEWPOINT " + viewpoint + "\nPOINTS " +
+         std::to_string(width * height) + "\nDATA " + data + "\n";
 }
 
 template <class T>
@@ -67,10 +67,10 @@ void expect_error(const std::string& s, ErrorKind kind, const std::string& phras
 const std::string kAsciiFields = "x y z normal_x normal_y normal_z rgb curvature";
 
 TEST(Pcd, AsciiWithNormalsColourAndCurvature) {
-  std::string s = header(kAsciiFields, "4 4 4 4 4 4 4 4", "F F F F F F U F", "1 1 1 1 1 1 1 1",
-                         2, 1, "ascii") +
-                  "1 2 3 0 0 1 16711808 0.5\n"
-                  "-1.5 0.25 1e2 0 1 0 255 0\n";
+  std::string s =
+      header(kAsciiFields, "4 4 4 4 4 4 4 4", "F F F F F F U F", "1 1 1 1 1 1 1 1", 2, 1, "ascii") +
+      "1 2 3 0 0 1 16711808 0.5\n"
+      "-1.5 0.25 1e2 0 1 0 255 0\n";
   auto doc = read_bytes(s);
   const auto& c = doc.cloud;
   ASSERT_EQ(c.size(), 2u);
@@ -147,7 +147,8 @@ TEST(Pcd, ZeroPoints) {
 }
 
 TEST(Pcd, ReadsARegularFileInPlace) {
-  auto dir = std::filesystem::path(testing::TempDir()) / ("splatkit_pcd_" + std::to_string(::getpid()));
+  auto dir =
+      std::filesystem::path(testing::TempDir()) / ("splatkit_pcd_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "in place.pcd").string();
   std::ofstream(path, std::ios::binary)
@@ -167,8 +168,8 @@ TEST(Pcd, FileWrittenByPcl) {
     ASSERT_EQ(c.positions[i], (Vec3f{i * 0.5f, (i % 10) * 0.25f, 1})) << i;
     ASSERT_EQ(c.normals[i], (Vec3f{0, 0, 1})) << i;
     ASSERT_EQ(c.colors[i], (std::array<uint16_t, 3>{static_cast<uint16_t>(i % 256),
-                                                     static_cast<uint16_t>(2 * i % 256),
-                                                     static_cast<uint16_t>(3 * i % 256)}))
+                                                    static_cast<uint16_t>(2 * i % 256),
+                                                    static_cast<uint16_t>(3 * i % 256)}))
         << i;
     ASSERT_EQ(c.extras[0].values[i], static_cast<double>(static_cast<float>(i / 1000.0))) << i;
   }
@@ -179,30 +180,40 @@ TEST(Pcd, FileWrittenByPcl) {
 TEST(Pcd, HeaderErrors) {
   const auto bad = ErrorKind::kBadInput;
   const std::string xyz = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n";
-  expect_error("VERSION 0.7\n" + xyz + "WIDTH 1\n", bad, "unexpected end of file in the PCD header (no DATA line)");
+  expect_error("VERSION 0.7\n" + xyz + "WIDTH 1\n", bad,
+               "unexpected end of file in the PCD header (no DATA line)");
   expect_error("VERSION 0.8\n", ErrorKind::kUnsupported, "PCD version '0.8' is not supported");
-  expect_error(xyz + "WIDTH 1\nPOINTS 1\nCOLOR 3\nDATA ascii\n", bad, "line 6: unknown header keyword 'COLOR'");
+  expect_error(xyz + "WIDTH 1\nPOINTS 1\nCOLOR 3\nDATA ascii\n", bad,
+               "line 6: unknown header keyword 'COLOR'");
   expect_error("FIELDS x y z\nSIZE 4 4\n", bad, "line 2: SIZE has 2 values for 3 fields");
   expect_error("FIELDS x y z\nSIZE 4 4 3\n", bad, "SIZE 3 is not 1, 2, 4 or 8");
   expect_error("FIELDS x y z\nSIZE 4 4 4\nTYPE F F D\n", bad, "TYPE 'D' is not F, I or U");
   expect_error("FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\n", bad, "field 'z': float of size 2");
   expect_error("FIELDS x y z\nTYPE F F F\nSIZE 4 4 4\n", bad, "SIZE repeated or out of order");
   expect_error(xyz + "COUNT 1 0 1\n", bad, "COUNT 0 out of range");
-  expect_error(xyz + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", bad, "WIDTH x HEIGHT = 2 x 2 differs from POINTS 3");
-  expect_error(xyz + "WIDTH 1\nPOINTS 1\nDATA ascii\n", bad, "POINTS 1 cannot fit in the 0 bytes left");
+  expect_error(xyz + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", bad,
+               "WIDTH x HEIGHT = 2 x 2 differs from POINTS 3");
+  expect_error(xyz + "WIDTH 1\nPOINTS 1\nDATA ascii\n", bad,
+               "POINTS 1 cannot fit in the 0 bytes left");
   expect_error(xyz + "POINTS 1\nDATA ascii\n", bad, "the header has no WIDTH line");
   expect_error(xyz + "WIDTH 1\nDATA ascii\n", bad, "the header has no POINTS line");
-  expect_error(xyz + "WIDTH 1\nVIEWPOINT 0 0 0 1 0 0\nPOINTS 1\nDATA ascii\n", bad, "VIEWPOINT needs 7 values");
-  expect_error(xyz + "WIDTH 1\nVIEWPOINT 0 nan 0 1 0 0 0\nPOINTS 1\nDATA ascii\n", bad, "VIEWPOINT value 'nan'");
+  expect_error(xyz + "WIDTH 1\nVIEWPOINT 0 0 0 1 0 0\nPOINTS 1\nDATA ascii\n", bad,
+               "VIEWPOINT needs 7 values");
+  expect_error(xyz + "WIDTH 1\nVIEWPOINT 0 nan 0 1 0 0 0\nPOINTS 1\nDATA ascii\n", bad,
+               "VIEWPOINT value 'nan'");
   expect_error(xyz + "WIDTH 1\nPOINTS 1\nDATA xml\n", bad, "unknown DATA encoding 'xml'");
-  expect_error(xyz + "WIDTH 1\n  \nPOINTS 1\nDATA ascii\n", bad, "line 5: line of only spaces in the header");
-  expect_error("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2\n", bad, "no x, y and z fields");
-  expect_error("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 2 1\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n", bad,
-               "field 'y' must be one value of 4 or 8 bytes");
+  expect_error(xyz + "WIDTH 1\n  \nPOINTS 1\nDATA ascii\n", bad,
+               "line 5: line of only spaces in the header");
+  expect_error("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2\n", bad,
+               "no x, y and z fields");
+  expect_error(
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 2 1\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n",
+      bad, "field 'y' must be one value of 4 or 8 bytes");
   expect_error("FIELDS x y z x\nSIZE 4 4 4 4\n", bad, "field 'x' named twice");
   expect_error("FIELDS x y z\fw\n", bad, "line 1: control character in a header line");
   expect_error(xyz + "WIDTH 4294967296\n", bad, "WIDTH exceeds 2^32 - 1");
-  expect_error(xyz + "WIDTH 200000000\nPOINTS 200000000\nDATA binary\n", bad, "exceed the 2 GiB that PCL can read");
+  expect_error(xyz + "WIDTH 200000000\nPOINTS 200000000\nDATA binary\n", bad,
+               "exceed the 2 GiB that PCL can read");
 }
 
 TEST(Pcd, BodyErrors) {
@@ -211,7 +222,8 @@ TEST(Pcd, BodyErrors) {
   expect_error(h2 + "1.000 2.000 3.000\n", bad, "unexpected end of file after 1 of 2 points");
   expect_error(h2 + "1 2 3\n4     5\n", bad, "line 13: expected 3 values, found 2");
   expect_error(h2 + "1 2 3\n4 five 6\n", bad, "line 13: not a number: 'five'");
-  expect_error(h2 + "1 2 3\n4 5 6\n7 8 9\n", bad, "line 14: trailing data after the last of 2 points");
+  expect_error(h2 + "1 2 3\n4 5 6\n7 8 9\n", bad,
+               "line 14: trailing data after the last of 2 points");
   expect_error(h2 + "1 2 3\n   \n4 5 6\n", bad, "line of only spaces among the points");
   expect_error(h2 + "1 2 3\n4 inf 6\n", bad, "point 1: infinite coordinate");
   expect_error(header("x y z", "4 4 4", "F F F", "1 1 1", 100000, 1, "ascii") + "1 2 3\n", bad,
@@ -221,8 +233,10 @@ TEST(Pcd, BodyErrors) {
   std::string body;
   for (float v : {1.f, 2.f, 3.f, 4.f, 5.f, 6.f}) append(body, v);
   expect_error(hb + body.substr(0, 20), bad, "binary data truncated: 24 bytes expected, 20 left");
-  expect_error(hb + body + std::string(5, '\0') + "x", bad, "byte 193: trailing data after the binary points");
-  EXPECT_EQ(read_bytes(hb + body + std::string(3000, '\0')).cloud.size(), 2u);  // PCL's page padding
+  expect_error(hb + body + std::string(5, '\0') + "x", bad,
+               "byte 193: trailing data after the binary points");
+  EXPECT_EQ(read_bytes(hb + body + std::string(3000, '\0')).cloud.size(),
+            2u);  // PCL's page padding
   expect_error(hb + "POINTS 9\n" + body.substr(9), bad,
                "binary data starts with a line that PCL would read as a header line ('POINTS')");
   expect_error(hb + "#\n\nDATA a\n" + body.substr(11), bad, "as a header line ('DATA')");
@@ -246,8 +260,10 @@ TEST(Pcd, BodyErrors) {
   corrupt[0] = 31;  // a literal run longer than the output
   expect_error(hc + sizes(static_cast<uint32_t>(corrupt.size()), 24) + corrupt, bad,
                "PCL could not read the file");
-  const std::string big = header("x y z", "4 4 4", "F F F", "1 1 1", 1000000, 1, "binary_compressed");
-  expect_error(big + sizes(10, 12000000) + std::string(10, '\0'), bad, "is too small for 12000000 bytes");
+  const std::string big =
+      header("x y z", "4 4 4", "F F F", "1 1 1", 1000000, 1, "binary_compressed");
+  expect_error(big + sizes(10, 12000000) + std::string(10, '\0'), bad,
+               "is too small for 12000000 bytes");
 }
 
 }  // namespace

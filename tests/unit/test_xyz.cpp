@@ -120,8 +120,8 @@ TEST(Xyz, ColumnsOptionWithSkip) {
 }
 
 TEST(Xyz, CommentsBlankLinesAndCommentHeader) {
-  auto c = read_text("# scan of a thing\n\n# x y z radius\n1 2 3 0.5\n# mid comment\n\n4 5 6 1\n")
-               .cloud;
+  auto c =
+      read_text("# scan of a thing\n\n# x y z radius\n1 2 3 0.5\n# mid comment\n\n4 5 6 1\n").cloud;
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(c.radii, (std::vector<float>{0.5f, 1}));
   EXPECT_TRUE(c.extras.empty());
@@ -143,7 +143,7 @@ TEST(Xyz, OriginFromFirstPoint) {
 TEST(Xyz, ColumnNamesAreValidUtf8) {
   auto c = read_text("x y z temp\xe9 \xc3\xa9t\xc3\xa9\n1 2 3 4 5\n").cloud;
   ASSERT_EQ(c.extras.size(), 2u);
-  EXPECT_EQ(c.extras[0].name, "temp?");          // Latin-1 byte: not UTF-8
+  EXPECT_EQ(c.extras[0].name, "temp?");              // Latin-1 byte: not UTF-8
   EXPECT_EQ(c.extras[1].name, "\xc3\xa9t\xc3\xa9");  // UTF-8 kept
   EXPECT_NO_THROW((void)read_text("x y z \xed\xa0\x80\n1 2 3 4\n").header.dump());  // surrogate
 }
@@ -155,19 +155,25 @@ TEST(Xyz, EmptyAndHeaderOnly) {
 
 TEST(Xyz, Errors) {
   expect_error("1 2 3\n4 5\n", ErrorKind::kBadInput, "line 2: expected 3 columns, found 2");
-  expect_error("1 2 3\n4 five 6\n", ErrorKind::kBadInput, "line 2: column 2 (y): not a number: 'five'");
+  expect_error("1 2 3\n4 five 6\n", ErrorKind::kBadInput,
+               "line 2: column 2 (y): not a number: 'five'");
   expect_error("1 2 3\nnan 5 6\n", ErrorKind::kBadInput, "line 2: NaN or infinite coordinate");
   expect_error("1 2 3\n4 inf 6\n", ErrorKind::kBadInput, "NaN or infinite coordinate");
   expect_error("x y z nx ny nz\n1 2 3 nan 0 1\n", ErrorKind::kBadInput, "NaN or infinite normal");
-  expect_error("x y z r g b\n1 2 3 256 0 0\n", ErrorKind::kBadInput, "out of range (integers 0-255)");
+  expect_error("x y z r g b\n1 2 3 256 0 0\n", ErrorKind::kBadInput,
+               "out of range (integers 0-255)");
   expect_error("x y z r g b\n1 2 3 1.5 0 0\n", ErrorKind::kBadInput, "out of range");
-  expect_error("3\n1 2 3\n", ErrorKind::kBadInput, "PTS header line says 3 points but the file has 1");
+  expect_error("3\n1 2 3\n", ErrorKind::kBadInput,
+               "PTS header line says 3 points but the file has 1");
   expect_error("1 2\n", ErrorKind::kBadInput, "line 1: expected at least 3 columns");
-  expect_error("a b c\n1 2 3\n", ErrorKind::kBadInput, "no x, y and z columns in the header (line 1)");
-  expect_error("x y z nx\n1 2 3 4\n", ErrorKind::kBadInput, "incomplete normal (need nx, ny and nz) in the header (line 1)");
+  expect_error("a b c\n1 2 3\n", ErrorKind::kBadInput,
+               "no x, y and z columns in the header (line 1)");
+  expect_error("x y z nx\n1 2 3 4\n", ErrorKind::kBadInput,
+               "incomplete normal (need nx, ny and nz) in the header (line 1)");
   expect_error("x y z r g\n1 2 3 4 5\n", ErrorKind::kBadInput, "incomplete colour");
   expect_error("x y z x\n1 2 3 4\n", ErrorKind::kBadInput, "column 'x' named twice");
-  expect_error("1 2 3\n", ErrorKind::kBadInput, "no x, y and z columns in the --columns option", "x,y");
+  expect_error("1 2 3\n", ErrorKind::kBadInput, "no x, y and z columns in the --columns option",
+               "x,y");
   expect_error("x y z radius\n1 2 3 -1\n", ErrorKind::kBadInput, "radius must be finite and >= 0");
 }
 
