@@ -1,6 +1,9 @@
 // segment_surfaces: BFS over continuous edges, ids by lowest member.
 #include <gtest/gtest.h>
 
+#include <queue>
+#include <random>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -42,6 +45,54 @@ TEST(GraphSegmentSurfaces, IdsFollowLowestIndexNotVisitOrder) {
   EXPECT_EQ(seg.surface, (std::vector<uint32_t>{0, 1, 1, 0}));
   EXPECT_THROW(segment_surfaces(g, std::vector<uint8_t>(3, 0), 1), std::invalid_argument);
   EXPECT_EQ(segment_surfaces(NeighborGraph{}, {}, 1).count(), 0u);
+}
+
+TEST(GraphSegmentSurfaces, MatchesBreadthFirstSearchOnRandomGraphs) {
+  std::mt19937 rng(7);
+  for (int round = 0; round < 20; ++round) {
+    const uint32_t n = 1 + rng() % 300;
+    std::vector<std::set<uint32_t>> rows(n);
+    std::set<std::pair<uint32_t, uint32_t>> sharp;
+    for (uint32_t e = 0; e < n; ++e) {
+      const uint32_t i = rng() % n, j = rng() % n;
+      if (i == j) continue;
+      rows[i].insert(j);
+      rows[j].insert(i);
+      if (rng() % 4 == 0) sharp.insert({std::min(i, j), std::max(i, j)});
+    }
+    NeighborGraph g;
+    g.offsets.push_back(0);
+    std::vector<uint8_t> flags;
+    for (uint32_t i = 0; i < n; ++i) {
+      for (uint32_t j : rows[i]) {
+        g.neighbors.push_back(j);
+        flags.push_back(sharp.count({std::min(i, j), std::max(i, j)}) ? 1 : 0);
+      }
+      g.offsets.push_back(g.neighbors.size());
+    }
+    // Reference: BFS from the lowest unvisited index over continuous edges.
+    std::vector<uint32_t> expected(n, ~0u);
+    uint32_t next_id = 0;
+    for (uint32_t s = 0; s < n; ++s) {
+      if (expected[s] != ~0u) continue;
+      std::queue<uint32_t> q;
+      q.push(s);
+      expected[s] = next_id;
+      while (!q.empty()) {
+        const uint32_t i = q.front();
+        q.pop();
+        for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k)
+          if (!flags[k] && expected[g.neighbors[k]] == ~0u) {
+            expected[g.neighbors[k]] = next_id;
+            q.push(g.neighbors[k]);
+          }
+      }
+      ++next_id;
+    }
+    const Segmentation seg = segment_surfaces(g, flags, 1);
+    EXPECT_EQ(seg.surface, expected) << round;
+    EXPECT_EQ(seg.count(), next_id);
+  }
 }
 
 }  // namespace
