@@ -2,11 +2,11 @@
 // set of 3D points, built for the batch case "for every point, find its neighbours".
 //
 // Design: a balanced kd-tree (median split on the widest axis of each node's tight bounding box)
-// with 2^D leaves of max_leaf_size / 2 to max_leaf_size points. The points are copied in the
-// tree's own order into three coordinate arrays (structure of arrays), so a leaf is a contiguous
-// run scanned four points at a time, and the batch queries walk the points in that order, so
-// consecutive queries share cache lines and tree paths. Every node stores its tight box; the
-// layout is implicit (heap order), so there are no child pointers. A batch query starts in its
+// with 2^D leaves of (about) max_leaf_size / 2 to max_leaf_size points. The points are copied in
+// the tree's own order into three coordinate arrays (structure of arrays), so a leaf is a
+// contiguous run scanned four points at a time, and the batch queries walk the points in that
+// order, so consecutive queries share cache lines and tree paths. Every node stores its tight box;
+// the layout is implicit (heap order), so there are no child pointers. A batch query starts in its
 // own leaf and climbs, and is warm-started with a distance bound from the previous query
 // (triangle inequality). Candidates are (squared distance, index) packed in one uint64_t kept in
 // a small sorted array.
@@ -106,6 +106,7 @@ class SpatialIndex {
   // bounding spheres that strictly overlap. Prunes by each node's largest radius, so a few huge
   // radii do not slow down the rest. radii must have size() entries, each finite and >= 0, else
   // std::invalid_argument. Runs in parallel; the result does not depend on the thread count.
+  // Memory: the result (8 bytes/point + 4 bytes per row entry) plus about as much transiently.
   NeighborGraph sphere_overlaps(std::span<const float> radii) const;
 
  private:
