@@ -53,6 +53,7 @@ void OutputFile::flush() {
 
 void OutputFile::write(const void* data, std::size_t n) {
   if (committed_) fail("write after commit");
+  if (n == 0) return;  // data may be null for an empty span
   const char* p = static_cast<const char*>(data);
   written_ += n;
   if (used_ + n > buf_.size()) {
