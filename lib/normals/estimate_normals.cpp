@@ -11,7 +11,10 @@
 
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
+#include "normals/orient_normals_mst.h"
+#include "normals/orient_normals_viewpoint.h"
 #include "normals/resolve_degenerate_normals.h"
+#include "normals/robust_normals.h"
 #include "normals/splat_radius.h"
 #include "splatkit/error.h"
 #include "splatkit/spatial_index.h"
@@ -56,12 +59,14 @@ class SharedProgress {
 };
 
 // Phase 3: one streamed kNN pass gives every point its PCA normal and its radius; points whose
-// neighbourhood is degenerate are flagged for phase 4.
+// neighbourhood is degenerate are flagged for phase 4. `variation` (empty, or #N) receives the
+// surface variation the robust method selects its points by (-1: degenerate, skip).
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
-                           std::vector<uint8_t>& degenerate, const ProgressFn& progress) {
+                           std::vector<uint8_t>& degenerate, std::vector<float>& variation,
+                           const ProgressFn& progress) {
   const std::size_t row_k = std::max(o.k, o.radius_k + 1);
   const std::span<const Vec3f> positions(cloud.positions);
-  SharedProgress shared(progress, 0.15, 0.85, cloud.size(), "normals");
+  SharedProgress shared(progress, 0.15, 0.6, cloud.size(), "normals");
   index.for_each_knn_block(
       row_k, [&](std::span<const uint32_t> queries, std::span<const uint32_t> indices,
                  std::span<const float> sq_dists) {
@@ -70,22 +75,37 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
           cloud.normals[i] = pca.normal;
           degenerate[i] = pca.degenerate ? 1 : 0;
+          if (!variation.empty())
+            variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
           cloud.radii[i] = splat_radius(sq_dists.subspan(r * row_k, row_k), o.radius_k);
         }
         shared.add(queries.size());
       });
 }
 
+nlohmann::json robust_stats_json(const RobustNormalStats& r) {
+  return {{"candidates", r.candidates},
+          {"refined", r.refined},
+          {"threshold", r.threshold},
+          {"median_variation", r.median_variation},
+          {"k", r.k},
+          {"noisy", r.noisy}};
+}
+
+// Phase 6. guide: the PCA normals when the output is robust (see orient_normals_mst.h), or empty.
 void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
-            NormalReport& report) {
-  if (o.orient == NormalOrientation::kNone) return;
-  if (o.orient == NormalOrientation::kViewpoint && !o.viewpoint && !cloud.viewpoint)
-    throw_usage(
-        "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
-  (void)index;
-  (void)report;
-  throw Error(ErrorKind::kUnsupported,
-              "--orient " + orientation_name(o.orient) + " is not built yet; use --orient none");
+            std::span<const Vec3f> guide, NormalReport& report) {
+  if (o.orient == NormalOrientation::kMst) {
+    const OrientStats stats =
+        orient_normals_mst(index, cloud.positions, cloud.normals, guide, kOrientK);
+    report.flipped_points = stats.flipped;
+    report.components = stats.components;
+  } else if (o.orient == NormalOrientation::kViewpoint) {
+    const std::array<double, 3>& v = o.viewpoint ? *o.viewpoint : *cloud.viewpoint;
+    const std::array<double, 3> local = {v[0] - cloud.origin[0], v[1] - cloud.origin[1],
+                                         v[2] - cloud.origin[2]};
+    report.flipped_points = orient_normals_viewpoint(cloud.positions, cloud.normals, local);
+  }
 }
 
 }  // namespace
@@ -112,6 +132,7 @@ nlohmann::json NormalReport::to_json() const {
           {"unresolved_points", unresolved_points},
           {"flipped_points", flipped_points},
           {"components", components},
+          {"robust", robust},
           {"timings_s", timings},
           {"points_per_s", total > 0 ? static_cast<double>(output_points) / total : 0.0}};
 }
@@ -119,8 +140,9 @@ nlohmann::json NormalReport::to_json() const {
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                               const ProgressFn& progress) {
   check_options(options);
-  if (options.method == NormalMethod::kRobust)
-    throw Error(ErrorKind::kUnsupported, "--method robust is not built yet; use --method pca");
+  if (options.orient == NormalOrientation::kViewpoint && !options.viewpoint && !cloud.viewpoint)
+    throw_usage(
+        "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
   NormalReport report;
   report.input_points = cloud.size();
   const Clock::time_point start = Clock::now();
@@ -142,11 +164,13 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
 
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
+  const bool robust = options.method == NormalMethod::kRobust;
   std::vector<uint8_t> degenerate(n, 0);
+  std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
-        [&] { pca_normals_and_radii(index, cloud, options, degenerate, progress); });
+        [&] { pca_normals_and_radii(index, cloud, options, degenerate, variation, progress); });
 
-  progress(0.85, "degenerate");
+  progress(0.6, "degenerate");
   timed("degenerate", [&] {
     std::vector<uint32_t> points;
     for (std::size_t i = 0; i < n; ++i)
@@ -158,8 +182,23 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   });
   degenerate = {};
 
-  progress(0.9, "orientation");
-  timed("orient", [&] { orient(cloud, index, options, report); });
+  std::vector<Vec3f> guide;
+  if (robust) {
+    progress(0.65, "robust");
+    timed("robust", [&] {
+      if (options.orient == NormalOrientation::kMst) guide = cloud.normals;
+      RobustNormalOptions ro;
+      ro.pca_k = options.k;
+      report.robust =
+          robust_stats_json(robust_normals(index, cloud.positions, variation, cloud.normals, ro));
+    });
+    variation = {};
+  }
+
+  if (options.orient != NormalOrientation::kNone && n > 0) {
+    progress(0.85, "orientation");
+    timed("orient", [&] { orient(cloud, index, options, guide, report); });
+  }
   if (options.radius_scale != 1.0f)
     for (float& r : cloud.radii) r *= options.radius_scale;
   report.timings["total"] = seconds_since(start);

@@ -55,6 +55,9 @@ struct NormalReport {
   std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
   std::size_t components = 0;         // kNN-graph components (orient mst only)
+  // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}
+  // (robust_normals.h); null for pca.
+  nlohmann::json robust = nullptr;
   // Seconds per phase: "merge_duplicates", "index", "normals_radii", "degenerate", "robust",
   // "orient" (only the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
@@ -65,9 +68,8 @@ struct NormalReport {
 };
 
 // Replaces cloud.normals and cloud.radii (and merges duplicates) in place. Throws Error(kUsage) for
-// bad options (k < 3, radius_k < 1, radius_scale not finite and > 0, viewpoint needed but absent)
-// and Error(kUnsupported) for a method or orientation not built in. An empty cloud is returned
-// empty. Progress fractions cover the whole call.
+// bad options (k < 3, radius_k < 1, radius_scale not finite and > 0, viewpoint needed but absent),
+// before any work. An empty cloud is returned empty. Progress fractions cover the whole call.
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                               const ProgressFn& progress = no_progress());
 

@@ -2,7 +2,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
@@ -36,18 +35,9 @@ void compact(std::vector<T>& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
-// first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
-std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
-  const std::size_t n = positions.size();
-  // (hash << 32 | index): unique keys, so the unstable parallel sort is deterministic, and equal
-  // hashes come out in ascending index order.
-  std::vector<uint64_t> keys(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i)
-      keys[i] = position_hash(positions[i]) << 32 | i;
-  });
-  tbb::parallel_sort(keys.begin(), keys.end());
-  std::vector<uint32_t> first(n);
+// Sets first[] for one run of keys sorted by (hash, index).
+void resolve_bucket(const std::vector<Vec3f>& positions, const uint64_t* keys, std::size_t n,
+                    std::vector<uint32_t>& first) {
   for (std::size_t s = 0; s < n;) {
     std::size_t e = s + 1;
     while (e < n && keys[e] >> 32 == keys[s] >> 32) ++e;
@@ -64,6 +54,41 @@ std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
     }
     s = e;
   }
+}
+
+// first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
+// Keys (hash << 32 | index) are distributed by the hash's top bits into buckets of ~256 (one
+// stable counting pass), then each bucket is sorted and resolved on its own, in parallel: equal
+// positions share a bucket, and the result does not depend on the thread count.
+std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
+  const std::size_t n = positions.size();
+  int bits = 0;
+  while (bits < 20 && (n >> bits) > 256) ++bits;
+  const std::size_t buckets = std::size_t{1} << bits;
+  std::vector<uint32_t> hashes(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      hashes[i] = static_cast<uint32_t>(position_hash(positions[i]));
+  });
+  std::vector<std::size_t> start(buckets + 1, 0);
+  const int shift = 32 - bits;
+  auto bucket_of = [&](uint32_t h) { return bits == 0 ? 0 : std::size_t{h >> shift}; };
+  for (uint32_t h : hashes) ++start[bucket_of(h) + 1];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<uint64_t> keys(n);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      keys[fill[bucket_of(hashes[i])]++] = uint64_t{hashes[i]} << 32 | i;
+  }
+  hashes = {};
+  std::vector<uint32_t> first(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 16), [&](const auto& r) {
+    for (std::size_t b = r.begin(); b < r.end(); ++b) {
+      std::sort(keys.begin() + start[b], keys.begin() + start[b + 1]);
+      resolve_bucket(positions, keys.data() + start[b], start[b + 1] - start[b], first);
+    }
+  });
   return first;
 }
 

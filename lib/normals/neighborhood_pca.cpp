@@ -1,9 +1,10 @@
 #include "normals/neighborhood_pca.h"
 
-#include <Eigen/Eigenvalues>
-
+#include <array>
 #include <cmath>
 #include <limits>
+
+#include "splatkit/pca_normal.h"
 
 namespace splatkit {
 
@@ -11,8 +12,8 @@ namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
-Vec3f to_vec3f(const Eigen::Vector3d& v) {
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+Vec3f to_vec3f(const std::array<double, 3>& v) {
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
 }
 
 }  // namespace
@@ -48,20 +49,12 @@ PcaNormal neighborhood_pca(std::span<const Vec3f> positions, std::span<const uin
   const double inv = 1.0 / static_cast<double>(count);
   xx -= sx * sx * inv, xy -= sx * sy * inv, xz -= sx * sz * inv;
   yy -= sy * sy * inv, yz -= sy * sz * inv, zz -= sz * sz * inv;
-  Eigen::Matrix3d c;
-  c << xx, xy, xz, xy, yy, yz, xz, yz, zz;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(c);
-  const Eigen::Vector3d& values = solver.eigenvalues();
-  for (int a = 0; a < 3; ++a) out.eigenvalues[a] = std::max(values[a], 0.0);
+  const CovarianceEigen eigen = pca_normal({xx, xy, xz, yy, yz, zz});
+  for (int a = 0; a < 3; ++a) out.eigenvalues[a] = eigen.eigenvalues[a];
   out.degenerate = !(out.eigenvalues[1] > kCollinearRatio * out.eigenvalues[2]);
-  const Eigen::Vector3d n = solver.eigenvectors().col(0);
-  const Eigen::Vector3d axis = solver.eigenvectors().col(2);
-  const double nn = n.norm(), an = axis.norm();
-  // computeDirect returns unit vectors; the guard keeps a NaN out whatever the solver does.
-  if (std::isfinite(nn) && nn > 0) out.normal = canonical_sign(to_vec3f(n / nn));
-  if (std::isfinite(an) && an > 0) out.axis = to_vec3f(axis / an);
-  if (out.eigenvalues[2] <= 0) out.normal = {0, 0, 1};
+  out.normal = canonical_sign(to_vec3f(eigen.normal));
+  out.axis = to_vec3f(eigen.axis);
+  if (!(out.eigenvalues[2] > 0)) out.normal = {0, 0, 1};
   return out;
 }
 

@@ -1,6 +1,6 @@
 // neighborhood_pca: the PCA normal of a point's neighbourhood (seed 000 §2.1.1, SPEC §1):
 // C = Σ (x_j − x̄)(x_j − x̄)ᵀ over the neighbourhood, normal = eigenvector of the smallest
-// eigenvalue of C.
+// eigenvalue of C, from the closed-form solver splatkit/pca_normal.h.
 //
 // Accumulated in double in one pass, relative to the first point of the neighbourhood, so clouds
 // far from the origin or with tiny spacing keep their precision. The normal is a unit vector with a

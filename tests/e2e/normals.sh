@@ -15,7 +15,7 @@ expect_exit 1 "$EN" --no-such-option
 
 "$BIN/splat-synth" -q sphere "$WORK/sphere.ply" -n 3000 --seed 3
 "$BIN/splat-synth" -q torus "$WORK/torus.ply" -n 20000 --random
-points=3000
+
 [ -s "$WORK/sphere.ply" ] && pass || fail "splat-synth made no sample"
 
 # Sphere: every normal radial (up to sign with --orient none), every radius > 0.
@@ -26,6 +26,24 @@ bad=$(awk '/^#/ { for (c = 2; c <= NF; c++) if ($c == "radius") rc = c - 1; next
           if (!rc || d < 0.998 || $rc <= 0) n++ } END { print n + 0 }' "$WORK/sphere-n.xyz")
 expect_eq "sphere points with a non-radial normal or no radius" "$bad" 0
 head -1 "$WORK/sphere-n.xyz" | grep -q "nx ny nz.*radius" && pass || fail "no normals/radius columns"
+
+# Orientation: the default (mst) points a closed sphere outward; --viewpoint at the centre inward.
+# outward FILE.xyz: how many normals point away from the origin (columns x y z nx ny nz first).
+outward() { awk '!/^#/ { if ($1*$4 + $2*$5 + $3*$6 > 0) n++ } END { print n + 0 }' "$1"; }
+expect_exit 0 "$EN" -q "$WORK/sphere.ply" "$WORK/mst.ply"
+"$BIN/splat-convert" -q "$WORK/mst.ply" "$WORK/mst.xyz"
+expect_eq "mst: normals pointing outward" "$(outward "$WORK/mst.xyz")" "$(grep -vc "^#" "$WORK/mst.xyz")"
+expect_exit 0 "$EN" -q "$WORK/sphere.ply" "$WORK/vp.ply" --viewpoint 0,0,0
+"$BIN/splat-convert" -q "$WORK/vp.ply" "$WORK/vp.xyz"
+expect_eq "viewpoint at the centre: normals pointing outward" "$(outward "$WORK/vp.xyz")" 0
+
+# Robust method on the CAD-like part: runs, reports its refined points, no NaN.
+"$BIN/splat-synth" -q cad "$WORK/cad.ply" -n 5000
+expect_exit 0 "$EN" -q "$WORK/cad.ply" "$WORK/cad-r.ply" --method robust --report "$WORK/rr.json"
+v=$(json_value refined "$WORK/rr.json")
+[ -n "$v" ] && [ "$v" -gt 0 ] && pass || fail "robust report: refined = '$v'"
+"$BIN/splat-convert" -q "$WORK/cad-r.ply" "$WORK/cad-r.xyz"
+grep -qi nan "$WORK/cad-r.xyz" && fail "NaN from --method robust" || pass
 
 # --report: counts, timings per phase, rate, peak RSS.
 points=$(json_value input_points "$WORK/r.json")

@@ -245,3 +245,71 @@ TEST(NormalsEstimate, RejectsBadOptions) {
 
 }  // namespace
 }  // namespace splatkit
+
+namespace splatkit {
+namespace {
+
+float min_outward(const SplatCloud& c, const Vec3f& centre) {
+  float worst = 1;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    worst = std::min(worst, dot(c.normals[i], normalized(c.positions[i] - centre)));
+  return worst;
+}
+
+TEST(NormalsEstimatePipeline, MstOrientsAClosedSphereOutward) {
+  SplatCloud c = normals_test::random_sphere(3000, 2.0f, {5, 5, 5}, 11);
+  NormalOptions o;  // defaults: pca, mst
+  NormalReport r = estimate_normals(c, o);
+  EXPECT_GT(min_outward(c, {5, 5, 5}), 0.9f);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_TRUE(r.timings.contains("orient"));
+}
+
+TEST(NormalsEstimatePipeline, ViewpointFromOptionsOrFromTheCloud) {
+  SplatCloud c = normals_test::random_sphere(2000, 1.0f, {0, 0, 0}, 12);
+  c.origin = {1000, 0, 0};  // the viewpoint is in file coordinates: (1000, 0, 0) is the centre
+  SplatCloud from_cloud = c;
+  NormalOptions o;
+  o.orient = NormalOrientation::kViewpoint;
+  o.viewpoint = std::array<double, 3>{1000, 0, 0};
+  estimate_normals(c, o);
+  for (std::size_t i = 0; i < c.size(); ++i)
+    EXPECT_LT(dot(c.normals[i], c.positions[i]), 0.0f) << i;  // all towards the centre
+
+  from_cloud.viewpoint = std::array<double, 3>{1000, 0, 0};
+  o.viewpoint.reset();
+  estimate_normals(from_cloud, o);
+  EXPECT_EQ(from_cloud.normals, c.normals);
+
+  SplatCloud none = normals_test::random_sphere(100, 1.0f, {0, 0, 0}, 13);
+  try {
+    estimate_normals(none, o);
+    FAIL() << "viewpoint orientation without a viewpoint accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kUsage);
+  }
+}
+
+TEST(NormalsEstimatePipeline, RobustMethodRunsThroughThePipeline) {
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kCadPart;
+  shape.points = 20000;
+  SplatCloud c = make_shape(shape);
+  const std::vector<Vec3f> truth = c.normals;
+  NormalOptions o;
+  o.method = NormalMethod::kRobust;
+  NormalReport r = estimate_normals(c, o);
+  ASSERT_EQ(c.size(), truth.size());
+  EXPECT_TRUE(all_finite(c) && all_unit(c));
+  ASSERT_TRUE(r.robust.is_object());
+  EXPECT_GT(r.robust.value("refined", 0), 0);
+  EXPECT_TRUE(r.timings.contains("robust"));
+  std::size_t outward = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) outward += dot(c.normals[i], truth[i]) > 0;
+  // Closed part, mst: the normals on the outer side (the 100 % target of issue 3 is the
+  // orientation's own test; this checks the wiring: guide and output passed the right way).
+  EXPECT_GE(outward, c.size() * 999 / 1000);
+}
+
+}  // namespace
+}  // namespace splatkit
