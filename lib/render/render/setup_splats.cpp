@@ -21,49 +21,120 @@ FrameConstants frame_constants(const Projection& p) {
           p.cx,  p.cy,    p.near, p.width,   p.height};
 }
 
-// Branchless orthonormal basis (Duff et al. 2017) for the disc's plane.
-inline void disc_axes(const Vec3f& n, Vec3f& a, Vec3f& b) {
-  float sign = std::copysign(1.0f, n.z);
-  float s = -1.0f / (sign + n.z);
-  float t = n.x * n.y * s;
-  a = {1.0f + sign * n.x * n.x * s, sign * t, -sign * n.x};
-  b = {t, sign + n.y * n.y * s, -n.y};
-}
-
-// Extent along one image axis of the projected disc: the tangent lines X = Xc + t of the dual
-// conic solve A t² + 2 B t + C = 0, with everything divided by r² and taken relative to the
-// projected centre Xc = f c_x / c_z, so that no large terms cancel:
-//   A = 1 − n_z² − (c_z / r)²,  B = (1 − n_z²) Xc + f n_x n_z,
-//   C = (1 − n_z²) Xc² + 2 f n_x n_z Xc + f² (1 − n_x²).
-// Returns the pixels whose centres lie between the two roots, clipped to [0, size).
-inline bool pixel_range(float centre, float n_axis, float nz, float one_minus_nz2, float inv_a,
-                        float a, float f, float principal, int size, int& lo, int& hi) {
-  const float fnn = f * n_axis * nz;
-  const float b = one_minus_nz2 * centre + fnn;
-  const float c =
-      one_minus_nz2 * centre * centre + 2 * fnn * centre + f * f * (1 - n_axis * n_axis);
-  const float s = std::sqrt(std::max(0.0f, b * b - a * c));
-  // inv_a < 0: (-b - s) * inv_a is the larger root.
-  const float mid = principal + centre - b * inv_a;
-  const float half = std::fabs(s * inv_a);
-  const float first = std::ceil(mid - half - 0.5f), last = std::floor(mid + half - 0.5f);
-  if (!(first <= last) || last < 0 || first > float(size - 1)) return false;
-  lo = static_cast<int>(std::max(first, 0.0f));
-  hi = static_cast<int>(std::min(last, float(size - 1)));
-  return true;
-}
-
 inline void not_drawn(SplatRaster& s) {
   s.x0 = 1;
   s.x1 = 0;
   s.y0 = s.y1 = 0;
 }
 
-// f[0] i + f[1] j + f[2] for w·d(i, j), relative to the box corner (x0, y0).
-inline void set_linear(float f[3], const Vec3f& w, const FrameConstants& k, int x0, int y0) {
-  f[0] = w.x * k.inv_f;
-  f[1] = w.y * k.inv_f;
-  f[2] = w.x * ((x0 + 0.5f - k.cx) * k.inv_f) + w.y * ((y0 + 0.5f - k.cy) * k.inv_f) + w.z;
+constexpr int kBlock = 64;
+
+// By value (std::min/max/clamp return references, which keep GCC from vectorising the loop).
+inline float min_f(float a, float b) { return a < b ? a : b; }
+inline float max_f(float a, float b) { return a > b ? a : b; }
+
+// ceil/floor for |v| < 2^23 without libm calls (baseline x86-64 has no rounding instructions).
+inline float fast_floor(float v) {
+  const float t = static_cast<float>(static_cast<int>(v));
+  return t > v ? t - 1.0f : t;
+}
+inline float fast_ceil(float v) {
+  const float t = static_cast<float>(static_cast<int>(v));
+  return t < v ? t + 1.0f : t;
+}
+
+// One block of splats as structure of arrays: inputs transposed first, then the branch-free
+// arithmetic in a loop the compiler vectorises, then packing into SplatRaster.
+struct Block {
+  float px[kBlock], py[kBlock], pz[kBlock], nx[kBlock], ny[kBlock], nz[kBlock], r[kBlock];
+  float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock];
+  float x0[kBlock], x1[kBlock], y0[kBlock], y1[kBlock];
+  float l[3][kBlock], u[3][kBlock], v[3][kBlock];
+};
+
+// Extent along one image axis of the projected disc: the tangent lines X = Xc + t of the dual
+// conic solve A t² + 2 B t + C = 0, with everything divided by r² and taken relative to the
+// projected centre Xc = f c_x / c_z, so that no large terms cancel:
+//   A = 1 − n_z² − (c_z / r)²,  B = (1 − n_z²) Xc + f n_x n_z,
+//   C = (1 − n_z²) Xc² + 2 f n_x n_z Xc + f² (1 − n_x²).
+// Gives the first and last pixel whose centre lies between the two roots (not yet clipped to
+// the image).
+inline void axis_range(float centre, float n_axis, float nz, float one_minus_nz2, float inv_a,
+                       float a, float f, float principal, float& first, float& last) {
+  const float fnn = f * n_axis * nz;
+  const float b = one_minus_nz2 * centre + fnn;
+  const float c =
+      one_minus_nz2 * centre * centre + 2 * fnn * centre + f * f * (1 - n_axis * n_axis);
+  const float s = std::sqrt(max_f(0.0f, b * b - a * c));
+  const float mid = principal + centre - b * inv_a;
+  const float half = std::fabs(s * inv_a);
+  // Clamped before rounding: far off-screen boxes must not overflow the int conversion.
+  first = fast_ceil(min_f(max_f(mid - half - 0.5f, -2.0f), 32768.0f));
+  last = fast_floor(min_f(max_f(mid + half - 0.5f, -2.0f), 32768.0f));
+}
+
+void transpose_block(const DrawList& draws, const FrameConstants& k, std::size_t begin, int count,
+                     Block& b) {
+  for (int i = 0; i < count; ++i) {
+    const Vec3f p = draws.positions[begin + i] - k.eye, n = draws.normals[begin + i];
+    b.px[i] = p.x, b.py[i] = p.y, b.pz[i] = p.z;
+    b.nx[i] = n.x, b.ny[i] = n.y, b.nz[i] = n.z;
+    b.r[i] = draws.radii[begin + i];
+  }
+}
+
+void setup_block(const FrameConstants& k, bool cull_backfaces, int count, Block& b) {
+  for (int i = 0; i < count; ++i) {
+    const Vec3f cw{b.px[i], b.py[i], b.pz[i]}, nw{b.nx[i], b.ny[i], b.nz[i]};
+    const Vec3f c{dot(cw, k.right), dot(cw, k.down), dot(cw, k.forward)};
+    const Vec3f n{dot(nw, k.right), dot(nw, k.down), dot(nw, k.forward)};
+    const float r = b.r[i];
+    const float nc = dot(n, c);
+    const float one_minus_nz2 = max_f(0.0f, 1.0f - n.z * n.z);
+    const float half_depth = r * std::sqrt(one_minus_nz2);
+    // Bitwise & and |, not && and ||: no branches, so the loop vectorises. Splats that fail
+    // `front` still run through the arithmetic (on a safe depth) and are dropped when packing.
+    const bool front = (c.z - half_depth > k.near) & !(cull_backfaces & (nc > 0));
+    const float cz = front ? c.z : 1.0f;
+    const float inv_r = 1.0f / r, inv_z = 1.0f / cz;
+    const float depth_ratio = cz * inv_r;
+    const float a = min_f(one_minus_nz2 - depth_ratio * depth_ratio, -1e-12f);
+    const float inv_a = 1.0f / a;
+    float x0, x1, y0, y1;
+    axis_range(k.f * c.x * inv_z, n.x, n.z, one_minus_nz2, inv_a, a, k.f, k.cx, x0, x1);
+    axis_range(k.f * c.y * inv_z, n.y, n.z, one_minus_nz2, inv_a, a, k.f, k.cy, y0, y1);
+    x0 = max_f(x0, 0.0f);
+    y0 = max_f(y0, 0.0f);
+    x1 = min_f(x1, float(k.width - 1));
+    y1 = min_f(y1, float(k.height - 1));
+    b.ok[i] = front & (x0 <= x1) & (y0 <= y1) ? 1.0f : 0.0f;
+    // Disc axes (branchless orthonormal basis, Duff et al. 2017) and the linear functions at
+    // the box corner.
+    const float sign = n.z >= 0 ? 1.0f : -1.0f;
+    const float sd = -1.0f / (sign + n.z);
+    const float t = n.x * n.y * sd;
+    const Vec3f ax{1.0f + sign * n.x * n.x * sd, sign * t, -sign * n.x};
+    const Vec3f ay{t, sign + n.y * n.y * sd, -n.y};
+    const Vec3f wu = (ax * nc - n * dot(ax, c)) * inv_r;
+    const Vec3f wv = (ay * nc - n * dot(ay, c)) * inv_r;
+    const float dx = (x0 + 0.5f - k.cx) * k.inv_f, dy = (y0 + 0.5f - k.cy) * k.inv_f;
+    b.l[0][i] = n.x * k.inv_f;
+    b.l[1][i] = n.y * k.inv_f;
+    b.l[2][i] = n.x * dx + n.y * dy + n.z;
+    b.u[0][i] = wu.x * k.inv_f;
+    b.u[1][i] = wu.y * k.inv_f;
+    b.u[2][i] = wu.x * dx + wu.y * dy + wu.z;
+    b.v[0][i] = wv.x * k.inv_f;
+    b.v[1][i] = wv.y * k.inv_f;
+    b.v[2][i] = wv.x * dx + wv.y * dy + wv.z;
+    b.nc[i] = nc;
+    b.zmin[i] = c.z - half_depth;
+    b.zmax[i] = c.z + half_depth;
+    b.x0[i] = x0;
+    b.x1[i] = x1;
+    b.y0[i] = y0;
+    b.y1[i] = y1;
+  }
 }
 
 }  // namespace
@@ -73,46 +144,31 @@ std::size_t setup_splats(const DrawList& draws, const Projection& projection,
                          SplatRaster* out) {
   const FrameConstants k = frame_constants(projection);
   std::size_t drawn = 0;
-  for (std::size_t i = begin; i < end; ++i) {
-    SplatRaster& s = out[i - begin];
-    const Vec3f cw = draws.positions[i] - k.eye, nw = draws.normals[i];
-    const Vec3f c{dot(cw, k.right), dot(cw, k.down), dot(cw, k.forward)};
-    const Vec3f n{dot(nw, k.right), dot(nw, k.down), dot(nw, k.forward)};
-    const float r = draws.radii[i];
-    const float nc = dot(n, c);
-    const float one_minus_nz2 = std::max(0.0f, 1.0f - n.z * n.z);
-    const float half_depth = r * std::sqrt(one_minus_nz2);
-    if (c.z - half_depth <= k.near || (options.cull_backfaces && nc > 0)) {
-      not_drawn(s);
-      continue;
+  Block b;
+  for (std::size_t first = begin; first < end; first += kBlock) {
+    const int count = static_cast<int>(std::min<std::size_t>(kBlock, end - first));
+    transpose_block(draws, k, first, count, b);
+    setup_block(k, options.cull_backfaces, count, b);
+    for (int i = 0; i < count; ++i) {
+      SplatRaster& s = out[first - begin + i];
+      if (b.ok[i] == 0) {
+        not_drawn(s);
+        continue;
+      }
+      for (int j = 0; j < 3; ++j) {
+        s.l[j] = b.l[j][i];
+        s.u[j] = b.u[j][i];
+        s.v[j] = b.v[j][i];
+      }
+      s.nc = b.nc[i];
+      s.zmin = b.zmin[i];
+      s.zmax = b.zmax[i];
+      s.x0 = static_cast<int16_t>(b.x0[i]);
+      s.x1 = static_cast<int16_t>(b.x1[i]);
+      s.y0 = static_cast<int16_t>(b.y0[i]);
+      s.y1 = static_cast<int16_t>(b.y1[i]);
+      ++drawn;
     }
-    const float inv_r = 1.0f / r, inv_z = 1.0f / c.z;
-    const float depth_ratio = c.z * inv_r;
-    const float a = one_minus_nz2 - depth_ratio * depth_ratio;
-    const float inv_a = 1.0f / a;
-    int x0, x1, y0, y1;
-    if (!pixel_range(k.f * c.x * inv_z, n.x, n.z, one_minus_nz2, inv_a, a, k.f, k.cx, k.width, x0,
-                     x1) ||
-        !pixel_range(k.f * c.y * inv_z, n.y, n.z, one_minus_nz2, inv_a, a, k.f, k.cy, k.height, y0,
-                     y1)) {
-      not_drawn(s);
-      continue;
-    }
-    Vec3f ax, ay;
-    disc_axes(n, ax, ay);
-    const Vec3f wu = (ax * nc - n * dot(ax, c)) * inv_r;
-    const Vec3f wv = (ay * nc - n * dot(ay, c)) * inv_r;
-    set_linear(s.l, n, k, x0, y0);
-    set_linear(s.u, wu, k, x0, y0);
-    set_linear(s.v, wv, k, x0, y0);
-    s.nc = nc;
-    s.zmin = c.z - half_depth;
-    s.zmax = c.z + half_depth;
-    s.x0 = static_cast<int16_t>(x0);
-    s.x1 = static_cast<int16_t>(x1);
-    s.y0 = static_cast<int16_t>(y0);
-    s.y1 = static_cast<int16_t>(y1);
-    ++drawn;
   }
   return drawn;
 }
