@@ -99,9 +99,15 @@ int main(int argc, char** argv) {
   app.add_option("--method", method, "pca, or robust (keeps creases sharp)")
       ->check(CLI::IsMember({"pca", "robust"}))
       ->default_val("pca");
-  auto* orient_opt = app.add_option("--orient", orient, "mst, viewpoint or none")
-                         ->check(CLI::IsMember({"mst", "viewpoint", "none"}))
-                         ->default_val("mst");
+  auto* orient_opt =
+      app.add_option(
+             "--orient", orient,
+             "mst: consistent over a minimum spanning tree, each component's top-most point "
+             "facing +z (closed shapes point outward); viewpoint: towards "
+             "--viewpoint or the input's scanner position; none: PCA's sign, made "
+             "canonical (largest component positive)")
+          ->check(CLI::IsMember({"mst", "viewpoint", "none"}))
+          ->default_val("mst");
   app.add_option("--viewpoint", viewpoint,
                  "Scanner position x,y,z in file coordinates (implies --orient viewpoint; "
                  "default: the input's own scanner position)");
