@@ -1,23 +1,51 @@
 #!/usr/bin/env bash
 # The whole pipeline on the bundled samples, in one command: installs what is missing, builds,
-# and writes the results to out/ (files, reports and images). Works from any directory.
+# and writes the results to out/ (files, JSON reports and images). Works from any directory.
 set -euo pipefail
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$top/scripts/install-deps.sh"
 "$top/scripts/build.sh" "$top/build"
 bin=$top/build/tools
 out=$top/out
-mkdir -p "$out"
 samples=$top/data-samples
-
-echo "== samples -> .splk and splat-info =="
+mkdir -p "$out/formats" "$out/normals" "$out/images"
 shopt -s nullglob
-for f in "$samples"/*.{ply,xyz,pts,txt,csv,off,las,pcd}; do
+
+echo "== 1. every sample -> .splk, with splat-info reports (out/formats/) =="
+for f in "$samples"/*.{ply,xyz,off,las,pcd}; do
   name=$(basename "$f")
-  stem=${name%.*}.${name##*.}
-  "$bin/splat-convert" -q "$f" "$out/$stem.splk"
-  "$bin/splat-info" "$out/$stem.splk" > "$out/$stem.info.txt"
-  "$bin/splat-info" --json "$f" > "$out/$stem.info.json"
-  printf '%-40s -> %s\n' "$name" "out/$stem.splk"
+  "$bin/splat-convert" -q "$f" "$out/formats/$name.splk"
+  "$bin/splat-info" "$out/formats/$name.splk" > "$out/formats/$name.info.txt"
+  "$bin/splat-info" --json "$f" > "$out/formats/$name.info.json"
+  printf '  %-24s %8s points -> out/formats/%s.splk\n' "$name" \
+    "$(sed -n 's/^Points: //p' "$out/formats/$name.info.txt")" "$name"
 done
+
+echo "== 2. normals and radii from bare points (out/normals/) =="
+# The real scan (kitten, positions only) and the CAD-like part with its creases, PCA vs robust.
+"$bin/estimate-normals" "$samples/kitten.xyz" --columns x,y,z,_,_,_ "$out/normals/kitten.splk" \
+  --report "$out/normals/kitten.report.json"
+for method in pca robust; do
+  "$bin/estimate-normals" "$samples/cad.ply" "$out/normals/cad-$method.splk" --method "$method" \
+    --report "$out/normals/cad-$method.report.json"
+done
+# A pipeline: normals straight into the renderer's input, through a pipe.
+"$bin/estimate-normals" -q "$samples/torus-las12.las" - | "$bin/splat-info" - > "$out/normals/torus-las12.info.txt"
+
+echo "== 3. images (out/images/) =="
+render() {  # render NAME INPUT [options]
+  local name=$1 input=$2; shift 2
+  "$bin/splat-view" -q "$input" -o "$out/images/$name.png" --width 800 --height 600 "$@"
+  echo "  out/images/$name.png"
+}
+render sphere "$samples/sphere.ply"
+render torus "$samples/torus.ply"
+render two-spheres "$samples/two-spheres.ply"
+render cad-true-normals "$samples/cad.ply"
+render cad-pca "$out/normals/cad-pca.splk"
+render cad-robust "$out/normals/cad-robust.splk"
+render kitten "$out/normals/kitten.splk"
+render kitten-normals "$out/normals/kitten.splk" --shade normals
+"$bin/splat-view" -q "$samples/cad.ply" -o "$out/images/cad.exr" --width 800 --height 600
+echo "  out/images/cad.exr (colour + Z, N, A channels)"
 echo "demo: results in $out"
