@@ -49,14 +49,22 @@ Args parse_args(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error("missing value after " + s);
       return argv[++i];
     };
-    if (s == "-k") a.k = std::stoi(next());
-    else if (s == "--threads") a.threads = std::stoi(next());
-    else if (s == "--compare") a.compare = next();
-    else if (s == "--max-deg") a.max_deg = std::stod(next());
-    else if (a.input.empty()) a.input = s;
-    else throw std::runtime_error("unexpected argument " + s);
+    if (s == "-k")
+      a.k = std::stoi(next());
+    else if (s == "--threads")
+      a.threads = std::stoi(next());
+    else if (s == "--compare")
+      a.compare = next();
+    else if (s == "--max-deg")
+      a.max_deg = std::stod(next());
+    else if (a.input.empty())
+      a.input = s;
+    else
+      throw std::runtime_error("unexpected argument " + s);
   }
-  if (a.input.empty()) throw std::runtime_error("usage: bench_normals_pcl IN [-k K] [--threads N] [--compare OURS.ply] [--max-deg D]");
+  if (a.input.empty())
+    throw std::runtime_error(
+        "usage: bench_normals_pcl IN [-k K] [--threads N] [--compare OURS.ply] [--max-deg D]");
   return a;
 }
 
@@ -67,8 +75,8 @@ std::vector<double> angles(const pcl::PointCloud<pcl::Normal>& pcl_normals,
   for (std::size_t i = 0; i < ours.size(); ++i) {
     const pcl::Normal& p = pcl_normals[i];
     const splatkit::Vec3f& o = ours.normals[i];
-    double d = std::fabs(double(p.normal_x) * o.x + double(p.normal_y) * o.y +
-                         double(p.normal_z) * o.z);
+    double d =
+        std::fabs(double(p.normal_x) * o.x + double(p.normal_y) * o.y + double(p.normal_z) * o.z);
     deg[i] = std::isfinite(d) ? std::acos(std::min(d, 1.0)) * 180.0 / M_PI : 180.0;
   }
   return deg;
@@ -101,8 +109,8 @@ int main(int argc, char** argv) {
     std::size_t nan = 0;
     for (const pcl::Normal& n : normals)
       if (!std::isfinite(n.normal_x)) ++nan;
-    nlohmann::json out = {{"points", cloud->size()}, {"k", args.k},        {"threads", args.threads},
-                          {"read_s", read_s},        {"pcl_s", pcl_s},     {"pcl_nan", nan}};
+    nlohmann::json out = {{"points", cloud->size()}, {"k", args.k},    {"threads", args.threads},
+                          {"read_s", read_s},        {"pcl_s", pcl_s}, {"pcl_nan", nan}};
     if (!args.compare.empty()) {
       splatkit::LoadedCloud ours = splatkit::read_cloud(args.compare);
       if (ours.cloud.size() != doc.cloud.size() || ours.cloud.positions != doc.cloud.positions ||
