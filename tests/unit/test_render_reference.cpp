@@ -71,7 +71,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"sphere_mid", Shape::kSphere, 20000, 3.0f, BlendMode::kZThreshold, 3.5f},
         Case{"sphere_near_big_splats", Shape::kSphere, 2000, 2.6f, BlendMode::kZThreshold, 10.0f},
         Case{"sphere_zrange", Shape::kSphere, 20000, 3.0f, BlendMode::kZRange, 3.5f},
-        Case{"torus_far", Shape::kTorus, 30000, 7.0f, BlendMode::kZThreshold, 1.5f},
+        Case{"torus_far", Shape::kTorus, 30000, 7.0f, BlendMode::kZThreshold, 1.3f},
         Case{"torus_mid", Shape::kTorus, 30000, 3.5f, BlendMode::kZThreshold, 2.5f},
         Case{"torus_near_big_splats", Shape::kTorus, 6000, 2.1f, BlendMode::kZThreshold, 10.0f},
         Case{"torus_zrange", Shape::kTorus, 30000, 3.5f, BlendMode::kZRange, 2.5f}),

@@ -1,6 +1,6 @@
-// Test support for the renderer tests: splat samplings of a sphere and a torus, and a small
-// analytic ray tracer that renders the exact shapes with the same camera and the same shading,
-// plus the image comparisons the tests assert (holes, silhouettes, PSNR).
+// Test support for the renderer tests: splat samplings of a sphere and a torus (make_shape), and a
+// small analytic ray tracer that renders the exact shapes with the same camera and the same
+// shading, plus the image comparisons the tests assert (holes, silhouettes, PSNR).
 #pragma once
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include "render/render_scene.h"
 #include "render/shade_pixel.h"
 #include "splatkit/splat_cloud.h"
+#include "splatkit/synthetic_shapes.h"
 
 namespace splatkit::render::testing {
 
@@ -29,40 +30,14 @@ enum class Shape { kSphere, kTorus };
 // of make_shape()).
 inline constexpr double kTorusMajor = 1.0, kTorusMinor = 0.35;
 
-inline double shape_area(Shape s) {
-  return s == Shape::kSphere ? 4 * kPi : 4 * kPi * kPi * kTorusMajor * kTorusMinor;
-}
-
-// `n` near-uniform samples (low-discrepancy, deterministic) with exact outward normals and radii
-// `radius_factor` × the spacing of the sampling density.
-inline SplatCloud sample_shape(Shape shape, int n, double radius_factor = 1.2) {
-  SplatCloud c;
-  const double golden = 0.5 * (std::sqrt(5.0) - 1);
-  const double spacing = std::sqrt(shape_area(shape) / n);
-  for (int i = 0; i < n; ++i) {
-    const double a = (i + 0.5) / n, b = std::fmod(i * golden, 1.0);
-    Vec3f p, nrm;
-    if (shape == Shape::kSphere) {
-      const double z = 1 - 2 * a, rho = std::sqrt(std::max(0.0, 1 - z * z));
-      const double phi = 2 * kPi * b;
-      nrm = p = {float(rho * std::cos(phi)), float(rho * std::sin(phi)), float(z)};
-    } else {
-      // Tube angle t with density ∝ R + r cos t: invert (R t + r sin t) / (2πR) = a by Newton.
-      double t = 2 * kPi * a;
-      for (int k = 0; k < 30; ++k)
-        t -= (kTorusMajor * t + kTorusMinor * std::sin(t) - 2 * kPi * kTorusMajor * a) /
-             (kTorusMajor + kTorusMinor * std::cos(t));
-      const double phi = 2 * kPi * b;
-      const double ring = kTorusMajor + kTorusMinor * std::cos(t);
-      p = {float(ring * std::cos(phi)), float(ring * std::sin(phi)),
-           float(kTorusMinor * std::sin(t))};
-      nrm = {float(std::cos(t) * std::cos(phi)), float(std::cos(t) * std::sin(phi)),
-             float(std::sin(t))};
-    }
-    c.positions.push_back(p);
-    c.normals.push_back(nrm);
-    c.radii.push_back(float(radius_factor * spacing));
-  }
+// About `n` stratified samples from make_shape() (exact outward normals, radii from the
+// sampling density), without colours so that the default albedo matches the reference.
+inline SplatCloud sample_shape(Shape shape, int n) {
+  ShapeOptions o;
+  o.kind = shape == Shape::kSphere ? ShapeKind::kSphere : ShapeKind::kTorus;
+  o.points = static_cast<std::size_t>(n);
+  SplatCloud c = make_shape(o);
+  c.colors.clear();
   return c;
 }
 
