@@ -90,6 +90,84 @@ class SpillFile {
   int fd_ = -1;
 };
 
+// Walks an LZF stream (the format of PCL's lzf.cpp) without producing output: every back
+// reference must point into what was already produced, the output must not overrun the declared
+// size and must end exactly there. Fed in chunks as the bytes stream past.
+class LzfChecker {
+ public:
+  LzfChecker(const InputStream& in, uint64_t expected) : in_(in), expected_(expected) {}
+
+  void feed(const unsigned char* p, std::size_t n) {
+    for (std::size_t i = 0; i < n;) {
+      if (state_ == kLiteral) {
+        const std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(pending_, n - i));
+        i += k;
+        pending_ -= k;
+        if (pending_ == 0) state_ = kControl;
+        continue;
+      }
+      step(p[i++]);
+    }
+  }
+
+  void finish() const {
+    if (state_ != kControl)
+      fail("the LZF stream ends inside a " +
+           std::string(state_ == kLiteral ? "literal run" : "back reference"));
+    if (produced_ != expected_)
+      fail("the LZF stream decompresses to " + std::to_string(produced_) + " bytes, not " +
+           std::to_string(expected_));
+  }
+
+ private:
+  enum State { kControl, kLiteral, kLength, kOffset };
+
+  void step(unsigned char b) {
+    switch (state_) {
+      case kControl:
+        if (b < 32) {
+          pending_ = b + 1u;
+          grow(pending_);
+          state_ = kLiteral;
+        } else {
+          length_ = b >> 5;
+          offset_high_ = b & 31u;
+          state_ = length_ == 7 ? kLength : kOffset;
+        }
+        break;
+      case kLength:
+        length_ += b;
+        state_ = kOffset;
+        break;
+      case kOffset: {
+        const uint64_t distance = (uint64_t{offset_high_} << 8) + b + 1;
+        if (distance > produced_) fail("an LZF back reference points before the start");
+        grow(length_ + 2);
+        state_ = kControl;
+        break;
+      }
+      case kLiteral:
+        break;
+    }
+  }
+
+  void grow(uint64_t n) {
+    produced_ += n;
+    if (produced_ > expected_)
+      fail("the LZF stream decompresses to more than " + std::to_string(expected_) + " bytes");
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw_bad_input(in_.path(), "binary_compressed: " + what);
+  }
+
+  const InputStream& in_;
+  uint64_t expected_;
+  uint64_t produced_ = 0, pending_ = 0;
+  uint32_t length_ = 0, offset_high_ = 0;
+  State state_ = kControl;
+};
+
 class PcdValidator {
  public:
   PcdValidator(InputStream& in, SpillFile* spill) : in_(in), spill_(spill) {}
@@ -102,13 +180,14 @@ class PcdValidator {
   uint64_t parse_count(std::string_view tok, const char* what) const;
   void parse_keyword(PcdHeader& h, std::string_view key, int& last);
   void check_ascii(const PcdHeader& h);
-  void check_binary(uint64_t expected);
+  void check_binary(uint64_t expected, LzfChecker* lzf = nullptr);
   void check_compressed(const PcdHeader& h);
   void check_binary_start();
-  void copy_bytes(uint64_t n, const char* what);
+  void copy_bytes(uint64_t n, const char* what, LzfChecker* lzf = nullptr);
 
   InputStream& in_;
   SpillFile* spill_;
+  int seen_ = 0;  // bit per Keyword
   std::string line_;
   uint64_t line_no_ = 0;
   std::vector<std::string_view> toks_;
@@ -151,6 +230,11 @@ void PcdValidator::parse_keyword(PcdHeader& h, std::string_view key, int& last) 
               " repeated or out of order (PCD order: VERSION FIELDS SIZE TYPE "
               "COUNT WIDTH HEIGHT VIEWPOINT POINTS DATA)");
   last = kw;
+  // PCL needs SIZE before TYPE before COUNT, and the point size before WIDTH and POINTS.
+  const int needs = kw == kSize ? kFields : kw == kType ? kSize : kw >= kCount ? kType : -1;
+  if (needs >= 0 && !(seen_ & (1 << needs)))
+    fail_line(std::string(key) + " before " + std::string(kKeywords[needs]));
+  seen_ |= 1 << kw;
   const std::size_t n = toks_.size() - 1;
   auto arg = [&](std::size_t i) { return toks_[i + 1]; };
   auto per_field = [&] {
@@ -269,8 +353,7 @@ PcdHeader PcdValidator::read_header() {
     }
     parse_keyword(h, toks_[0], last);
   }
-  if (h.fields.empty()) fail_line("the header has no FIELDS line");
-  if (last < kType) fail_line("the header has no SIZE and TYPE lines");
+  if (!(seen_ & (1 << kType))) fail_line("the header has no FIELDS, SIZE and TYPE lines");
   if (!h.has_width) fail_line("the header has no WIDTH line");
   if (!h.has_points) fail_line("the header has no POINTS line");
   if (h.width * h.height != h.points)
@@ -286,24 +369,26 @@ PcdHeader PcdValidator::read_header() {
   return h;
 }
 
-void PcdValidator::copy_bytes(uint64_t n, const char* what) {
-  if (!spill_) return in_.skip(n, what);
+void PcdValidator::copy_bytes(uint64_t n, const char* what, LzfChecker* lzf) {
+  if (!spill_ && !lzf) return in_.skip(n, what);
   char buf[1 << 16];
   while (n > 0) {
     const std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(n, sizeof buf));
     in_.read(buf, k, what);
-    spill_->write(buf, k);
+    if (spill_) spill_->write(buf, k);
+    if (lzf) lzf->feed(reinterpret_cast<const unsigned char*>(buf), k);
     n -= k;
   }
 }
 
 // Exactly `expected` bytes of data, then nothing but zero bytes: PCL's own writer pads binary
 // files (it sizes them for mmap), so zero padding is part of the format as written in practice.
-void PcdValidator::check_binary(uint64_t expected) {
+void PcdValidator::check_binary(uint64_t expected, LzfChecker* lzf) {
   if (auto left = in_.remaining(); left && *left < expected)
     in_.fail("binary data truncated: " + std::to_string(expected) + " bytes expected, " +
              std::to_string(*left) + " left");
-  copy_bytes(expected, "binary point data");
+  copy_bytes(expected, "binary point data", lzf);
+  if (lzf) lzf->finish();
   char buf[1 << 16];
   while (std::size_t n = in_.read_some(buf, sizeof buf)) {
     for (std::size_t i = 0; i < n; ++i)
@@ -330,7 +415,8 @@ void PcdValidator::check_compressed(const PcdHeader& h) {
   if (uncompressed > compressed * kMaxLzfRatio + 64)
     in_.fail("binary_compressed: compressed size " + std::to_string(compressed) +
              " is too small for " + std::to_string(uncompressed) + " bytes");
-  check_binary(compressed);
+  LzfChecker lzf(in_, uncompressed);
+  check_binary(compressed, &lzf);
 }
 
 void PcdValidator::check_ascii(const PcdHeader& h) {

@@ -189,7 +189,12 @@ TEST(Pcd, HeaderErrors) {
   expect_error("FIELDS x y z\nSIZE 4 4 3\n", bad, "SIZE 3 is not 1, 2, 4 or 8");
   expect_error("FIELDS x y z\nSIZE 4 4 4\nTYPE F F D\n", bad, "TYPE 'D' is not F, I or U");
   expect_error("FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\n", bad, "field 'z': float of size 2");
-  expect_error("FIELDS x y z\nTYPE F F F\nSIZE 4 4 4\n", bad, "SIZE repeated or out of order");
+  expect_error("FIELDS x y z\nTYPE F F F\nSIZE 4 4 4\n", bad, "line 2: TYPE before SIZE");
+  expect_error("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nSIZE 4 4 4\n", bad,
+               "line 4: SIZE repeated or out of order");
+  expect_error("FIELDS x y z\nSIZE 4 4 4\n#TYPE F F F\nCOUNT 1 1 1\n", bad,
+               "line 4: COUNT before TYPE");
+  expect_error("FIELDS x y z\nSIZE 4 4 4\nWIDTH 1\n", bad, "line 3: WIDTH before TYPE");
   expect_error(xyz + "COUNT 1 0 1\n", bad, "COUNT 0 out of range");
   expect_error(xyz + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", bad,
                "WIDTH x HEIGHT = 2 x 2 differs from POINTS 3");
@@ -256,10 +261,29 @@ TEST(Pcd, BodyErrors) {
                "binary data truncated");
   expect_error(hc + sizes(static_cast<uint32_t>(packed.size()), 24) + packed + "z", bad,
                "trailing data after the binary points");
+  auto lzf = [&](const std::string& stream) {
+    return hc + sizes(static_cast<uint32_t>(stream.size()), 24) + stream;
+  };
   std::string corrupt = packed;
   corrupt[0] = 31;  // a literal run longer than the output
-  expect_error(hc + sizes(static_cast<uint32_t>(corrupt.size()), 24) + corrupt, bad,
-               "PCL could not read the file");
+  expect_error(lzf(corrupt), bad,
+               "binary_compressed: the LZF stream decompresses to more than 24 bytes");
+  expect_error(lzf(std::string("\x00\x41\x20\x05", 4) + std::string(64, '\0')), bad,
+               "an LZF back reference points before the start");
+  expect_error(lzf(packed.substr(0, 20)), bad, "the LZF stream ends inside a literal run");
+  expect_error(lzf(packed + "\xe0"), bad, "the LZF stream ends inside a back reference");
+  expect_error(lzf("\x03" + body.substr(0, 4)), bad,
+               "the LZF stream decompresses to 4 bytes, not 24");
+  // A back reference (length 2 + 2, distance 4) repeating the third float: valid LZF. The data is
+  // field-major, so x = (1, 2), y = (3, 3), z = (5, 6).
+  std::string rep;
+  rep += '\x0b';
+  rep += body.substr(0, 12);
+  rep += std::string("\x40\x03", 2);
+  rep += '\x07';
+  rep += body.substr(16, 8);
+  auto c = read_bytes(lzf(rep)).cloud;
+  EXPECT_EQ(c.positions[1], (Vec3f{2, 3, 6}));
   const std::string big =
       header("x y z", "4 4 4", "F F F", "1 1 1", 1000000, 1, "binary_compressed");
   expect_error(big + sizes(10, 12000000) + std::string(10, '\0'), bad,
