@@ -92,12 +92,11 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
           {"noisy", r.noisy}};
 }
 
-// Phase 6. guide: the PCA normals when the output is robust (see orient_normals_mst.h), or empty.
+// Phase 6.
 void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
-            std::span<const Vec3f> guide, NormalReport& report) {
+            NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
-    const OrientStats stats =
-        orient_normals_mst(index, cloud.positions, cloud.normals, guide, kOrientK);
+    const OrientStats stats = orient_normals_mst(index, cloud.positions, cloud.normals, kOrientK);
     report.flipped_points = stats.flipped;
     report.components = stats.components;
   } else if (o.orient == NormalOrientation::kViewpoint) {
@@ -182,11 +181,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   });
   degenerate = {};
 
-  std::vector<Vec3f> guide;
   if (robust) {
     progress(0.65, "robust");
     timed("robust", [&] {
-      if (options.orient == NormalOrientation::kMst) guide = cloud.normals;
       RobustNormalOptions ro;
       ro.pca_k = options.k;
       report.robust =
@@ -197,7 +194,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
 
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, index, options, guide, report); });
+    timed("orient", [&] { orient(cloud, index, options, report); });
   }
   if (options.radius_scale != 1.0f)
     for (float& r : cloud.radii) r *= options.radius_scale;

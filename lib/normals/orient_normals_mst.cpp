@@ -24,13 +24,26 @@ struct KnnGraph {
   std::vector<uint16_t> keys;
 };
 
-uint16_t weight_key(const Vec3f& a, const Vec3f& b) {
-  const float w = std::max(0.0f, 1.0f - std::fabs(dot(a, b)));
+// n_i·n_j', where n_j' is n_j mirrored in the plane bisecting the edge x_i x_j (König & Gumhold
+// 2009): positive when the pair is consistently oriented. On a smooth surface it equals n_i·n_j up
+// to second order; at a crease or across a thin part, where n_i·n_j is near 0 or negative for a
+// consistent pair, the mirror image still agrees with n_i. Plain n_i·n_j for coincident points.
+float mirrored_dot(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& nj) {
+  const Vec3f e = xj - xi;
+  const float e2 = squared_norm(e);
+  const float d = dot(ni, nj);
+  if (!(e2 > 0)) return d;
+  return d - 2 * dot(ni, e) * dot(nj, e) / e2;
+}
+
+uint16_t weight_key(float mirrored) {
+  const float w = std::max(0.0f, 1.0f - std::fabs(mirrored));
   const float q = std::sqrt(w) * static_cast<float>(kOrientBuckets);
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> guide, std::size_t k) {
+KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> positions,
+                     std::span<const Vec3f> normals, std::size_t k) {
   KnnGraph g;
   g.width = k - 1;
   const std::size_t n = index.size();
@@ -45,7 +58,8 @@ KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> guide, st
         const uint32_t j = indices[r * k + c];
         const std::size_t e = i * g.width + (c - 1);
         g.neighbors[e] = j;
-        if (j != kNone) g.keys[e] = weight_key(guide[i], guide[j]);
+        if (j != kNone)
+          g.keys[e] = weight_key(mirrored_dot(positions[i], normals[i], positions[j], normals[j]));
       }
     }
   });
@@ -133,9 +147,9 @@ Adjacency forest_adjacency(const std::vector<std::pair<uint32_t, uint32_t>>& tre
   return a;
 }
 
-// +1 / -1 per point: the sign that makes guide[i] consistent over its tree and outward at the
+// +1 / -1 per point: the sign that makes normals[i] consistent over its tree and outward at the
 // component's top-most point. Returns the number of components.
-std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Vec3f> guide,
+std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                             const Adjacency& adj, const std::vector<uint32_t>& root,
                             std::vector<int8_t>& sign) {
   const std::size_t n = positions.size();
@@ -151,14 +165,15 @@ std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Ve
     if (seed[r] == kNone) continue;
     ++components;
     const uint32_t s = seed[r];
-    sign[s] = guide[s].z < 0 ? -1 : 1;
+    sign[s] = normals[s].z < 0 ? -1 : 1;
     queue.assign(1, s);
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const uint32_t i = queue[head];
       for (uint32_t e = adj.offsets[i]; e < adj.offsets[i + 1]; ++e) {
         const uint32_t j = adj.targets[e];
         if (sign[j] != 0) continue;
-        sign[j] = static_cast<int8_t>(dot(guide[i], guide[j]) < 0 ? -sign[i] : sign[i]);
+        const float agree = mirrored_dot(positions[i], normals[i], positions[j], normals[j]);
+        sign[j] = static_cast<int8_t>(agree < 0 ? -sign[i] : sign[i]);
         queue.push_back(j);
       }
     }
@@ -169,20 +184,18 @@ std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Ve
 }  // namespace
 
 OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f> positions,
-                               std::span<Vec3f> normals, std::span<const Vec3f> guide,
-                               std::size_t k) {
+                               std::span<Vec3f> normals, std::size_t k) {
   if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
   const std::size_t n = positions.size();
-  if (normals.size() != n || index.size() != n || (!guide.empty() && guide.size() != n))
-    throw std::invalid_argument("orient_normals_mst: positions, normals, guide and index differ");
+  if (normals.size() != n || index.size() != n)
+    throw std::invalid_argument("orient_normals_mst: positions, normals and index differ in size");
   OrientStats stats;
   if (n == 0) return stats;
-  if (guide.empty()) guide = normals;
 
   std::vector<uint32_t> root;
   std::vector<std::pair<uint32_t, uint32_t>> tree;
   {
-    const KnnGraph graph = build_graph(index, guide, std::min(k, n));
+    const KnnGraph graph = build_graph(index, positions, normals, std::min(k, n));
     tree = graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
                ? spanning_forest<uint32_t>(graph, n, root)
                : spanning_forest<uint64_t>(graph, n, root);
@@ -191,11 +204,10 @@ OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f>
   {
     const Adjacency adj = forest_adjacency(tree, n);
     tree = {};
-    stats.components = propagate_signs(positions, guide, adj, root, sign);
+    stats.components = propagate_signs(positions, normals, adj, root, sign);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const float oriented = dot(normals[i], guide[i]) * static_cast<float>(sign[i]);
-    if (oriented < 0) {
+    if (sign[i] < 0) {
       normals[i] = -normals[i];
       ++stats.flipped;
     }

@@ -2,27 +2,29 @@
 // the kNN graph (Hoppe, DeRose, Duchamp, McDonald, Stuetzle 1992; SPEC §1), `estimate-normals
 // --orient mst`.
 //
-// Graph: every point joined to its k - 1 nearest neighbours (undirected). Weight of an edge
-// 1 − |g_i·g_j| over the guide normals g, so the tree follows directions that agree and avoids
-// jumps; weights are quantised to kOrientBuckets levels of sqrt(1 − |g_i·g_j|) (finer where
-// normals nearly agree) and sorted by counting sort, ties broken by edge order (point index, then
-// neighbour rank); the minimum spanning forest is built by Kruskal with union-find. Propagation
-// flips g_j when g_i·g_j < 0 along each tree edge, breadth-first from each component's seed.
+// Graph: every point joined to its k - 1 nearest neighbours (undirected). Hoppe's sign rule
+// (flip n_j when n_i·n_j < 0) and weight 1 − |n_i·n_j| assume the normals turn smoothly; with
+// crease-sharp normals (--method robust) a consistent pair across a 90° crease has n_i·n_j ≈ 0
+// and across the 120° jump of a 60° wedge n_i·n_j < 0, and the two faces of a thin part have
+// opposite normals. So the agreement is measured on the mirrored normal instead (König & Gumhold,
+// "Consistent propagation of normal orientations in point clouds", VMV 2009): a = n_i·n_j', with
+// n_j' = n_j mirrored in the plane that bisects the edge x_i x_j. On a smooth surface a ≈ n_i·n_j;
+// for two faces of a crease sampled symmetrically about it, and for two sides of a thin plate, a
+// = +1 for a consistent pair and −1 otherwise. Weight 1 − |a|, quantised to kOrientBuckets levels
+// of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting sort with ties broken
+// by edge order (point index, then neighbour rank); the minimum spanning forest comes from
+// Kruskal with union-find; propagation flips n_j when a < 0, breadth-first from each seed.
 //
 // Outward sign, per connected component: the component's point of largest z (smallest index on
 // ties) is made to point +z (its normal's z >= 0). For a closed surface that point is a top-most
 // point, where the outward normal has z > 0, so the whole component ends up pointing outward. Open
 // sheets seen from above (terrain, facades' tops) point up.
 //
-// Guide: with PCA normals as the guide and robust (crease-sharp) normals as the output, the tree
-// sees a field that turns smoothly over each crease instead of jumping by up to 120° (where the
-// sign rule fails: across a 90° crease n_i·n_j ≈ 0 decides nothing). Each output normal then takes
-// the sign that agrees with its oriented guide. Without a guide, the normals are their own guide.
-//
-// Memory: 8 bytes per graph edge for the neighbour rows and their keys, 4 per edge for the sorted
-// order, 12 per point for the forest: about 12 k + 20 bytes per point at peak (k = 10: 140).
-// Time: one kNN pass, a counting sort and a near-linear union-find. Deterministic for any thread
-// count (the kNN rows are exact; everything after them is sequential).
+// Memory: 6 bytes per graph edge for the neighbour rows and their keys, 4 per edge for the sorted
+// order, about 20 per point for the forest: about 10 (k - 1) + 20 bytes per point at peak
+// (k = 10: 110). Time: one kNN pass (parallel), a counting sort, a near-linear union-find and a
+// breadth-first pass. Deterministic for any thread count (the kNN rows are exact; everything
+// after them is sequential).
 #pragma once
 
 #include <cstddef>
@@ -41,10 +43,9 @@ struct OrientStats {
   std::size_t components = 0;  // connected components of the kNN graph (isolated points count)
 };
 
-// index: built over positions (#N). normals: #N unit normals, re-signed in place. guide: empty or
-// #N unit normals (see above). k >= 2 (else std::invalid_argument).
+// index: built over positions (#N). normals: #N unit normals, re-signed in place. k >= 2 and
+// matching sizes, else std::invalid_argument.
 OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f> positions,
-                               std::span<Vec3f> normals, std::span<const Vec3f> guide = {},
-                               std::size_t k = kOrientK);
+                               std::span<Vec3f> normals, std::size_t k = kOrientK);
 
 }  // namespace splatkit

@@ -110,21 +110,25 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   const float floor_band = static_cast<float>(kMinBandwidth) * std::sqrt(radius2);
 
   // Pass 1: the robust scale, the smallest residual order statistic over the candidates that pass
-  // within their own band of the query point (least k-th order statistic).
+  // within their own band of the query point (least k-th order statistic). Candidates that do
+  // not are dropped: a plane of the other side, exact and so with a tiny band of its own, must
+  // not win pass 2 just because a curved own side widens the common bandwidth.
   const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(kScaleQuantile * m));
+  const auto band_per_stat = static_cast<float>(kInlierSigmas * kScaleToSigma);
   float best_stat = INFINITY;
   s.residuals.resize(m);
+  std::size_t kept = 0;
   for (const Plane& p : s.planes) {
     for (std::size_t j = 0; j < m; ++j) s.residuals[j] = std::fabs(dot(p.n, local[j]) - p.offset);
     std::nth_element(s.residuals.begin(), s.residuals.begin() + (rank - 1), s.residuals.end());
     const float stat = s.residuals[rank - 1];
-    const float band =
-        std::max(floor_band, static_cast<float>(kInlierSigmas * kScaleToSigma) * stat);
-    if (std::fabs(p.offset) <= band && stat < best_stat) best_stat = stat;
+    if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
+    best_stat = std::min(best_stat, stat);
+    s.planes[kept++] = p;
   }
-  if (!std::isfinite(best_stat)) return false;
-  const float h =
-      std::max(floor_band, static_cast<float>(kInlierSigmas * kScaleToSigma) * best_stat);
+  s.planes.resize(kept);
+  if (kept == 0) return false;
+  const float h = std::max(floor_band, band_per_stat * best_stat);
 
   // Pass 2: kernel density of the residuals at bandwidth h (Epanechnikov), among the planes that
   // pass within h of the query point; the first best wins ties.

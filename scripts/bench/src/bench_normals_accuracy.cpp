@@ -180,6 +180,28 @@ int run_cad(std::size_t points, double noise, std::size_t k) {
                                 {"report", report},
                                 {"bands", accuracy(truth, cloud.normals, crease_s)}};
   }
+  if (pipeline) {
+    // Orientation of the same normals: estimate_normals with --orient mst, counted on the points
+    // whose unoriented normal is within 60° of the truth (others have no meaningful side).
+    for (NormalMethod method : {NormalMethod::kPca, NormalMethod::kRobust}) {
+      SplatCloud cloud = truth;
+      NormalOptions options;
+      options.k = k;
+      options.method = method;
+      const NormalReport report = estimate_normals(cloud, options);
+      std::size_t inward = 0, meaningless = 0;
+      for (std::size_t i = 0; i < cloud.size(); ++i) {
+        const float d = dot(cloud.normals[i], truth.normals[i]);
+        if (std::fabs(d) < 0.5f)
+          ++meaningless;
+        else
+          inward += d < 0;
+      }
+      out[method_name(method)]["mst"] = {{"inward", inward},
+                                         {"off_by_more_than_60deg", meaningless},
+                                         {"orient_s", report.timings.value("orient", 0.0)}};
+    }
+  }
   out["robust_over_pca"] = seconds[1] / seconds[0];
   out["robust_over_pca_cpu"] = cpu[1] / cpu[0];
   std::printf("%s\n", out.dump(1).c_str());
