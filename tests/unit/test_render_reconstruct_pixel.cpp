@@ -17,6 +17,7 @@ struct Fixture {
   std::vector<uint32_t> ids{0, 0, 0, 0};
   std::vector<SplatRaster> rasters{4};
   DrawList draws() {
+    for (int i = 0; i < 4; ++i) rasters[i].normal = normals[i];
     return {4, pos.data(), normals.data(), radii.data(), colors.data(), ids.data()};
   }
   void range(int i, float lo, float hi) {

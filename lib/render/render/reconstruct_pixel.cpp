@@ -74,7 +74,7 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
   for (int k = 0; k < count; ++k) {
     if (!joined[k]) continue;
     const float w = f[k].weight;
-    normal += draws.normals[f[k].splat] * w;
+    normal += rasters[f[k].splat].normal * w;
     albedo += (draws.colors ? draws.colors[f[k].splat] : default_albedo) * w;
     depth += f[k].depth * w;
     weight += w;

@@ -163,6 +163,7 @@ std::size_t setup_splats(const DrawList& draws, const Projection& projection,
       s.nc = b.nc[i];
       s.zmin = b.zmin[i];
       s.zmax = b.zmax[i];
+      s.normal = draws.normals[first + i];
       s.x0 = static_cast<int16_t>(b.x0[i]);
       s.x1 = static_cast<int16_t>(b.x1[i]);
       s.y0 = static_cast<int16_t>(b.y0[i]);

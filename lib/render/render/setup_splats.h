@@ -24,8 +24,11 @@ namespace splatkit::render {
 struct SplatRaster {
   // Coefficients of L, U, V as f[0]·(i − x0) + f[1]·(j − y0) + f[2]: value at the box corner.
   float l[3], u[3], v[3];
-  float nc;                // n·c: depth = nc / L
-  float zmin, zmax;        // camera-depth range of the disc (Z-range reconstruction)
+  float nc;          // n·c: depth = nc / L
+  float zmin, zmax;  // camera-depth range of the disc (Z-range reconstruction)
+  // The splat's unit normal (scene frame): reconstruction reads it from here, still in cache
+  // from rasterising the tile, rather than from the DrawList.
+  Vec3f normal;
   int16_t x0, y0, x1, y1;  // inclusive pixel box clipped to the image; x0 > x1 when not drawn
 
   bool drawn() const { return x0 <= x1; }
