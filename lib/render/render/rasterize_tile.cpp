@@ -68,7 +68,15 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
                             const TileRect& tile, FragmentStore& store) {
   const float* table = weight_table().data();
   RasterCounts counts;
+  // The tile's SplatRasters come from a large array written long before: prefetch a few splats
+  // ahead (both cache lines of each) to hide the memory latency.
+  constexpr std::size_t kAhead = 8;
   for (std::size_t k = 0; k < count; ++k) {
+    if (k + kAhead < count) {
+      const char* next = reinterpret_cast<const char*>(rasters + splats[k + kAhead]);
+      __builtin_prefetch(next);
+      __builtin_prefetch(next + sizeof(SplatRaster) - 1);
+    }
     const SplatRaster& s = rasters[splats[k]];
     if (s.nc <= 0) counts.fragments += rasterize_splat(s, splats[k], tile, table, store);
   }
