@@ -15,6 +15,7 @@ namespace splatkit {
 namespace {
 
 constexpr uint32_t kNone = SpatialIndex::kNone;
+constexpr float kParallel = 0.70710678f;  // cos 45°
 
 // The kNN graph as fixed-length rows (k - 1 neighbours per point, kNone where the cloud is
 // smaller) with one quantised weight per entry.
@@ -24,20 +25,22 @@ struct KnnGraph {
   std::vector<uint16_t> keys;
 };
 
+// The agreement of a pair's signs: positive when consistently oriented, its magnitude the
+// confidence. Normals within 45° of parallel (or antiparallel): Hoppe's n_i·n_j, which the noise
+// of the positions does not touch. Normals further apart (a crease, sharp with robust normals):
 // n_i·n_j', where n_j' is n_j mirrored in the plane bisecting the edge x_i x_j (König & Gumhold
-// 2009): positive when the pair is consistently oriented. On a smooth surface it equals n_i·n_j up
-// to second order; at a crease or across a thin part, where n_i·n_j is near 0 or negative for a
-// consistent pair, the mirror image still agrees with n_i. Plain n_i·n_j for coincident points.
-float mirrored_dot(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& nj) {
+// 2009); n_i·n_j alone is ~0 across a 90° crease and negative across a 60° wedge's 120° jump
+// for a consistent pair, while the mirror image still agrees with n_i.
+float agreement(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& nj) {
+  const float d = dot(ni, nj);
   const Vec3f e = xj - xi;
   const float e2 = squared_norm(e);
-  const float d = dot(ni, nj);
-  if (!(e2 > 0)) return d;
+  if (std::fabs(d) >= kParallel || !(e2 > 0)) return d;
   return d - 2 * dot(ni, e) * dot(nj, e) / e2;
 }
 
-uint16_t weight_key(float mirrored) {
-  const float w = std::max(0.0f, 1.0f - std::fabs(mirrored));
+uint16_t weight_key(float agree) {
+  const float w = std::max(0.0f, 1.0f - std::fabs(agree));
   const float q = std::sqrt(w) * static_cast<float>(kOrientBuckets);
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
@@ -59,7 +62,7 @@ KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> positions
         const std::size_t e = i * g.width + (c - 1);
         g.neighbors[e] = j;
         if (j != kNone)
-          g.keys[e] = weight_key(mirrored_dot(positions[i], normals[i], positions[j], normals[j]));
+          g.keys[e] = weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
       }
     }
   });
@@ -172,7 +175,7 @@ std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Ve
       for (uint32_t e = adj.offsets[i]; e < adj.offsets[i + 1]; ++e) {
         const uint32_t j = adj.targets[e];
         if (sign[j] != 0) continue;
-        const float agree = mirrored_dot(positions[i], normals[i], positions[j], normals[j]);
+        const float agree = agreement(positions[i], normals[i], positions[j], normals[j]);
         sign[j] = static_cast<int8_t>(agree < 0 ? -sign[i] : sign[i]);
         queue.push_back(j);
       }

@@ -5,15 +5,19 @@
 // Graph: every point joined to its k - 1 nearest neighbours (undirected). Hoppe's sign rule
 // (flip n_j when n_i·n_j < 0) and weight 1 − |n_i·n_j| assume the normals turn smoothly; with
 // crease-sharp normals (--method robust) a consistent pair across a 90° crease has n_i·n_j ≈ 0
-// and across the 120° jump of a 60° wedge n_i·n_j < 0, and the two faces of a thin part have
-// opposite normals. So the agreement is measured on the mirrored normal instead (König & Gumhold,
+// and across the 120° jump of a 60° wedge n_i·n_j < 0. So for pairs whose normals are more than
+// 45° from parallel the agreement is measured on the mirrored normal (König & Gumhold,
 // "Consistent propagation of normal orientations in point clouds", VMV 2009): a = n_i·n_j', with
-// n_j' = n_j mirrored in the plane that bisects the edge x_i x_j. On a smooth surface a ≈ n_i·n_j;
-// for two faces of a crease sampled symmetrically about it, and for two sides of a thin plate, a
-// = +1 for a consistent pair and −1 otherwise. Weight 1 − |a|, quantised to kOrientBuckets levels
-// of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting sort with ties broken
-// by edge order (point index, then neighbour rank); the minimum spanning forest comes from
-// Kruskal with union-find; propagation flips n_j when a < 0, breadth-first from each seed.
+// n_j' = n_j mirrored in the plane that bisects the edge x_i x_j; for two faces of a crease
+// sampled symmetrically about it a = +1 for a consistent pair, −1 otherwise. Pairs within 45°
+// keep a = n_i·n_j: the mirror reads the edge direction, which position noise tilts (measured:
+// the mirror everywhere turned half of the noisy CAD part inward). Weight 1 − |a|, quantised to
+// kOrientBuckets levels of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting
+// sort with ties broken by edge order (point index, then neighbour rank); the minimum spanning
+// forest comes from Kruskal with union-find; propagation flips n_j when a < 0, breadth-first
+// from each component's seed. Limitation: two sides of a part thinner than the kNN reach, with
+// antiparallel normals, look like one consistently flipped sheet (none in the CAD sample: its
+// thinnest place is the 60° wedge's tip, a crease).
 //
 // Outward sign, per connected component: the component's point of largest z (smallest index on
 // ties) is made to point +z (its normal's z >= 0). For a closed surface that point is a top-most
