@@ -24,11 +24,8 @@
 #include <nlohmann/json.hpp>
 
 #include "normals/estimate_normals.h"
-#include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
-#include "normals/robust_normals.h"
 #include "splatkit/deterministic_rng.h"
-#include "splatkit/error.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/synthetic_shapes.h"
 
@@ -94,49 +91,6 @@ nlohmann::json accuracy(const SplatCloud& truth, const std::vector<Vec3f>& norma
   return out;
 }
 
-// Until estimate_normals wires --method robust in: the same phases called directly (kd-tree, PCA
-// over streamed kNN rows, robust refinement), for both methods so that the ratio is fair.
-nlohmann::json direct_normals(SplatCloud& cloud, std::size_t k, NormalMethod method) {
-  const SpatialIndex index(cloud.positions);
-  std::vector<float> variation(cloud.size());
-  cloud.normals.resize(cloud.size());
-  index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
-                                  std::span<const uint32_t> indices, std::span<const float>) {
-    for (std::size_t r = 0; r < queries.size(); ++r) {
-      const PcaNormal pca = neighborhood_pca(cloud.positions, indices.subspan(r * k, k));
-      cloud.normals[queries[r]] = pca.normal;
-      variation[queries[r]] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
-    }
-  });
-  if (method != NormalMethod::kRobust) return nullptr;
-  RobustNormalOptions options;
-  options.pca_k = k;
-  const RobustNormalStats r =
-      robust_normals(index, cloud.positions, variation, cloud.normals, options);
-  return {{"candidates", r.candidates},
-          {"refined", r.refined},
-          {"threshold", r.threshold},
-          {"median_variation", r.median_variation},
-          {"k", r.k},
-          {"noisy", r.noisy}};
-}
-
-bool pipeline_has_robust() {
-  ShapeOptions shape;
-  shape.points = 100;
-  SplatCloud cloud = make_shape(shape);
-  NormalOptions options;
-  options.method = NormalMethod::kRobust;
-  options.orient = NormalOrientation::kNone;
-  try {
-    estimate_normals(cloud, options);
-  } catch (const Error& e) {
-    if (e.kind() == ErrorKind::kUnsupported) return false;
-    throw;
-  }
-  return true;
-}
-
 int run_cad(std::size_t points, double noise, std::size_t k) {
   ShapeOptions shape;
   shape.kind = ShapeKind::kCadPart;
@@ -152,8 +106,6 @@ int run_cad(std::size_t points, double noise, std::size_t k) {
 
   nlohmann::json out = {{"points", truth.size()}, {"noise", noise}, {"k", k}, {"spacing", s}};
   double seconds[2] = {0, 0}, cpu[2] = {0, 0};
-  const bool pipeline = pipeline_has_robust();
-  out["via"] = pipeline ? "estimate_normals" : "direct calls (robust not wired in yet)";
   for (NormalMethod method : {NormalMethod::kPca, NormalMethod::kRobust}) {
     SplatCloud cloud = truth;
     NormalOptions options;
@@ -162,11 +114,7 @@ int run_cad(std::size_t points, double noise, std::size_t k) {
     options.orient = NormalOrientation::kNone;
     const Clock::time_point t0 = Clock::now();
     const double c0 = cpu_seconds();
-    nlohmann::json report = nullptr;
-    if (pipeline)
-      report = estimate_normals(cloud, options).to_json();
-    else
-      report = direct_normals(cloud, k, method);
+    const nlohmann::json report = estimate_normals(cloud, options).to_json();
     const double t = seconds_since(t0);
     const double c = cpu_seconds() - c0;
     seconds[method == NormalMethod::kRobust] = t;
@@ -180,27 +128,25 @@ int run_cad(std::size_t points, double noise, std::size_t k) {
                                 {"report", report},
                                 {"bands", accuracy(truth, cloud.normals, crease_s)}};
   }
-  if (pipeline) {
-    // Orientation of the same normals: estimate_normals with --orient mst, counted on the points
-    // whose unoriented normal is within 60° of the truth (others have no meaningful side).
-    for (NormalMethod method : {NormalMethod::kPca, NormalMethod::kRobust}) {
-      SplatCloud cloud = truth;
-      NormalOptions options;
-      options.k = k;
-      options.method = method;
-      const NormalReport report = estimate_normals(cloud, options);
-      std::size_t inward = 0, meaningless = 0;
-      for (std::size_t i = 0; i < cloud.size(); ++i) {
-        const float d = dot(cloud.normals[i], truth.normals[i]);
-        if (std::fabs(d) < 0.5f)
-          ++meaningless;
-        else
-          inward += d < 0;
-      }
-      out[method_name(method)]["mst"] = {{"inward", inward},
-                                         {"off_by_more_than_60deg", meaningless},
-                                         {"orient_s", report.timings.value("orient", 0.0)}};
+  // Orientation of the same normals: estimate_normals with --orient mst, counted on the points
+  // whose unoriented normal is within 60° of the truth (others have no meaningful side).
+  for (NormalMethod method : {NormalMethod::kPca, NormalMethod::kRobust}) {
+    SplatCloud cloud = truth;
+    NormalOptions options;
+    options.k = k;
+    options.method = method;
+    const NormalReport report = estimate_normals(cloud, options);
+    std::size_t inward = 0, meaningless = 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const float d = dot(cloud.normals[i], truth.normals[i]);
+      if (std::fabs(d) < 0.5f)
+        ++meaningless;
+      else
+        inward += d < 0;
     }
+    out[method_name(method)]["mst"] = {{"inward", inward},
+                                       {"off_by_more_than_60deg", meaningless},
+                                       {"orient_s", report.timings.value("orient", 0.0)}};
   }
   out["robust_over_pca"] = seconds[1] / seconds[0];
   out["robust_over_pca_cpu"] = cpu[1] / cpu[0];
