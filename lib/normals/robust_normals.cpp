@@ -30,8 +30,9 @@ constexpr double kMinBandwidth = 1e-4;
 constexpr float kMinTripletSine2 = 0.01f;
 constexpr int kRefits = 2;
 // Noisy clouds: a wide row is planar while its variation is below this factor times the median
-// variation scaled to its size.
+// variation of wide rows, estimated on every kWideSampleStep-th point.
 constexpr double kNoisyFactor = 2.0;
+constexpr std::size_t kWideSampleStep = 64;
 
 struct Plane {
   Vec3f n;       // unit
@@ -207,9 +208,30 @@ std::size_t refine_points(const SpatialIndex& index, std::span<const Vec3f> posi
   return refined;
 }
 
+// The median surface variation of k-rows over every kWideSampleStep-th point. Measured, not
+// scaled from the narrow rows' median: once the noise is as large as the neighbourhood's extent
+// the variation no longer falls as 1/k (at 1M points and noise 1.6 spacings, scaling sent 71 %
+// of the points through the robust fit).
+double wide_median_variation(const SpatialIndex& index, std::span<const Vec3f> positions,
+                             std::span<const float> variation, std::size_t k) {
+  const std::size_t samples = (positions.size() + kWideSampleStep - 1) / kWideSampleStep;
+  std::vector<float> wide(samples, -1.0f);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples, 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::vector<uint32_t> ids(k);
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        const std::size_t i = r * kWideSampleStep;
+                        if (variation[i] < 0) continue;
+                        const std::size_t m = index.knn(positions[i], k, ids.data(), nullptr);
+                        wide[r] = static_cast<float>(surface_variation(
+                            neighborhood_pca(positions, std::span(ids).first(m))));
+                      }
+                    });
+  return median_variation(wide);
+}
+
 // Noisy cloud: every point over k neighbours, streamed. The PCA of the wider row decides: planar
-// (its variation within kNoisyFactor of the typical planar value at this k, which falls as 1/k)
-// keeps it, anything else gets the robust fit.
+// (its variation below `threshold`) keeps it, anything else gets the robust fit.
 std::size_t refine_all(const SpatialIndex& index, std::span<const Vec3f> positions,
                        std::span<const float> variation, float threshold, std::size_t k,
                        std::span<Vec3f> normals, const RobustNormalOptions& options) {
@@ -263,8 +285,10 @@ RobustNormalStats robust_normals(const SpatialIndex& index, std::span<const Vec3
                         : options.k;
   stats.k = std::min(stats.k, index.size());
   if (stats.k < 6 || options.candidates == 0) return stats;
-  const auto wide_threshold = static_cast<float>(kNoisyFactor * stats.median_variation * pca_k /
-                                                 static_cast<double>(stats.k));
+  if (stats.noisy)
+    stats.wide_threshold =
+        kNoisyFactor * wide_median_variation(index, positions, variation, stats.k);
+  const auto wide_threshold = static_cast<float>(stats.wide_threshold);
   stats.refined = stats.noisy ? refine_all(index, positions, variation, wide_threshold, stats.k,
                                            normals, options)
                               : refine_points(index, positions, points, stats.k, normals, options);

@@ -76,8 +76,9 @@ struct RobustNormalStats {
   std::size_t refined = 0;     // points whose normal came from the robust fit
   double threshold = 0;        // the surface-variation threshold used
   double median_variation = 0;
-  std::size_t k = 0;   // neighbourhood used (> options.k for a noisy cloud)
-  bool noisy = false;  // every point refit over k neighbours
+  std::size_t k = 0;          // neighbourhood used (> options.k for a noisy cloud)
+  bool noisy = false;         // every point refit over k neighbours
+  double wide_threshold = 0;  // noisy: the variation of a k-row above which it gets the robust fit
 };
 
 // λ0 / (λ0 + λ1 + λ2) of a PCA (eigenvalues ascending): 0 on a plane, 1/3 for an isotropic
