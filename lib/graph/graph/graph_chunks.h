@@ -1,0 +1,71 @@
+// The .splk chunks of the splat graph (formats/splk.md): GRPH (neighbour graph with its edge
+// flags), CLAS (per-splat class), CLIP (clip partners) and SURF (surface ids). Encoders take the
+// library's in-memory forms and give a RawChunk (flags: tied to splats, non-critical); decoders
+// take a RawChunk from LoadedCloud::chunks and the cloud's splat count.
+//
+// Decoders treat the payload as hostile: every count is checked against the bytes left before
+// anything is allocated, and each malformed case throws splatkit::Error (kBadInput) via
+// throw_bad_input(name, ...) with its own message naming the chunk and the byte offset inside
+// the payload (truncated, splat count differing from SPLT's, unknown mode or flag bits, a value
+// out of range, counts that do not add up, trailing bytes).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "formats/loaded_cloud.h"
+#include "graph/build_splat_graph.h"
+#include "graph/clip_record.h"
+#include "graph/segment_surfaces.h"
+#include "splatkit/spatial_index.h"
+
+namespace splatkit::graph {
+
+// A surface id of SURF for splats that belong to no kept surface (segment-surfaces --min-size).
+inline constexpr uint32_t kNoSurface = 0xFFFFFFFFu;
+
+// The four chunk type codes.
+inline constexpr char kGraphChunkType[4] = {'G', 'R', 'P', 'H'};
+inline constexpr char kClassChunkType[4] = {'C', 'L', 'A', 'S'};
+inline constexpr char kClipChunkType[4] = {'C', 'L', 'I', 'P'};
+inline constexpr char kSurfaceChunkType[4] = {'S', 'U', 'R', 'F'};
+
+// The first chunk of doc.chunks with this type, or nullptr.
+const RawChunk* find_chunk(const LoadedCloud& doc, const char (&type)[4]);
+// Replaces the first chunk of the same type, or appends.
+void put_chunk(LoadedCloud& doc, RawChunk chunk);
+
+// GRPH. graph: symmetric rows (NeighborGraph layout), edge_flags: kEdgeSharp / kEdgeCrossing
+// bits parallel to graph.neighbors, symmetric. Stored in upper mode, each edge once with its two
+// flag bits. Throws std::invalid_argument when the sizes do not match or the graph breaks the
+// codec's layout.
+RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
+                            float sharp_threshold);
+
+struct DecodedGraph {
+  NeighborGraph graph;              // full symmetric rows
+  std::vector<uint8_t> edge_flags;  // parallel to graph.neighbors, same flag on i->j and j->i
+  float sharp_threshold = 0;        // w_s the flags were computed with
+};
+DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
+                                const std::string& name);
+
+// CLAS: one byte per splat, 0 smooth, 1 edge, 2 intersection.
+RawChunk encode_class_chunk(std::span<const SplatClass> classes);
+std::vector<SplatClass> decode_class_chunk(const RawChunk& chunk, uint64_t num_splats,
+                                           const std::string& name);
+
+// CLIP. Throws std::logic_error when the table is not consistent (ClipPartnerTable).
+RawChunk encode_clip_chunk(const ClipPartnerTable& table);
+ClipPartnerTable decode_clip_chunk(const RawChunk& chunk, uint64_t num_splats,
+                                   const std::string& name);
+
+// SURF. surface: #N ids, each < count or kNoSurface; every id 0..count-1 used, numbered in the
+// order of their lowest splat index. The decoder checks all of this and rebuilds sizes.
+RawChunk encode_surface_chunk(const Segmentation& segmentation);
+Segmentation decode_surface_chunk(const RawChunk& chunk, uint64_t num_splats,
+                                  const std::string& name);
+
+}  // namespace splatkit::graph
