@@ -9,6 +9,7 @@
 #include "formats/splk.h"
 #include "formats/xyz.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 #ifdef SPLATKIT_WITH_PCL
 #include "formats/pcd.h"
 #endif
@@ -30,16 +31,6 @@ std::string_view format_name(FileFormat f) {
 }
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  auto slash = path.find_last_of('/');
-  auto dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 bool starts_with_word(std::string_view s, std::string_view word) {
   if (s.substr(0, word.size()) != word) return false;

@@ -5,24 +5,17 @@
 #include "formats/splk.h"
 #include "formats/xyz.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 
 namespace splatkit {
 
 FileFormat output_format_for(const std::string& path) {
-  auto ends_with = [&](const char* ext) {
-    std::string e(ext);
-    if (path.size() < e.size()) return false;
-    for (std::size_t i = 0; i < e.size(); ++i)
-      if (std::tolower(static_cast<unsigned char>(path[path.size() - e.size() + i])) != e[i])
-        return false;
-    return true;
-  };
-  if (ends_with(".ply")) return FileFormat::kPly;
-  if (ends_with(".xyz") || ends_with(".txt") || ends_with(".pts") || ends_with(".csv"))
-    return FileFormat::kXyz;
-  if (ends_with(".off")) return FileFormat::kOff;
-  if (ends_with(".las") || ends_with(".laz")) return FileFormat::kLas;
-  if (ends_with(".pcd")) return FileFormat::kPcd;
+  const std::string ext = lower_extension(path);
+  if (ext == "ply") return FileFormat::kPly;
+  if (ext == "xyz" || ext == "txt" || ext == "pts" || ext == "csv") return FileFormat::kXyz;
+  if (ext == "off") return FileFormat::kOff;
+  if (ext == "las" || ext == "laz") return FileFormat::kLas;
+  if (ext == "pcd") return FileFormat::kPcd;
   return FileFormat::kSplk;
 }
 

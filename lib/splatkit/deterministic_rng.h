@@ -42,6 +42,8 @@ class DeterministicRng {
   // Uniform in [0, 1), 53 random bits.
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  // Uniform in [0, 1) as a float, 24 random bits (every value exactly representable).
+  float uniformf() { return static_cast<float>(next() >> 40) * 0x1.0p-24f; }
 
   // Standard normal deviate (Box–Muller; both values of a pair are used).
   double normal() {

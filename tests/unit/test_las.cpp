@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_format_support.h"
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -154,13 +156,7 @@ LoadedCloud read_bytes(const std::string& s) {
 }
 
 void expect_error(const std::string& s, ErrorKind kind, const std::string& phrase) {
-  try {
-    read_bytes(s);
-    FAIL() << "no error, expected: " << phrase;
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), kind) << e.what();
-    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
-  }
+  test::expect_read_error([&] { read_bytes(s); }, kind, phrase);
 }
 
 std::vector<LasPoint> two_points() {

@@ -6,21 +6,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "splatkit/deterministic_rng.h"
 #include "splatkit/splat_cloud.h"
 
 namespace splatkit::normals_test {
 
-// SplitMix64: the same numbers on every platform.
-struct Rng {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float uniform() { return static_cast<float>(next() >> 40) / static_cast<float>(1 << 24); }
-};
+using Rng = DeterministicRng;
 
 // A jittered nx × ny grid of spacing h on the plane z = z0.
 inline SplatCloud jittered_plane(int nx, int ny, float h, float z0, uint64_t seed) {
@@ -28,8 +19,8 @@ inline SplatCloud jittered_plane(int nx, int ny, float h, float z0, uint64_t see
   SplatCloud c;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      c.positions.push_back({(static_cast<float>(i) + 0.3f * (rng.uniform() - 0.5f)) * h,
-                             (static_cast<float>(j) + 0.3f * (rng.uniform() - 0.5f)) * h, z0});
+      c.positions.push_back({(static_cast<float>(i) + 0.3f * (rng.uniformf() - 0.5f)) * h,
+                             (static_cast<float>(j) + 0.3f * (rng.uniformf() - 0.5f)) * h, z0});
   return c;
 }
 
@@ -38,7 +29,7 @@ inline SplatCloud random_sphere(std::size_t n, float r, Vec3f centre, uint64_t s
   Rng rng{seed};
   SplatCloud c;
   while (c.positions.size() < n) {
-    Vec3f v{2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1};
+    Vec3f v{2 * rng.uniformf() - 1, 2 * rng.uniformf() - 1, 2 * rng.uniformf() - 1};
     float len = norm(v);
     if (len < 0.1f || len > 1.0f) continue;
     c.positions.push_back(centre + v * (r / len));

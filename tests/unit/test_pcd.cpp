@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_format_support.h"
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -55,13 +57,7 @@ LoadedCloud read_bytes(const std::string& s) {
 }
 
 void expect_error(const std::string& s, ErrorKind kind, const std::string& phrase) {
-  try {
-    read_bytes(s);
-    FAIL() << "no error, expected: " << phrase;
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), kind) << e.what();
-    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
-  }
+  test::expect_read_error([&] { read_bytes(s); }, kind, phrase);
 }
 
 const std::string kAsciiFields = "x y z normal_x normal_y normal_z rgb curvature";

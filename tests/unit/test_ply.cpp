@@ -1,6 +1,8 @@
 // PLY reader and writer: round trips for every type and encoding, header aliases, faces, extras,
 // pinned bytes, and one rejection per malformed case.
 #include <gtest/gtest.h>
+
+#include "test_format_support.h"
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -24,12 +26,7 @@ std::string unique_temp_path(const std::string& name) {
          std::to_string(counter++) + "_" + name;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 LoadedCloud read_bytes(const std::string& bytes) {
   InputStream in("test.ply", bytes.data(), bytes.size());
@@ -71,15 +68,7 @@ class Bytes {
 };
 
 void expect_bad(const std::string& bytes, const std::string& phrase) {
-  try {
-    read_bytes(bytes);
-    FAIL() << "no error; expected '" << phrase << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::kBadInput) << e.what();
-    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos)
-        << "message: " << e.what() << "\nexpected phrase: " << phrase;
-    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line: " << e.what();
-  }
+  test::expect_read_error([&] { read_bytes(bytes); }, ErrorKind::kBadInput, phrase);
 }
 
 const std::vector<ScalarType> kAllTypes = {

@@ -1,5 +1,6 @@
 // SpatialIndex against brute force: exact (squared distance, index) orders, on random clouds and
 // the degenerate ones (duplicates, identical points, collinear, fewer points than k, empty).
+#include "splatkit/deterministic_rng.h"
 #include "splatkit/spatial_index.h"
 
 #include <gtest/gtest.h>
@@ -21,22 +22,12 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// SplitMix64: the same numbers on every platform.
-struct Rng {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float uniform() { return static_cast<float>(next() >> 40) / static_cast<float>(1 << 24); }
-};
+using Rng = DeterministicRng;
 
 std::vector<Vec3f> random_cloud(std::size_t n, uint64_t seed) {
   Rng rng{seed};
   std::vector<Vec3f> pts(n);
-  for (auto& p : pts) p = {rng.uniform(), rng.uniform(), rng.uniform()};
+  for (auto& p : pts) p = {rng.uniformf(), rng.uniformf(), rng.uniformf()};
   return pts;
 }
 
@@ -223,7 +214,7 @@ TEST(SpatialIndex, SphereOverlapsMatchBruteForce) {
   std::vector<float> radii(pts.size());
   // Long-tailed radii: most small, a few covering much of the cloud, some zero.
   for (std::size_t i = 0; i < radii.size(); ++i) {
-    float u = rng.uniform();
+    float u = rng.uniformf();
     radii[i] = i % 97 == 0 ? 0.3f * u : (i % 13 == 0 ? 0.0f : 0.08f * u);
   }
   for (std::size_t leaf : {1, 16}) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_format_support.h"
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -22,29 +24,12 @@ LoadedCloud read_text(const std::string& s, const std::string& columns = "") {
 
 void expect_error(const std::string& s, ErrorKind kind, const std::string& phrase,
                   const std::string& columns = "") {
-  try {
-    read_text(s, columns);
-    FAIL() << "no error for: " << s;
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), kind) << e.what();
-    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
-  }
+  test::expect_read_error([&] { read_text(s, columns); }, kind, phrase);
 }
 
-std::string temp_path(const std::string& name) {
-  auto dir = std::filesystem::path(testing::TempDir()) /
-             ("splatkit_xyz_" + std::to_string(::getpid()) + "_" +
-              testing::UnitTest::GetInstance()->current_test_info()->name());
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
+std::string temp_path(const std::string& name) { return test::temp_path("splatkit_xyz", name); }
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::slurp;
 
 TEST(Xyz, ThreeColumnsWhitespace) {
   auto doc = read_text("1 2 3\n\t-4.5  5e1 0.25\r\n");

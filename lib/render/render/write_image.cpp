@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 #include "splatkit/output_file.h"
 
 namespace splatkit::render {
@@ -16,14 +17,7 @@ namespace splatkit::render {
 namespace {
 
 std::string extension_of(const std::string& path) {
-  if (path == "-") return "png";
-  auto slash = path.find_last_of('/');
-  auto dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
+  return path == "-" ? "png" : lower_extension(path);
 }
 
 bool is_exr(const std::string& path) { return extension_of(path) == "exr"; }

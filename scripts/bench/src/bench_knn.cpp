@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "splatkit/deterministic_rng.h"
 #include "splatkit/spatial_index.h"
 
 using splatkit::SpatialIndex;
@@ -36,16 +37,7 @@ using splatkit::Vec3f;
 
 namespace {
 
-struct Rng {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-};
+using Rng = DeterministicRng;
 
 std::vector<Vec3f> torus_cloud(std::size_t n, uint64_t seed) {
   const double kMajor = 1.0, kMinor = 0.35, kTwoPi = 6.283185307179586;
@@ -53,9 +45,9 @@ std::vector<Vec3f> torus_cloud(std::size_t n, uint64_t seed) {
   std::vector<Vec3f> pts;
   pts.reserve(n);
   while (pts.size() < n) {
-    double u = kTwoPi * rng.uniform(), v = kTwoPi * rng.uniform();
+    double u = kTwoPi * rng.uniformf(), v = kTwoPi * rng.uniformf();
     // Area element is proportional to R + r cos v: rejection makes the sampling uniform.
-    if (rng.uniform() * (kMajor + kMinor) > kMajor + kMinor * std::cos(v)) continue;
+    if (rng.uniformf() * (kMajor + kMinor) > kMajor + kMinor * std::cos(v)) continue;
     double ring = kMajor + kMinor * std::cos(v);
     pts.push_back({static_cast<float>(ring * std::cos(u)), static_cast<float>(ring * std::sin(u)),
                    static_cast<float>(kMinor * std::sin(v))});
@@ -67,8 +59,8 @@ std::vector<Vec3f> cube_cloud(std::size_t n, uint64_t seed) {
   Rng rng{seed};
   std::vector<Vec3f> pts(n);
   for (auto& p : pts) {
-    p = {static_cast<float>(rng.uniform()), static_cast<float>(rng.uniform()),
-         static_cast<float>(rng.uniform())};
+    p = {static_cast<float>(rng.uniformf()), static_cast<float>(rng.uniformf()),
+         static_cast<float>(rng.uniformf())};
   }
   return pts;
 }
