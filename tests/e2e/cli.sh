@@ -3,7 +3,11 @@
 source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 S=$SRC/data-samples
 
-for t in splat-info splat-convert; do
+# Every tool built (each folder under tools/ is one executable).
+tools=()
+for d in "$SRC"/tools/*/; do t=$(basename "$d"); [ -x "$BIN/$t" ] && tools+=("$t"); done
+[ ${#tools[@]} -ge 5 ] && pass || fail "expected at least 5 tools in $BIN, found ${#tools[@]}"
+for t in "${tools[@]}"; do
   expect_exit 0 "$BIN/$t" --version
   grep -q "(splatkit)" "$WORK/stdout" && pass || fail "$t --version output"
   expect_exit 0 "$BIN/$t" --help
