@@ -1,0 +1,94 @@
+# build-splat-graph and segment-surfaces on the real samples: exit codes, the 9 true patches of
+# cad.ply recovered (IoU per patch against its patch_id attribute), the error without a graph,
+# surface_id and class in PLY output, the same bytes for any thread count.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+S=$SRC/data-samples
+
+for shape in cad cube; do
+  expect_exit 0 "$BIN/build-splat-graph" "$S/$shape.ply" "$WORK/$shape-g.splk" -q \
+    --report "$WORK/$shape-g.json"
+  expect_exit 0 "$BIN/segment-surfaces" "$WORK/$shape-g.splk" "$WORK/$shape-s.splk" -q \
+    --report "$WORK/$shape-s.json"
+  expect_exit 0 "$BIN/segment-surfaces" "$WORK/$shape-g.splk" "$WORK/$shape-s.ply" -q
+  expect_exit 0 "$BIN/splat-info" "$WORK/$shape-s.splk"
+  for c in GRPH CLAS CLIP SURF; do
+    grep -q "$c" "$WORK/stdout" && pass || fail "$shape: splat-info shows no $c chunk"
+  done
+  expect_exit 0 "$BIN/splat-info" "$WORK/$shape-s.ply"
+  grep -q surface_id "$WORK/stdout" && pass || fail "$shape .ply: no surface_id property"
+  grep -q class "$WORK/stdout" && pass || fail "$shape .ply: no class property"
+done
+echo "build-splat-graph cad.ply: $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"edges":[0-9]*'),"\
+" $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"bytes_per_edge":[0-9.]*'),"\
+" $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"time_s":[0-9.e-]*')"
+
+# IoU of every true patch (patch_id) with its best surface (surface_id) of a binary PLY.
+patch_iou() {
+  python3 - "$1" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+props, n = [], 0
+for line in data[:end].decode().splitlines():
+    w = line.split()
+    if w[:2] == ["element", "vertex"]: n = int(w[2])
+    if w[0] == "property": props.append((w[1], w[2]))
+fmt = {"float": "f", "uint": "I", "uchar": "B", "int": "i", "double": "d", "ushort": "H"}
+rec = "<" + "".join(fmt[t] for t, _ in props)
+names = [p for _, p in props]
+pi, si = names.index("patch_id"), names.index("surface_id")
+size = struct.calcsize(rec)
+patch, surf = {}, {}
+pairs = {}
+for k in range(n):
+    v = struct.unpack_from(rec, data, end + k * size)
+    p, s = v[pi], v[si]
+    patch[p] = patch.get(p, 0) + 1
+    surf[s] = surf.get(s, 0) + 1
+    pairs[(p, s)] = pairs.get((p, s), 0) + 1
+print("segments", len(surf))
+for p in sorted(patch):
+    best = max((c / (patch[p] + surf[s] - c), s) for (q, s), c in pairs.items() if q == p)
+    print("patch %d splats %d surface %d IoU %.4f" % (p, patch[p], best[1], best[0]))
+PY
+}
+# Every true patch recovered with IoU >= 0.95 (cad.ply: 9 patches, cube.ply: 6).
+for shape in cad:9 cube:6; do
+  name=${shape%:*} want=${shape#*:}
+  patch_iou "$WORK/$name-s.ply" >"$WORK/iou.txt" || fail "$name: IoU script failed"
+  echo "$name.ply:"; cat "$WORK/iou.txt"
+  expect_eq "$name.ply segments" "$(awk '/^segments/{print $2}' "$WORK/iou.txt")" "$want"
+  expect_eq "$name.ply patches" "$(grep -c '^patch' "$WORK/iou.txt")" "$want"
+  expect_eq "$name.ply patches with IoU < 0.95" \
+    "$(awk '/^patch/ && $8 < 0.95' "$WORK/iou.txt" | wc -l)" 0
+done
+
+# No graph: exit 2, one line naming build-splat-graph.
+expect_exit 2 "$BIN/segment-surfaces" "$S/cad.ply" "$WORK/x.splk"
+expect_stderr "no neighbour graph; run build-splat-graph first"
+# No normals: exit 2, naming estimate-normals.
+printf '0 0 0\n1 0 0\n0 1 0\n' >"$WORK/bare.xyz"
+expect_exit 2 "$BIN/build-splat-graph" "$WORK/bare.xyz" "$WORK/x.splk"
+expect_stderr "run estimate-normals first"
+# OUT must be .splk.
+expect_exit 1 "$BIN/build-splat-graph" "$S/cube.ply" "$WORK/x.ply"
+
+# The same bytes for --threads 1 and 2, through stdout too.
+expect_exit 0 "$BIN/build-splat-graph" "$S/cad.ply" "$WORK/t1.splk" -q --threads 1
+expect_exit 0 "$BIN/build-splat-graph" "$S/cad.ply" "$WORK/t2.splk" -q --threads 2
+cmp -s "$WORK/t1.splk" "$WORK/t2.splk" && pass || fail "build-splat-graph --threads 1 and 2 differ"
+"$BIN/build-splat-graph" "$S/cad.ply" - --threads 2 >"$WORK/t3.splk" 2>/dev/null
+cmp -s "$WORK/t1.splk" "$WORK/t3.splk" && pass || fail "build-splat-graph to stdout differs"
+# (stdin: the provenance records the input's name)
+"$BIN/segment-surfaces" - "$WORK/u1.splk" -q <"$WORK/t1.splk" && pass || fail "segment-surfaces t1"
+"$BIN/segment-surfaces" - "$WORK/u2.splk" -q <"$WORK/t2.splk" && pass || fail "segment-surfaces t2"
+cmp -s "$WORK/u1.splk" "$WORK/u2.splk" && pass || fail "segment-surfaces outputs differ"
+
+# --min-size: small surfaces lose their id; the report lists the kept ones.
+expect_exit 0 "$BIN/segment-surfaces" "$WORK/cad-g.splk" "$WORK/m.splk" -q --min-size 1000 \
+  --report "$WORK/m.json"
+expect_eq "segments of >= 1000 splats" "$(tr -d ' \n' <"$WORK/m.json" | grep -o '"segments":[0-9]*')" \
+  '"segments":8'
+expect_eq "splats of the one smaller surface" \
+  "$(tr -d ' \n' <"$WORK/m.json" | grep -o '"unassigned_splats":[0-9]*')" '"unassigned_splats":605'
+finish
