@@ -239,4 +239,56 @@ TEST(GraphChunks, FindAndPutChunk) {
   EXPECT_NE(find_chunk(doc, kSurfaceChunkType), nullptr);
 }
 
+// Every single-byte change and every truncation of the four chunks either decodes or throws
+// splatkit::Error(kBadInput); nothing else escapes (a std::exception other than Error, or a
+// crash under the sanitizers, is a bug).
+TEST(GraphChunks, MutatedPayloadsThrowOnlyBadInput) {
+  Segmentation s;
+  s.surface = {0, 0, 1, 2};
+  s.sizes = {2, 1, 1};
+  const std::vector<SplatClass> classes(4, SplatClass::kEdge);
+  const std::vector<RawChunk> chunks = {encode_graph_chunk(tiny_graph(), tiny_flags(), 0.9f),
+                                        encode_class_chunk(classes), encode_clip_chunk(tiny_clip()),
+                                        encode_surface_chunk(s)};
+  auto decode = [](const RawChunk& c) {
+    switch (c.type[1]) {
+      case 'R':
+        decode_graph_chunk(c, 4, "t");
+        break;
+      case 'L':
+        if (c.type[2] == 'A')
+          decode_class_chunk(c, 4, "t");
+        else
+          decode_clip_chunk(c, 4, "t");
+        break;
+      default:
+        decode_surface_chunk(c, 4, "t");
+    }
+  };
+  int rejected = 0, accepted = 0;
+  auto run = [&](const RawChunk& c) {
+    try {
+      decode(c);
+      ++accepted;
+    } catch (const splatkit::Error& e) {
+      EXPECT_EQ(e.kind(), splatkit::ErrorKind::kBadInput) << e.what();
+      ++rejected;
+    }
+  };
+  for (const RawChunk& good : chunks) {
+    for (std::size_t k = 0; k < good.payload.size(); ++k) {
+      for (unsigned char v : {0x00, 0x01, 0x7f, 0x80, 0xff}) {
+        RawChunk c = good;
+        c.payload[k] = v;
+        run(c);
+      }
+      RawChunk cut = good;
+      cut.payload.resize(k);
+      EXPECT_THROW(decode(cut), splatkit::Error) << std::string(good.type, 4) << " cut at " << k;
+    }
+  }
+  EXPECT_GT(rejected, 100);
+  EXPECT_GT(accepted, 0);  // e.g. a class byte changed to 1 stays valid
+}
+
 }  // namespace
