@@ -186,14 +186,14 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
   out.edge_flags.assign(out.graph.neighbors.size(), 0);
   uint64_t e = 0;
   const NeighborGraph& g = out.graph;
-  for_each_upper_edge(g, [&](std::size_t i, uint64_t k) {
+  // Row j's entries i < j come first and ascending, and rows i are visited ascending, so the
+  // mirror entry of (i, j) is the next unvisited one of row j.
+  std::vector<uint64_t> mirror(g.offsets.begin(), g.offsets.end() - 1);
+  for_each_upper_edge(g, [&](std::size_t, uint64_t k) {
     const uint8_t f = (bits[e / 4] >> (2 * (e % 4))) & 3u;
     if (f == kEdgeCrossing) in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
-    const uint32_t j = g.neighbors[k];
-    const auto row = g.row(j);
-    const auto mirror = std::lower_bound(row.begin(), row.end(), static_cast<uint32_t>(i));
     out.edge_flags[k] = f;
-    out.edge_flags[g.offsets[j] + (mirror - row.begin())] = f;
+    out.edge_flags[mirror[g.neighbors[k]]++] = f;
     ++e;
   });
   return out;

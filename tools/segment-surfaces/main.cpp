@@ -93,8 +93,10 @@ int main(int argc, char** argv) {
       splatkit::throw_usage("--report must not be OUT");
 
     splatkit::Progress progress(tool.name(), tool.quiet() || output == "-");
+    Clock::time_point t0 = Clock::now();
     splatkit::InputStream in(input);
     splatkit::LoadedCloud doc = splatkit::read_cloud(in);
+    const double read_s = seconds_since(t0);
     const std::string name = splatkit::display_name(input);
     const splatkit::RawChunk* grph =
         splatkit::graph::find_chunk(doc, splatkit::graph::kGraphChunkType);
@@ -105,11 +107,13 @@ int main(int argc, char** argv) {
     if (clas == nullptr)
       splatkit::throw_bad_input(name, "no splat classes (CLAS chunk); run build-splat-graph first");
     const uint64_t n = doc.cloud.size();
+    t0 = Clock::now();
     const splatkit::graph::DecodedGraph graph = splatkit::graph::decode_graph_chunk(*grph, n, name);
     const std::vector<splatkit::graph::SplatClass> classes =
         splatkit::graph::decode_class_chunk(*clas, n, name);
 
-    const Clock::time_point t0 = Clock::now();
+    const double decode_s = seconds_since(t0);
+    t0 = Clock::now();
     const Segmentation all = splatkit::graph::segment_surfaces(graph.graph, graph.edge_flags,
                                                                splatkit::graph::kEdgeSharp);
     const Segmentation seg = drop_small_surfaces(all, min_size);
@@ -129,22 +133,28 @@ int main(int argc, char** argv) {
       splatkit::graph::put_chunk(doc, splatkit::graph::encode_surface_chunk(seg));
       write.format = splatkit::FileFormat::kSplk;
     }
+    t0 = Clock::now();
     splatkit::write_cloud(doc, output, write);
+    const double write_s = seconds_since(t0);
 
     if (!report_path.empty()) {
       uint64_t unassigned = 0;
       for (uint32_t id : seg.surface) unassigned += id == splatkit::graph::kNoSurface;
-      nlohmann::json report = {
-          {"tool", tool.name()},
-          {"input", name},
-          {"output", splatkit::display_name(output, true)},
-          {"options", prov_options},
-          {"splats", n},
-          {"segments", seg.count()},
-          {"segments_before_min_size", all.count()},
-          {"unassigned_splats", unassigned},
-          {"sizes", seg.sizes},
-          {"timings_s", {{"segment", segment_s}, {"command", seconds_since(start)}}}};
+      nlohmann::json report = {{"tool", tool.name()},
+                               {"input", name},
+                               {"output", splatkit::display_name(output, true)},
+                               {"options", prov_options},
+                               {"splats", n},
+                               {"segments", seg.count()},
+                               {"segments_before_min_size", all.count()},
+                               {"unassigned_splats", unassigned},
+                               {"sizes", seg.sizes},
+                               {"timings_s",
+                                {{"read", read_s},
+                                 {"decode", decode_s},
+                                 {"segment", segment_s},
+                                 {"write", write_s},
+                                 {"command", seconds_since(start)}}}};
       splatkit::OutputFile out(report_path);
       out.write(report.dump(2) + "\n");
       out.commit();
