@@ -32,7 +32,17 @@ done
 # A pipeline: normals straight into the renderer's input, through a pipe.
 "$bin/estimate-normals" -q "$samples/torus-las12.las" - | "$bin/splat-info" - > "$out/normals/torus-las12.info.txt"
 
-echo "== 3. images (out/images/) =="
+echo "== 3. neighbour graph, sharp edges, clip partners and surfaces (out/graph/) =="
+mkdir -p "$out/graph"
+"$bin/build-splat-graph" "$out/normals/cad-robust.splk" "$out/graph/cad.splk" \
+  --report "$out/graph/cad.graph.json"
+"$bin/segment-surfaces" "$out/graph/cad.splk" "$out/graph/cad-surfaces.splk" \
+  --report "$out/graph/cad.surfaces.json"
+# The same as PLY with surface_id and class per vertex, for CloudCompare / MeshLab.
+"$bin/segment-surfaces" -q "$out/graph/cad.splk" "$out/graph/cad-surfaces.ply"
+"$bin/splat-info" "$out/graph/cad-surfaces.splk" > "$out/graph/cad-surfaces.info.txt"
+
+echo "== 4. images (out/images/) =="
 render() {  # render NAME INPUT [options]
   local name=$1 input=$2; shift 2
   "$bin/splat-view" -q "$input" -o "$out/images/$name.png" --width 800 --height 600 "$@"
