@@ -4,6 +4,8 @@
 // .splk chunks GRPH, CLAS and CLIP (lib/graph/graph/graph_chunks.h) and reports.
 #include <nlohmann/json.hpp>
 
+#include <string_view>
+
 #include <chrono>
 
 #include "formats/provenance.h"
@@ -15,20 +17,13 @@
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
 #include "splatkit/progress.h"
+#include "splatkit/seconds_since.h"
 #include "splatkit/tool.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
+using splatkit::Clock;
+using splatkit::seconds_since;
 
 nlohmann::json stats_json(const splatkit::graph::SplatGraphStats& s) {
   return {{"splats", s.splats},
@@ -77,7 +72,7 @@ int main(int argc, char** argv) {
 
   return tool.run(argc, argv, [&] {
     const Clock::time_point start = Clock::now();
-    if (output != "-" && !ends_with(output, ".splk"))
+    if (output != "-" && !std::string_view(output).ends_with(".splk"))
       splatkit::throw_usage("OUT must end in .splk or be '-' (the graph chunks need .splk): " +
                             output);
     if (!report_path.empty() && report_path == output)

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 #include "formats/provenance.h"
 #include "formats/read_cloud.h"
@@ -16,15 +17,13 @@
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
 #include "splatkit/progress.h"
+#include "splatkit/seconds_since.h"
 #include "splatkit/tool.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using splatkit::Clock;
+using splatkit::seconds_since;
 
 std::array<double, 3> parse_viewpoint(const std::string& text) {
   std::array<double, 3> v{};
@@ -43,7 +42,7 @@ splatkit::FileFormat output_format(const std::string& output, const std::string&
   if (format == "splk") return splatkit::FileFormat::kSplk;
   if (output == "-") return splatkit::FileFormat::kSplk;
   const splatkit::FileFormat f = splatkit::output_format_for(output);
-  const bool splk_name = output.size() > 5 && output.compare(output.size() - 5, 5, ".splk") == 0;
+  const bool splk_name = std::string_view(output).ends_with(".splk");
   if (f == splatkit::FileFormat::kPly || splk_name) return f;
   splatkit::throw_usage("OUT must end in .ply or .splk, or be '-' (or give --format ply|splk): " +
                         output);

@@ -5,6 +5,8 @@
 // surface_id and class per vertex) and reports.
 #include <nlohmann/json.hpp>
 
+#include <string_view>
+
 #include <chrono>
 
 #include "formats/provenance.h"
@@ -17,21 +19,14 @@
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
 #include "splatkit/progress.h"
+#include "splatkit/seconds_since.h"
 #include "splatkit/tool.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using splatkit::Clock;
+using splatkit::seconds_since;
 using splatkit::graph::Segmentation;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 // Surfaces with fewer than min_size splats lose their id (kNoSurface); the others are numbered
 // again 0.. in the same order (lowest splat index), so ids stay deterministic and dense.
@@ -86,8 +81,8 @@ int main(int argc, char** argv) {
 
   return tool.run(argc, argv, [&] {
     const Clock::time_point start = Clock::now();
-    const bool ply = ends_with(output, ".ply");
-    if (output != "-" && !ply && !ends_with(output, ".splk"))
+    const bool ply = std::string_view(output).ends_with(".ply");
+    if (output != "-" && !ply && !std::string_view(output).ends_with(".splk"))
       splatkit::throw_usage("OUT must end in .splk or .ply, or be '-': " + output);
     if (!report_path.empty() && report_path == output)
       splatkit::throw_usage("--report must not be OUT");
