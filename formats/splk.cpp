@@ -27,7 +27,6 @@ constexpr std::size_t kStep = std::size_t{4} << 20;
 
 constexpr unsigned char kMagic[8] = {0x89, 'S', 'P', 'L', 'K', '\r', '\n', 0x1A};
 constexpr uint16_t kMajor = 1;
-constexpr uint16_t kMinor = 0;
 constexpr uint32_t kKnownFileFlags = 0;
 constexpr uint32_t kKnownChunkFlags = kSplkChunkCritical | kSplkChunkTiedToSplats;
 constexpr std::size_t kHeaderBytes = 16;
@@ -42,6 +41,9 @@ constexpr ChunkType kMeta{'M', 'E', 'T', 'A'};
 constexpr ChunkType kSplt{'S', 'P', 'L', 'T'};
 constexpr ChunkType kFace{'F', 'A', 'C', 'E'};
 constexpr ChunkType kEnd{'E', 'N', 'D', ' '};
+// Chunk types registered in minor version 1 (splk.md's registry; decoded in lib/graph).
+constexpr std::array<ChunkType, 4> kSince1_1{ChunkType{'G', 'R', 'P', 'H'}, ChunkType{'C', 'L', 'A', 'S'},
+                                             ChunkType{'C', 'L', 'I', 'P'}, ChunkType{'S', 'U', 'R', 'F'}};
 
 // Registered types that a later stage decodes from LoadedCloud::chunks: read_splk carries them
 // through even when they are critical. Later issues add their types here (see splk.md).
@@ -752,6 +754,17 @@ void read_chunk(InputStream& in, const ChunkHeader& h, LoadedCloud& doc, SplatCl
   }
 }
 
+// The minor version of a file holding doc's chunks: the newest "since" among the registered types
+// written. Carried chunks of types this writer does not know do not raise it (their version is
+// unknown here; readers of any 1.x carry them through or refuse them by name).
+uint16_t minor_version_for(const LoadedCloud& doc) {
+  uint16_t minor = 0;
+  for (const RawChunk& r : doc.chunks)
+    for (const ChunkType& t : kSince1_1)
+      if (std::equal(t.begin(), t.end(), r.type)) minor = std::max<uint16_t>(minor, 1);
+  return minor;
+}
+
 }  // namespace
 
 bool is_splk_magic(std::string_view first_bytes) {
@@ -812,7 +825,7 @@ void write_splk(const LoadedCloud& doc, OutputFile& out) {
   }
   std::string h(reinterpret_cast<const char*>(kMagic), 8);
   put_le(h, kMajor);
-  put_le(h, kMinor);
+  put_le(h, minor_version_for(doc));
   put_le(h, kKnownFileFlags);
   out.write(h);
   write_chunk(out, kMeta, 0, [&](PayloadSink& s) { s.put(meta); });

@@ -259,6 +259,28 @@ TEST_F(SplkTest, Version10TinyFileIsPinned) {
   EXPECT_EQ(back.metadata, tiny_doc().metadata);
 }
 
+// 1.1 registered the graph chunks; a file holding one says 1.1, the others stay 1.0 byte for byte.
+TEST_F(SplkTest, Version11TinyFileWithAGraphChunkIsPinned) {
+  LoadedCloud doc = tiny_doc();
+  RawChunk clas;
+  std::memcpy(clas.type, "CLAS", 4);
+  clas.flags = kSplkChunkTiedToSplats;
+  const std::string payload = le(1, 8) + std::string(1, '\x01');
+  clas.payload.assign(payload.begin(), payload.end());
+  doc.chunks.push_back(clas);
+  const std::string pinned = read_source_file("tests/data/splk/tiny-v1.1.splk");
+  EXPECT_EQ(encode(doc), pinned) << "write_splk changed the 1.1 encoding";
+  const std::string v10 = tiny_file();
+  ASSERT_EQ(pinned.size(), v10.size() + 20 + 9);
+  EXPECT_EQ(pinned.substr(8, 4), std::string("\x01\x00\x01\x00", 4));
+  EXPECT_EQ(pinned.substr(12, 148), v10.substr(12, 148)) << "flags, META and SPLT as in 1.0";
+  EXPECT_EQ(pinned.substr(160, 29), chunk("CLAS", 2, payload));
+  LoadedCloud back = read_bytes(pinned);
+  EXPECT_EQ(back.header["version"], "1.1");
+  ASSERT_EQ(back.chunks.size(), 1u);
+  EXPECT_EQ(back.chunks[0].payload, clas.payload);
+}
+
 TEST_F(SplkTest, HeaderListsTheChunksInFileOrder) {
   LoadedCloud back = read_bytes(tiny_file());
   EXPECT_EQ(back.header["version"], "1.0");
