@@ -39,11 +39,16 @@ void parse_blend(const std::string& text, render::RenderOptions& r) {
   r.epsilon = eps;
 }
 
-render::ShadeMode parse_shade(const std::string& s) {
-  if (s == "phong") return render::ShadeMode::kPhong;
-  if (s == "normals") return render::ShadeMode::kNormals;
-  if (s == "depth") return render::ShadeMode::kDepth;
-  return render::ShadeMode::kFlat;
+// --shade: a lighting mode, or a false-colour mode (lit with phong).
+void parse_shade(const std::string& s, render::SplatViewOptions& o) {
+  o.render.shade = render::ShadeMode::kPhong;
+  o.color_by = render::ColorBy::kFile;
+  if (s == "normals") o.render.shade = render::ShadeMode::kNormals;
+  if (s == "depth") o.render.shade = render::ShadeMode::kDepth;
+  if (s == "flat") o.render.shade = render::ShadeMode::kFlat;
+  if (s == "surface") o.color_by = render::ColorBy::kSurface;
+  if (s == "sharp") o.color_by = render::ColorBy::kSharp;
+  if (s == "clipped") o.color_by = render::ColorBy::kClipped;
 }
 
 }  // namespace
@@ -54,18 +59,21 @@ int main(int argc, char** argv) {
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
       "$ splat-view scan.ply -o top.png --view 0,89 --width 1920 --height 1080\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
-      "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n");
+      "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
+      "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
+      "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
   render::SplatViewOptions o;
   std::vector<float> eye, target, up, view;
   std::string blend = "zthreshold", shade = "phong";
   std::vector<float> background;
+  bool no_clip = false, no_surface_ids = false;
   app.add_option("input", o.input, "Splat file (any format estimate-normals writes, .splk)")
       ->required();
   app.add_option("-o,--output", o.output,
-                 "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z); '-' = PNG "
-                 "to stdout")
+                 "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
+                 "surface_id channel when the file has surface ids); '-' = PNG to stdout")
       ->required();
   app.add_option("--eye", eye, "Camera position x,y,z")->delimiter(',')->expected(3);
   app.add_option("--target", target, "Point looked at x,y,z (default: model centre)")
@@ -77,7 +85,8 @@ int main(int argc, char** argv) {
                  "Orbit view AZ,EL[,DIST]: degrees around --up and above the horizon, distance "
                  "from the model centre (scene units; default frames the model)")
       ->delimiter(',')
-      ->expected(2, 3);
+      ->expected(2, 3)
+      ->type_name("AZ,EL[,DIST]");
   app.add_option("--width", o.width, "Image width, pixels")
       ->default_val(1280)
       ->check(CLI::Range(1, render::kMaxImageSide));
@@ -91,15 +100,25 @@ int main(int argc, char** argv) {
                  "Surface reconstruction: zthreshold[=EPS] (EPS in scene units, default twice "
                  "the mean splat radius) or zrange")
       ->default_val("zthreshold");
-  app.add_option("--shade", shade, "phong, normals, depth or flat")
+  app.add_option("--shade", shade,
+                 "phong, normals, depth, flat (unlit albedo), or false colours lit with phong: "
+                 "surface (a colour per surface id; needs segment-surfaces output), sharp "
+                 "(splats with a sharp edge red, the rest green; needs build-splat-graph "
+                 "output), clipped (splats with clip partners orange; needs a .splk from "
+                 "build-splat-graph)")
       ->default_val("phong")
-      ->check(CLI::IsMember({"phong", "normals", "depth", "flat"}));
+      ->check(CLI::IsMember({"phong", "normals", "depth", "flat", "surface", "sharp", "clipped"}));
   app.add_option("--max-fragments", o.render.max_fragments,
                  "A-buffer slots per pixel; on overflow the farthest fragment is dropped")
       ->default_val(8)
       ->check(CLI::Range(1, render::kMaxFragmentsPerPixel));
   app.add_flag("--cull-backfaces", o.render.cull_backfaces,
                "Skip splats facing away (closed, consistently oriented models only)");
+  app.add_flag("--no-clip", no_clip,
+               "Ignore the file's clip partners (CLIP chunk): edges as plain splats give them");
+  app.add_flag("--no-surface-ids", no_surface_ids,
+               "Ignore the file's surface ids (SURF chunk, else a surface_id attribute) in "
+               "reconstruction: fragments of different surfaces blend");
   app.add_option("--background", background, "Background colour R,G,B (sRGB, 0..1)")
       ->delimiter(',')
       ->expected(3);
@@ -118,7 +137,9 @@ int main(int argc, char** argv) {
                              render::srgb_to_linear(background[1]),
                              render::srgb_to_linear(background[2])};
     parse_blend(blend, o.render);
-    o.render.shade = parse_shade(shade);
+    parse_shade(shade, o);
+    o.render.clip = !no_clip;
+    o.render.surface_ids = !no_surface_ids;
     o.threads = tool.threads();
     splatkit::Progress progress(tool.name(), tool.quiet() || o.output == "-");
     auto summary = render::run_splat_view(o, progress.callback());

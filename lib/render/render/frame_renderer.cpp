@@ -53,7 +53,7 @@ uint8_t to_byte(float v) {
 }
 
 struct TileCounters {
-  uint64_t fragments = 0, covered = 0, overflowed = 0, skipped = 0;
+  uint64_t fragments = 0, covered = 0, overflowed = 0, skipped = 0, clipped = 0;
   double raster_s = 0, reconstruct_s = 0, shade_s = 0;
 };
 
@@ -82,6 +82,7 @@ struct FrameContext {
   const RenderOptions& options;
   const BlendOptions& blend;
   const Shading& shading;
+  const ClipContext* clip;  // null: no clipping this frame
   Framebuffer& out;
   uint8_t background_rgb8[3];
 };
@@ -109,6 +110,7 @@ void write_background(const FrameContext& f, std::size_t p) {
     std::fill_n(out.normal.data() + 3 * p, 3, 0.0f);
     out.alpha[p] = 0;
   }
+  if (out.planes.surface_ids) out.surface_id[p] = kNoSurfaceId;
 }
 
 void write_surface(const FrameContext& f, std::size_t p, const PixelSurface& s,
@@ -130,6 +132,7 @@ void write_surface(const FrameContext& f, std::size_t p, const PixelSurface& s,
     out.normal[3 * p + 2] = n.z;
     out.alpha[p] = s.alpha;
   }
+  if (out.planes.surface_ids) out.surface_id[p] = s.surface_id;
 }
 
 void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
@@ -150,8 +153,9 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   auto t0 = Clock::now();
   local.store.reset(pixels, f.options.max_fragments, f.blend.window);
   const RasterCounts raster = rasterize_tile(f.bins.rasters.data(), f.bins.indices.data() + begin,
-                                             end - begin, rect, local.store);
+                                             end - begin, rect, local.store, f.clip);
   local.counters.fragments += raster.fragments;
+  local.counters.clipped += raster.clipped;
   local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
@@ -201,7 +205,12 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   const auto start = Clock::now();
   const Projection projection = make_projection(camera);
   FrameStats stats;
-  const DrawList draws = select_splats(scene, projection);
+  DrawList draws = select_splats(scene, projection);
+  if (!options.surface_ids) draws.surface_ids = nullptr;
+  if (!options.clip) {
+    draws.clip = nullptr;
+    draws.clip_planes = nullptr;
+  }
   const auto selected = Clock::now();
   stats.select_s = seconds(start, selected);
   stats.splats_in = draws.count;
@@ -217,7 +226,9 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   blend.epsilon = options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius;
   blend.window = depth_window(blend.mode, blend.epsilon, scene.max_radius, options.max_fragments);
   const Shading shading = make_shading(options.shade, projection, scene.bounds);
-  FrameContext context{draws, bins_, projection, options, blend, shading, out, {}};
+  ClipContext clip{draws.clip, draws.clip_planes, projection};
+  FrameContext context{
+      draws, bins_, projection, options, blend, shading, draws.clip ? &clip : nullptr, out, {}};
   const SrgbEncoder& enc = srgb_encoder();
   context.background_rgb8[0] = enc(options.background.x);
   context.background_rgb8[1] = enc(options.background.y);
@@ -234,6 +245,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
     sum.covered += local.counters.covered;
     sum.overflowed += local.counters.overflowed;
     sum.skipped += local.counters.skipped;
+    sum.clipped += local.counters.clipped;
     sum.raster_s += local.counters.raster_s;
     sum.reconstruct_s += local.counters.reconstruct_s;
     sum.shade_s += local.counters.shade_s;
@@ -242,6 +254,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   stats.pixels_covered = sum.covered;
   stats.pixels_overflowed = sum.overflowed;
   stats.splats_hidden = sum.skipped;
+  stats.fragments_clipped = sum.clipped;
   const double tiles_wall = seconds(tiles_start, tiles_end);
   const double cpu = sum.raster_s + sum.reconstruct_s + sum.shade_s;
   if (cpu > 0) {

@@ -27,6 +27,8 @@ struct RenderOptions {
   ShadeMode shade = ShadeMode::kPhong;
   int max_fragments = 8;        // A-buffer slots per pixel, 1..kMaxFragmentsPerPixel
   bool cull_backfaces = false;  // off: open surfaces (scans) stay visible from both sides
+  bool clip = true;             // discard fragments in the clip areas (scene's clip partners)
+  bool surface_ids = true;      // reconstruction blends only fragments of one surface id
   Vec3f background{0.0194f, 0.0232f, 0.0273f};  // linear RGB behind the model (rgb8 only)
   Vec3f default_albedo{0.6f, 0.6f, 0.6f};       // linear, for clouds without colours
   FramebufferPlanes planes;
@@ -37,6 +39,7 @@ struct FrameStats {
   uint64_t fragments = 0;  // stored in the A-buffer
   uint64_t pixels_covered = 0, pixels_overflowed = 0;
   uint64_t splats_hidden = 0;  // (splat, tile) pairs skipped as hidden behind the tile's surface
+  uint64_t fragments_clipped = 0;  // discarded in a clip area (SPEC §4) before the A-buffer
   // Wall-clock seconds per stage. The tile pass runs rasterise, reconstruct and shade per tile;
   // its wall time is split between them in proportion to their summed thread time.
   double select_s = 0, setup_s = 0, binning_s = 0, raster_s = 0, reconstruct_s = 0, shade_s = 0;

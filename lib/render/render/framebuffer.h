@@ -12,7 +12,11 @@ struct FramebufferPlanes {
                              // linear (phong, flat)
   bool float_color = false;  // linear RGBA, premultiplied by coverage (background 0)
   bool aovs = false;         // depth, normal, alpha
+  bool surface_ids = false;  // surface id of the front surface (kNoSurfaceId on background)
 };
+
+// The surface id of background pixels (and of splats that belong to no surface).
+inline constexpr uint32_t kNoSurfaceId = 0xFFFFFFFFu;
 
 struct Framebuffer {
   int width = 0, height = 0;
@@ -22,6 +26,7 @@ struct Framebuffer {
   std::vector<float> depth;   // #H×W camera depth (scene units), +inf where nothing is drawn
   std::vector<float> normal;  // #H×W×3 unit world-space normal, 0 where nothing is drawn
   std::vector<float> alpha;   // #H×W coverage in [0, 1]
+  std::vector<uint32_t> surface_id;  // #H×W front surface's id (0 when the scene has none)
 
   // Sizes the requested planes (contents are overwritten by every frame).
   void allocate(int w, int h, const FramebufferPlanes& p) {
@@ -34,6 +39,7 @@ struct Framebuffer {
     depth.resize(p.aovs ? n : 0);
     normal.resize(p.aovs ? n * 3 : 0);
     alpha.resize(p.aovs ? n : 0);
+    surface_id.resize(p.surface_ids ? n : 0);
   }
 };
 

@@ -29,9 +29,26 @@ float gaussian_weight(float rho2) {
 
 namespace {
 
-// Ray casts splat `index` over its box clipped to `tile`; returns the fragments stored.
+// The clip record of splat `index` as the fragment test reads it.
+inline graph::ClipView clip_view(const ClipContext& clip, uint32_t index) {
+  const graph::ClipPartnerTable& t = *clip.table;
+  const uint64_t begin = t.offsets[index];
+  graph::ClipView view;
+  view.planes = clip.planes + begin;
+  view.flags = t.flags.data() + begin;
+  view.count = static_cast<uint32_t>(t.offsets[index + 1] - begin);
+  view.combine_intersection = (t.splat_flags[index] & graph::kClipCombineIntersection) != 0;
+  return view;
+}
+
+// Ray casts splat `index` over its box clipped to `tile`; returns the fragments stored. kClip:
+// the splat has clip partners; each hit's scene point goes through the fragment test first and
+// the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
+// changes nothing but the discarded fragments.
+template <bool kClip>
 inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const TileRect& tile,
-                                const float* table, FragmentStore& store) {
+                                const float* table, FragmentStore& store, const ClipContext* clip,
+                                uint64_t& clipped) {
   const int stride = tile.width();
   const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
   const int ys = std::max<int>(s.y0, tile.y0), ye = std::min<int>(s.y1, tile.y1);
@@ -39,6 +56,8 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
   float l_row = s.l[0] * di + s.l[1] * dj + s.l[2];
   float u_row = s.u[0] * di + s.u[1] * dj + s.u[2];
   float v_row = s.v[0] * di + s.v[1] * dj + s.v[2];
+  graph::ClipView view;
+  if constexpr (kClip) view = clip_view(*clip, index);
   uint64_t fragments = 0;
   for (int y = ys; y <= ye; ++y) {
     float l = l_row, u = u_row, v = v_row;
@@ -48,8 +67,17 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
       if (q <= l2 && l2 > 0) {
         const float inv = 1.0f / l;
         const float rho2 = q * inv * inv;
-        fragments +=
-            store.add(pixel, s.nc * inv, table[static_cast<int>(rho2 * kWeightTableSize)], index);
+        const float depth = s.nc * inv;
+        bool keep = true;
+        if constexpr (kClip) {
+          const Projection& pr = clip->projection;
+          const Vec3f p = pr.eye + pr.ray(float(x) + 0.5f, float(y) + 0.5f) * depth;
+          keep = !graph::fragment_discarded(view, p);
+          clipped += !keep;
+        }
+        if (keep)
+          fragments +=
+              store.add(pixel, depth, table[static_cast<int>(rho2 * kWeightTableSize)], index);
       }
       l += s.l[0];
       u += s.u[0];
@@ -62,10 +90,18 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
   return fragments;
 }
 
+inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, const TileRect& tile,
+                              const float* table, FragmentStore& store, const ClipContext* clip,
+                              uint64_t& clipped) {
+  if (clip && clip->table->offsets[index + 1] != clip->table->offsets[index])
+    return rasterize_splat<true>(s, index, tile, table, store, clip, clipped);
+  return rasterize_splat<false>(s, index, tile, table, store, nullptr, clipped);
+}
+
 }  // namespace
 
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                            const TileRect& tile, FragmentStore& store) {
+                            const TileRect& tile, FragmentStore& store, const ClipContext* clip) {
   const float* table = weight_table().data();
   RasterCounts counts;
   // The tile's SplatRasters come from a large array written long before: prefetch a few splats
@@ -78,7 +114,8 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
       __builtin_prefetch(next + sizeof(SplatRaster) - 1);
     }
     const SplatRaster& s = rasters[splats[k]];
-    if (s.nc <= 0) counts.fragments += rasterize_splat(s, splats[k], tile, table, store);
+    if (!(s.nc <= 0)) continue;
+    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
   }
   const float hidden_beyond = store.farthest_nearest(tile.width() * tile.height()) + store.window();
   for (std::size_t k = 0; k < count; ++k) {
@@ -88,7 +125,7 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
       ++counts.skipped_splats;
       continue;
     }
-    counts.fragments += rasterize_splat(s, splats[k], tile, table, store);
+    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
   }
   return counts;
 }

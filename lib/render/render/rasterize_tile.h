@@ -8,10 +8,18 @@
 // splat whose whole depth range lies beyond the tile's farthest nearest depth + window is
 // skipped without ray casting. What the store keeps (the K nearest fragments within the window)
 // does not depend on the order, so neither does the image.
+//
+// Clipping (SPEC §4, seed 002 §4.4): a fragment of a splat with clip partners is discarded before
+// it reaches the store when graph::fragment_discarded holds for its 3D point P = eye + z·ray
+// (the ray through the pixel centre meeting the splat's plane at camera depth z, in the scene
+// frame the clip planes were made in). Splats without partners take the unclipped loop, and a
+// frame without clip data passes no ClipContext: no per-fragment cost.
 #pragma once
 
 #include <cstdint>
 
+#include "graph/clip_record.h"
+#include "render/camera.h"
 #include "render/fragment_store.h"
 #include "render/setup_splats.h"
 
@@ -31,9 +39,20 @@ float gaussian_weight(float rho2);
 struct RasterCounts {
   uint64_t fragments = 0;       // fragments stored (before any later overflow replacement)
   uint64_t skipped_splats = 0;  // back-facing splats skipped as hidden for the whole tile
+  uint64_t clipped = 0;         // fragments discarded by clipping
 };
 
+// What the clipped loop needs: the splats' clip rows (indexed like `rasters`) and the frame's
+// camera to turn a pixel and a depth into a scene point.
+struct ClipContext {
+  const graph::ClipPartnerTable* table = nullptr;
+  const graph::ClipPlane* planes = nullptr;  // #table->partners
+  Projection projection;
+};
+
+// `clip`: null, or the frame's clip data (see above).
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                            const TileRect& tile, FragmentStore& store);
+                            const TileRect& tile, FragmentStore& store,
+                            const ClipContext* clip = nullptr);
 
 }  // namespace splatkit::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph/make_clip_planes.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
@@ -94,6 +95,23 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
   s.mean_radius = static_cast<float>(sum / s.size());
   s.bounds = enclosing_sphere(s);
   return s;
+}
+
+void attach_clip_partners(RenderScene& scene, graph::ClipPartnerTable table,
+                          const std::string& name) {
+  if (table.num_splats() != scene.size())
+    throw_bad_input(name, "the clip partner table has " + std::to_string(table.num_splats()) +
+                              " rows for " + std::to_string(scene.size()) + " splats");
+  try {
+    table.check_consistent();
+  } catch (const std::logic_error& e) {
+    throw_bad_input(name, std::string("clip partner table: ") + e.what());
+  }
+  scene.clip_planes = graph::make_clip_planes(table, scene.positions, scene.normals);
+  scene.clipped_splats = 0;
+  for (std::size_t i = 0; i < scene.size(); ++i)
+    scene.clipped_splats += table.offsets[i + 1] != table.offsets[i];
+  scene.clip = std::move(table);
 }
 
 }  // namespace splatkit::render

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/clip_record.h"
 #include "render/camera.h"
 #include "splatkit/splat_cloud.h"
 
@@ -17,11 +18,19 @@ struct RenderScene {
   std::vector<Vec3f> normals;         // #N unit normals
   std::vector<float> radii;           // #N disc radii (> 0)
   std::vector<Vec3f> colors;          // #N linear RGB in [0, 1], or empty (grey albedo)
-  std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface
-  BoundingSphere bounds;              // encloses every disc
+  std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface;
+                                      // 0xFFFFFFFF (no surface) is a surface like any other
+  // Clip partners (SPEC §4; build-splat-graph's CLIP chunk), or an empty table: nothing is
+  // clipped. clip_planes: #clip.partners, made from `positions` and `normals` of this scene, so
+  // they are in the same (local) frame as the fragments. Set with attach_clip_partners.
+  graph::ClipPartnerTable clip;
+  std::vector<graph::ClipPlane> clip_planes;
+  uint64_t clipped_splats = 0;  // splats with at least one clip partner
+  BoundingSphere bounds;        // encloses every disc
   float mean_radius = 0, max_radius = 0;
 
   std::size_t size() const { return positions.size(); }
+  bool has_clip() const { return clipped_splats > 0; }
 };
 
 // Converts `cloud` (taking its arrays). Throws Error(kBadInput) naming `name` when the cloud has
@@ -29,6 +38,13 @@ struct RenderScene {
 // it is empty, or when a radius is not a positive finite number. Zero-length normals are
 // rejected the same way. sRGB-encoded 8- or 16-bit colours become linear floats.
 RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name);
+
+// Gives the scene the clip partner table (one row per splat of the scene, same order) and builds
+// its render-time planes from the scene's positions and unit normals. Throws Error(kBadInput)
+// naming `name` when the table's splat count differs from the scene's (a stale chunk) or the
+// table is not consistent (ClipPartnerTable::check_consistent).
+void attach_clip_partners(RenderScene& scene, graph::ClipPartnerTable table,
+                          const std::string& name);
 
 // Linear value of an sRGB-encoded channel in [0, 1], and back.
 float srgb_to_linear(float v);

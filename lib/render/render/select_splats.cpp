@@ -10,6 +10,10 @@ DrawList select_splats(const RenderScene& scene, const Projection&) {
   d.radii = scene.radii.data();
   d.colors = scene.colors.empty() ? nullptr : scene.colors.data();
   d.surface_ids = scene.surface_ids.empty() ? nullptr : scene.surface_ids.data();
+  if (scene.has_clip()) {
+    d.clip = &scene.clip;
+    d.clip_planes = scene.clip_planes.data();
+  }
   return d;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "graph/clip_record.h"
 #include "render/camera.h"
 #include "render/render_scene.h"
 
@@ -22,6 +23,10 @@ struct DrawList {
   const float* radii = nullptr;           // #count
   const Vec3f* colors = nullptr;          // #count linear RGB, or null (default albedo)
   const uint32_t* surface_ids = nullptr;  // #count, or null (all one surface)
+  // Clip partners by DrawList index (rows of `clip`, planes in the positions' frame), or null:
+  // nothing is clipped. Splats that are not in the scene (future LOD nodes) must have none.
+  const graph::ClipPartnerTable* clip = nullptr;
+  const graph::ClipPlane* clip_planes = nullptr;
 };
 
 DrawList select_splats(const RenderScene& scene, const Projection& projection);

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <vector>
 
 #include "formats/read_cloud.h"
+#include "render/scene_from_document.h"
+#include "render/splat_palette.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
@@ -73,6 +76,36 @@ Camera turned(const Camera& c, float angle_rad) {
 
 const char* blend_name(BlendMode m) { return m == BlendMode::kZRange ? "zrange" : "zthreshold"; }
 
+// Replaces the scene's colours by the false colours of `by`, or says which tool makes the data.
+void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {
+  RenderScene& scene = d.scene;
+  switch (by) {
+    case ColorBy::kFile:
+      return;
+    case ColorBy::kSurface:
+      if (scene.surface_ids.empty())
+        throw_bad_input(name,
+                        "--shade surface needs surface ids (a SURF chunk or a surface_id "
+                        "attribute); run segment-surfaces first");
+      scene.colors = surface_colors(scene.surface_ids);
+      return;
+    case ColorBy::kSharp:
+      if (d.classes.empty())
+        throw_bad_input(name,
+                        "--shade sharp needs splat classes (a CLAS chunk or a class attribute); "
+                        "run build-splat-graph first");
+      scene.colors = sharp_colors(d.classes);
+      return;
+    case ColorBy::kClipped:
+      if (!d.has_clip_chunk)
+        throw_bad_input(name,
+                        "--shade clipped needs clip partners (a CLIP chunk, .splk only); run "
+                        "build-splat-graph first");
+      scene.colors = clipped_colors(scene.clip);
+      return;
+  }
+}
+
 nlohmann::json frame_json(const FrameStats& s, double write_s) {
   auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
   return {{"splats_in", s.splats_in},
@@ -81,6 +114,7 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
           {"pixels_covered", s.pixels_covered},
           {"pixels_overflowed", s.pixels_overflowed},
           {"splat_tiles_hidden", s.splats_hidden},
+          {"fragments_clipped", s.fragments_clipped},
           {"time_ms",
            {{"select", ms(s.select_s)},
             {"setup", ms(s.setup_s)},
@@ -91,6 +125,14 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
             {"frame", ms(s.total_s)},
             {"write", ms(write_s)}}},
           {"splats_per_second", std::round(s.splats_per_second())}};
+}
+
+// Distinct ids, not counting kNoSurfaceId.
+uint64_t surface_count(const std::vector<uint32_t>& ids) {
+  std::vector<uint32_t> sorted(ids);
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  return sorted.size() - (!sorted.empty() && sorted.back() == kNoSurfaceId);
 }
 
 void write_stats(const std::string& path, const nlohmann::json& j) {
@@ -114,14 +156,17 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   SplatViewSummary summary;
   const auto t0 = Clock::now();
   progress(0.0, "reading");
-  LoadedCloud loaded = read_cloud(o.input);
-  const RenderScene scene = make_render_scene(std::move(loaded.cloud), display_name(o.input));
+  const std::string name = display_name(o.input);
+  DocumentScene document = scene_from_document(read_cloud(o.input), name);
+  apply_colors(o.color_by, document, name);
+  const RenderScene& scene = document.scene;
   summary.load_seconds = seconds_since(t0);
+  const bool use_ids = o.render.surface_ids && !scene.surface_ids.empty();
 
   const Camera base = base_camera(o, scene.bounds);
   const int frames = o.turntable > 0 ? o.turntable : 1;
   RenderOptions render = o.render;
-  render.planes = planes_for_output(o.output);
+  render.planes = planes_for_output(o.output, use_ids);
   FrameRenderer renderer;
   Framebuffer frame;
   nlohmann::json per_frame = nlohmann::json::array();
@@ -150,6 +195,11 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     j["threads"] = o.threads;
     j["blend"] = blend_name(o.render.blend);
     j["max_fragments"] = o.render.max_fragments;
+    j["surface_ids"] = use_ids ? document.surface_source : "none";
+    j["surfaces"] = use_ids ? surface_count(scene.surface_ids) : 0;
+    j["clip"] = o.render.clip && scene.has_clip();
+    j["clipped_splats"] = o.render.clip ? scene.clipped_splats : 0;
+    j["clip_partners"] = o.render.clip ? scene.clip.partners.size() : 0;
     j["load_ms"] = std::round(summary.load_seconds * 1e6) / 1e3;
     if (frames > 1) {
       j["frames"] = per_frame;

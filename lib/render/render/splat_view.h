@@ -11,6 +11,15 @@
 
 namespace splatkit::render {
 
+// Albedo per splat: the file's colours, or false colours from the splat graph (splat_palette.h),
+// lit by the chosen shading.
+enum class ColorBy {
+  kFile,     // the file's colours (grey without)
+  kSurface,  // a colour per surface id (needs SURF or a surface_id attribute: segment-surfaces)
+  kSharp,    // splats with a sharp edge red, the rest green (needs CLAS or a class attribute)
+  kClipped,  // splats with clip partners orange, the rest grey (needs CLIP: build-splat-graph)
+};
+
 struct SplatViewOptions {
   std::string input;   // any format read_cloud reads; "-" = stdin
   std::string output;  // image path (extension picks the format); with a turntable it holds one
@@ -27,7 +36,8 @@ struct SplatViewOptions {
   int turntable = 0;       // > 0: that many frames, one full turn about `up` around the target
   std::string stats_path;  // JSON report, or empty
   int threads = 0;         // recorded in the report (the caller sets the TBB limit)
-  RenderOptions render;
+  ColorBy color_by = ColorBy::kFile;
+  RenderOptions render;  // render.clip, render.surface_ids: use the file's CLIP / surface ids
 };
 
 struct SplatViewSummary {
@@ -38,7 +48,9 @@ struct SplatViewSummary {
 };
 
 // Throws Error(kUsage) for conflicting options (before reading the input), Error(kBadInput) for
-// unreadable input or a cloud without normals/radii, Error(kOutput) when writing fails.
+// unreadable input, a cloud without normals/radii, a malformed graph chunk, or a colour mode whose
+// data the file lacks (the message names the tool to run first), Error(kOutput) when writing
+// fails.
 SplatViewSummary run_splat_view(const SplatViewOptions& options,
                                 const ProgressFn& progress = no_progress());
 

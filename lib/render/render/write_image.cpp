@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -36,9 +37,19 @@ std::unique_ptr<OIIO::ImageOutput> create_output(const std::string& path) {
   return out;
 }
 
+constexpr int kExrFloatChannels = 8;
+
+bool has_surface_ids(const Framebuffer& f) { return !f.surface_id.empty(); }
+
 OIIO::ImageSpec exr_spec(const Framebuffer& f) {
-  OIIO::ImageSpec spec(f.width, f.height, 8, OIIO::TypeDesc::FLOAT);
+  const bool ids = has_surface_ids(f);
+  OIIO::ImageSpec spec(f.width, f.height, kExrFloatChannels + ids, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"R", "G", "B", "A", "Z", "N.X", "N.Y", "N.Z"};
+  if (ids) {
+    spec.channelnames.push_back("surface_id");
+    spec.channelformats.assign(kExrFloatChannels, OIIO::TypeDesc::FLOAT);
+    spec.channelformats.push_back(OIIO::TypeDesc::UINT32);
+  }
   spec.alpha_channel = 3;
   spec.z_channel = 4;
   spec.attribute("compression", "zip");
@@ -48,24 +59,30 @@ OIIO::ImageSpec exr_spec(const Framebuffer& f) {
   return spec;
 }
 
+// Pixels in the file's native layout: 8 floats, then the uint32 id when present (4 bytes each,
+// so a float vector holds them; the id's bits are copied, not converted).
 std::vector<float> interleave_exr(const Framebuffer& f) {
   const std::size_t n = std::size_t(f.width) * f.height;
-  std::vector<float> px(n * 8);
+  const bool ids = has_surface_ids(f);
+  const std::size_t stride = kExrFloatChannels + ids;
+  std::vector<float> px(n * stride);
   for (std::size_t i = 0; i < n; ++i) {
-    float* o = px.data() + 8 * i;
+    float* o = px.data() + stride * i;
     for (int c = 0; c < 4; ++c) o[c] = f.rgba[4 * i + c];
     o[4] = f.depth[i];
     for (int c = 0; c < 3; ++c) o[5 + c] = f.normal[3 * i + c];
+    if (ids) std::memcpy(o + kExrFloatChannels, &f.surface_id[i], sizeof(uint32_t));
   }
   return px;
 }
 
 }  // namespace
 
-FramebufferPlanes planes_for_output(const std::string& path) {
+FramebufferPlanes planes_for_output(const std::string& path, bool surface_ids) {
   FramebufferPlanes p;
   p.rgb8 = !is_exr(path);
   p.float_color = p.aovs = is_exr(path);
+  p.surface_ids = surface_ids && is_exr(path);
   return p;
 }
 
@@ -88,7 +105,9 @@ void write_image(const Framebuffer& frame, const std::string& path) {
   bool ok;
   if (exr) {
     std::vector<float> px = interleave_exr(frame);
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+    // Mixed channel formats: the buffer is in the native per-channel layout (TypeUnknown).
+    ok = out->write_image(has_surface_ids(frame) ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT,
+                          px.data());
   } else {
     ok = out->write_image(OIIO::TypeDesc::UINT8, frame.rgb8.data());
   }

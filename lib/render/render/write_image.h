@@ -3,7 +3,10 @@
 //
 // The format follows the extension: .exr writes float linear colour premultiplied by coverage
 // plus the AOVs with OpenEXR's channel names — R G B A, depth Z (camera depth, scene units,
-// +inf where nothing is drawn), world-space unit normal N.X N.Y N.Z; any other extension that
+// +inf where nothing is drawn), world-space unit normal N.X N.Y N.Z, and, when the frame has the
+// surface id plane, `surface_id` as a 32-bit unsigned integer channel (OpenEXR UINT: ids are
+// exact, which float is not beyond 2^24; 0xFFFFFFFF on background and unassigned splats, A tells
+// them apart); any other extension that
 // OpenImageIO writes (.png default, .jpg, .tif, .bmp, ...) gets 8-bit RGB composited over the
 // background, sRGB-encoded. "-" writes PNG.
 #pragma once
@@ -14,8 +17,9 @@
 
 namespace splatkit::render {
 
-// The planes a frame must produce for `path`.
-FramebufferPlanes planes_for_output(const std::string& path);
+// The planes a frame must produce for `path`; `surface_ids`: the scene has surface ids (an EXR
+// then carries them).
+FramebufferPlanes planes_for_output(const std::string& path, bool surface_ids = false);
 
 // Throws Error(kUsage) for an extension OpenImageIO cannot write, Error(kOutput) when writing
 // fails (the message names the file and the cause).

@@ -1,0 +1,58 @@
+#include "render/scene_from_document.h"
+
+#include <optional>
+
+#include "graph/graph_chunks.h"
+#include "splatkit/error.h"
+
+namespace splatkit::render {
+
+namespace {
+
+std::vector<graph::SplatClass> classes_from_attribute(const ExtraAttribute& a,
+                                                      const std::string& name) {
+  std::vector<graph::SplatClass> out(a.values.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double v = a.values[i];
+    if (!(v == 0 || v == 1 || v == 2))
+      throw_bad_input(name, "splat " + std::to_string(i) + " has class " + std::to_string(v) +
+                                "; classes are 0 (smooth), 1 (edge), 2 (intersection)");
+    out[i] = static_cast<graph::SplatClass>(static_cast<int>(v));
+  }
+  return out;
+}
+
+}  // namespace
+
+DocumentScene scene_from_document(LoadedCloud&& doc, const std::string& name) {
+  DocumentScene out;
+  const uint64_t n = doc.cloud.size();
+  std::optional<graph::ClipPartnerTable> clip;
+  if (const RawChunk* c = graph::find_chunk(doc, graph::kClipChunkType))
+    clip = graph::decode_clip_chunk(*c, n, name);
+  std::optional<graph::Segmentation> surfaces;
+  if (const RawChunk* c = graph::find_chunk(doc, graph::kSurfaceChunkType))
+    surfaces = graph::decode_surface_chunk(*c, n, name);
+  if (const RawChunk* c = graph::find_chunk(doc, graph::kClassChunkType)) {
+    out.classes = graph::decode_class_chunk(*c, n, name);
+    out.class_source = "CLAS";
+  } else if (const ExtraAttribute* a = doc.cloud.find_extra("class")) {
+    out.classes = classes_from_attribute(*a, name);
+    out.class_source = "class";
+  }
+  const bool id_attribute = doc.cloud.find_extra("surface_id") != nullptr;
+  out.scene = make_render_scene(std::move(doc.cloud), name);
+  if (surfaces) {
+    out.scene.surface_ids = std::move(surfaces->surface);
+    out.surface_source = "SURF";
+  } else if (id_attribute) {
+    out.surface_source = "surface_id";
+  }
+  if (clip) {
+    attach_clip_partners(out.scene, std::move(*clip), name);
+    out.has_clip_chunk = true;
+  }
+  return out;
+}
+
+}  // namespace splatkit::render
