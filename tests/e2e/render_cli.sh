@@ -8,6 +8,7 @@ V=$BIN/splat-view
 expect_exit 0 "$V" --version
 expect_exit 0 "$V" --help
 grep -q "Examples:" "$WORK/stdout" && pass || fail "splat-view --help has no examples"
+grep -q -- "--view AZ,EL\[,DIST\] " "$WORK/stdout" && pass || fail "--help: --view is not AZ,EL[,DIST]"
 
 # PNG by default, 8-bit RGB of the requested size; the model is drawn (not all background).
 expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/torus.png" --width 200 --height 150
@@ -70,6 +71,13 @@ expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --blend median
 expect_stderr "--blend must be zthreshold"
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --turntable 4
 expect_stderr "one frame number field"
+expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/far.png" --view 10,20,9 --width 64 --height 48
+expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/near.png" --view 10,20,4 --width 64 --height 48
+cmp -s "$WORK/far.png" "$WORK/near.png" && fail "--view distance has no effect" || pass
+for bad in 10 10,x 1,2,3,4 10,20,; do
+  expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --view $bad
+  expect_stderr "--view needs AZ,EL or AZ,EL,DIST"
+done
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 1,2,3 --view 10,20
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,0 --target 0,0,0
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.nosuchformat"

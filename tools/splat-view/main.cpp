@@ -1,5 +1,6 @@
 // splat-view: renders a splat file to an image on the CPU. Parses arguments only; the work is
 // render::run_splat_view (lib/render).
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -39,6 +40,29 @@ void parse_blend(const std::string& text, render::RenderOptions& r) {
   r.epsilon = eps;
 }
 
+// --view AZ,EL[,DIST]: one text (CLI11 would print a fixed count for a 2-or-3 number list).
+std::vector<float> parse_view(const std::string& text) {
+  std::vector<float> out;
+  std::size_t start = 0;
+  bool ok = true;
+  while (ok) {
+    const std::size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, comma - start);
+    std::size_t used = 0;
+    try {
+      out.push_back(std::stof(part, &used));
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    ok = used != 0 && used == part.size() && std::isfinite(out.back());
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (!ok || out.size() < 2 || out.size() > 3)
+    splatkit::throw_usage("--view needs AZ,EL or AZ,EL,DIST (numbers), got '" + text + "'");
+  return out;
+}
+
 // --shade: a lighting mode, or a false-colour mode (lit with phong).
 void parse_shade(const std::string& s, render::SplatViewOptions& o) {
   o.render.shade = render::ShadeMode::kPhong;
@@ -65,7 +89,8 @@ int main(int argc, char** argv) {
   tool.add_threads_option();
   CLI::App& app = tool.app();
   render::SplatViewOptions o;
-  std::vector<float> eye, target, up, view;
+  std::vector<float> eye, target, up;
+  std::string view_text;
   std::string blend = "zthreshold", shade = "phong";
   std::vector<float> background;
   bool no_clip = false, no_surface_ids = false;
@@ -81,11 +106,9 @@ int main(int argc, char** argv) {
       ->expected(3);
   app.add_option("--up", up, "Up direction x,y,z (default 0,0,1)")->delimiter(',')->expected(3);
   app.add_option("--fov", o.fov_y_deg, "Vertical field of view, degrees")->default_val(40);
-  app.add_option("--view", view,
+  app.add_option("--view", view_text,
                  "Orbit view AZ,EL[,DIST]: degrees around --up and above the horizon, distance "
                  "from the model centre (scene units; default frames the model)")
-      ->delimiter(',')
-      ->expected(2, 3)
       ->type_name("AZ,EL[,DIST]");
   app.add_option("--width", o.width, "Image width, pixels")
       ->default_val(1280)
@@ -128,7 +151,8 @@ int main(int argc, char** argv) {
     if (!eye.empty()) o.eye = to_vec3(eye);
     if (!target.empty()) o.target = to_vec3(target);
     if (!up.empty()) o.up = to_vec3(up);
-    if (!view.empty()) {
+    if (!view_text.empty()) {
+      const std::vector<float> view = parse_view(view_text);
       o.view = std::array<float, 2>{view[0], view[1]};
       if (view.size() == 3) o.view_distance = view[2];
     }
