@@ -55,6 +55,15 @@ render cad-true-normals "$samples/cad.ply"
 render cad-pca "$out/normals/cad-pca.splk"
 render cad-robust "$out/normals/cad-robust.splk"
 render kitten "$out/normals/kitten.splk"
+# The graph stages at work on the robust CAD part: clipped creases and per-surface reconstruction
+# (plain), the surfaces found, the splats with a sharp edge (red), and the same view without the
+# clip partners and surface ids to compare.
+view=(--view 35,30)
+render cad-graph-plain "$out/graph/cad-surfaces.splk" "${view[@]}"
+render cad-graph-surfaces "$out/graph/cad-surfaces.splk" "${view[@]}" --shade surface
+render cad-graph-sharp "$out/graph/cad-surfaces.splk" "${view[@]}" --shade sharp
+render cad-graph-clipped "$out/graph/cad-surfaces.splk" "${view[@]}" --shade clipped
+render cad-graph-no-clip "$out/graph/cad-surfaces.splk" "${view[@]}" --no-clip --no-surface-ids
 render kitten-normals "$out/normals/kitten.splk" --shade normals
 "$bin/splat-view" -q "$samples/cad.ply" -o "$out/images/cad.exr" --width 800 --height 600
 echo "  out/images/cad.exr (colour + Z, N, A channels)"
