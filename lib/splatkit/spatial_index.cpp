@@ -5,8 +5,12 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
+#if defined(__x86_64__)
+#include <immintrin.h>
 #endif
 #include <bit>
 #include <cmath>
@@ -23,6 +27,24 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr uint32_t kInfBits = 0x7f800000;
 // Batch queries are handed out in blocks of at most this many points (bounded scratch memory).
 constexpr std::size_t kBlockSize = 1024;
+// A leaf's shared candidate set reaches this factor times the previous leaf's largest k-th
+// squared distance, and holds at most kCandidateLimit points.
+constexpr float kGuessGrowth = 1.1f;
+constexpr std::size_t kCandidateLimit = 512;
+// rank_avx2 counts ranks for up to this many candidates within the cap (quadratic), and sorts
+// beyond.
+constexpr std::size_t kRankLimit = 64;
+// Byte k of kCompress[mask] is the lane of the k-th set bit of mask: the shuffle that packs the
+// selected lanes of an eight-wide vector to its front.
+constexpr std::array<uint64_t, 256> kCompress = [] {
+  std::array<uint64_t, 256> table{};
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    int out = 0;
+    for (int lane = 0; lane < 8; ++lane)
+      if (mask >> lane & 1) table[mask] |= uint64_t(lane) << (8 * out++);
+  }
+  return table;
+}();
 // Below this many points a subtree is built on the current thread.
 constexpr std::size_t kParallelBuildCutoff = 32768;
 
@@ -49,6 +71,17 @@ inline float inner_margin_sq(const Box& b, float qx, float qy, float qz) {
   float m = std::min(
       {qx - b.lo[0], b.hi[0] - qx, qy - b.lo[1], b.hi[1] - qy, qz - b.lo[2], b.hi[2] - qz});
   return m * m;
+}
+
+// Lower bound of box_sq_dist(b, p) for every point p in box a: per axis, the gap between the
+// boxes, rounded like the point's term (monotonic rounding again), so pruning nodes with it never
+// drops a point the per-point test would keep.
+template <typename Box>
+inline float box_gap_sq(const Box& a, const Box& b) {
+  float dx = std::max(std::max(a.lo[0] - b.hi[0], b.lo[0] - a.hi[0]), 0.0f);
+  float dy = std::max(std::max(a.lo[1] - b.hi[1], b.lo[1] - a.hi[1]), 0.0f);
+  float dz = std::max(std::max(a.lo[2] - b.hi[2], b.lo[2] - a.hi[2]), 0.0f);
+  return dx * dx + dy * dy + dz * dz;
 }
 
 inline bool is_finite(const Vec3f& p) {
@@ -319,50 +352,268 @@ std::size_t SpatialIndex::knn(const Vec3f& q, std::size_t k, uint32_t* out_indic
   return state.count;
 }
 
+// The queries of one leaf share one candidate set: every point whose box distance to the leaf's
+// box is at most a guessed reach R (squared: reach2). For a query q in the box, every other point
+// has a float distance > reach2 (box_sq_dist is a lower bound, as above), so if q finds its k - 1
+// nearest among the candidates within reach2, that answer is exact, ties included. A query that
+// finds fewer (its k-th neighbour lies beyond the guess) is answered by the ordinary search.
+// The guess comes from the previous leaf's farthest k-th neighbour: neighbouring leaves have
+// similar densities, so few queries fall back.
+struct SpatialIndex::LeafBatch {
+  const SpatialIndex& index;
+  std::vector<float> cx, cy, cz;  // candidates' coordinates, padded with NaN to a multiple of 8
+  std::vector<uint32_t> cid;      // their original indices
+  std::size_t size = 0;            // candidates plus padding
+  std::vector<float> sd2;          // rank_avx2's scratch: the candidates within the cap
+  std::vector<uint32_t> sid;
+  std::vector<uint64_t> sorted;
+
+  // Collects the candidates for `leaf` within reach2; false when there would be more than
+  // `limit` of them (a sparse region or a very uneven leaf: the per-query search is cheaper).
+  bool gather(uint32_t leaf, float reach2, std::size_t limit, bool avx2) {
+    const Box& b = index.boxes_[index.first_leaf_ + leaf];
+    // A leaf may push the count past the limit by its size, and the packing stores write eight.
+    const std::size_t room = limit + index.leaf_start_[1] + 1 + 16;
+    if (cx.size() < room) {
+      cx.resize(room), cy.resize(room), cz.resize(room), cid.resize(room);
+      sd2.resize(room + 8), sid.resize(room + 8), sorted.resize(room);
+    }
+    std::size_t count = 0;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const uint32_t node = stack[--top];
+      if (box_gap_sq(index.boxes_[node], b) > reach2) continue;
+      if (node < index.first_leaf_) {
+        stack[top++] = 2 * node + 2;
+        stack[top++] = 2 * node + 1;
+        continue;
+      }
+      if (count > limit) return false;
+      const uint32_t l = node - index.first_leaf_;
+#if defined(__x86_64__)
+      if (avx2) {
+        count = gather_leaf_avx2(l, b, reach2, count);
+        continue;
+      }
+#endif
+      for (uint32_t p = index.leaf_start_[l]; p < index.leaf_start_[l + 1]; ++p) {
+        const float x = index.xs_[p], y = index.ys_[p], z = index.zs_[p];
+        cx[count] = x, cy[count] = y, cz[count] = z, cid[count] = index.ids_[p];
+        count += box_sq_dist(b, x, y, z) <= reach2;
+      }
+    }
+    if (count > limit) return false;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t j = count; j % 8 != 0; ++j) cx[j] = cy[j] = cz[j] = nan;
+    size = (count + 7) & ~std::size_t{7};
+    return true;
+  }
+
+#if defined(__x86_64__)
+  // gather's per-point test for one leaf, eight points at a time (box_sq_dist lane by lane, the
+  // same float operations), the passing points packed to the end of the candidate arrays.
+  __attribute__((target("avx2"))) std::size_t gather_leaf_avx2(uint32_t l, const Box& b,
+                                                                float reach2, std::size_t count) {
+    const __m256 lo_x = _mm256_set1_ps(b.lo[0]), lo_y = _mm256_set1_ps(b.lo[1]),
+                 lo_z = _mm256_set1_ps(b.lo[2]), hi_x = _mm256_set1_ps(b.hi[0]),
+                 hi_y = _mm256_set1_ps(b.hi[1]), hi_z = _mm256_set1_ps(b.hi[2]),
+                 bound = _mm256_set1_ps(reach2), zero = _mm256_setzero_ps();
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const uint32_t end = index.leaf_start_[l + 1];
+    for (uint32_t p = index.leaf_start_[l]; p < end; p += 8) {
+      const __m256i valid =
+          _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(end - p)), lanes);
+      const __m256 x = _mm256_maskload_ps(index.xs_.data() + p, valid);
+      const __m256 y = _mm256_maskload_ps(index.ys_.data() + p, valid);
+      const __m256 z = _mm256_maskload_ps(index.zs_.data() + p, valid);
+      const __m256i ids = _mm256_maskload_epi32(
+          reinterpret_cast<const int*>(index.ids_.data() + p), valid);
+      const __m256 dx = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_x, x), _mm256_sub_ps(x, hi_x)), zero);
+      const __m256 dy = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_y, y), _mm256_sub_ps(y, hi_y)), zero);
+      const __m256 dz = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_z, z), _mm256_sub_ps(z, hi_z)), zero);
+      const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                                      _mm256_mul_ps(dz, dz));
+      const unsigned mask =
+          static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(d2, bound, _CMP_LE_OQ))) &
+          static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(valid)));
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
+      _mm256_storeu_ps(cx.data() + count, _mm256_permutevar8x32_ps(x, perm));
+      _mm256_storeu_ps(cy.data() + count, _mm256_permutevar8x32_ps(y, perm));
+      _mm256_storeu_ps(cz.data() + count, _mm256_permutevar8x32_ps(z, perm));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(cid.data() + count),
+                          _mm256_permutevar8x32_epi32(ids, perm));
+      count += static_cast<std::size_t>(std::popcount(mask));
+    }
+    return count;
+  }
+#endif
+
+#if defined(__x86_64__)
+  // The k - 1 nearest candidates (squared distance <= cap) of the point at tree position p other
+  // than itself, sorted, into keys; false when fewer than k - 1 lie within the cap. Without
+  // data-dependent branches: the candidates within the cap are packed eight at a time, then each
+  // one's rank in the (squared distance, index) order is counted against all the others and the
+  // first k - 1 ranks are written in place. NaN padding never passes a comparison.
+  __attribute__((target("avx2"))) bool rank_avx2(uint32_t p, float cap, std::size_t others,
+                                                 uint64_t* keys) {
+    const __m256 vqx = _mm256_set1_ps(index.xs_[p]), vqy = _mm256_set1_ps(index.ys_[p]),
+                 vqz = _mm256_set1_ps(index.zs_[p]), bound = _mm256_set1_ps(cap);
+    const __m256i self = _mm256_set1_epi32(static_cast<int>(index.ids_[p]));
+    std::size_t m = 0;
+    for (std::size_t j = 0; j < size; j += 8) {
+      __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(cx.data() + j), vqx);
+      __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(cy.data() + j), vqy);
+      __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(cz.data() + j), vqz);
+      __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                                _mm256_mul_ps(dz, dz));
+      __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(cid.data() + j));
+      const unsigned mask =
+          static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(d2, bound, _CMP_LE_OQ))) &
+          ~static_cast<unsigned>(
+              _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
+      _mm256_storeu_ps(sd2.data() + m, _mm256_permutevar8x32_ps(d2, perm));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sid.data() + m),
+                          _mm256_permutevar8x32_epi32(ids, perm));
+      m += static_cast<std::size_t>(std::popcount(mask));
+    }
+    if (m < others) return false;
+    if (m > kRankLimit) {
+      for (std::size_t i = 0; i < m; ++i) sorted[i] = make_key(sd2[i], sid[i]);
+      std::partial_sort(sorted.begin(), sorted.begin() + others, sorted.begin() + m);
+      std::copy_n(sorted.begin(), others, keys);
+      return true;
+    }
+    // Indices compare as signed after flipping the top bit. Lanes past m are never written out.
+    for (std::size_t i = 0; i < m; ++i) sid[i] ^= 0x80000000u;
+    for (std::size_t i0 = 0; i0 < m; i0 += 8) {
+      const __m256 di = _mm256_loadu_ps(sd2.data() + i0);
+      const __m256i ii = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sid.data() + i0));
+      __m256i rank = _mm256_setzero_si256();
+      for (std::size_t j = 0; j < m; ++j) {
+        const __m256 dj = _mm256_broadcast_ss(sd2.data() + j);
+        const __m256i ij = _mm256_set1_epi32(static_cast<int>(sid[j]));
+        const __m256 before = _mm256_or_ps(
+            _mm256_cmp_ps(dj, di, _CMP_LT_OQ),
+            _mm256_and_ps(_mm256_cmp_ps(dj, di, _CMP_EQ_OQ),
+                          _mm256_castsi256_ps(_mm256_cmpgt_epi32(ii, ij))));
+        rank = _mm256_sub_epi32(rank, _mm256_castps_si256(before));
+      }
+      alignas(32) uint32_t ranks[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(ranks), rank);
+      for (std::size_t lane = 0; lane < 8 && i0 + lane < m; ++lane) {
+        if (ranks[lane] < others)
+          keys[ranks[lane]] = make_key(sd2[i0 + lane], sid[i0 + lane] ^ 0x80000000u);
+      }
+    }
+    return true;
+  }
+#endif
+
+  // The portable path of rank_avx2, the same answer: a cap-filtered insertion, four lanes at a
+  // time where SSE2 is available.
+  bool query(uint32_t p, float cap, std::size_t others, uint64_t* keys) const {
+    KnnState state(others, keys, make_key(cap, kNone));
+    const uint32_t self = index.ids_[p];
+#if defined(__SSE2__)
+    const __m128 vqx = _mm_set1_ps(index.xs_[p]), vqy = _mm_set1_ps(index.ys_[p]),
+                 vqz = _mm_set1_ps(index.zs_[p]);
+    __m128 bound = _mm_set1_ps(cap);
+    for (std::size_t j = 0; j < size; j += 4) {
+      __m128 dx = _mm_sub_ps(_mm_loadu_ps(cx.data() + j), vqx);
+      __m128 dy = _mm_sub_ps(_mm_loadu_ps(cy.data() + j), vqy);
+      __m128 dz = _mm_sub_ps(_mm_loadu_ps(cz.data() + j), vqz);
+      __m128 d2 =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+      int mask = _mm_movemask_ps(_mm_cmple_ps(d2, bound));
+      if (mask == 0) continue;
+      alignas(16) float lanes[4];
+      _mm_store_ps(lanes, d2);
+      for (; mask != 0; mask &= mask - 1) {
+        const int lane = std::countr_zero(static_cast<unsigned>(mask));
+        const uint32_t id = cid[j + lane];
+        const uint64_t key = make_key(lanes[lane], id);
+        if (key < state.worst && id != self) state.insert(key);
+      }
+      bound = _mm_set1_ps(key_d2_or_inf(state.worst));
+    }
+#else
+    const float qx = index.xs_[p], qy = index.ys_[p], qz = index.zs_[p];
+    for (std::size_t j = 0; j < size; ++j) {
+      const float dx = cx[j] - qx, dy = cy[j] - qy, dz = cz[j] - qz;
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      if (!(d2 <= key_d2_or_inf(state.worst))) continue;
+      const uint64_t key = make_key(d2, cid[j]);
+      if (key < state.worst && cid[j] != self) state.insert(key);
+    }
+#endif
+    return state.count == others;
+  }
+};
+
 // Rows for the points at tree positions [begin, end), written consecutively (row r for position
-// begin + r), each laid out as documented for knn_all.
-//
-// Warm start: consecutive positions are close in space. If the previous point p' has its k - 1
-// others within distance D, then those and p' itself (k points, at most one of them the current
-// point) lie within D + |q - q'| of q, so the current row needs nothing farther. The bound is
-// computed in double and widened far beyond float rounding, so it never cuts a true neighbour.
+// begin + r), each laid out as documented for knn_all. Leaf by leaf: a shared candidate set
+// (LeafBatch) answers most queries; the rest, and the first query of a range (which seeds the
+// guess), use the ordinary search from their own leaf.
 void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                             float* sq_dists) const {
   const std::size_t others = std::min(k - 1, size() - 1);
   std::vector<uint64_t> keys(others);
-  double previous_reach = -1.0;  // D above, or < 0 when unknown
+  LeafBatch batch{*this, {}, {}, {}, {}, 0, {}, {}, {}};
   uint32_t leaf = static_cast<uint32_t>(
       std::upper_bound(leaf_start_.begin(), leaf_start_.end(), begin) - leaf_start_.begin() - 1);
-  for (std::size_t p = begin; p < end; ++p) {
-    while (leaf_start_[leaf + 1] <= p) ++leaf;
+#if defined(__x86_64__)
+  static const bool use_avx2 = __builtin_cpu_supports("avx2");
+#else
+  constexpr bool use_avx2 = false;
+#endif
+  float guess = -1.0f;  // the previous leaf's largest k-th squared distance; < 0: none yet
+  auto write_row = [&](std::size_t p, std::size_t found) {
     uint32_t* row_ids = indices + (p - begin) * k;
     float* row_d2 = sq_dists + (p - begin) * k;
     row_ids[0] = ids_[p];
     row_d2[0] = 0.0f;
-    uint64_t cap = ~uint64_t{0};
-    if (previous_reach >= 0.0) {
-      double dx = double{xs_[p]} - xs_[p - 1], dy = double{ys_[p]} - ys_[p - 1],
-             dz = double{zs_[p]} - zs_[p - 1];
-      double reach = previous_reach + std::sqrt(dx * dx + dy * dy + dz * dz);
-      double bound = reach * reach * (1.0 + 1e-5) + 1e-30;
-      if (bound < std::numeric_limits<float>::max()) {
-        cap = make_key(std::nextafter(static_cast<float>(bound), kInf), kNone);
-      }
-    }
-    KnnState state(others, keys.data(), cap);
-    if (others > 0) {
-      KnnSearch{*this, xs_[p], ys_[p], zs_[p], static_cast<uint32_t>(p), state}.from_leaf(leaf);
-      state.finish();
-    }
-    for (std::size_t c = 0; c < state.count; ++c) {
+    for (std::size_t c = 0; c < found; ++c) {
       row_ids[1 + c] = key_id(keys[c]);
       row_d2[1 + c] = key_d2(keys[c]);
     }
-    for (std::size_t c = 1 + state.count; c < k; ++c) {
+    for (std::size_t c = 1 + found; c < k; ++c) {
       row_ids[c] = kNone;
       row_d2[c] = kInf;
     }
-    previous_reach = others > 0 && state.count == others ? std::sqrt(double{row_d2[others]}) : -1.0;
+  };
+  auto search = [&](std::size_t p, uint32_t l) {
+    KnnState state(others, keys.data());
+    if (others > 0) {
+      KnnSearch{*this, xs_[p], ys_[p], zs_[p], static_cast<uint32_t>(p), state}.from_leaf(l);
+      state.finish();
+    }
+    write_row(p, state.count);
+    return state.count == others && others > 0 ? key_d2(keys[others - 1]) : -1.0f;
+  };
+  for (std::size_t p = begin; p < end; leaf++) {
+    const std::size_t leaf_end = std::min<std::size_t>(end, leaf_start_[leaf + 1]);
+    float farthest = -1.0f;
+    if (guess < 0.0f || others == 0) guess = search(p++, leaf) * kGuessGrowth;
+    const float reach2 = guess;
+    if (p < leaf_end && guess >= 0.0f && std::isfinite(reach2) &&
+        batch.gather(leaf, reach2, kCandidateLimit, use_avx2)) {
+      for (; p < leaf_end; ++p) {
+        const uint32_t q = static_cast<uint32_t>(p);
+        const bool answered = use_avx2 ? batch.rank_avx2(q, reach2, others, keys.data())
+                                       : batch.query(q, reach2, others, keys.data());
+        if (!answered) {
+          farthest = std::max(farthest, search(p, leaf));
+          continue;
+        }
+        write_row(p, others);
+        farthest = std::max(farthest, key_d2(keys[others - 1]));
+      }
+    }
+    for (; p < leaf_end; ++p) farthest = std::max(farthest, search(p, leaf));
+    guess = farthest * kGuessGrowth;
   }
 }
 

@@ -116,6 +116,7 @@ class SpatialIndex {
   };
   struct KnnState;
   struct KnnSearch;
+  struct LeafBatch;
   struct Builder;
 
   void knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,

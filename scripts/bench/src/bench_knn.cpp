@@ -37,7 +37,7 @@ using splatkit::Vec3f;
 
 namespace {
 
-using Rng = DeterministicRng;
+using Rng = splatkit::DeterministicRng;
 
 std::vector<Vec3f> torus_cloud(std::size_t n, uint64_t seed) {
   const double kMajor = 1.0, kMinor = 0.35, kTwoPi = 6.283185307179586;
