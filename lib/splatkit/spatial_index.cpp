@@ -84,6 +84,50 @@ inline float box_gap_sq(const Box& a, const Box& b) {
   return dx * dx + dy * dy + dz * dz;
 }
 
+// Moves the points whose coordinate `axis` passes `take` to the front of [first, last), in one
+// pass without data-dependent branches (a Lomuto partition that always swaps); returns the end
+// of the front part.
+template <typename Take>
+BuildPoint* partition_points(BuildPoint* first, BuildPoint* last, int axis, Take take) {
+  BuildPoint* out = first;
+  for (BuildPoint* it = first; it != last; ++it) {
+    const BuildPoint v = *it;
+    *it = *out;
+    *out = v;
+    out += take(v.c[axis]) ? 1 : 0;
+  }
+  return out;
+}
+
+// std::nth_element by coordinate `axis` (the same contract), but with the branch-free partition
+// above, splitting off the copies of the pivot when it is the minimum (so runs of equal
+// coordinates still make progress); after a generous number
+// of rounds (an adversarial input) it hands over to std::nth_element.
+void select_nth(BuildPoint* first, BuildPoint* nth, BuildPoint* last, int axis) {
+  auto less = [axis](const BuildPoint& a, const BuildPoint& b) { return a.c[axis] < b.c[axis]; };
+  int rounds = 2 * std::bit_width(static_cast<std::size_t>(last - first)) + 8;
+  while (last - first > 16) {
+    if (rounds-- == 0) return std::nth_element(first, nth, last, less);
+    float a = first->c[axis], b = first[(last - first) / 2].c[axis], c = last[-1].c[axis];
+    const float pivot = std::max(std::min(a, b), std::min(std::max(a, b), c));
+    BuildPoint* below = partition_points(first, last, axis, [pivot](float v) { return v < pivot; });
+    if (nth < below) {
+      last = below;
+      continue;
+    }
+    if (below > first) {
+      first = below;
+      continue;
+    }
+    // The pivot is the smallest coordinate: split off its copies (at least one) instead.
+    BuildPoint* equal =
+        partition_points(first, last, axis, [pivot](float v) { return v == pivot; });
+    if (nth < equal) return;
+    first = equal;
+  }
+  std::sort(first, last, less);
+}
+
 inline bool is_finite(const Vec3f& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
@@ -171,9 +215,7 @@ struct SpatialIndex::Builder {
     }
     uint32_t leaf_mid = leaf_lo + (leaf_hi - leaf_lo) / 2;
     std::size_t mid = leaf_start[leaf_mid];
-    std::nth_element(
-        pts.begin() + begin, pts.begin() + mid, pts.begin() + end,
-        [axis](const BuildPoint& a, const BuildPoint& b) { return a.c[axis] < b.c[axis]; });
+    select_nth(pts.data() + begin, pts.data() + mid, pts.data() + end, axis);
     auto left = [&] { build(2 * node + 1, leaf_lo, leaf_mid); };
     auto right = [&] { build(2 * node + 2, leaf_mid, leaf_hi); };
     if (end - begin >= kParallelBuildCutoff) {
@@ -363,8 +405,8 @@ struct SpatialIndex::LeafBatch {
   const SpatialIndex& index;
   std::vector<float> cx, cy, cz;  // candidates' coordinates, padded with NaN to a multiple of 8
   std::vector<uint32_t> cid;      // their original indices
-  std::size_t size = 0;            // candidates plus padding
-  std::vector<float> sd2;          // rank_avx2's scratch: the candidates within the cap
+  std::size_t size = 0;           // candidates plus padding
+  std::vector<float> sd2;         // rank_avx2's scratch: the candidates within the cap
   std::vector<uint32_t> sid;
   std::vector<uint64_t> sorted;
 
@@ -415,7 +457,7 @@ struct SpatialIndex::LeafBatch {
   // gather's per-point test for one leaf, eight points at a time (box_sq_dist lane by lane, the
   // same float operations), the passing points packed to the end of the candidate arrays.
   __attribute__((target("avx2"))) std::size_t gather_leaf_avx2(uint32_t l, const Box& b,
-                                                                float reach2, std::size_t count) {
+                                                               float reach2, std::size_t count) {
     const __m256 lo_x = _mm256_set1_ps(b.lo[0]), lo_y = _mm256_set1_ps(b.lo[1]),
                  lo_z = _mm256_set1_ps(b.lo[2]), hi_x = _mm256_set1_ps(b.hi[0]),
                  hi_y = _mm256_set1_ps(b.hi[1]), hi_z = _mm256_set1_ps(b.hi[2]),
@@ -423,16 +465,18 @@ struct SpatialIndex::LeafBatch {
     const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const uint32_t end = index.leaf_start_[l + 1];
     for (uint32_t p = index.leaf_start_[l]; p < end; p += 8) {
-      const __m256i valid =
-          _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(end - p)), lanes);
+      const __m256i valid = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(end - p)), lanes);
       const __m256 x = _mm256_maskload_ps(index.xs_.data() + p, valid);
       const __m256 y = _mm256_maskload_ps(index.ys_.data() + p, valid);
       const __m256 z = _mm256_maskload_ps(index.zs_.data() + p, valid);
-      const __m256i ids = _mm256_maskload_epi32(
-          reinterpret_cast<const int*>(index.ids_.data() + p), valid);
-      const __m256 dx = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_x, x), _mm256_sub_ps(x, hi_x)), zero);
-      const __m256 dy = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_y, y), _mm256_sub_ps(y, hi_y)), zero);
-      const __m256 dz = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_z, z), _mm256_sub_ps(z, hi_z)), zero);
+      const __m256i ids =
+          _mm256_maskload_epi32(reinterpret_cast<const int*>(index.ids_.data() + p), valid);
+      const __m256 dx =
+          _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_x, x), _mm256_sub_ps(x, hi_x)), zero);
+      const __m256 dy =
+          _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_y, y), _mm256_sub_ps(y, hi_y)), zero);
+      const __m256 dz =
+          _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lo_z, z), _mm256_sub_ps(z, hi_z)), zero);
       const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
                                       _mm256_mul_ps(dz, dz));
       const unsigned mask =
@@ -495,10 +539,10 @@ struct SpatialIndex::LeafBatch {
       for (std::size_t j = 0; j < m; ++j) {
         const __m256 dj = _mm256_broadcast_ss(sd2.data() + j);
         const __m256i ij = _mm256_set1_epi32(static_cast<int>(sid[j]));
-        const __m256 before = _mm256_or_ps(
-            _mm256_cmp_ps(dj, di, _CMP_LT_OQ),
-            _mm256_and_ps(_mm256_cmp_ps(dj, di, _CMP_EQ_OQ),
-                          _mm256_castsi256_ps(_mm256_cmpgt_epi32(ii, ij))));
+        const __m256 before =
+            _mm256_or_ps(_mm256_cmp_ps(dj, di, _CMP_LT_OQ),
+                         _mm256_and_ps(_mm256_cmp_ps(dj, di, _CMP_EQ_OQ),
+                                       _mm256_castsi256_ps(_mm256_cmpgt_epi32(ii, ij))));
         rank = _mm256_sub_epi32(rank, _mm256_castps_si256(before));
       }
       alignas(32) uint32_t ranks[8];
