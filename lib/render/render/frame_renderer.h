@@ -1,6 +1,7 @@
 // One frame, start to finish: LOD selection -> per-splat setup and tile binning -> per tile (in
-// parallel): rasterisation into the tile's A-buffer, surface reconstruction into a tile G-buffer,
-// deferred shading into the Framebuffer.
+// parallel): rasterisation into the tile's A-buffer (fragments in a splat's clip area discarded
+// when the scene has clip partners, SPEC §4), surface reconstruction into a tile G-buffer (only
+// fragments of one surface id blend, SPEC §5), deferred shading into the Framebuffer.
 //
 // Deterministic: every tile is computed from its own splat list in splat index order with
 // per-tile scratch, so the image is byte-identical for any thread count (threads come from the
