@@ -123,6 +123,44 @@ TEST(SpatialIndex, DuplicatesAndTiesGoToTheSmallerIndex) {
   }
 }
 
+// Uneven density: a dense cluster, a sparse background, a plane patch and far outliers, so that
+// a leaf's shared candidate set (guessed from the previous leaf) often misses, is too large, or
+// spans leaves split across query blocks — every row must still equal brute force.
+std::vector<Vec3f> uneven_cloud(uint64_t seed) {
+  Rng rng{seed};
+  std::vector<Vec3f> pts;
+  for (int i = 0; i < 500; ++i)
+    pts.push_back({0.3f + 0.01f * rng.uniformf(), 0.3f + 0.01f * rng.uniformf(),
+                   0.3f + 0.01f * rng.uniformf()});
+  for (int i = 0; i < 300; ++i) pts.push_back({rng.uniformf(), rng.uniformf(), rng.uniformf()});
+  for (int i = 0; i < 300; ++i) pts.push_back({rng.uniformf(), rng.uniformf(), 0.75f});
+  for (int i = 0; i < 12; ++i)
+    pts.push_back({100.0f * rng.uniformf(), -50.0f, 30.0f * rng.uniformf()});
+  return pts;
+}
+
+TEST(SpatialIndex, KnnAllMatchesBruteForceOnUnevenDensity) {
+  std::vector<Vec3f> pts = uneven_cloud(61);
+  for (std::size_t leaf : {3, 32, 700}) {
+    SpatialIndex index(pts, leaf);
+    for (std::size_t k : {2, 16, 40}) expect_knn_all_matches(index, pts, k);
+  }
+  // Leaves larger than a query block: blocks start and end inside leaves.
+  std::vector<Vec3f> more = uneven_cloud(62);
+  more.insert(more.end(), pts.begin(), pts.end());
+  expect_knn_all_matches(SpatialIndex(more, 1500), more, 16);
+}
+
+TEST(SpatialIndex, ManyCopiesAmongOtherPoints) {
+  // More copies of one point than fit one row: long runs of equal distances in the batch ranking.
+  std::vector<Vec3f> pts = random_cloud(300, 71);
+  pts.insert(pts.begin() + 100, 200, Vec3f{0.5f, 0.5f, 0.5f});
+  for (std::size_t leaf : {8, 32}) {
+    SpatialIndex index(pts, leaf);
+    for (std::size_t k : {16, 90}) expect_knn_all_matches(index, pts, k);
+  }
+}
+
 TEST(SpatialIndex, AllPointsIdentical) {
   std::vector<Vec3f> pts(100, Vec3f{0.25f, -1.0f, 3.0f});
   SpatialIndex index(pts, 8);
