@@ -14,6 +14,7 @@
 #include "graph/disc_disc_intersect.h"
 #include "graph/linsen_boundary_test.h"
 #include "splatkit/error.h"
+#include "splatkit/seconds_since.h"
 
 namespace splatkit::graph {
 namespace {
@@ -41,6 +42,9 @@ void check_inputs(std::span<const Vec3f> positions, std::span<const Vec3f> norma
     throw_usage("--sharp must be in [-1, 1] (got " + std::to_string(o.sharp_threshold) + ")");
   if (!(o.boundary_gap_degrees > 0 && o.boundary_gap_degrees <= 360))
     throw_usage("--boundary-gap must be in (0, 360] degrees");
+  if (o.core_threshold && !(*o.core_threshold >= -1 && *o.core_threshold <= 1))
+    throw_usage("--core must be in [-1, 1] (got " + std::to_string(*o.core_threshold) + ")");
+  if (o.min_core_size == 0) throw_usage("--min-core must be >= 1");
   if (!(o.flat_tolerance >= 0 && std::isfinite(o.flat_tolerance)))
     throw_usage("the flatness tolerance must be finite and >= 0");
   for (std::size_t i = 0; i < radii.size(); ++i)
@@ -220,22 +224,44 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
                              const ProgressFn& progress) {
   check_inputs(positions, normals, radii, options);
   SplatGraph g;
+  SplatGraphTimings& t = g.timings;
   progress(0.0, "index");
   {
+    Clock::time_point t0 = Clock::now();
     const SpatialIndex index(positions);
+    t.index = seconds_since(t0);
     progress(0.2, "neighbour graph");
+    t0 = Clock::now();
     g.graph = index.sphere_overlaps(radii);
+    t.overlaps = seconds_since(t0);
   }
   progress(0.6, "sharp edges");
+  Clock::time_point t0 = Clock::now();
   g.edge_flags.resize(g.graph.neighbors.size());
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   flag_and_classify(Splats{positions, normals, radii}, options, scratch, g);
+  t.classify = seconds_since(t0);
   progress(0.85, "surfaces");
-  g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
+  t0 = Clock::now();
+  RobustSegmentInfo robust_info;
+  if (options.robust_surfaces) {
+    RobustSegmentOptions ro;
+    ro.core_threshold = options.core_threshold;
+    ro.sharp_threshold = options.sharp_threshold;
+    ro.min_core_size = options.min_core_size;
+    g.surfaces = segment_surfaces_robust(g.graph, g.edge_flags, kEdgeSharp, positions, normals, ro,
+                                         &robust_info);
+  } else {
+    g.surfaces = segment_surfaces(g.graph, g.edge_flags, kEdgeSharp);
+  }
+  t.surfaces = seconds_since(t0);
   progress(0.9, "clip partners");
+  t0 = Clock::now();
   build_clip_table(positions, normals, radii, options, scratch, g);
+  t.clip = seconds_since(t0);
   g.stats = count_stats(g);
+  g.stats.surface_method = robust_info;
   progress(1.0, "done");
   return g;
 }

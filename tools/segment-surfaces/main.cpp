@@ -5,6 +5,7 @@
 // surface_id and class per vertex) and reports.
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string_view>
 
 #include <chrono>
@@ -16,6 +17,7 @@
 #include "graph/build_splat_graph.h"
 #include "graph/graph_chunks.h"
 #include "graph/segment_surfaces.h"
+#include "graph/segment_surfaces_robust.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
 #include "splatkit/progress.h"
@@ -58,8 +60,12 @@ void add_extra(splatkit::SplatCloud& cloud, const std::string& name, splatkit::S
 int main(int argc, char** argv) {
   splatkit::Tool tool(
       "segment-surfaces",
-      "Split the splats into smooth surfaces: connected components over the continuous edges "
-      "of the neighbour graph that build-splat-graph stored in IN (GRPH and CLAS chunks). Ids "
+      "Split the splats into smooth surfaces over the continuous edges of the neighbour graph "
+      "that build-splat-graph stored in IN (GRPH and CLAS chunks). --method robust (default): "
+      "surfaces grow from core splats (every continuous neighbour's normal within the core "
+      "angle: half the sharp angle when the normals are noisy) so noisy creases do not merge "
+      "faces; on clean normals it gives the components. --method "
+      "components: the seed's connected components of the continuous edges. Ids "
       "are numbered in the order of each surface's lowest splat index, so they are the same on "
       "every run. OUT .splk ('-' = stdout) adds the SURF chunk; OUT .ply writes a binary PLY "
       "with the extra vertex properties surface_id (uint32) and class (uint8: 0 smooth, 1 edge, "
@@ -70,12 +76,27 @@ int main(int argc, char** argv) {
       "  $ segment-surfaces part-graph.splk part-surf.ply --min-size 50\n");
   std::string input, output, report_path;
   uint32_t min_size = 1;
+  std::string method = "robust";
+  std::optional<float> core;
+  splatkit::graph::RobustSegmentOptions robust;
   auto& app = tool.app();
   app.add_option("IN", input, "Input .splk from build-splat-graph ('-' = stdin)")->required();
   app.add_option("OUT", output, "Output .splk or .ply ('-' = .splk on stdout)")->required();
   app.add_option("--min-size", min_size,
                  "Surfaces with fewer splats get id 0xFFFFFFFF (no surface); not merged")
       ->default_val(1)
+      ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
+  app.add_option("--method", method, "robust (grow from core splats) or components (the seed's)")
+      ->default_val("robust")
+      ->check(CLI::IsMember({"robust", "components"}));
+  app.add_option("--core", core,
+                 "robust: n_i.n_j a core splat's continuous neighbours reach at least "
+                 "(default: automatic, the cosine of half the graph's sharp angle when the normals "
+                 "are noisy, else the sharp threshold itself)")
+      ->check(CLI::Range(-1.0f, 1.0f));
+  app.add_option("--min-core", robust.min_core_size,
+                 "robust: core components with fewer splats are not cores")
+      ->default_val(10)
       ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
   app.add_option("--report", report_path, "Write the surfaces and their sizes as JSON here");
 
@@ -109,12 +130,25 @@ int main(int argc, char** argv) {
 
     const double decode_s = seconds_since(t0);
     t0 = Clock::now();
-    const Segmentation all = splatkit::graph::segment_surfaces(graph.graph, graph.edge_flags,
-                                                               splatkit::graph::kEdgeSharp);
+    if (method == "robust" && !doc.cloud.has_normals())
+      splatkit::throw_bad_input(name, "--method robust needs the splats' normals");
+    robust.core_threshold = core;
+    robust.sharp_threshold = graph.sharp_threshold;
+    splatkit::graph::RobustSegmentInfo chosen;
+    const Segmentation all = method == "robust"
+                                 ? splatkit::graph::segment_surfaces_robust(
+                                       graph.graph, graph.edge_flags, splatkit::graph::kEdgeSharp,
+                                       doc.cloud.positions, doc.cloud.normals, robust, &chosen)
+                                 : splatkit::graph::segment_surfaces(graph.graph, graph.edge_flags,
+                                                                     splatkit::graph::kEdgeSharp);
     const Segmentation seg = drop_small_surfaces(all, min_size);
     const double segment_s = seconds_since(t0);
 
-    const nlohmann::json prov_options = {{"min_size", min_size}};
+    nlohmann::json prov_options = {{"min_size", min_size}, {"method", method}};
+    if (method == "robust") {
+      prov_options["core"] = core ? nlohmann::json(*core) : nlohmann::json("auto");
+      prov_options["min_core"] = robust.min_core_size;
+    }
     doc.metadata = splatkit::make_provenance(tool.name(), prov_options, in, doc, doc.cloud);
     splatkit::WriteOptions write;
     if (ply) {
@@ -150,6 +184,10 @@ int main(int argc, char** argv) {
                                  {"segment", segment_s},
                                  {"write", write_s},
                                  {"command", seconds_since(start)}}}};
+      if (method == "robust") {
+        report["normal_noise_degrees"] = chosen.normal_noise_degrees;
+        report["core_threshold"] = chosen.core_threshold;
+      }
       splatkit::OutputFile out(report_path);
       out.write(report.dump(2) + "\n");
       out.commit();

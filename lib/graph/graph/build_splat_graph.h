@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "graph/clip_record.h"
 #include "graph/segment_surfaces.h"
+#include "graph/segment_surfaces_robust.h"
 #include "splatkit/progress.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/splat_cloud.h"
@@ -42,6 +44,12 @@ struct SplatGraphOptions {
   double flat_tolerance = 1e-3;      // convexity tolerance, as a fraction of the splat's radius
   bool per_surface = true;           // group clip partners by surface (false: the seed's
                                      // single set per splat, for comparison)
+  // Surfaces: segment_surfaces_robust (true, default) or the seed's components of the
+  // continuous edges, segment_surfaces (false). core_threshold: the robust method's, in [-1, 1];
+  // none: automatic (RobustSegmentOptions).
+  bool robust_surfaces = true;
+  std::optional<float> core_threshold;
+  uint32_t min_core_size = 10;  // >= 1
 };
 
 // The columns of seed 002 tables 6.1–6.3. Edges are undirected pairs.
@@ -57,15 +65,27 @@ struct SplatGraphStats {
   uint64_t clipped_splats = 0;  // splats with at least one clip partner
   uint64_t clip_partners = 0;   // entries of the clip table
   uint32_t surfaces = 0;
+  RobustSegmentInfo surface_method;  // robust surfaces: the noise seen and the core threshold
+};
+
+// Wall-clock seconds of the phases of build_splat_graph (for --report; not part of the result's
+// identity: they vary from run to run).
+struct SplatGraphTimings {
+  double index = 0;     // SpatialIndex construction
+  double overlaps = 0;  // SpatialIndex::sphere_overlaps: the graph [3.1]
+  double classify = 0;  // edge flags (sharp, crossing) and the class of every splat
+  double surfaces = 0;  // segment_surfaces
+  double clip = 0;      // the clip table and its classification
 };
 
 struct SplatGraph {
   NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} [3.1]
   std::vector<uint8_t> edge_flags;  // kEdge* bits, parallel to graph.neighbors
   std::vector<SplatClass> classes;  // #N
-  Segmentation surfaces;            // BFS over continuous edges (segment_surfaces)
+  Segmentation surfaces;            // segment_surfaces_robust, or segment_surfaces
   ClipPartnerTable clip;            // partners of the kEdge splats; empty rows for the others
   SplatGraphStats stats;
+  SplatGraphTimings timings;
 };
 
 // positions, normals (unit), radii (bounding-sphere radii): #N each, same frame. Circular splats.
