@@ -406,9 +406,7 @@ struct SpatialIndex::LeafBatch {
   std::vector<float> cx, cy, cz;  // candidates' coordinates, padded with NaN to a multiple of 8
   std::vector<uint32_t> cid;      // their original indices
   std::size_t size = 0;           // candidates plus padding
-  std::vector<float> sd2;         // rank_avx2's scratch: the candidates within the cap
-  std::vector<uint32_t> sid;
-  std::vector<uint64_t> sorted;
+  std::vector<uint64_t> skeys;    // rank_avx2's scratch: the candidates within the cap
 
   // Collects the candidates for `leaf` within reach2; false when there would be more than
   // `limit` of them (a sparse region or a very uneven leaf: the per-query search is cheaper).
@@ -418,7 +416,7 @@ struct SpatialIndex::LeafBatch {
     const std::size_t room = limit + index.leaf_start_[1] + 1 + 16;
     if (cx.size() < room) {
       cx.resize(room), cy.resize(room), cz.resize(room), cid.resize(room);
-      sd2.resize(room + 8), sid.resize(room + 8), sorted.resize(room);
+      skeys.resize(room + 8);
     }
     std::size_t count = 0;
     uint32_t stack[64];
@@ -496,10 +494,11 @@ struct SpatialIndex::LeafBatch {
 
 #if defined(__x86_64__)
   // The k - 1 nearest candidates (squared distance <= cap) of the point at tree position p other
-  // than itself, sorted, into keys; false when fewer than k - 1 lie within the cap. Without
-  // data-dependent branches: the candidates within the cap are packed eight at a time, then each
-  // one's rank in the (squared distance, index) order is counted against all the others and the
-  // first k - 1 ranks are written in place. NaN padding never passes a comparison.
+  // than itself, sorted, into keys (which has room for k: the last is scratch); false when fewer
+  // than k - 1 lie within the cap. Without data-dependent branches: the candidates within the cap
+  // are packed eight at a time, then each one's rank in the (squared distance, index) order is
+  // counted against all the others and the first k - 1 ranks are written in place. NaN padding
+  // never passes a comparison.
   __attribute__((target("avx2"))) bool rank_avx2(uint32_t p, float cap, std::size_t others,
                                                  uint64_t* keys) {
     const __m256 vqx = _mm256_set1_ps(index.xs_[p]), vqy = _mm256_set1_ps(index.ys_[p]),
@@ -517,39 +516,37 @@ struct SpatialIndex::LeafBatch {
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(d2, bound, _CMP_LE_OQ))) &
           ~static_cast<unsigned>(
               _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
+      // Packed, then paired into keys (index low, distance bits high) in lane order.
       const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
-      _mm256_storeu_ps(sd2.data() + m, _mm256_permutevar8x32_ps(d2, perm));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sid.data() + m),
-                          _mm256_permutevar8x32_epi32(ids, perm));
+      const __m256i packed_d2 = _mm256_castps_si256(_mm256_permutevar8x32_ps(d2, perm));
+      const __m256i packed_ids = _mm256_permutevar8x32_epi32(ids, perm);
+      const __m256i lo = _mm256_unpacklo_epi32(packed_ids, packed_d2);  // lanes 0, 1, 4, 5
+      const __m256i hi = _mm256_unpackhi_epi32(packed_ids, packed_d2);  // lanes 2, 3, 6, 7
+      auto* out = reinterpret_cast<__m256i*>(skeys.data() + m);
+      _mm256_storeu_si256(out, _mm256_permute2x128_si256(lo, hi, 0x20));
+      _mm256_storeu_si256(out + 1, _mm256_permute2x128_si256(lo, hi, 0x31));
       m += static_cast<std::size_t>(std::popcount(mask));
     }
     if (m < others) return false;
     if (m > kRankLimit) {
-      for (std::size_t i = 0; i < m; ++i) sorted[i] = make_key(sd2[i], sid[i]);
-      std::partial_sort(sorted.begin(), sorted.begin() + others, sorted.begin() + m);
-      std::copy_n(sorted.begin(), others, keys);
+      std::partial_sort(skeys.begin(), skeys.begin() + others, skeys.begin() + m);
+      std::copy_n(skeys.begin(), others, keys);
       return true;
     }
-    // Indices compare as signed after flipping the top bit. Lanes past m are never written out.
-    for (std::size_t i = 0; i < m; ++i) sid[i] ^= 0x80000000u;
-    for (std::size_t i0 = 0; i0 < m; i0 += 8) {
-      const __m256 di = _mm256_loadu_ps(sd2.data() + i0);
-      const __m256i ii = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sid.data() + i0));
+    // Keys are below 2^63 (non-negative distances), so the signed comparison orders them.
+    for (std::size_t i0 = 0; i0 < m; i0 += 4) {
+      const __m256i ki = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(skeys.data() + i0));
       __m256i rank = _mm256_setzero_si256();
       for (std::size_t j = 0; j < m; ++j) {
-        const __m256 dj = _mm256_broadcast_ss(sd2.data() + j);
-        const __m256i ij = _mm256_set1_epi32(static_cast<int>(sid[j]));
-        const __m256 before =
-            _mm256_or_ps(_mm256_cmp_ps(dj, di, _CMP_LT_OQ),
-                         _mm256_and_ps(_mm256_cmp_ps(dj, di, _CMP_EQ_OQ),
-                                       _mm256_castsi256_ps(_mm256_cmpgt_epi32(ii, ij))));
-        rank = _mm256_sub_epi32(rank, _mm256_castps_si256(before));
+        const __m256i kj = _mm256_set1_epi64x(static_cast<long long>(skeys[j]));
+        rank = _mm256_sub_epi64(rank, _mm256_cmpgt_epi64(ki, kj));
       }
-      alignas(32) uint32_t ranks[8];
+      alignas(32) uint64_t ranks[4];
       _mm256_store_si256(reinterpret_cast<__m256i*>(ranks), rank);
-      for (std::size_t lane = 0; lane < 8 && i0 + lane < m; ++lane) {
-        if (ranks[lane] < others)
-          keys[ranks[lane]] = make_key(sd2[i0 + lane], sid[i0 + lane] ^ 0x80000000u);
+      // Without branches: ranks past k - 2 and lanes past m go to the spare slot keys[others].
+      for (std::size_t lane = 0; lane < 4; ++lane) {
+        const uint64_t rank_or_spare = i0 + lane < m ? ranks[lane] : others;
+        keys[std::min<uint64_t>(rank_or_spare, others)] = skeys[i0 + lane];
       }
     }
     return true;
@@ -604,8 +601,8 @@ struct SpatialIndex::LeafBatch {
 void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                             float* sq_dists) const {
   const std::size_t others = std::min(k - 1, size() - 1);
-  std::vector<uint64_t> keys(others);
-  LeafBatch batch{*this, {}, {}, {}, {}, 0, {}, {}, {}};
+  std::vector<uint64_t> keys(others + 1);
+  LeafBatch batch{*this, {}, {}, {}, {}, 0, {}};
   uint32_t leaf = static_cast<uint32_t>(
       std::upper_bound(leaf_start_.begin(), leaf_start_.end(), begin) - leaf_start_.begin() - 1);
 #if defined(__x86_64__)
