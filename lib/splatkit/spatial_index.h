@@ -6,10 +6,13 @@
 // the tree's own order into three coordinate arrays (structure of arrays), so a leaf is a
 // contiguous run scanned four points at a time, and the batch queries walk the points in that
 // order, so consecutive queries share cache lines and tree paths. Every node stores its tight box;
-// the layout is implicit (heap order), so there are no child pointers. A batch query starts in its
-// own leaf and climbs, and is warm-started with a distance bound from the previous query
-// (triangle inequality). Candidates are (squared distance, index) packed in one uint64_t kept in
-// a small sorted array.
+// the layout is implicit (heap order), so there are no child pointers. Batch kNN works leaf by
+// leaf: the leaf's queries share one candidate set, the points within a guessed reach of the
+// leaf's box (the previous leaf's largest squared k-th distance + 10 %), and each query ranks those
+// candidates (with AVX2, when the CPU has it, without data-dependent branches); a query whose
+// k-th neighbour lies beyond the reach — its answer could be outside the set — falls back to an
+// ordinary search that starts in its own leaf and climbs. Candidates are (squared distance,
+// index) packed in one uint64_t.
 //
 // Memory: 16 bytes/point (12 for coordinates, 4 for the original index) plus 48 bytes per leaf
 // for the boxes (≈ 2 bytes/point at the default max_leaf_size of 32). Building needs another
