@@ -25,6 +25,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr std::size_t kPrefetchRows = 4;
+
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -71,6 +73,11 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
       row_k, [&](std::span<const uint32_t> queries, std::span<const uint32_t> indices,
                  std::span<const float> sq_dists) {
         for (std::size_t r = 0; r < queries.size(); ++r) {
+          // The rows' points are scattered over the cloud: fetch a few rows ahead.
+          if (r + kPrefetchRows < queries.size()) {
+            for (uint32_t j : indices.subspan((r + kPrefetchRows) * row_k, o.k))
+              if (j != SpatialIndex::kNone) __builtin_prefetch(&positions[j]);
+          }
           const uint32_t i = queries[r];
           const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
           cloud.normals[i] = pca.normal;
