@@ -35,31 +35,36 @@ void compact(std::vector<T>& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
-// Sets first[] for one run of keys sorted by (hash, index).
+// Sets first[] for one bucket of keys in ascending index order: each point looks for an earlier
+// first occurrence with its position in a small open-addressing table (slots hold key positions;
+// the first occurrences only), and enters the table when there is none.
 void resolve_bucket(const std::vector<Vec3f>& positions, const uint64_t* keys, std::size_t n,
-                    std::vector<uint32_t>& first) {
-  for (std::size_t s = 0; s < n;) {
-    std::size_t e = s + 1;
-    while (e < n && keys[e] >> 32 == keys[s] >> 32) ++e;
-    for (std::size_t t = s; t < e; ++t) {
-      const uint32_t i = static_cast<uint32_t>(keys[t]);
-      first[i] = i;
-      for (std::size_t u = s; u < t; ++u) {  // runs are tiny unless the cloud has duplicates
-        const uint32_t j = static_cast<uint32_t>(keys[u]);
-        if (first[j] == j && same_position(positions[j], positions[i])) {
-          first[i] = j;
-          break;
-        }
+                    std::vector<uint32_t>& first, std::vector<uint32_t>& table) {
+  constexpr uint32_t kEmpty = 0xFFFFFFFF;
+  const std::size_t mask = std::bit_ceil(std::max<std::size_t>(2 * n, 16)) - 1;
+  table.assign(mask + 1, kEmpty);
+  for (std::size_t t = 0; t < n; ++t) {
+    const uint32_t hash = static_cast<uint32_t>(keys[t] >> 32);
+    const uint32_t i = static_cast<uint32_t>(keys[t]);
+    first[i] = i;
+    std::size_t slot = hash & mask;
+    for (; table[slot] != kEmpty; slot = (slot + 1) & mask) {
+      const uint64_t other = keys[table[slot]];
+      const uint32_t j = static_cast<uint32_t>(other);
+      if (other >> 32 == hash && same_position(positions[j], positions[i])) {
+        first[i] = j;
+        break;
       }
     }
-    s = e;
+    if (first[i] == i) table[slot] = static_cast<uint32_t>(t);
   }
 }
 
 // first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
 // Keys (hash << 32 | index) are distributed by the hash's top bits into buckets of ~256 (one
-// stable counting pass), then each bucket is sorted and resolved on its own, in parallel: equal
-// positions share a bucket, and the result does not depend on the thread count.
+// stable counting pass, so each bucket is in index order), then each bucket is resolved on its
+// own, in parallel: equal positions share a bucket, and the result does not depend on the thread
+// count.
 std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
   const std::size_t n = positions.size();
   int bits = 0;
@@ -84,10 +89,9 @@ std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
   hashes = {};
   std::vector<uint32_t> first(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 16), [&](const auto& r) {
-    for (std::size_t b = r.begin(); b < r.end(); ++b) {
-      std::sort(keys.begin() + start[b], keys.begin() + start[b + 1]);
-      resolve_bucket(positions, keys.data() + start[b], start[b + 1] - start[b], first);
-    }
+    std::vector<uint32_t> table;
+    for (std::size_t b = r.begin(); b < r.end(); ++b)
+      resolve_bucket(positions, keys.data() + start[b], start[b + 1] - start[b], first, table);
   });
   return first;
 }

@@ -6,7 +6,7 @@
 // order, so a cloud without duplicates is returned unchanged. Face indices are remapped to the kept
 // point of their position (faces are kept even if they become degenerate).
 //
-// Cost: a bucket pass and small sorts of 8-byte keys (position hash, index; 16 bytes/point
+// Cost: a bucket pass and small hash tables over 8-byte keys (position hash, index; 16 bytes/point
 // transient), then a linear compaction.
 // Deterministic: the result does not depend on the thread count.
 #pragma once

@@ -3,6 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <tuple>
+
+#include "splatkit/deterministic_rng.h"
+
 namespace splatkit {
 namespace {
 
@@ -47,6 +52,31 @@ TEST(NormalsMergeDuplicates, NoDuplicatesLeavesCloudUnchanged) {
   EXPECT_EQ(r.merged, 0u);
   EXPECT_EQ(c.positions, before.positions);
   EXPECT_EQ(r.representative, (std::vector<uint32_t>{0, 1, 2, 3}));
+}
+
+TEST(NormalsMergeDuplicates, ManyBucketsMatchAMapOfFirstOccurrences) {
+  // 60000 points over 20000 positions on a coarse grid (many copies, spread over many buckets,
+  // in random order), checked against a std::map from position to first index.
+  DeterministicRng rng{5};
+  SplatCloud c;
+  for (int i = 0; i < 60000; ++i) {
+    const uint64_t cell = rng.next() % 20000;
+    c.positions.push_back({static_cast<float>(cell % 40), static_cast<float>(cell / 40 % 25),
+                           static_cast<float>(cell / 1000) * 0.5f});
+  }
+  std::map<std::tuple<float, float, float>, uint32_t> first_of;
+  std::vector<uint32_t> expected(c.size());
+  std::vector<Vec3f> kept;
+  for (uint32_t i = 0; i < c.size(); ++i) {
+    const Vec3f& p = c.positions[i];
+    auto [it, inserted] = first_of.insert({{p.x, p.y, p.z}, static_cast<uint32_t>(kept.size())});
+    if (inserted) kept.push_back(p);
+    expected[i] = it->second;
+  }
+  MergeResult r = merge_duplicates(c, true);
+  EXPECT_EQ(r.merged, 60000u - kept.size());
+  EXPECT_EQ(c.positions, kept);
+  EXPECT_EQ(r.representative, expected);
 }
 
 TEST(NormalsMergeDuplicates, AllIdenticalAndEmpty) {
