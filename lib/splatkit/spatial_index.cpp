@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -45,6 +46,8 @@ constexpr std::array<uint64_t, 256> kCompress = [] {
   }
   return table;
 }();
+// Points per task when copying into and out of the build array.
+constexpr std::size_t kCopyGrain = 65536;
 // Below this many points a subtree is built on the current thread.
 constexpr std::size_t kParallelBuildCutoff = 32768;
 
@@ -234,13 +237,21 @@ SpatialIndex::SpatialIndex(std::span<const Vec3f> points, std::size_t max_leaf_s
   }
   const std::size_t n = points.size();
   std::vector<BuildPoint> pts(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3f& p = points[i];
-    if (!is_finite(p)) {
-      throw Error(ErrorKind::kBadInput,
-                  "spatial index: point " + std::to_string(i) + " has a non-finite coordinate");
+  std::atomic<bool> all_finite{true};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kCopyGrain), [&](const auto& r) {
+    bool finite = true;
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const Vec3f& p = points[i];
+      finite &= is_finite(p);
+      pts[i] = {{p.x, p.y, p.z}, static_cast<uint32_t>(i)};
     }
-    pts[i] = {{p.x, p.y, p.z}, static_cast<uint32_t>(i)};
+    if (!finite) all_finite = false;
+  });
+  if (!all_finite) {
+    const std::size_t i = static_cast<std::size_t>(
+        std::find_if_not(points.begin(), points.end(), is_finite) - points.begin());
+    throw Error(ErrorKind::kBadInput,
+                "spatial index: point " + std::to_string(i) + " has a non-finite coordinate");
   }
 
   // 2^depth leaves of equal size (within one point), so the layout needs no pointers.
@@ -258,12 +269,14 @@ SpatialIndex::SpatialIndex(std::span<const Vec3f> points, std::size_t max_leaf_s
   ys_.assign(n + 3, 0.0f);
   zs_.assign(n + 3, 0.0f);
   ids_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    xs_[i] = pts[i].c[0];
-    ys_[i] = pts[i].c[1];
-    zs_[i] = pts[i].c[2];
-    ids_[i] = pts[i].id;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kCopyGrain), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      xs_[i] = pts[i].c[0];
+      ys_[i] = pts[i].c[1];
+      zs_[i] = pts[i].c[2];
+      ids_[i] = pts[i].id;
+    }
+  });
 }
 
 std::size_t SpatialIndex::memory_bytes() const {
