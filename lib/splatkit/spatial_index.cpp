@@ -102,10 +102,10 @@ BuildPoint* partition_points(BuildPoint* first, BuildPoint* last, int axis, Take
   return out;
 }
 
-// std::nth_element by coordinate `axis` (the same contract), but with the branch-free partition
-// above, splitting off the copies of the pivot when it is the minimum (so runs of equal
-// coordinates still make progress); after a generous number
-// of rounds (an adversarial input) it hands over to std::nth_element.
+// std::nth_element by coordinate `axis` (the same contract) with the branch-free partition above
+// and a median-of-three pivot. When the pivot is the smallest coordinate its copies are split off
+// instead, so runs of equal coordinates still make progress; after a generous number of rounds
+// (an adversarial input) it hands over to std::nth_element.
 void select_nth(BuildPoint* first, BuildPoint* nth, BuildPoint* last, int axis) {
   auto less = [axis](const BuildPoint& a, const BuildPoint& b) { return a.c[axis] < b.c[axis]; };
   int rounds = 2 * std::bit_width(static_cast<std::size_t>(last - first)) + 8;
@@ -408,10 +408,10 @@ std::size_t SpatialIndex::knn(const Vec3f& q, std::size_t k, uint32_t* out_indic
 }
 
 // The queries of one leaf share one candidate set: every point whose box distance to the leaf's
-// box is at most a guessed reach R (squared: reach2). For a query q in the box, every other point
-// has a float distance > reach2 (box_sq_dist is a lower bound, as above), so if q finds its k - 1
-// nearest among the candidates within reach2, that answer is exact, ties included. A query that
-// finds fewer (its k-th neighbour lies beyond the guess) is answered by the ordinary search.
+// box is at most a guessed reach R (squared: reach2). For a query q in the box, every point left
+// out has a float distance > reach2 (box_sq_dist is a lower bound, as above), so if q finds its
+// k - 1 nearest among the candidates within reach2, that answer is exact, ties included. A query
+// that finds fewer (its k-th neighbour lies beyond the guess) is answered by the ordinary search.
 // The guess comes from the previous leaf's farthest k-th neighbour: neighbouring leaves have
 // similar densities, so few queries fall back.
 struct SpatialIndex::LeafBatch {
