@@ -161,6 +161,21 @@ TEST(SpatialIndex, ManyCopiesAmongOtherPoints) {
   }
 }
 
+TEST(SpatialIndex, SortedReversedAndOrganPipeInputs) {
+  // Orders that trouble median-of-three selection while building, and runs of equal coordinates.
+  std::vector<Vec3f> sorted;
+  for (int i = 0; i < 1200; ++i)
+    sorted.push_back(
+        {static_cast<float>(i), static_cast<float>(i % 7), static_cast<float>(i / 400)});
+  std::vector<Vec3f> reversed(sorted.rbegin(), sorted.rend());
+  std::vector<Vec3f> organ_pipe(sorted.begin(), sorted.begin() + 600);
+  organ_pipe.insert(organ_pipe.end(), reversed.begin() + 600, reversed.end());
+  for (const auto* cloud : {&sorted, &reversed, &organ_pipe}) {
+    SpatialIndex index(*cloud, 8);
+    expect_knn_all_matches(index, *cloud, 9);
+  }
+}
+
 TEST(SpatialIndex, AllPointsIdentical) {
   std::vector<Vec3f> pts(100, Vec3f{0.25f, -1.0f, 3.0f});
   SpatialIndex index(pts, 8);
