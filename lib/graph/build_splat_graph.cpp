@@ -13,6 +13,7 @@
 #include "graph/classify_clip_partners.h"
 #include "graph/disc_disc_intersect.h"
 #include "graph/linsen_boundary_test.h"
+#include "graph/sphere_overlap_graph.h"
 #include "splatkit/error.h"
 #include "splatkit/seconds_since.h"
 
@@ -225,18 +226,12 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   check_inputs(positions, normals, radii, options);
   SplatGraph g;
   SplatGraphTimings& t = g.timings;
-  progress(0.0, "index");
-  {
-    Clock::time_point t0 = Clock::now();
-    const SpatialIndex index(positions);
-    t.index = seconds_since(t0);
-    progress(0.2, "neighbour graph");
-    t0 = Clock::now();
-    g.graph = index.sphere_overlaps(radii);
-    t.overlaps = seconds_since(t0);
-  }
-  progress(0.6, "sharp edges");
+  progress(0.0, "neighbour graph");
   Clock::time_point t0 = Clock::now();
+  g.graph = sphere_overlap_graph(positions, radii);
+  t.overlaps = seconds_since(t0);
+  progress(0.6, "sharp edges");
+  t0 = Clock::now();
   g.edge_flags.resize(g.graph.neighbors.size());
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;

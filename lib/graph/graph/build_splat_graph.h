@@ -71,15 +71,15 @@ struct SplatGraphStats {
 // Wall-clock seconds of the phases of build_splat_graph (for --report; not part of the result's
 // identity: they vary from run to run).
 struct SplatGraphTimings {
-  double index = 0;     // SpatialIndex construction
-  double overlaps = 0;  // SpatialIndex::sphere_overlaps: the graph [3.1]
+  double overlaps = 0;  // sphere_overlap_graph: the graph [3.1] (grid, sort, rows)
   double classify = 0;  // edge flags (sharp, crossing) and the class of every splat
   double surfaces = 0;  // segment_surfaces
   double clip = 0;      // the clip table and its classification
 };
 
 struct SplatGraph {
-  NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} [3.1]
+  NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} [3.1], built by
+                                    // sphere_overlap_graph
   std::vector<uint8_t> edge_flags;  // kEdge* bits, parallel to graph.neighbors
   std::vector<SplatClass> classes;  // #N
   Segmentation surfaces;            // segment_surfaces_robust, or segment_surfaces

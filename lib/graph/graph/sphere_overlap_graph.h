@@ -1,0 +1,32 @@
+// sphere_overlap_graph: the neighbour graph of seed [3.1], E = {(i, j) : |C_i − C_j| < r_i + r_j},
+// with a uniform grid instead of a kd-tree — the first phase of build_splat_graph.
+//
+// Same answer as SpatialIndex::sphere_overlaps, entry for entry: j is a neighbour of i (j != i)
+// iff squared_distance(C_i, C_j) < (r_i + r_j)², both computed in float the same way; rows
+// ascending. Built for splat clouds, where radii come from the local spacing and are alike:
+//   - cells of side 2 R, R the largest "small" radius, so two small splats that overlap lie in
+//     the same or adjacent cells (27 cells, walked as 9 runs of 3 cells that are consecutive in
+//     the cells' key order; one cursor per run moves forward only, so no hashing, no search);
+//   - splats are sorted by cell (LSD radix sort on the cell key) into their own arrays;
+//   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
+//     their neighbours by scanning the cells within r_b + R of their centre and by testing each
+//     other directly, and are added to the rows of the small splats they overlap.
+// When the big splats would cost too much (more than 8192 of them, or their cell scans add up to
+// more than 8 cells per splat) it falls back to SpatialIndex::sphere_overlaps.
+//
+// positions, radii: #N each. Throws std::invalid_argument for different sizes, a radius that is
+// negative or not finite, or a position that is not finite (like SpatialIndex). Runs in parallel
+// with TBB; the result does not depend on the thread count. Memory: the result (8 bytes/splat +
+// 4 per row entry) plus about 40 bytes/splat and as much again as the result, transiently.
+#pragma once
+
+#include <span>
+
+#include "splatkit/spatial_index.h"
+#include "splatkit/vec3.h"
+
+namespace splatkit::graph {
+
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii);
+
+}  // namespace splatkit::graph

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# build-splat-graph against the same sphere-overlap graph built with PCL (issue 5): splat-synth
+# cad (or another shape) with its true normals and radii from the 5-nearest-neighbour spacing,
+# --threads 2. Ours: build_splat_graph's time from --report — the graph (sphere_overlap_graph's
+# grid), sharp edges and classes, surfaces and clip partners — and its phases. PCL:
+# bench_graph_pcl, pcl::KdTreeFLANN build + radiusSearch(r_i + r_max) + exact filter into the
+# same rows, TBB with the same thread count; it checks that its graph equals ours edge for edge.
+# Then segment-surfaces (its segment phase, and decode + segment), and the seed's reference
+# size, 41,737 splats (76 s there, O(n^2)). Prints the ratios; exits 1 when a target is missed:
+# ours >= 2 M splats/s, >= 10x PCL, segment-surfaces >= 10 M splats/s, same graph.
+# usage: scripts/bench/graph.sh [splats] [threads] [repeats] [shape]
+#   (build dir: $BUILD_DIR; timings: best of the repeats)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build-bench}
+splats=${1:-1000000} threads=${2:-2} repeats=${3:-3} shape=${4:-cad}
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
+  >/dev/null
+ninja -C "$build" -j2 splat-synth build-splat-graph segment-surfaces bench_graph_pcl >/dev/null
+bin=$build/tools
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$bin/splat-synth" -q "$shape" "$work/in.ply" -n "$splats" --no-color
+
+# timing KEY FILE: seconds of phase KEY in a --report's timings_s.
+timing() {
+  tr -d '\n ' <"$2" | grep -o '"timings_s":{[^}]*}' | grep -o "\"$1\":[-0-9.e+]*" | cut -d: -f2
+}
+# value KEY FILE: the number after the first "KEY": in a JSON file.
+value() { grep -o "\"$1\": *[-0-9.e+]*" "$2" | head -1 | sed 's/.*: *//'; }
+min() { printf '%s\n' "$@" | sort -g | head -1; }
+
+ours=() pcl=() cmd=() seg=() decseg=()
+best=""
+for r in $(seq "$repeats"); do
+  "$bin/build-splat-graph" -q "$work/in.ply" "$work/g.splk" --threads "$threads" \
+    --report "$work/r$r.json"
+  ours+=("$(timing graph "$work/r$r.json")")
+  cmd+=("$(timing command "$work/r$r.json")")
+  [ -z "$best" ] || awk -v a="$(timing graph "$work/r$r.json")" -v b="$(timing graph "$best")" \
+    'BEGIN { exit !(a < b) }' && best=$work/r$r.json
+  compare=()
+  [ "$r" = 1 ] && compare=(--compare "$work/g.splk")
+  "$build/scripts/bench/bench_graph_pcl" "$work/in.ply" --threads "$threads" "${compare[@]}" \
+    >"$work/pcl$r.json" || { echo "graph: PCL's graph differs from ours"; exit 1; }
+  pcl+=("$(value pcl_s "$work/pcl$r.json")")
+  "$bin/segment-surfaces" -q "$work/g.splk" "$work/s.splk" --report "$work/s$r.json"
+  seg+=("$(timing segment "$work/s$r.json")")
+  decseg+=("$(awk -v d="$(timing decode "$work/s$r.json")" -v s="$(timing segment "$work/s$r.json")" \
+    'BEGIN { print d + s }')")
+done
+"$bin/splat-synth" -q "$shape" "$work/seed.ply" -n 41737 --no-color
+"$bin/build-splat-graph" -q "$work/seed.ply" "$work/seed.splk" --threads "$threads" \
+  --report "$work/seed.json"
+
+n=$(value splats "$best")
+echo "graph: $shape, $n splats, $(value edges "$best") edges (m = $(value mean_degree "$best")), $threads threads, best of $repeats"
+echo "  ours, phases of the best run: $(tr -d '\n ' <"$best" | grep -o '"timings_s":{[^}]*}')"
+echo "  PCL, first run: $(cat "$work/pcl1.json")"
+awk -v to="$(min "${ours[@]}")" -v tp="$(min "${pcl[@]}")" -v tc="$(min "${cmd[@]}")" \
+  -v ts="$(min "${seg[@]}")" -v tds="$(min "${decseg[@]}")" -v n="$n" \
+  -v ovl="$(timing overlaps "$best")" \
+  -v same="$(grep -o '"same_graph": *[a-z]*' "$work/pcl1.json" | sed 's/.*: *//')" \
+  -v sn="$(value splats "$work/seed.json")" -v st="$(timing graph "$work/seed.json")" \
+  -v sc="$(timing command "$work/seed.json")" 'BEGIN {
+  printf "  %-52s %9s %12s\n", "", "seconds", "splats/s"
+  printf "  %-52s %9.3f %12.0f\n", "ours: graph + classes + surfaces + clip partners", to, n / to
+  printf "  %-52s %9.3f %12.0f\n", "ours: of which the graph (grid + overlaps)", ovl, n / ovl
+  printf "  %-52s %9.3f %12.0f\n", "ours: whole command (read, build, write)", tc, n / tc
+  printf "  %-52s %9.3f %12.0f\n", "PCL: KdTreeFLANN build + radius search + filter", tp, n / tp
+  printf "  %-52s %9.3f %12.0f\n", "segment-surfaces: segment", ts, n / ts
+  printf "  %-52s %9.3f %12.0f\n", "segment-surfaces: decode GRPH + segment", tds, n / tds
+  printf "  x PCL: %.1f (whole build_splat_graph), %.1f (graph only)\n", tp / to, tp / ovl
+  printf "  seed size: %d splats in %.3f s (command %.3f s); the seed took 76 s\n", sn, st, sc
+  printf "  same graph as PCL: %s\n", same
+  ok = (n / to >= 2e6) && (tp / to >= 10) && (n / ts >= 1e7) && (same == "true")
+  printf "  targets (>= 2 M splats/s, >= 10x PCL, segment >= 10 M splats/s, same graph): %s\n",
+         ok ? "met" : "NOT met"
+  exit !ok }'

@@ -1,0 +1,98 @@
+// sphere_overlap_graph: the grid gives exactly SpatialIndex::sphere_overlaps' graph (and brute
+// force's), with big splats, zero radii, duplicates and far-apart clusters.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "graph/sphere_overlap_graph.h"
+#include "splatkit/error.h"
+#include "splatkit/spatial_index.h"
+#include "splatkit/synthetic_shapes.h"
+
+namespace splatkit::graph {
+namespace {
+
+NeighborGraph brute_force(const std::vector<Vec3f>& c, const std::vector<float>& r) {
+  NeighborGraph g;
+  g.offsets.push_back(0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      const float sum = r[i] + r[j];
+      if (j != i && squared_distance(c[i], c[j]) < sum * sum) g.neighbors.push_back(uint32_t(j));
+    }
+    g.offsets.push_back(g.neighbors.size());
+  }
+  return g;
+}
+
+void expect_same(const NeighborGraph& a, const NeighborGraph& b, const char* what) {
+  EXPECT_EQ(a.offsets, b.offsets) << what;
+  EXPECT_EQ(a.neighbors, b.neighbors) << what;
+}
+
+TEST(GraphSphereOverlapGraph, TwoSplatsTouchingIsNoEdgeOverlappingIs) {
+  const std::vector<Vec3f> c{{0, 0, 0}, {2, 0, 0}, {0, 2.5f, 0}};
+  // 0 and 1: |C| = 2 = 1 + 1, touching, not overlapping; 0 and 2: 2.5 < 1 + 2.5; 1 and 2:
+  // sqrt(10.25) < 3.5.
+  const NeighborGraph g = sphere_overlap_graph(c, std::vector<float>{1, 1, 2.5f});
+  EXPECT_EQ(g.offsets, (std::vector<uint64_t>{0, 1, 2, 4}));
+  EXPECT_EQ(g.neighbors, (std::vector<uint32_t>{2, 2, 0, 1}));
+}
+
+TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (int round = 0; round < 12; ++round) {
+    const std::size_t n = 1 + rng() % 1500;
+    std::vector<Vec3f> c(n);
+    std::vector<float> r(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      c[i] = {u(rng), u(rng), round % 3 == 0 ? 0.0f : u(rng) * 0.2f};  // planes and slabs
+      r[i] = 0.05f * (1 + 0.2f * u(rng));
+      if (rng() % 200 == 0) r[i] *= 1 + float(rng() % 30);  // big splats, some huge
+      if (rng() % 300 == 0) r[i] = 0;
+      if (i > 0 && rng() % 100 == 0) c[i] = c[i - 1];  // duplicates
+    }
+    if (round == 5) c[0] = {1000, -1000, 3};  // a far-away splat: a long, empty grid
+    expect_same(sphere_overlap_graph(c, r), brute_force(c, r), "brute force");
+  }
+}
+
+TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {
+  for (ShapeKind kind : {ShapeKind::kCadPart, ShapeKind::kTwoSpheres, ShapeKind::kTorus}) {
+    ShapeOptions so;
+    so.kind = kind;
+    so.points = 20000;
+    so.random = kind == ShapeKind::kTorus;
+    const SplatCloud cloud = make_shape(so);
+    expect_same(sphere_overlap_graph(cloud.positions, cloud.radii),
+                SpatialIndex(cloud.positions).sphere_overlaps(cloud.radii), "kd-tree");
+  }
+}
+
+TEST(GraphSphereOverlapGraph, DegenerateInputs) {
+  EXPECT_EQ(sphere_overlap_graph({}, {}).offsets, (std::vector<uint64_t>{0}));
+  const std::vector<Vec3f> same(5, Vec3f{1, 2, 3});
+  // All radii zero: nothing overlaps, even at the same point.
+  EXPECT_TRUE(sphere_overlap_graph(same, std::vector<float>(5, 0)).neighbors.empty());
+  const NeighborGraph all = sphere_overlap_graph(same, std::vector<float>(5, 0.1f));
+  EXPECT_EQ(all.neighbors.size(), 20u);
+  // Almost all radii zero (the 99.9th percentile is 0): the kd-tree's answer.
+  std::vector<float> r(5, 0);
+  r[2] = 1;
+  EXPECT_EQ(sphere_overlap_graph(same, r).neighbors,
+            (std::vector<uint32_t>{2, 2, 0, 1, 3, 4, 2, 2}));
+  EXPECT_THROW(sphere_overlap_graph(same, std::vector<float>(4, 1)), std::invalid_argument);
+  EXPECT_THROW(sphere_overlap_graph(same, std::vector<float>{1, 1, -1, 1, 1}),
+               std::invalid_argument);
+  std::vector<Vec3f> bad = same;
+  bad[1].y = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(sphere_overlap_graph(bad, std::vector<float>(5, 1)), Error);
+}
+
+}  // namespace
+}  // namespace splatkit::graph
