@@ -2,6 +2,10 @@
 
 #include <tbb/parallel_for.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -162,25 +166,53 @@ struct Block {
 // Candidates of one cell: up to 9 runs [begin, end) of sorted splats.
 using Runs = std::array<std::pair<uint32_t, uint32_t>, 9>;
 
+// Appends to row (from `count`) the splats of [a, b) that overlap splat p (sorted position) and
+// are small; returns the new count. row must have room for b - a more entries. Branch-free: every
+// candidate is written and kept by advancing the count (about a third of the candidates are
+// neighbours, so a branch would mispredict often). With SSE2, four candidates per step; the
+// arithmetic is the scalar expression's, lane by lane, so the answers are the same.
+uint32_t overlaps_in_run(const Sorted& s, uint32_t p, uint32_t a, uint32_t b, uint32_t* row,
+                         uint32_t count) {
+  const float px = s.x[p], py = s.y[p], pz = s.z[p], pr = s.r[p], R = s.small_radius;
+  uint32_t q = a;
+#if defined(__SSE2__)
+  const __m128 vx = _mm_set1_ps(px), vy = _mm_set1_ps(py), vz = _mm_set1_ps(pz),
+               vr = _mm_set1_ps(pr), vR = _mm_set1_ps(R);
+  for (; q + 4 <= b; q += 4) {
+    const __m128 dx = _mm_sub_ps(vx, _mm_loadu_ps(&s.x[q]));
+    const __m128 dy = _mm_sub_ps(vy, _mm_loadu_ps(&s.y[q]));
+    const __m128 dz = _mm_sub_ps(vz, _mm_loadu_ps(&s.z[q]));
+    const __m128 rq = _mm_loadu_ps(&s.r[q]);
+    const __m128 sum = _mm_add_ps(vr, rq);
+    const __m128 d2 =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+    unsigned mask = unsigned(
+        _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(d2, _mm_mul_ps(sum, sum)), _mm_cmple_ps(rq, vR))));
+    if (p - q < 4) mask &= ~(1u << (p - q));
+    for (int k = 0; k < 4; ++k) {
+      row[count] = s.id[q + k];
+      count += (mask >> k) & 1;
+    }
+  }
+#endif
+  for (; q < b; ++q) {
+    const float dx = px - s.x[q], dy = py - s.y[q], dz = pz - s.z[q];
+    const float sum = pr + s.r[q];
+    row[count] = s.id[q];
+    count += (dx * dx + dy * dy + dz * dz < sum * sum) & (q != p) & (s.r[q] <= R);
+  }
+  return count;
+}
+
 void small_rows_of_cell(const Sorted& s, std::size_t c, const Runs& runs,
                         std::vector<uint32_t>& row, Block& out) {
-  const float R = s.small_radius;
   std::size_t candidates = 0;
   for (const auto& [a, b] : runs) candidates += b - a;
   if (row.size() < candidates) row.resize(candidates);
   for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
-    const float px = s.x[p], py = s.y[p], pz = s.z[p], pr = s.r[p];
     uint32_t count = 0;
-    if (pr <= R) {
-      // Branch-free: every candidate is written, and kept by advancing the count (a fifth of
-      // them are neighbours, so a branch would mispredict often).
-      for (const auto& [a, b] : runs)
-        for (uint32_t q = a; q < b; ++q) {
-          const float dx = px - s.x[q], dy = py - s.y[q], dz = pz - s.z[q];
-          const float sum = pr + s.r[q];
-          row[count] = s.id[q];
-          count += (dx * dx + dy * dy + dz * dz < sum * sum) & (q != p) & (s.r[q] <= R);
-        }
+    if (s.r[p] <= s.small_radius) {
+      for (const auto& [a, b] : runs) count = overlaps_in_run(s, p, a, b, row.data(), count);
       std::sort(row.begin(), row.begin() + count);
     }
     out.counts.push_back(count);
