@@ -120,6 +120,7 @@ class SpatialIndex {
   struct KnnState;
   struct KnnSearch;
   struct LeafBatch;
+  struct OverlapBatch;
   struct Builder;
 
   void knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,

@@ -270,13 +270,17 @@ TEST(SpatialIndex, SphereOverlapsMatchBruteForce) {
     float u = rng.uniformf();
     radii[i] = i % 97 == 0 ? 0.3f * u : (i % 13 == 0 ? 0.0f : 0.08f * u);
   }
-  for (std::size_t leaf : {1, 16}) {
-    SpatialIndex index(pts, leaf);
-    NeighborGraph graph = index.sphere_overlaps(radii);
-    NeighborGraph expected = brute_overlaps(pts, radii);
-    EXPECT_EQ(graph.offsets, expected.offsets);
-    EXPECT_EQ(graph.neighbors, expected.neighbors);
-    EXPECT_GT(graph.neighbors.size(), pts.size());  // the test is not vacuous
+  // Equal radii too: every leaf answers from its shared candidate set.
+  std::vector<float> equal_radii(pts.size(), 0.05f);
+  for (const auto* r : {&radii, &equal_radii}) {
+    for (std::size_t leaf : {1, 16, 64}) {
+      SpatialIndex index(pts, leaf);
+      NeighborGraph graph = index.sphere_overlaps(*r);
+      NeighborGraph expected = brute_overlaps(pts, *r);
+      EXPECT_EQ(graph.offsets, expected.offsets);
+      EXPECT_EQ(graph.neighbors, expected.neighbors);
+      EXPECT_GT(graph.neighbors.size(), pts.size());  // the test is not vacuous
+    }
   }
 }
 
