@@ -107,9 +107,10 @@ class SpatialIndex {
   // The sphere-overlap graph of the indexed points as centres C_i with radii[i]: j is a neighbour
   // of i (j != i) iff squared_distance(C_i, C_j) < (radii[i] + radii[j])^2, computed in float —
   // bounding spheres that strictly overlap. Prunes by each node's largest radius, so a few huge
-  // radii do not slow down the rest. radii must have size() entries, each finite and >= 0, else
-  // std::invalid_argument. Runs in parallel; the result does not depend on the thread count.
-  // Memory: the result (8 bytes/point + 4 bytes per row entry) plus about as much transiently.
+  // radii do not slow down the rest; a leaf's points share one candidate set when it is small.
+  // radii must have size() entries, each finite and >= 0, else std::invalid_argument. Runs in
+  // parallel; the result does not depend on the thread count. Memory: the result (8 bytes/point + 4
+  // bytes per row entry) plus about as much transiently.
   NeighborGraph sphere_overlaps(std::span<const float> radii) const;
 
  private:
