@@ -34,7 +34,7 @@ constexpr float kGuessGrowth = 1.1f;
 constexpr std::size_t kCandidateLimit = 512;
 // rank_avx2 counts ranks for up to this many candidates within the cap (quadratic), and sorts
 // beyond.
-constexpr std::size_t kRankLimit = 64;
+constexpr std::size_t kRankLimit = 160;
 // Byte k of kCompress[mask] is the lane of the k-th set bit of mask: the shuffle that packs the
 // selected lanes of an eight-wide vector to its front.
 constexpr std::array<uint64_t, 256> kCompress = [] {
