@@ -12,9 +12,9 @@
 // neighbours are ignored, so surfaces that cross each other keep their cores). Then:
 //   1. cores are joined over continuous edges between two cores (union-find); components with
 //      fewer than min_core_size splats are not cores (islands of agreeing normals in a band);
-//   2. every other splat takes the surface of the nearest core by a breadth-first search over
-//      continuous edges started from all cores at once, in ascending index order (first reached
-//      wins, so the result is fixed);
+//   2. every other splat takes the surface of the nearest core (in hops) by a breadth-first
+//      search over continuous edges from all cores at once, one hop per round; within a round
+//      the givers go in ascending index order and the first one wins, so the result is fixed;
 //   3. splats that no core reaches form surfaces of their own: components of their continuous
 //      edges (what segment_surfaces would give them).
 // Ids are given in the order of each surface's lowest splat index. Where each component of the
