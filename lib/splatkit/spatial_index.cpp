@@ -623,8 +623,11 @@ void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, u
 #else
   constexpr bool use_avx2 = false;
 #endif
-  float guess = -1.0f;  // the previous leaf's largest k-th squared distance; < 0: none yet
+  float guess = -1.0f;           // the previous leaf's largest k-th squared distance; < 0: none yet
+  double previous_reach = -1.0;  // k-th distance of the previous row, < 0 when unknown
   auto write_row = [&](std::size_t p, std::size_t found) {
+    previous_reach =
+        found == others && others > 0 ? std::sqrt(double{key_d2(keys[others - 1])}) : -1.0;
     uint32_t* row_ids = indices + (p - begin) * k;
     float* row_d2 = sq_dists + (p - begin) * k;
     row_ids[0] = ids_[p];
@@ -638,8 +641,21 @@ void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, u
       row_d2[c] = kInf;
     }
   };
+  // Warm start: if the previous point p' has its k - 1 others within distance D, then those and
+  // p' itself (k points, at most one of them the current point) lie within D + |q - q'| of q, so
+  // the current row needs nothing farther. The bound is computed in double and widened far beyond
+  // float rounding, so it never cuts a true neighbour.
   auto search = [&](std::size_t p, uint32_t l) {
-    KnnState state(others, keys.data());
+    uint64_t cap = ~uint64_t{0};
+    if (p > begin && previous_reach >= 0.0) {
+      const double dx = double{xs_[p]} - xs_[p - 1], dy = double{ys_[p]} - ys_[p - 1],
+                   dz = double{zs_[p]} - zs_[p - 1];
+      const double reach = previous_reach + std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double bound = reach * reach * (1.0 + 1e-5) + 1e-30;
+      if (bound < std::numeric_limits<float>::max())
+        cap = make_key(std::nextafter(static_cast<float>(bound), kInf), kNone);
+    }
+    KnnState state(others, keys.data(), cap);
     if (others > 0) {
       KnnSearch{*this, xs_[p], ys_[p], zs_[p], static_cast<uint32_t>(p), state}.from_leaf(l);
       state.finish();
