@@ -672,8 +672,12 @@ void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, u
         batch.gather(leaf, reach2, kCandidateLimit, use_avx2)) {
       for (; p < leaf_end; ++p) {
         const uint32_t q = static_cast<uint32_t>(p);
+#if defined(__x86_64__)
         const bool answered = use_avx2 ? batch.rank_avx2(q, reach2, others, keys.data())
                                        : batch.query(q, reach2, others, keys.data());
+#else
+        const bool answered = batch.query(q, reach2, others, keys.data());
+#endif
         if (!answered) {
           farthest = std::max(farthest, search(p, leaf));
           continue;
