@@ -2,14 +2,17 @@
 
 #include <tbb/parallel_for.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
+#if defined(__x86_64__)
+#include <immintrin.h>
 #endif
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,7 +22,8 @@
 namespace splatkit::graph {
 namespace {
 
-constexpr std::size_t kCellBlock = 1024;  // cells per task and per output block
+constexpr std::size_t kCellBlock = 1024;  // cells per task
+constexpr std::size_t kPad = 8;  // spare entries after the sorted arrays, for eight-wide loads
 constexpr std::size_t kMaxBig = 8192;
 constexpr double kMaxBigRowsPerSplat = 8;  // budget of the big splats' cell-row scans
 constexpr uint64_t kMaxCellsPerAxis = (uint64_t{1} << 21) - 3;  // keys stay below 2^63
@@ -45,8 +49,9 @@ struct Grid {
 
 // Splats in cell order, structure of arrays, and the cells.
 struct Sorted {
-  std::vector<float> x, y, z, r;
-  std::vector<uint32_t> id;          // original index
+  std::vector<float> x, y, z, r;     // padded with kPad zeros for eight-wide loads
+  std::vector<uint32_t> id;          // original index (also padded)
+  std::size_t n = 0;                 // splats
   std::vector<uint64_t> cell_key;    // one per non-empty cell, ascending
   std::vector<uint32_t> cell_start;  // first splat of each cell, plus the count at the end
   float small_radius = 0;            // R: radii above it are big
@@ -121,25 +126,85 @@ void radix_sort(std::vector<uint64_t>& keys, std::vector<uint32_t>& ids, uint64_
   }
 }
 
-Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> radii, const Grid& g,
-                    float r_small) {
+// Stable LSD radix sort of (key << 32 | index) by key (keys below 2^32), 11 bits per pass, in
+// parallel: each fixed chunk of the input counts its keys, and its share of every bucket starts
+// after the earlier chunks' shares, so the result is the serial one for any thread count.
+void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits, kChunk = 1 << 16;
+  const std::size_t n = items.size(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<uint64_t> other(n);
+  std::vector<std::size_t> start(chunks * kBuckets);
+  for (int shift = 32; shift < 64 && (max_key >> (shift - 32)) != 0; shift += kBits) {
+    auto bucket = [shift](uint64_t v) { return std::size_t(v >> shift) & (kBuckets - 1); };
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+      std::size_t* count = start.data() + c * kBuckets;
+      std::fill(count, count + kBuckets, 0);
+      for (std::size_t e = c * kChunk; e < std::min(n, (c + 1) * kChunk); ++e)
+        ++count[bucket(items[e])];
+    });
+    std::size_t at = 0;
+    for (std::size_t b = 0; b < kBuckets; ++b)
+      for (std::size_t c = 0; c < chunks; ++c) {
+        const std::size_t count = start[c * kBuckets + b];
+        start[c * kBuckets + b] = at;
+        at += count;
+      }
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+      std::size_t* to = start.data() + c * kBuckets;
+      for (std::size_t e = c * kChunk; e < std::min(n, (c + 1) * kChunk); ++e)
+        other[to[bucket(items[e])]++] = items[e];
+    });
+    items.swap(other);
+  }
+}
+
+// The splats' cell keys and original indices, sorted by key (stable: by index within a cell).
+void sorted_keys(std::span<const Vec3f> positions, const Grid& g, std::vector<uint64_t>& keys,
+                 std::vector<uint32_t>& ids) {
   const std::size_t n = positions.size();
-  std::vector<uint64_t> keys(n);
-  std::vector<uint32_t> ids(n);
+  const uint64_t max_key = g.key(g.cells[0] + 1, g.cells[1] + 1, g.cells[2] + 1);
+  if (max_key >> 32 == 0) {
+    std::vector<uint64_t> items(n);
+    tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
+      for (std::size_t i = b; i < std::min(n, b + 65536); ++i)
+        items[i] = g.key_of(positions[i]) << 32 | i;
+    });
+    radix_sort_packed(items, max_key);
+    ids.resize(n + kPad);
+    keys.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
+      for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
+        keys[k] = items[k] >> 32;
+        ids[k] = uint32_t(items[k]);
+      }
+    });
+    return;
+  }
+  keys.resize(n);
+  ids.resize(n);
   tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
     for (std::size_t i = b; i < std::min(n, b + 65536); ++i) {
       keys[i] = g.key_of(positions[i]);
       ids[i] = uint32_t(i);
     }
   });
-  radix_sort(keys, ids, g.key(g.cells[0] + 1, g.cells[1] + 1, g.cells[2] + 1));
+  radix_sort(keys, ids, max_key);
+  ids.resize(n + kPad);
+}
+
+Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> radii, const Grid& g,
+                    float r_small) {
+  const std::size_t n = positions.size();
+  std::vector<uint64_t> keys;
   Sorted s;
+  sorted_keys(positions, g, keys, s.id);
   s.small_radius = r_small;
-  s.x.resize(n);
-  s.y.resize(n);
-  s.z.resize(n);
-  s.r.resize(n);
-  s.id = std::move(ids);
+  s.n = n;
+  s.x.resize(n + kPad);
+  s.y.resize(n + kPad);
+  s.z.resize(n + kPad);
+  s.r.resize(n + kPad);
   tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
     for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
       const Vec3f& p = positions[s.id[k]];
@@ -158,71 +223,217 @@ Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> rad
   return s;
 }
 
-// Rows of the splats of a run of cells, in sorted order: their small neighbours.
-struct Block {
-  std::vector<uint32_t> counts, neighbors;
-};
-
 // Candidates of one cell: up to 9 runs [begin, end) of sorted splats.
 using Runs = std::array<std::pair<uint32_t, uint32_t>, 9>;
 
-// Appends to row (from `count`) the splats of [a, b) that overlap splat p (sorted position) and
-// are small; returns the new count. row must have room for b - a more entries. Branch-free: every
-// candidate is written and kept by advancing the count (about a third of the candidates are
-// neighbours, so a branch would mispredict often). With SSE2, four candidates per step; the
-// arithmetic is the scalar expression's, lane by lane, so the answers are the same.
-uint32_t overlaps_in_run(const Sorted& s, uint32_t p, uint32_t a, uint32_t b, uint32_t* row,
-                         uint32_t count) {
-  const float px = s.x[p], py = s.y[p], pz = s.z[p], pr = s.r[p], R = s.small_radius;
-  uint32_t q = a;
-#if defined(__SSE2__)
-  const __m128 vx = _mm_set1_ps(px), vy = _mm_set1_ps(py), vz = _mm_set1_ps(pz),
-               vr = _mm_set1_ps(pr), vR = _mm_set1_ps(R);
-  for (; q + 4 <= b; q += 4) {
-    const __m128 dx = _mm_sub_ps(vx, _mm_loadu_ps(&s.x[q]));
-    const __m128 dy = _mm_sub_ps(vy, _mm_loadu_ps(&s.y[q]));
-    const __m128 dz = _mm_sub_ps(vz, _mm_loadu_ps(&s.z[q]));
-    const __m128 rq = _mm_loadu_ps(&s.r[q]);
-    const __m128 sum = _mm_add_ps(vr, rq);
-    const __m128 d2 =
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
-    unsigned mask = unsigned(
-        _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(d2, _mm_mul_ps(sum, sum)), _mm_cmple_ps(rq, vR))));
-    if (p - q < 4) mask &= ~(1u << (p - q));
-    for (int k = 0; k < 4; ++k) {
-      row[count] = s.id[q + k];
-      count += (mask >> k) & 1;
+#if defined(__x86_64__)
+// Byte k of kCompress[mask] is the lane of the k-th set bit of mask: the shuffle that packs the
+// selected lanes of an eight-wide vector to its front.
+constexpr std::array<uint64_t, 256> kCompress = [] {
+  std::array<uint64_t, 256> table{};
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    int out = 0;
+    for (int lane = 0; lane < 8; ++lane)
+      if (mask >> lane & 1) table[mask] |= uint64_t(lane) << (8 * out++);
+  }
+  return table;
+}();
+// Rows up to this long are sorted by ranking (quadratic, branch-free), longer ones by std::sort.
+constexpr uint32_t kRankLimit = 64;
+#endif
+
+// The small splats that can overlap a small splat of one cell, copied together: those of the 27
+// surrounding cells whose distance to the bounding box of the cell's small splats is below
+// r_cell + r_q (r_cell their largest radius). For a splat p of the cell every splat left out has
+// d² >= (r_p + r_q)²: float subtraction, squares and sums are monotonic, so the box distance
+// computed like the pair's distance is never larger. Padded with NaN coordinates (never a hit)
+// to a multiple of 8.
+struct Candidates {
+  std::vector<float> x, y, z, r;
+  std::vector<uint32_t> id;
+  std::vector<uint32_t> hits;    // one row before sorting
+  std::vector<uint32_t> sorted;  // sorted_avx2's output (eight spare slots)
+  uint32_t size = 0;
+
+  // False when the cell has no small splat.
+  bool gather(const Sorted& s, std::size_t c, const Runs& runs, bool avx2) {
+    const float R = s.small_radius;
+    float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+    float r_cell = -1;
+    for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+      if (!(s.r[p] <= R)) continue;
+      const float v[3] = {s.x[p], s.y[p], s.z[p]};
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], v[a]);
+        hi[a] = std::max(hi[a], v[a]);
+      }
+      r_cell = std::max(r_cell, s.r[p]);
     }
+    if (r_cell < 0) return false;
+    std::size_t total = 0;
+    for (const auto& [a, b] : runs) total += b - a;
+    if (x.size() < total + 8) {
+      for (auto* v : {&x, &y, &z, &r}) v->resize(total + 8);
+      id.resize(total + 8);
+      hits.resize(total + 16);
+      sorted.resize(total + 16);
+    }
+    uint32_t count = 0;
+#if defined(__x86_64__)
+    if (avx2) {
+      count = copy_avx2(s, runs, lo, hi, r_cell);
+    } else
+#endif
+    {
+      for (const auto& [a, b] : runs)
+        for (uint32_t q = a; q < b; ++q) {
+          const float qx = s.x[q], qy = s.y[q], qz = s.z[q], qr = s.r[q];
+          x[count] = qx, y[count] = qy, z[count] = qz, r[count] = qr, id[count] = s.id[q];
+          const float gx = std::max(std::max(lo[0] - qx, qx - hi[0]), 0.0f);
+          const float gy = std::max(std::max(lo[1] - qy, qy - hi[1]), 0.0f);
+          const float gz = std::max(std::max(lo[2] - qz, qz - hi[2]), 0.0f);
+          const float sum = r_cell + qr;
+          count += (gx * gx + gy * gy + gz * gz < sum * sum) & (qr <= R);
+        }
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (; count % 8 != 0; ++count) x[count] = y[count] = z[count] = r[count] = nan, id[count] = 0;
+    size = count;
+    return true;
+  }
+
+  // The number of neighbours of small splat p (sorted position) among the candidates.
+  uint32_t count(const Sorted& s, uint32_t p, bool avx2) {
+#if defined(__x86_64__)
+    if (avx2) return hits_avx2<false>(s, p);
+#endif
+    return hits_portable(s, p);
+  }
+
+  // The neighbours of small splat p among the candidates, ascending (in `sorted`).
+  std::span<const uint32_t> row(const Sorted& s, uint32_t p, bool avx2) {
+#if defined(__x86_64__)
+    if (avx2) {
+      const uint32_t m = hits_avx2<true>(s, p);
+      if (m <= kRankLimit) return sorted_avx2(m);
+      std::sort(hits.begin(), hits.begin() + m);
+      return {hits.data(), m};
+    }
+#endif
+    const uint32_t m = hits_portable(s, p);
+    std::sort(hits.begin(), hits.begin() + m);
+    return {hits.data(), m};
+  }
+
+  uint32_t hits_portable(const Sorted& s, uint32_t p) {
+    const float px = s.x[p], py = s.y[p], pz = s.z[p], pr = s.r[p];
+    const uint32_t self = s.id[p];
+    uint32_t m = 0;
+    for (uint32_t j = 0; j < size; ++j) {
+      const float dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+      const float sum = pr + r[j];
+      hits[m] = id[j];
+      m += (dx * dx + dy * dy + dz * dz < sum * sum) & (id[j] != self);
+    }
+    return m;
+  }
+
+#if defined(__x86_64__)
+  // gather's copy and test, eight splats at a time (the arrays are padded; lanes past a run's
+  // end are masked off).
+  __attribute__((target("avx2"))) uint32_t copy_avx2(const Sorted& s, const Runs& runs,
+                                                     const float lo[3], const float hi[3],
+                                                     float r_cell) {
+    const __m256 lx = _mm256_set1_ps(lo[0]), ly = _mm256_set1_ps(lo[1]), lz = _mm256_set1_ps(lo[2]);
+    const __m256 hx = _mm256_set1_ps(hi[0]), hy = _mm256_set1_ps(hi[1]), hz = _mm256_set1_ps(hi[2]);
+    const __m256 rc = _mm256_set1_ps(r_cell), big = _mm256_set1_ps(s.small_radius);
+    const __m256 zero = _mm256_setzero_ps();
+    uint32_t count = 0;
+    for (const auto& [a, b] : runs)
+      for (uint32_t q = a; q < b; q += 8) {
+        const __m256 qx = _mm256_loadu_ps(s.x.data() + q), qy = _mm256_loadu_ps(s.y.data() + q),
+                     qz = _mm256_loadu_ps(s.z.data() + q), qr = _mm256_loadu_ps(s.r.data() + q);
+        const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.id.data() + q));
+        const __m256 gx =
+            _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lx, qx), _mm256_sub_ps(qx, hx)), zero);
+        const __m256 gy =
+            _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(ly, qy), _mm256_sub_ps(qy, hy)), zero);
+        const __m256 gz =
+            _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(lz, qz), _mm256_sub_ps(qz, hz)), zero);
+        const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)),
+                                        _mm256_mul_ps(gz, gz));
+        const __m256 sum = _mm256_add_ps(rc, qr);
+        const __m256 keep = _mm256_and_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ),
+                                          _mm256_cmp_ps(qr, big, _CMP_LE_OQ));
+        const unsigned lanes = b - q >= 8 ? 0xFFu : (1u << (b - q)) - 1;
+        const unsigned mask = unsigned(_mm256_movemask_ps(keep)) & lanes;
+        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kCompress[mask])));
+        _mm256_storeu_ps(x.data() + count, _mm256_permutevar8x32_ps(qx, perm));
+        _mm256_storeu_ps(y.data() + count, _mm256_permutevar8x32_ps(qy, perm));
+        _mm256_storeu_ps(z.data() + count, _mm256_permutevar8x32_ps(qz, perm));
+        _mm256_storeu_ps(r.data() + count, _mm256_permutevar8x32_ps(qr, perm));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(id.data() + count),
+                            _mm256_permutevar8x32_epi32(ids, perm));
+        count += uint32_t(std::popcount(mask));
+      }
+    return count;
+  }
+
+  // The hits of p packed into `hits`, eight candidates at a time, the scalar expression's float
+  // operations lane by lane.
+  template <bool kStore>
+  __attribute__((target("avx2"))) uint32_t hits_avx2(const Sorted& s, uint32_t p) {
+    const __m256 px = _mm256_set1_ps(s.x[p]), py = _mm256_set1_ps(s.y[p]),
+                 pz = _mm256_set1_ps(s.z[p]), pr = _mm256_set1_ps(s.r[p]);
+    const __m256i self = _mm256_set1_epi32(int(s.id[p]));
+    uint32_t m = 0;
+    for (uint32_t j = 0; j < size; j += 8) {
+      const __m256 dx = _mm256_sub_ps(px, _mm256_loadu_ps(x.data() + j));
+      const __m256 dy = _mm256_sub_ps(py, _mm256_loadu_ps(y.data() + j));
+      const __m256 dz = _mm256_sub_ps(pz, _mm256_loadu_ps(z.data() + j));
+      const __m256 sum = _mm256_add_ps(pr, _mm256_loadu_ps(r.data() + j));
+      const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)),
+                                      _mm256_mul_ps(dz, dz));
+      const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(id.data() + j));
+      const unsigned mask =
+          unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ))) &
+          ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
+      if constexpr (kStore) {
+        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kCompress[mask])));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
+                            _mm256_permutevar8x32_epi32(ids, perm));
+      }
+      m += uint32_t(std::popcount(mask));
+    }
+    return m;
+  }
+
+  // hits[0, m) ascending, in `sorted`, without data-dependent branches: each index's rank is the
+  // count of smaller ones (they are distinct), compared as signed after flipping the top bit.
+  __attribute__((target("avx2"))) std::span<const uint32_t> sorted_avx2(uint32_t m) {
+    const __m256i flip = _mm256_set1_epi32(int(0x80000000u));
+    for (uint32_t i0 = 0; i0 < m; i0 += 8) {
+      const __m256i vi = _mm256_xor_si256(
+          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.data() + i0)), flip);
+      __m256i rank = _mm256_setzero_si256();
+      for (uint32_t j = 0; j < m; ++j)
+        rank = _mm256_sub_epi32(
+            rank, _mm256_cmpgt_epi32(vi, _mm256_set1_epi32(int(hits[j] ^ 0x80000000u))));
+      alignas(32) uint32_t ranks[8];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(ranks), rank);
+      for (uint32_t lane = 0; lane < 8; ++lane)
+        sorted[i0 + lane < m ? ranks[lane] : m + lane] = hits[i0 + lane];
+    }
+    return {sorted.data(), m};
   }
 #endif
-  for (; q < b; ++q) {
-    const float dx = px - s.x[q], dy = py - s.y[q], dz = pz - s.z[q];
-    const float sum = pr + s.r[q];
-    row[count] = s.id[q];
-    count += (dx * dx + dy * dy + dz * dz < sum * sum) & (q != p) & (s.r[q] <= R);
-  }
-  return count;
-}
+};
 
-void small_rows_of_cell(const Sorted& s, std::size_t c, const Runs& runs,
-                        std::vector<uint32_t>& row, Block& out) {
-  std::size_t candidates = 0;
-  for (const auto& [a, b] : runs) candidates += b - a;
-  if (row.size() < candidates) row.resize(candidates);
-  for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
-    uint32_t count = 0;
-    if (s.r[p] <= s.small_radius) {
-      for (const auto& [a, b] : runs) count = overlaps_in_run(s, p, a, b, row.data(), count);
-      std::sort(row.begin(), row.begin() + count);
-    }
-    out.counts.push_back(count);
-    out.neighbors.insert(out.neighbors.end(), row.begin(), row.begin() + count);
-  }
-}
-
-// Cells [c0, c1): the 27 surrounding cells are 9 runs of 3 consecutive keys, each at a fixed
-// key offset from the cell's own key, so one forward-only cursor per run finds them.
-void small_rows(const Sorted& s, const Grid& g, std::size_t c0, std::size_t c1, Block& out) {
+// Calls fn(c, runs) for the cells c0 .. c1 - 1 in order, runs = the splats of the 27 cells
+// around c: 9 runs of 3 consecutive keys, each at a fixed key offset from the cell's own key, so
+// one forward-only cursor per run finds them.
+template <class Fn>
+void for_each_cell(const Sorted& s, const Grid& g, std::size_t c0, std::size_t c1, Fn&& fn) {
   const std::vector<uint64_t>& keys = s.cell_key;
   const std::size_t cells = keys.size();
   std::array<int64_t, 9> offset;
@@ -235,7 +446,6 @@ void small_rows(const Sorted& s, const Grid& g, std::size_t c0, std::size_t c1, 
         keys.begin());
   }
   Runs runs;
-  std::vector<uint32_t> row;
   for (std::size_t c = c0; c < c1; ++c) {
     for (int k = 0; k < 9; ++k) {
       const uint64_t lo = uint64_t(int64_t(keys[c]) + offset[k]), hi = lo + 2;
@@ -245,7 +455,7 @@ void small_rows(const Sorted& s, const Grid& g, std::size_t c0, std::size_t c1, 
       while (end < cells && keys[end] <= hi) ++end;
       runs[k] = {s.cell_start[cur], s.cell_start[end]};
     }
-    small_rows_of_cell(s, c, runs, row, out);
+    fn(c, runs);
   }
 }
 
@@ -285,7 +495,7 @@ std::vector<uint32_t> big_row(const Sorted& s, const Grid& g, uint32_t b,
 // The extra entries the big splats bring: (row << 32 | neighbour) in original indices, sorted;
 // false when they would cost more than the budget.
 bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
-  const std::size_t n = s.id.size();
+  const std::size_t n = s.n;
   std::vector<uint32_t> bigs;
   for (uint32_t p = 0; p < n; ++p)
     if (s.r[p] > s.small_radius) bigs.push_back(p);
@@ -314,11 +524,30 @@ bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
   return true;
 }
 
+// offsets[i] += offsets[i - 1] for all i, in parallel over fixed chunks (the same sums for any
+// thread count: integer addition).
+void prefix_sum(std::vector<uint64_t>& v) {
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t chunks = (v.size() + kChunk - 1) / kChunk;
+  std::vector<uint64_t> carry(chunks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t sum = 0;
+    for (std::size_t i = c * kChunk; i < std::min(v.size(), (c + 1) * kChunk); ++i) sum += v[i];
+    carry[c + 1] = sum;
+  });
+  for (std::size_t c = 0; c < chunks; ++c) carry[c + 1] += carry[c];
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t sum = carry[c];
+    for (std::size_t i = c * kChunk; i < std::min(v.size(), (c + 1) * kChunk); ++i)
+      v[i] = sum += v[i];
+  });
+}
+
 // Writes row `id`: its small neighbours `base` merged with its entries in `pairs`.
 void write_row(uint32_t id, std::span<const uint32_t> base, std::size_t extra,
                const std::vector<uint64_t>& pairs, uint32_t* out) {
   if (extra == 0) {
-    std::copy(base.begin(), base.end(), out);
+    for (uint32_t v : base) *out++ = v;  // rows are short: no memmove call
     return;
   }
   auto e = std::lower_bound(pairs.begin(), pairs.end(), uint64_t{id} << 32);
@@ -333,31 +562,56 @@ void write_row(uint32_t id, std::span<const uint32_t> base, std::size_t extra,
   }
 }
 
-NeighborGraph assemble(const Sorted& s, std::vector<Block>& blocks,
-                       const std::vector<uint64_t>& pairs) {
-  const std::size_t n = s.id.size();
+bool has_avx2() {
+#if defined(__x86_64__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+#else
+  return false;
+#endif
+}
+
+// Runs fn(c0, c1, candidates) over blocks of kCellBlock cells in parallel.
+template <class Fn>
+void for_each_cell_block(const Sorted& s, Fn&& fn) {
+  const std::size_t cells = s.cell_key.size();
+  tbb::parallel_for(std::size_t{0}, (cells + kCellBlock - 1) / kCellBlock, [&](std::size_t b) {
+    Candidates cand;
+    fn(b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), cand);
+  });
+}
+
+// The graph in two passes over the cells, so that no rows are stored twice: the row lengths
+// (small neighbours plus the big splats' pairs) give the offsets, then each row is found again and
+// written in place, merged with its pairs.
+NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs) {
+  const std::size_t n = s.n;
+  const bool avx2 = has_avx2();
+  const float R = s.small_radius;
   NeighborGraph graph;
-  graph.offsets.assign(n + 1, 0);
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const uint32_t first = s.cell_start[b * kCellBlock];
-    for (std::size_t k = 0; k < blocks[b].counts.size(); ++k)
-      graph.offsets[std::size_t{s.id[first + k]} + 1] = blocks[b].counts[k];
-  }
+  graph.offsets.resize(n + 1);
+  graph.offsets[0] = 0;
+  for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
+    for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
+      const bool any = cand.gather(s, c, runs, avx2);
+      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p)
+        graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p, avx2) : 0;
+    });
+  });
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
-  for (std::size_t i = 0; i < n; ++i) graph.offsets[i + 1] += graph.offsets[i];
+  prefix_sum(graph.offsets);
   graph.neighbors.resize(graph.offsets[n]);
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    const uint32_t first = s.cell_start[b * kCellBlock];
-    const uint32_t* base = blocks[b].neighbors.data();
-    for (std::size_t k = 0; k < blocks[b].counts.size(); ++k) {
-      const uint32_t id = s.id[first + k], count = blocks[b].counts[k];
-      const uint64_t at = graph.offsets[id];
-      write_row(id, {base, count}, graph.offsets[std::size_t{id} + 1] - at - count, pairs,
-                graph.neighbors.data() + at);
-      base += count;
-    }
-    Block().counts.swap(blocks[b].counts);
-    Block().neighbors.swap(blocks[b].neighbors);
+  for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
+    for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
+      const bool any = cand.gather(s, c, runs, avx2);
+      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+        const uint32_t id = s.id[p];
+        const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
+        const std::span<const uint32_t> row =
+            any && s.r[p] <= R ? cand.row(s, p, avx2) : std::span<const uint32_t>{};
+        write_row(id, row, length - row.size(), pairs, graph.neighbors.data() + at);
+      }
+    });
   });
   return graph;
 }
@@ -379,12 +633,7 @@ NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<c
   const Sorted s = sort_by_cell(positions, radii, g, r_small);
   std::vector<uint64_t> pairs;
   if (!big_pairs(s, g, pairs)) return SpatialIndex(positions).sphere_overlaps(radii);
-  const std::size_t cells = s.cell_key.size();
-  std::vector<Block> blocks((cells + kCellBlock - 1) / kCellBlock);
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    small_rows(s, g, b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), blocks[b]);
-  });
-  return assemble(s, blocks, pairs);
+  return small_rows(s, g, pairs);
 }
 
 }  // namespace splatkit::graph

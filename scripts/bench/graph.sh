@@ -14,8 +14,11 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
 splats=${1:-1000000} threads=${2:-2} repeats=${3:-3} shape=${4:-cad}
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
-  >/dev/null
+# A new build dir gets no tests, like normals.sh; an existing one keeps its SPLATKIT_BUILD_TESTS
+# (re-running the bench must not reconfigure a dir's tests away).
+options=(-DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON)
+[ -f "$build/CMakeCache.txt" ] || options+=(-DSPLATKIT_BUILD_TESTS=OFF)
+cmake -S "$root" -B "$build" -G Ninja "${options[@]}" >/dev/null
 ninja -C "$build" -j2 splat-synth build-splat-graph segment-surfaces bench_graph_pcl >/dev/null
 bin=$build/tools
 work=$(mktemp -d)

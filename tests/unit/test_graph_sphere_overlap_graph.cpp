@@ -2,6 +2,7 @@
 // force's), with big splats, zero radii, duplicates and far-apart clusters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -61,6 +62,24 @@ TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
     if (round == 7) r[n / 2] = 100;           // its cell scan is over budget: the kd-tree answers
     expect_same(sphere_overlap_graph(c, r), brute_force(c, r), "brute force");
   }
+}
+
+TEST(GraphSphereOverlapGraph, LongRowsMatchBruteForce) {
+  // Radii of several times the spacing: rows of 60 to 200 neighbours (the ranking sort takes
+  // rows up to 64, std::sort the longer ones), in a shuffled order.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<Vec3f> c;
+  std::vector<float> r;
+  for (int i = 0; i < 2000; ++i) {
+    c.push_back({u(rng), u(rng), 0.05f * u(rng)});
+    r.push_back(0.06f + 0.04f * u(rng));
+  }
+  const NeighborGraph g = sphere_overlap_graph(c, r);
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) longest = std::max(longest, g.row(i).size());
+  EXPECT_GT(longest, 64u);
+  expect_same(g, brute_force(c, r), "brute force");
 }
 
 TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {

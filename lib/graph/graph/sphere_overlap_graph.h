@@ -7,7 +7,12 @@
 //   - cells of side 2 R, R the largest "small" radius, so two small splats that overlap lie in
 //     the same or adjacent cells (27 cells, walked as 9 runs of 3 cells that are consecutive in
 //     the cells' key order; one cursor per run moves forward only, so no hashing, no search);
-//   - splats are sorted by cell (LSD radix sort on the cell key) into their own arrays;
+//   - splats are sorted by cell (parallel LSD radix sort on the cell key) into their own arrays;
+//   - the 27 cells' small splats that can reach a cell's bounding box are copied together once
+//     per cell and tested against each of its splats (eight at a time with AVX2, chosen at run
+//     time; rows up to 64 sorted by ranking, without branches);
+//   - two passes over the cells: the row lengths, then each row again, written in place — no
+//     copy of the rows in cell order;
 //   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
 //     their neighbours by scanning the cells within r_b + R of their centre and by testing each
 //     other directly, and are added to the rows of the small splats they overlap.
@@ -17,7 +22,7 @@
 // positions, radii: #N each. Throws std::invalid_argument for different sizes, a radius that is
 // negative or not finite, or a position that is not finite (like SpatialIndex). Runs in parallel
 // with TBB; the result does not depend on the thread count. Memory: the result (8 bytes/splat +
-// 4 per row entry) plus about 40 bytes/splat and as much again as the result, transiently.
+// 4 per row entry) plus about 50 bytes/splat transiently.
 #pragma once
 
 #include <span>
