@@ -54,9 +54,42 @@ bool triplet_plane(const Vec3f& a, const Vec3f& b, const Vec3f& c, Plane& out) {
 // Per-thread scratch for one point's fit.
 struct Scratch {
   std::vector<Vec3f> local;  // neighbours relative to the query point
+  // The same coordinates as separate arrays, so the residual loops vectorise.
+  std::vector<float> x, y, z;
   std::vector<float> residuals;
   std::vector<Plane> planes;
 };
+
+// |residual| of every neighbour to `plane` into s.residuals, computed as dot(n, q) - offset is;
+// returns how many are below `bound`.
+std::size_t residuals_below(const Plane& plane, float bound, Scratch& s) {
+  const std::size_t m = s.x.size();
+  const float nx = plane.n.x, ny = plane.n.y, nz = plane.n.z, offset = plane.offset;
+  const float *x = s.x.data(), *y = s.y.data(), *z = s.z.data();
+  float* r = s.residuals.data();
+  std::size_t below = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    r[j] = std::fabs(nx * x[j] + ny * y[j] + nz * z[j] - offset);
+    below += r[j] < bound ? 1 : 0;
+  }
+  return below;
+}
+
+// Σ max(0, 1 - r² / h²) over the neighbours' residuals r to `plane` (Epanechnikov kernel),
+// summed in neighbour order.
+float kernel_score(const Plane& plane, float inv_h2, Scratch& s) {
+  const std::size_t m = s.x.size();
+  const float nx = plane.n.x, ny = plane.n.y, nz = plane.n.z, offset = plane.offset;
+  const float *x = s.x.data(), *y = s.y.data(), *z = s.z.data();
+  float* w = s.residuals.data();
+  for (std::size_t j = 0; j < m; ++j) {
+    const float r = nx * x[j] + ny * y[j] + nz * z[j] - offset;
+    w[j] = std::max(0.0f, 1.0f - r * r * inv_h2);
+  }
+  float score = 0;
+  for (std::size_t j = 0; j < m; ++j) score += w[j];
+  return score;
+}
 
 // PCA plane of the points of `local` whose residual to `plane` is <= band; false when fewer than
 // 3 or degenerate. The plane goes through the inliers' centroid.
@@ -114,22 +147,29 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   // within their own band of the query point (least k-th order statistic). Candidates that do
   // not are dropped: a plane of the other side, exact and so with a tiny band of its own, must
   // not win pass 2 just because a curved own side widens the common bandwidth.
+  // Pruned exactly: with h = the band of the best statistic so far, a candidate farther than h
+  // from the query point can neither lower the statistic (its own band would be narrower) nor
+  // pass pass 2 (whose bandwidth only shrinks); one within h is kept, and its statistic matters
+  // only when fewer than `rank` residuals reach the best so far — then it is selected exactly.
   const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(kScaleQuantile * m));
   const auto band_per_stat = static_cast<float>(kInlierSigmas * kScaleToSigma);
-  float best_stat = INFINITY;
-  s.residuals.resize(m);
+  float best_stat = INFINITY, h = INFINITY;
+  s.x.resize(m), s.y.resize(m), s.z.resize(m), s.residuals.resize(m);
+  for (std::size_t j = 0; j < m; ++j) s.x[j] = local[j].x, s.y[j] = local[j].y, s.z[j] = local[j].z;
   std::size_t kept = 0;
   for (const Plane& p : s.planes) {
-    for (std::size_t j = 0; j < m; ++j) s.residuals[j] = std::fabs(dot(p.n, local[j]) - p.offset);
-    std::nth_element(s.residuals.begin(), s.residuals.begin() + (rank - 1), s.residuals.end());
-    const float stat = s.residuals[rank - 1];
-    if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
-    best_stat = std::min(best_stat, stat);
+    if (!(std::fabs(p.offset) <= h)) continue;
+    if (residuals_below(p, best_stat, s) >= rank) {
+      std::nth_element(s.residuals.begin(), s.residuals.begin() + (rank - 1), s.residuals.end());
+      const float stat = s.residuals[rank - 1];
+      if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
+      best_stat = stat;
+      h = std::max(floor_band, band_per_stat * best_stat);
+    }
     s.planes[kept++] = p;
   }
   s.planes.resize(kept);
   if (kept == 0) return false;
-  const float h = std::max(floor_band, band_per_stat * best_stat);
 
   // Pass 2: kernel density of the residuals at bandwidth h (Epanechnikov), among the planes that
   // pass within h of the query point; the first best wins ties.
@@ -138,11 +178,7 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   const Plane* best = nullptr;
   for (const Plane& p : s.planes) {
     if (!(std::fabs(p.offset) <= h)) continue;
-    float score = 0;
-    for (const Vec3f& q : local) {
-      const float r = dot(p.n, q) - p.offset;
-      score += std::max(0.0f, 1.0f - r * r * inv_h2);
-    }
+    const float score = kernel_score(p, inv_h2, s);
     if (score > best_score) best_score = score, best = &p;
   }
   if (!best) return false;
