@@ -17,8 +17,9 @@ std::vector<ClipPlane> make_clip_planes(const ClipPartnerTable& table,
                                         std::span<const Vec3f> positions,
                                         std::span<const Vec3f> normals);
 
-// The fragment-test view of splat i; planes must come from make_clip_planes(table, ...).
-inline ClipView clip_view(const ClipPartnerTable& table, const std::vector<ClipPlane>& planes,
+// The fragment-test view of splat i; planes must come from make_clip_planes(table, ...)
+// (#table.partners).
+inline ClipView clip_view(const ClipPartnerTable& table, std::span<const ClipPlane> planes,
                           std::size_t i) {
   const uint64_t begin = table.offsets[i];
   ClipView view;

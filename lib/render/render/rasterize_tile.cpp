@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "graph/make_clip_planes.h"
+
 namespace splatkit::render {
 
 namespace {
@@ -29,18 +31,6 @@ float gaussian_weight(float rho2) {
 
 namespace {
 
-// The clip record of splat `index` as the fragment test reads it.
-inline graph::ClipView clip_view(const ClipContext& clip, uint32_t index) {
-  const graph::ClipPartnerTable& t = *clip.table;
-  const uint64_t begin = t.offsets[index];
-  graph::ClipView view;
-  view.planes = clip.planes + begin;
-  view.flags = t.flags.data() + begin;
-  view.count = static_cast<uint32_t>(t.offsets[index + 1] - begin);
-  view.combine_intersection = (t.splat_flags[index] & graph::kClipCombineIntersection) != 0;
-  return view;
-}
-
 // Ray casts splat `index` over its box clipped to `tile`; returns the fragments stored. kClip:
 // the splat has clip partners; each hit's scene point goes through the fragment test first and
 // the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
@@ -57,7 +47,8 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
   float u_row = s.u[0] * di + s.u[1] * dj + s.u[2];
   float v_row = s.v[0] * di + s.v[1] * dj + s.v[2];
   graph::ClipView view;
-  if constexpr (kClip) view = clip_view(*clip, index);
+  if constexpr (kClip)
+    view = graph::clip_view(*clip->table, {clip->planes, clip->table->partners.size()}, index);
   uint64_t fragments = 0;
   for (int y = ys; y <= ye; ++y) {
     float l = l_row, u = u_row, v = v_row;
