@@ -5,6 +5,9 @@
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -126,6 +129,26 @@ void radix_sort(std::vector<uint64_t>& keys, std::vector<uint32_t>& ids, uint64_
   }
 }
 
+// v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first, so the
+// zeroing in resize does not fault them in one at a time on one thread (a fresh page costs more
+// than writing it; the arrays here are tens of MB).
+template <class T>
+void sized_in_parallel(std::vector<T>& v, std::size_t size) {
+  v.reserve(size);
+#if defined(MADV_POPULATE_WRITE)
+  constexpr std::size_t kPage = 4096, kChunk = std::size_t{1} << 22;
+  const auto begin = (reinterpret_cast<uintptr_t>(v.data()) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
+  if (end > begin) {
+    tbb::parallel_for(uintptr_t{0}, (end - begin + kChunk - 1) / kChunk, [&](uintptr_t c) {
+      const uintptr_t from = begin + c * kChunk, to = std::min(end, from + kChunk);
+      madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);  // a hint only
+    });
+  }
+#endif
+  v.resize(size);
+}
+
 // Stable LSD radix sort of (key << 32 | index) by key (keys below 2^32), 11 bits per pass, in
 // parallel: each fixed chunk of the input counts its keys, and its share of every bucket starts
 // after the earlier chunks' shares, so the result is the serial one for any thread count.
@@ -133,7 +156,8 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
   constexpr int kBits = 11;
   constexpr std::size_t kBuckets = std::size_t{1} << kBits, kChunk = 1 << 16;
   const std::size_t n = items.size(), chunks = (n + kChunk - 1) / kChunk;
-  std::vector<uint64_t> other(n);
+  std::vector<uint64_t> other;
+  sized_in_parallel(other, n);
   std::vector<std::size_t> start(chunks * kBuckets);
   for (int shift = 32; shift < 64 && (max_key >> (shift - 32)) != 0; shift += kBits) {
     auto bucket = [shift](uint64_t v) { return std::size_t(v >> shift) & (kBuckets - 1); };
@@ -165,14 +189,15 @@ void sorted_keys(std::span<const Vec3f> positions, const Grid& g, std::vector<ui
   const std::size_t n = positions.size();
   const uint64_t max_key = g.key(g.cells[0] + 1, g.cells[1] + 1, g.cells[2] + 1);
   if (max_key >> 32 == 0) {
-    std::vector<uint64_t> items(n);
+    std::vector<uint64_t> items;
+    sized_in_parallel(items, n);
     tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
       for (std::size_t i = b; i < std::min(n, b + 65536); ++i)
         items[i] = g.key_of(positions[i]) << 32 | i;
     });
     radix_sort_packed(items, max_key);
-    ids.resize(n + kPad);
-    keys.resize(n);
+    sized_in_parallel(ids, n + kPad);
+    sized_in_parallel(keys, n);
     tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
       for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
         keys[k] = items[k] >> 32;
@@ -201,10 +226,7 @@ Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> rad
   sorted_keys(positions, g, keys, s.id);
   s.small_radius = r_small;
   s.n = n;
-  s.x.resize(n + kPad);
-  s.y.resize(n + kPad);
-  s.z.resize(n + kPad);
-  s.r.resize(n + kPad);
+  for (auto* v : {&s.x, &s.y, &s.z, &s.r}) sized_in_parallel(*v, n + kPad);
   tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
     for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
       const Vec3f& p = positions[s.id[k]];
@@ -589,7 +611,7 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   const bool avx2 = has_avx2();
   const float R = s.small_radius;
   NeighborGraph graph;
-  graph.offsets.resize(n + 1);
+  sized_in_parallel(graph.offsets, n + 1);
   graph.offsets[0] = 0;
   for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
@@ -600,7 +622,7 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   });
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
-  graph.neighbors.resize(graph.offsets[n]);
+  sized_in_parallel(graph.neighbors, graph.offsets[n]);
   for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs, avx2);
