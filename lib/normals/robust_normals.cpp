@@ -60,19 +60,23 @@ struct Scratch {
   std::vector<Plane> planes;
 };
 
-// |residual| of every neighbour to `plane` into s.residuals, computed as dot(n, q) - offset is;
-// returns how many are below `bound`.
-std::size_t residuals_below(const Plane& plane, float bound, Scratch& s) {
+// The rank-th smallest |residual| (rank >= 1) of the neighbours to `plane`, residuals computed
+// as dot(n, q) - offset is, when it is below `bound`; otherwise `bound`. Only the residuals below
+// the bound take part in the selection: usually a few more than `rank`.
+float order_statistic_below(const Plane& plane, std::size_t rank, float bound, Scratch& s) {
   const std::size_t m = s.x.size();
   const float nx = plane.n.x, ny = plane.n.y, nz = plane.n.z, offset = plane.offset;
   const float *x = s.x.data(), *y = s.y.data(), *z = s.z.data();
   float* r = s.residuals.data();
+  for (std::size_t j = 0; j < m; ++j) r[j] = std::fabs(nx * x[j] + ny * y[j] + nz * z[j] - offset);
   std::size_t below = 0;
   for (std::size_t j = 0; j < m; ++j) {
-    r[j] = std::fabs(nx * x[j] + ny * y[j] + nz * z[j] - offset);
+    r[below] = r[j];
     below += r[j] < bound ? 1 : 0;
   }
-  return below;
+  if (below < rank) return bound;
+  std::nth_element(r, r + (rank - 1), r + below);
+  return r[rank - 1];
 }
 
 // Σ max(0, 1 - r² / h²) over the neighbours' residuals r to `plane` (Epanechnikov kernel),
@@ -150,7 +154,7 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   // Pruned exactly: with h = the band of the best statistic so far, a candidate farther than h
   // from the query point can neither lower the statistic (its own band would be narrower) nor
   // pass pass 2 (whose bandwidth only shrinks); one within h is kept, and its statistic matters
-  // only when fewer than `rank` residuals reach the best so far — then it is selected exactly.
+  // only when at least `rank` residuals are below the best so far — then it is selected exactly.
   const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(kScaleQuantile * m));
   const auto band_per_stat = static_cast<float>(kInlierSigmas * kScaleToSigma);
   float best_stat = INFINITY, h = INFINITY;
@@ -159,9 +163,8 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   std::size_t kept = 0;
   for (const Plane& p : s.planes) {
     if (!(std::fabs(p.offset) <= h)) continue;
-    if (residuals_below(p, best_stat, s) >= rank) {
-      std::nth_element(s.residuals.begin(), s.residuals.begin() + (rank - 1), s.residuals.end());
-      const float stat = s.residuals[rank - 1];
+    const float stat = order_statistic_below(p, rank, best_stat, s);
+    if (stat < best_stat) {
       if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
       best_stat = stat;
       h = std::max(floor_band, band_per_stat * best_stat);
