@@ -26,7 +26,9 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kCellBlock = 1024;  // cells per task
-constexpr std::size_t kPad = 8;  // spare entries after the sorted arrays, for eight-wide loads
+constexpr std::size_t kPad = 8;
+// Splats ahead (in cell order) whose row offset is prefetched: the rows are far apart in memory.
+constexpr std::size_t kAhead = 16;  // spare entries after the sorted arrays, for eight-wide loads
 constexpr std::size_t kMaxBig = 8192;
 constexpr double kMaxBigRowsPerSplat = 8;  // budget of the big splats' cell-row scans
 constexpr uint64_t kMaxCellsPerAxis = (uint64_t{1} << 21) - 3;  // keys stay below 2^63
@@ -79,7 +81,10 @@ void check(std::span<const Vec3f> positions, std::span<const float> radii) {
 // (splats at the rims of sampling cells) can be a third larger than the rest, and the cell size
 // (2 R) sets how many candidates each splat tests: the largest 0.1 % are cheaper as big splats.
 float small_radius(std::span<const float> radii) {
-  std::vector<float> copy(radii.begin(), radii.end());
+  // From a sample of at most 2^16 radii: R only sets the cell size (any R gives the same graph).
+  const std::size_t step = std::max<std::size_t>(1, radii.size() >> 16);
+  std::vector<float> copy;
+  for (std::size_t i = 0; i < radii.size(); i += step) copy.push_back(radii[i]);
   auto q = copy.begin() + std::ptrdiff_t(copy.size() * 999 / 1000);
   std::nth_element(copy.begin(), q, copy.end());
   return *q;
@@ -183,9 +188,19 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
   }
 }
 
-// The splats' cell keys and original indices, sorted by key (stable: by index within a cell).
-void sorted_keys(std::span<const Vec3f> positions, const Grid& g, std::vector<uint64_t>& keys,
-                 std::vector<uint32_t>& ids) {
+// s.cell_key and s.cell_start from the sorted keys key(0 .. n - 1).
+template <class Key>
+void find_cells(std::size_t n, Key&& key, Sorted& s) {
+  for (std::size_t k = 0; k < n; ++k)
+    if (k == 0 || key(k) != key(k - 1)) {
+      s.cell_key.push_back(key(k));
+      s.cell_start.push_back(uint32_t(k));
+    }
+  s.cell_start.push_back(uint32_t(n));
+}
+
+// s.id: the original indices sorted by cell key (stable: by index within a cell); and the cells.
+void sort_ids(std::span<const Vec3f> positions, const Grid& g, Sorted& s) {
   const std::size_t n = positions.size();
   const uint64_t max_key = g.key(g.cells[0] + 1, g.cells[1] + 1, g.cells[2] + 1);
   if (max_key >> 32 == 0) {
@@ -196,34 +211,33 @@ void sorted_keys(std::span<const Vec3f> positions, const Grid& g, std::vector<ui
         items[i] = g.key_of(positions[i]) << 32 | i;
     });
     radix_sort_packed(items, max_key);
-    sized_in_parallel(ids, n + kPad);
-    sized_in_parallel(keys, n);
+    sized_in_parallel(s.id, n + kPad);
     tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
-      for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
-        keys[k] = items[k] >> 32;
-        ids[k] = uint32_t(items[k]);
-      }
+      for (std::size_t k = b; k < std::min(n, b + 65536); ++k) s.id[k] = uint32_t(items[k]);
     });
+    find_cells(
+        n, [&](std::size_t k) { return items[k] >> 32; }, s);
     return;
   }
-  keys.resize(n);
-  ids.resize(n);
+  std::vector<uint64_t> keys(n);
+  s.id.resize(n);
   tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
     for (std::size_t i = b; i < std::min(n, b + 65536); ++i) {
       keys[i] = g.key_of(positions[i]);
-      ids[i] = uint32_t(i);
+      s.id[i] = uint32_t(i);
     }
   });
-  radix_sort(keys, ids, max_key);
-  ids.resize(n + kPad);
+  radix_sort(keys, s.id, max_key);
+  s.id.resize(n + kPad);
+  find_cells(
+      n, [&](std::size_t k) { return keys[k]; }, s);
 }
 
 Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> radii, const Grid& g,
                     float r_small) {
   const std::size_t n = positions.size();
-  std::vector<uint64_t> keys;
   Sorted s;
-  sorted_keys(positions, g, keys, s.id);
+  sort_ids(positions, g, s);
   s.small_radius = r_small;
   s.n = n;
   for (auto* v : {&s.x, &s.y, &s.z, &s.r}) sized_in_parallel(*v, n + kPad);
@@ -236,12 +250,6 @@ Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> rad
       s.r[k] = radii[s.id[k]];
     }
   });
-  for (std::size_t k = 0; k < n; ++k)
-    if (k == 0 || keys[k] != keys[k - 1]) {
-      s.cell_key.push_back(keys[k]);
-      s.cell_start.push_back(uint32_t(k));
-    }
-  s.cell_start.push_back(uint32_t(n));
   return s;
 }
 
@@ -260,6 +268,31 @@ constexpr std::array<uint64_t, 256> kCompress = [] {
   }
   return table;
 }();
+// The compare-exchange steps of a bitonic sort of 16 lanes: lane i meets lane i ^ distance and
+// keeps the larger value where take_max has bit i (the upper lane of a pair in an ascending
+// block of `size` lanes, the lower one in a descending block).
+struct BitonicStep {
+  int distance;
+  uint16_t take_max;
+};
+constexpr std::array<BitonicStep, 10> kBitonic16 = [] {
+  std::array<BitonicStep, 10> steps{};
+  int k = 0;
+  for (int size = 2; size <= 16; size *= 2)
+    for (int distance = size / 2; distance > 0; distance /= 2) {
+      uint16_t mask = 0;
+      for (int i = 0; i < 16; ++i)
+        if (((i & distance) != 0) == ((i & size) == 0)) mask = uint16_t(mask | 1u << i);
+      steps[k++] = {distance, mask};
+    }
+  return steps;
+}();
+
+bool has_avx512() {
+  static const bool avx512 = __builtin_cpu_supports("avx512f");
+  return avx512;
+}
+
 // Rows up to this long are sorted by ranking (quadratic, branch-free), longer ones by std::sort.
 constexpr uint32_t kRankLimit = 64;
 #endif
@@ -337,6 +370,7 @@ struct Candidates {
 #if defined(__x86_64__)
     if (avx2) {
       const uint32_t m = hits_avx2<true>(s, p);
+      if (m <= 16 && has_avx512()) return sorted_avx512(m);
       if (m <= kRankLimit) return sorted_avx2(m);
       std::sort(hits.begin(), hits.begin() + m);
       return {hits.data(), m};
@@ -429,6 +463,26 @@ struct Candidates {
     }
     return m;
   }
+
+  // hits[0, m <= 16) ascending, in `sorted`: a bitonic sorting network in one 16-lane register,
+  // the empty lanes filled with 2^32 - 1 (above any index). (GCC 12's AVX-512 headers trip
+  // -Wuninitialized on their own undefined-vector placeholders, GCC bug 105593.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+  __attribute__((target("avx512f"))) std::span<const uint32_t> sorted_avx512(uint32_t m) {
+    const __mmask16 used = __mmask16((1u << m) - 1);
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    __m512i v = _mm512_mask_loadu_epi32(_mm512_set1_epi32(-1), used, hits.data());
+    for (const BitonicStep& step : kBitonic16) {
+      const __m512i other =
+          _mm512_permutexvar_epi32(_mm512_xor_si512(lane, _mm512_set1_epi32(step.distance)), v);
+      v = _mm512_mask_blend_epi32(step.take_max, _mm512_min_epu32(v, other),
+                                  _mm512_max_epu32(v, other));
+    }
+    _mm512_mask_storeu_epi32(sorted.data(), used, v);
+    return {sorted.data(), m};
+  }
+#pragma GCC diagnostic pop
 
   // hits[0, m) ascending, in `sorted`, without data-dependent branches: each index's rank is the
   // count of smaller ones (they are distinct), compared as signed after flipping the top bit.
@@ -616,8 +670,10 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs, avx2);
-      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p)
+      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+        __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]], 1);
         graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p, avx2) : 0;
+      }
     });
   });
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
@@ -627,6 +683,9 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs, avx2);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+        __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
+        const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
+        __builtin_prefetch(graph.neighbors.data() + soon, 1);
         const uint32_t id = s.id[p];
         const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
         const std::span<const uint32_t> row =
