@@ -1,17 +1,20 @@
 // robust_normals: exact plane normals next to a 90° crease where PCA blends, the CAD part's
 // crease band, noisy clouds switching to wider rows, byte-identical results for 1 and 2 threads,
-// and no NaN on degenerate input.
+// no NaN on degenerate input, and the pruned candidate search giving bit for bit what the plain
+// search over every candidate gives.
 #include "normals/robust_normals.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
 
 #include "normals/neighborhood_pca.h"
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/pca_normal.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/synthetic_shapes.h"
 
@@ -42,6 +45,105 @@ PcaPass pca_pass(const SpatialIndex& index, std::span<const Vec3f> positions, st
 float angle_up_to_sign(const Vec3f& a, const Vec3f& b) {
   return std::acos(std::min(1.0f, std::fabs(dot(a, b))));
 }
+
+// The robust fit as first written: the scale statistic of every candidate selected in full, no
+// pruning. robust_normals prunes the candidates it can prove irrelevant and must match this bit
+// for bit (constants as in robust_normals.cpp).
+namespace reference {
+
+struct Plane {
+  Vec3f n;
+  float offset;
+};
+
+bool refit(const std::vector<Vec3f>& local, const Plane& plane, float band, Plane& out) {
+  double s[3] = {0, 0, 0}, c[6] = {0, 0, 0, 0, 0, 0};
+  std::size_t count = 0;
+  for (const Vec3f& q : local) {
+    if (!(std::fabs(dot(plane.n, q) - plane.offset) <= band)) continue;
+    const double x = q.x, y = q.y, z = q.z;
+    s[0] += x, s[1] += y, s[2] += z;
+    c[0] += x * x, c[1] += x * y, c[2] += x * z, c[3] += y * y, c[4] += y * z, c[5] += z * z;
+    ++count;
+  }
+  if (count < 3) return false;
+  const double inv = 1.0 / static_cast<double>(count);
+  c[0] -= s[0] * s[0] * inv, c[1] -= s[0] * s[1] * inv, c[2] -= s[0] * s[2] * inv;
+  c[3] -= s[1] * s[1] * inv, c[4] -= s[1] * s[2] * inv, c[5] -= s[2] * s[2] * inv;
+  const CovarianceEigen e = pca_normal({c[0], c[1], c[2], c[3], c[4], c[5]});
+  if (!(e.eigenvalues[1] > kCollinearRatio * e.eigenvalues[2])) return false;
+  out.n = Vec3f{static_cast<float>(e.normal[0]), static_cast<float>(e.normal[1]),
+                static_cast<float>(e.normal[2])};
+  out.offset = static_cast<float>(e.normal[0] * s[0] * inv + e.normal[1] * s[1] * inv +
+                                  e.normal[2] * s[2] * inv);
+  return true;
+}
+
+// Point i's robust normal from its kNN row; false when the fit fails.
+bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t> ids,
+         const RobustNormalOptions& options, Vec3f& normal) {
+  std::vector<Vec3f> local;
+  for (const uint32_t j : ids)
+    if (j != SpatialIndex::kNone) local.push_back(positions[j] - positions[i]);
+  const std::size_t m = local.size();
+  if (m < 6) return false;
+  local[0] = Vec3f{0, 0, 0};
+  DeterministicRng rng(options.seed, i);
+  std::vector<Plane> planes;
+  for (std::size_t attempt = 0;
+       attempt < 4 * options.candidates && planes.size() < options.candidates; ++attempt) {
+    const uint64_t a = (attempt % 2 == 0) ? 0 : rng.next() % m;
+    const uint64_t b = rng.next() % m, c = rng.next() % m;
+    if (a == b || a == c || b == c) continue;
+    const Vec3f u = local[b] - local[a], v = local[c] - local[a], n = cross(u, v);
+    const float n2 = squared_norm(n);
+    if (!(n2 > 0.01f * squared_norm(u) * squared_norm(v))) continue;
+    planes.push_back({n / std::sqrt(n2), dot(n / std::sqrt(n2), local[a])});
+  }
+  if (planes.empty()) return false;
+  float radius2 = 0;
+  for (const Vec3f& q : local) radius2 = std::max(radius2, squared_norm(q));
+  const float floor_band = static_cast<float>(1e-4) * std::sqrt(radius2);
+  const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(m / 3.0));
+  const auto band_per_stat = static_cast<float>(2.5 * (1.0 / 0.4307));
+  float best_stat = INFINITY;
+  std::vector<float> residuals(m);
+  std::vector<Plane> kept;
+  for (const Plane& p : planes) {
+    for (std::size_t j = 0; j < m; ++j) residuals[j] = std::fabs(dot(p.n, local[j]) - p.offset);
+    std::nth_element(residuals.begin(), residuals.begin() + (rank - 1), residuals.end());
+    const float stat = residuals[rank - 1];
+    if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
+    best_stat = std::min(best_stat, stat);
+    kept.push_back(p);
+  }
+  if (kept.empty()) return false;
+  const float h = std::max(floor_band, band_per_stat * best_stat);
+  const float inv_h2 = 1.0f / (h * h);
+  float best_score = -1;
+  const Plane* best = nullptr;
+  for (const Plane& p : kept) {
+    if (!(std::fabs(p.offset) <= h)) continue;
+    float score = 0;
+    for (const Vec3f& q : local) {
+      const float r = dot(p.n, q) - p.offset;
+      score += std::max(0.0f, 1.0f - r * r * inv_h2);
+    }
+    if (score > best_score) best_score = score, best = &p;
+  }
+  if (!best) return false;
+  Plane plane = *best;
+  for (int pass = 0; pass < 2; ++pass) {
+    Plane next;
+    if (!refit(local, plane, h, next)) break;
+    plane = next;
+  }
+  if (!(std::fabs(plane.offset) <= 2 * h)) return false;
+  normal = canonical_sign(plane.n);
+  return true;
+}
+
+}  // namespace reference
 
 // Two half-planes meeting at 90° along the y axis: z = 0 for x < 0 (normal +z) and x = 0 for
 // z > 0 (normal +x), a square grid of spacing h on each, no point on the crease line itself.
@@ -162,6 +264,61 @@ TEST(NormalsRobust, SameResultForOneAndTwoThreads) {
   ASSERT_EQ(results[0].size(), results[1].size());
   EXPECT_EQ(0,
             std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(Vec3f)));
+}
+
+TEST(NormalsRobust, PrunedSearchMatchesTheFullSearchBitForBit) {
+  // Clean: the refined points are those above the variation threshold, refit over 32-rows.
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kCadPart;
+  shape.points = 20000;
+  const SplatCloud cad = make_shape(shape);
+  const SpatialIndex index(cad.positions);
+  const PcaPass pass = pca_pass(index, cad.positions, 16);
+  std::vector<Vec3f> normals = pass.normals;
+  const RobustNormalStats stats = robust_normals(index, cad.positions, pass.variation, normals);
+  ASSERT_FALSE(stats.noisy);
+  ASSERT_GT(stats.refined, 500u);
+  std::vector<Vec3f> expected = pass.normals;
+  const RobustNormalOptions options;
+  std::vector<uint32_t> ids(stats.k);
+  std::size_t refined = 0;
+  for (uint32_t i = 0; i < cad.size(); ++i) {
+    if (!(pass.variation[i] > static_cast<float>(stats.threshold))) continue;
+    const std::size_t m = index.knn(cad.positions[i], stats.k, ids.data(), nullptr);
+    refined += reference::fit(cad.positions, i, std::span(ids).first(m), options, expected[i]);
+  }
+  EXPECT_EQ(refined, stats.refined);
+  EXPECT_EQ(0, std::memcmp(normals.data(), expected.data(), normals.size() * sizeof(Vec3f)));
+}
+
+TEST(NormalsRobust, PrunedSearchMatchesTheFullSearchBitForBitWhenNoisy) {
+  // Noisy: every point's wide row decides; rows above the wide threshold get the robust fit.
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kCadPart;
+  shape.points = 20000;
+  shape.noise = 0.004;  // ~0.6 spacings at this size, as 0.00125 is at 200k points
+  const SplatCloud cad = make_shape(shape);
+  const SpatialIndex index(cad.positions);
+  const PcaPass pass = pca_pass(index, cad.positions, 16);
+  std::vector<Vec3f> normals = pass.normals;
+  const RobustNormalStats stats = robust_normals(index, cad.positions, pass.variation, normals);
+  ASSERT_TRUE(stats.noisy);
+  ASSERT_GT(stats.refined, 500u);
+  std::vector<Vec3f> expected = pass.normals;
+  const RobustNormalOptions options;
+  std::vector<uint32_t> ids(stats.k);
+  std::size_t refined = 0;
+  for (uint32_t i = 0; i < cad.size(); ++i) {
+    if (pass.variation[i] < 0) continue;
+    index.knn(cad.positions[i], stats.k, ids.data(), nullptr);
+    const PcaNormal pca = neighborhood_pca(cad.positions, ids);
+    if (surface_variation(pca) > static_cast<float>(stats.wide_threshold))
+      refined += reference::fit(cad.positions, i, ids, options, expected[i]);
+    else if (!pca.degenerate)
+      expected[i] = pca.normal;
+  }
+  EXPECT_EQ(refined, stats.refined);
+  EXPECT_EQ(0, std::memcmp(normals.data(), expected.data(), normals.size() * sizeof(Vec3f)));
 }
 
 TEST(NormalsRobust, NeverNaNOnDegenerateInput) {
