@@ -288,11 +288,6 @@ constexpr std::array<BitonicStep, 10> kBitonic16 = [] {
   return steps;
 }();
 
-bool has_avx512() {
-  static const bool avx512 = __builtin_cpu_supports("avx512f");
-  return avx512;
-}
-
 // Rows up to this long are sorted by ranking (quadratic, branch-free), longer ones by std::sort.
 constexpr uint32_t kRankLimit = 64;
 #endif
@@ -308,10 +303,11 @@ struct Candidates {
   std::vector<uint32_t> id;
   std::vector<uint32_t> hits;    // one row before sorting
   std::vector<uint32_t> sorted;  // sorted_avx2's output (eight spare slots)
+  OverlapSimd simd;              // the vector code in use
   uint32_t size = 0;
 
   // False when the cell has no small splat.
-  bool gather(const Sorted& s, std::size_t c, const Runs& runs, bool avx2) {
+  bool gather(const Sorted& s, std::size_t c, const Runs& runs) {
     const float R = s.small_radius;
     float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
     float r_cell = -1;
@@ -335,7 +331,7 @@ struct Candidates {
     }
     uint32_t count = 0;
 #if defined(__x86_64__)
-    if (avx2) {
+    if (simd >= OverlapSimd::kAvx2) {
       count = copy_avx2(s, runs, lo, hi, r_cell);
     } else
 #endif
@@ -358,19 +354,19 @@ struct Candidates {
   }
 
   // The number of neighbours of small splat p (sorted position) among the candidates.
-  uint32_t count(const Sorted& s, uint32_t p, bool avx2) {
+  uint32_t count(const Sorted& s, uint32_t p) {
 #if defined(__x86_64__)
-    if (avx2) return hits_avx2<false>(s, p);
+    if (simd >= OverlapSimd::kAvx2) return hits_avx2<false>(s, p);
 #endif
     return hits_portable(s, p);
   }
 
   // The neighbours of small splat p among the candidates, ascending (in `sorted`).
-  std::span<const uint32_t> row(const Sorted& s, uint32_t p, bool avx2) {
+  std::span<const uint32_t> row(const Sorted& s, uint32_t p) {
 #if defined(__x86_64__)
-    if (avx2) {
+    if (simd >= OverlapSimd::kAvx2) {
       const uint32_t m = hits_avx2<true>(s, p);
-      if (m <= 16 && has_avx512()) return sorted_avx512(m);
+      if (m <= 16 && simd == OverlapSimd::kAvx512) return sorted_avx512(m);
       if (m <= kRankLimit) return sorted_avx2(m);
       std::sort(hits.begin(), hits.begin() + m);
       return {hits.data(), m};
@@ -638,21 +634,26 @@ void write_row(uint32_t id, std::span<const uint32_t> base, std::size_t extra,
   }
 }
 
-bool has_avx2() {
+// The best vector code this CPU runs, up to `limit`.
+OverlapSimd supported(OverlapSimd limit) {
 #if defined(__x86_64__)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
+  static const OverlapSimd best = __builtin_cpu_supports("avx512f") ? OverlapSimd::kAvx512
+                                  : __builtin_cpu_supports("avx2")  ? OverlapSimd::kAvx2
+                                                                    : OverlapSimd::kPortable;
+  return std::min(limit, best);
 #else
-  return false;
+  (void)limit;
+  return OverlapSimd::kPortable;
 #endif
 }
 
 // Runs fn(c0, c1, candidates) over blocks of kCellBlock cells in parallel.
 template <class Fn>
-void for_each_cell_block(const Sorted& s, Fn&& fn) {
+void for_each_cell_block(const Sorted& s, OverlapSimd simd, Fn&& fn) {
   const std::size_t cells = s.cell_key.size();
   tbb::parallel_for(std::size_t{0}, (cells + kCellBlock - 1) / kCellBlock, [&](std::size_t b) {
     Candidates cand;
+    cand.simd = simd;
     fn(b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), cand);
   });
 }
@@ -660,28 +661,28 @@ void for_each_cell_block(const Sorted& s, Fn&& fn) {
 // The graph in two passes over the cells, so that no rows are stored twice: the row lengths
 // (small neighbours plus the big splats' pairs) give the offsets, then each row is found again and
 // written in place, merged with its pairs.
-NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs) {
+NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
+                         OverlapSimd simd) {
   const std::size_t n = s.n;
-  const bool avx2 = has_avx2();
   const float R = s.small_radius;
   NeighborGraph graph;
   sized_in_parallel(graph.offsets, n + 1);
   graph.offsets[0] = 0;
-  for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
+  for_each_cell_block(s, simd, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
-      const bool any = cand.gather(s, c, runs, avx2);
+      const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
         __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]], 1);
-        graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p, avx2) : 0;
+        graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p) : 0;
       }
     });
   });
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
   sized_in_parallel(graph.neighbors, graph.offsets[n]);
-  for_each_cell_block(s, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
+  for_each_cell_block(s, simd, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
-      const bool any = cand.gather(s, c, runs, avx2);
+      const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
         __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
         const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
@@ -689,7 +690,7 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
         const uint32_t id = s.id[p];
         const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
         const std::span<const uint32_t> row =
-            any && s.r[p] <= R ? cand.row(s, p, avx2) : std::span<const uint32_t>{};
+            any && s.r[p] <= R ? cand.row(s, p) : std::span<const uint32_t>{};
         write_row(id, row, length - row.size(), pairs, graph.neighbors.data() + at);
       }
     });
@@ -700,6 +701,11 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
 }  // namespace
 
 NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii) {
+  return sphere_overlap_graph(positions, radii, OverlapSimd::kAvx512);
+}
+
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                                   OverlapSimd limit) {
   check(positions, radii);
   const std::size_t n = positions.size();
   if (n == 0) return NeighborGraph{{0}, {}};
@@ -714,7 +720,7 @@ NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<c
   const Sorted s = sort_by_cell(positions, radii, g, r_small);
   std::vector<uint64_t> pairs;
   if (!big_pairs(s, g, pairs)) return SpatialIndex(positions).sphere_overlaps(radii);
-  return small_rows(s, g, pairs);
+  return small_rows(s, g, pairs, supported(limit));
 }
 
 }  // namespace splatkit::graph

@@ -30,6 +30,10 @@ NeighborGraph brute_force(const std::vector<Vec3f>& c, const std::vector<float>&
   return g;
 }
 
+// Every vector path the CPU has (the others are lowered to one it has).
+constexpr OverlapSimd kEverySimd[] = {OverlapSimd::kPortable, OverlapSimd::kAvx2,
+                                      OverlapSimd::kAvx512};
+
 void expect_same(const NeighborGraph& a, const NeighborGraph& b, const char* what) {
   EXPECT_EQ(a.offsets, b.offsets) << what;
   EXPECT_EQ(a.neighbors, b.neighbors) << what;
@@ -60,13 +64,15 @@ TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
     }
     if (round == 5) c[0] = {1000, -1000, 3};  // a far-away splat: a long, empty grid
     if (round == 7) r[n / 2] = 100;           // its cell scan is over budget: the kd-tree answers
-    expect_same(sphere_overlap_graph(c, r), brute_force(c, r), "brute force");
+    const NeighborGraph expected = brute_force(c, r);
+    for (OverlapSimd simd : kEverySimd)
+      expect_same(sphere_overlap_graph(c, r, simd), expected, "brute force");
   }
 }
 
 TEST(GraphSphereOverlapGraph, LongRowsMatchBruteForce) {
-  // Radii of several times the spacing: rows of 60 to 200 neighbours (the ranking sort takes
-  // rows up to 64, std::sort the longer ones), in a shuffled order.
+  // Radii of several times the spacing: rows of up to about 200 neighbours (the ranking sort
+  // takes rows up to 64, std::sort the longer ones; the other tests have short rows).
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0, 1);
   std::vector<Vec3f> c;
@@ -75,11 +81,12 @@ TEST(GraphSphereOverlapGraph, LongRowsMatchBruteForce) {
     c.push_back({u(rng), u(rng), 0.05f * u(rng)});
     r.push_back(0.06f + 0.04f * u(rng));
   }
-  const NeighborGraph g = sphere_overlap_graph(c, r);
+  const NeighborGraph expected = brute_force(c, r);
   std::size_t longest = 0;
-  for (std::size_t i = 0; i < c.size(); ++i) longest = std::max(longest, g.row(i).size());
+  for (std::size_t i = 0; i < c.size(); ++i) longest = std::max(longest, expected.row(i).size());
   EXPECT_GT(longest, 64u);
-  expect_same(g, brute_force(c, r), "brute force");
+  for (OverlapSimd simd : kEverySimd)
+    expect_same(sphere_overlap_graph(c, r, simd), expected, "brute force");
 }
 
 TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {
@@ -89,8 +96,10 @@ TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {
     so.points = 20000;
     so.random = kind == ShapeKind::kTorus;
     const SplatCloud cloud = make_shape(so);
-    expect_same(sphere_overlap_graph(cloud.positions, cloud.radii),
-                SpatialIndex(cloud.positions).sphere_overlaps(cloud.radii), "kd-tree");
+    const NeighborGraph expected = SpatialIndex(cloud.positions).sphere_overlaps(cloud.radii);
+    expect_same(sphere_overlap_graph(cloud.positions, cloud.radii), expected, "kd-tree");
+    for (OverlapSimd simd : kEverySimd)
+      expect_same(sphere_overlap_graph(cloud.positions, cloud.radii, simd), expected, "kd-tree");
   }
 }
 

@@ -34,4 +34,11 @@ namespace splatkit::graph {
 
 NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii);
 
+// The same graph with the vector code limited to `limit` (lowered further to what the CPU runs),
+// so that tests can compare every path: portable scalar code; AVX2 (tests and ranking sort);
+// AVX-512 (bitonic sort of rows up to 16).
+enum class OverlapSimd { kPortable, kAvx2, kAvx512 };
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                                   OverlapSimd limit);
+
 }  // namespace splatkit::graph
