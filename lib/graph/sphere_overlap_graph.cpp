@@ -188,15 +188,30 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
   }
 }
 
-// s.cell_key and s.cell_start from the sorted keys key(0 .. n - 1).
+// s.cell_key and s.cell_start from the sorted keys key(0 .. n - 1), in parallel over fixed
+// chunks: each counts the cells that start in it, then writes them after the earlier chunks'.
 template <class Key>
 void find_cells(std::size_t n, Key&& key, Sorted& s) {
-  for (std::size_t k = 0; k < n; ++k)
-    if (k == 0 || key(k) != key(k - 1)) {
-      s.cell_key.push_back(key(k));
-      s.cell_start.push_back(uint32_t(k));
-    }
-  s.cell_start.push_back(uint32_t(n));
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  auto starts = [&](std::size_t k) { return k == 0 || key(k) != key(k - 1); };
+  std::vector<std::size_t> first(chunks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k)
+      first[c + 1] += starts(k);
+  });
+  for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
+  s.cell_key.resize(first[chunks]);
+  s.cell_start.resize(first[chunks] + 1);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::size_t at = first[c];
+    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k)
+      if (starts(k)) {
+        s.cell_key[at] = key(k);
+        s.cell_start[at++] = uint32_t(k);
+      }
+  });
+  s.cell_start.back() = uint32_t(n);
 }
 
 // s.id: the original indices sorted by cell key (stable: by index within a cell); and the cells.
