@@ -27,6 +27,7 @@ namespace {
 
 constexpr std::size_t kCellBlock = 1024;  // cells per task
 constexpr std::size_t kPad = 8;
+constexpr std::size_t kChunk = 1 << 16;  // splats per task of the simple parallel loops
 // Splats ahead (in cell order) whose row offset is prefetched: the rows are far apart in memory.
 constexpr std::size_t kAhead = 16;  // spare entries after the sorted arrays, for eight-wide loads
 constexpr std::size_t kMaxBig = 8192;
@@ -67,14 +68,27 @@ void check(std::span<const Vec3f> positions, std::span<const float> radii) {
     throw std::invalid_argument("sphere_overlap_graph: need one radius per position");
   if (positions.size() > std::size_t{0xFFFFFFFEu})
     throw std::invalid_argument("sphere_overlap_graph: more than 2^32 - 2 splats");
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    if (!(radii[i] >= 0) || !std::isfinite(radii[i]))
-      throw std::invalid_argument("sphere_overlap_graph: radii must be finite and >= 0");
+  auto bad = [&](std::size_t i) {
     const Vec3f& p = positions[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw Error(ErrorKind::kBadInput,
-                  "splat " + std::to_string(i) + " has a non-finite coordinate");
-  }
+    return !(radii[i] >= 0) || !std::isfinite(radii[i]) || !std::isfinite(p.x) ||
+           !std::isfinite(p.y) || !std::isfinite(p.z);
+  };
+  // The first bad splat, found in parallel chunks (the same one for any thread count).
+  const std::size_t n = positions.size(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::size_t> first_bad(chunks, n);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+      if (bad(i)) {
+        first_bad[c] = i;
+        return;
+      }
+  });
+  std::size_t i = n;
+  for (std::size_t f : first_bad) i = std::min(i, f);
+  if (i == n) return;
+  if (!(radii[i] >= 0) || !std::isfinite(radii[i]))
+    throw std::invalid_argument("sphere_overlap_graph: radii must be finite and >= 0");
+  throw Error(ErrorKind::kBadInput, "splat " + std::to_string(i) + " has a non-finite coordinate");
 }
 
 // R: the 99.9th percentile of the radii. Spacing-based radii are alike, but the largest ones
@@ -97,13 +111,25 @@ Grid make_grid(std::span<const Vec3f> positions, float r_small) {
     g.lo[a] = HUGE_VAL;
     hi[a] = -HUGE_VAL;
   }
-  for (const Vec3f& p : positions) {
-    const double v[3] = {p.x, p.y, p.z};
-    for (int a = 0; a < 3; ++a) {
-      g.lo[a] = std::min(g.lo[a], v[a]);
-      hi[a] = std::max(hi[a], v[a]);
+  // The bounding box from parallel chunks' boxes (min and max are exact: any order).
+  const std::size_t n = positions.size(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::array<double, 6>> box(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::array<double, 6> b = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+      const double v[3] = {positions[i].x, positions[i].y, positions[i].z};
+      for (int a = 0; a < 3; ++a) {
+        b[a] = std::min(b[a], v[a]);
+        b[a + 3] = std::max(b[a + 3], v[a]);
+      }
     }
-  }
+    box[c] = b;
+  });
+  for (const auto& b : box)
+    for (int a = 0; a < 3; ++a) {
+      g.lo[a] = std::min(g.lo[a], b[a]);
+      hi[a] = std::max(hi[a], b[a + 3]);
+    }
   double cell = 2.0 * r_small * (1 + kCellMargin);
   const double extent = std::max({hi[0] - g.lo[0], hi[1] - g.lo[1], hi[2] - g.lo[2]});
   cell = std::max(cell, extent / double(kMaxCellsPerAxis) * (1 + kCellMargin));
@@ -141,12 +167,12 @@ template <class T>
 void sized_in_parallel(std::vector<T>& v, std::size_t size) {
   v.reserve(size);
 #if defined(MADV_POPULATE_WRITE)
-  constexpr std::size_t kPage = 4096, kChunk = std::size_t{1} << 22;
+  constexpr std::size_t kPage = 4096, kBytes = std::size_t{1} << 22;  // per madvise call
   const auto begin = (reinterpret_cast<uintptr_t>(v.data()) + kPage - 1) & ~(kPage - 1);
   const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
   if (end > begin) {
-    tbb::parallel_for(uintptr_t{0}, (end - begin + kChunk - 1) / kChunk, [&](uintptr_t c) {
-      const uintptr_t from = begin + c * kChunk, to = std::min(end, from + kChunk);
+    tbb::parallel_for(uintptr_t{0}, (end - begin + kBytes - 1) / kBytes, [&](uintptr_t c) {
+      const uintptr_t from = begin + c * kBytes, to = std::min(end, from + kBytes);
       madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);  // a hint only
     });
   }
@@ -159,7 +185,7 @@ void sized_in_parallel(std::vector<T>& v, std::size_t size) {
 // after the earlier chunks' shares, so the result is the serial one for any thread count.
 void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
   constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kBits, kChunk = 1 << 16;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
   const std::size_t n = items.size(), chunks = (n + kChunk - 1) / kChunk;
   std::vector<uint64_t> other;
   sized_in_parallel(other, n);
@@ -192,7 +218,6 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
 // chunks: each counts the cells that start in it, then writes them after the earlier chunks'.
 template <class Key>
 void find_cells(std::size_t n, Key&& key, Sorted& s) {
-  constexpr std::size_t kChunk = 1 << 16;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   auto starts = [&](std::size_t k) { return k == 0 || key(k) != key(k - 1); };
   std::vector<std::size_t> first(chunks + 1, 0);
@@ -583,9 +608,14 @@ std::vector<uint32_t> big_row(const Sorted& s, const Grid& g, uint32_t b,
 // false when they would cost more than the budget.
 bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
   const std::size_t n = s.n;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<uint32_t>> chunk_bigs(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t p = c * kChunk; p < std::min(n, (c + 1) * kChunk); ++p)
+      if (s.r[p] > s.small_radius) chunk_bigs[c].push_back(uint32_t(p));
+  });
   std::vector<uint32_t> bigs;
-  for (uint32_t p = 0; p < n; ++p)
-    if (s.r[p] > s.small_radius) bigs.push_back(p);
+  for (const auto& b : chunk_bigs) bigs.insert(bigs.end(), b.begin(), b.end());
   if (bigs.empty()) return true;
   if (bigs.size() > kMaxBig) return false;
   double rows = 0;
@@ -614,7 +644,6 @@ bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
 // offsets[i] += offsets[i - 1] for all i, in parallel over fixed chunks (the same sums for any
 // thread count: integer addition).
 void prefix_sum(std::vector<uint64_t>& v) {
-  constexpr std::size_t kChunk = 1 << 16;
   const std::size_t chunks = (v.size() + kChunk - 1) / kChunk;
   std::vector<uint64_t> carry(chunks + 1, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
