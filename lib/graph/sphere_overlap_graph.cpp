@@ -387,9 +387,14 @@ struct Candidates {
           count += (gx * gx + gy * gy + gz * gz < sum * sum) & (qr <= R);
         }
     }
+    // Eight padding entries (there is room), of which the ones up to a multiple of 8 are used.
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (; count % 8 != 0; ++count) x[count] = y[count] = z[count] = r[count] = nan, id[count] = 0;
-    size = count;
+    std::fill_n(x.data() + count, 8, nan);
+    std::fill_n(y.data() + count, 8, nan);
+    std::fill_n(z.data() + count, 8, nan);
+    std::fill_n(r.data() + count, 8, nan);
+    std::fill_n(id.data() + count, 8, 0u);
+    size = (count + 7) & ~7u;
     return true;
   }
 
