@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "splatkit/error.h"
+#include "splatkit/lane_compress.h"
 
 namespace splatkit::graph {
 namespace {
@@ -297,17 +298,6 @@ Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> rad
 using Runs = std::array<std::pair<uint32_t, uint32_t>, 9>;
 
 #if defined(__x86_64__)
-// Byte k of kCompress[mask] is the lane of the k-th set bit of mask: the shuffle that packs the
-// selected lanes of an eight-wide vector to its front.
-constexpr std::array<uint64_t, 256> kCompress = [] {
-  std::array<uint64_t, 256> table{};
-  for (unsigned mask = 0; mask < 256; ++mask) {
-    int out = 0;
-    for (int lane = 0; lane < 8; ++lane)
-      if (mask >> lane & 1) table[mask] |= uint64_t(lane) << (8 * out++);
-  }
-  return table;
-}();
 // The compare-exchange steps of a bitonic sort of 16 lanes: lane i meets lane i ^ distance and
 // keeps the larger value where take_max has bit i (the upper lane of a pair in an ascending
 // block of `size` lanes, the lower one in a descending block).
@@ -464,7 +454,7 @@ struct Candidates {
                                           _mm256_cmp_ps(qr, big, _CMP_LE_OQ));
         const unsigned lanes = b - q >= 8 ? 0xFFu : (1u << (b - q)) - 1;
         const unsigned mask = unsigned(_mm256_movemask_ps(keep)) & lanes;
-        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kCompress[mask])));
+        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
         _mm256_storeu_ps(x.data() + count, _mm256_permutevar8x32_ps(qx, perm));
         _mm256_storeu_ps(y.data() + count, _mm256_permutevar8x32_ps(qy, perm));
         _mm256_storeu_ps(z.data() + count, _mm256_permutevar8x32_ps(qz, perm));
@@ -496,7 +486,7 @@ struct Candidates {
           unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ))) &
           ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
       if constexpr (kStore) {
-        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kCompress[mask])));
+        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
                             _mm256_permutevar8x32_epi32(ids, perm));
       }

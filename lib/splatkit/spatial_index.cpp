@@ -19,6 +19,7 @@
 #include <string>
 
 #include "splatkit/error.h"
+#include "splatkit/lane_compress.h"
 
 namespace splatkit {
 
@@ -35,17 +36,6 @@ constexpr std::size_t kCandidateLimit = 512;
 // rank_avx2 counts ranks for up to this many candidates within the cap (quadratic), and sorts
 // beyond.
 constexpr std::size_t kRankLimit = 160;
-// Byte k of kCompress[mask] is the lane of the k-th set bit of mask: the shuffle that packs the
-// selected lanes of an eight-wide vector to its front.
-constexpr std::array<uint64_t, 256> kCompress = [] {
-  std::array<uint64_t, 256> table{};
-  for (unsigned mask = 0; mask < 256; ++mask) {
-    int out = 0;
-    for (int lane = 0; lane < 8; ++lane)
-      if (mask >> lane & 1) table[mask] |= uint64_t(lane) << (8 * out++);
-  }
-  return table;
-}();
 // Points per task when copying into and out of the build array.
 constexpr std::size_t kCopyGrain = 65536;
 // Below this many points a subtree is built on the current thread.
@@ -493,7 +483,7 @@ struct SpatialIndex::LeafBatch {
       const unsigned mask =
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(d2, bound, _CMP_LE_OQ))) &
           static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(valid)));
-      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kLaneCompress[mask]));
       _mm256_storeu_ps(cx.data() + count, _mm256_permutevar8x32_ps(x, perm));
       _mm256_storeu_ps(cy.data() + count, _mm256_permutevar8x32_ps(y, perm));
       _mm256_storeu_ps(cz.data() + count, _mm256_permutevar8x32_ps(z, perm));
@@ -530,7 +520,7 @@ struct SpatialIndex::LeafBatch {
           ~static_cast<unsigned>(
               _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
       // Packed, then paired into keys (index low, distance bits high) in lane order.
-      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kLaneCompress[mask]));
       const __m256i packed_d2 = _mm256_castps_si256(_mm256_permutevar8x32_ps(d2, perm));
       const __m256i packed_ids = _mm256_permutevar8x32_epi32(ids, perm);
       const __m256i lo = _mm256_unpacklo_epi32(packed_ids, packed_d2);  // lanes 0, 1, 4, 5
@@ -832,7 +822,7 @@ struct SpatialIndex::OverlapBatch {
               _mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ))) &
           ~static_cast<unsigned>(
               _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
-      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kCompress[mask]));
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(kLaneCompress[mask]));
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
                           _mm256_permutevar8x32_epi32(ids, perm));
       m += static_cast<std::size_t>(std::popcount(mask));

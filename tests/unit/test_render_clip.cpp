@@ -63,9 +63,10 @@ TEST(RenderClip, CubeHasClipPartnersAlongItsTwelveEdges) {
   EXPECT_GT(g.scene.clipped_splats, 500u);
   // Every clipped splat lies near a crease: clipping is about edges, nothing else.
   for (std::size_t i = 0; i < g.scene.size(); ++i)
-    if (g.scene.clip.offsets[i + 1] != g.scene.clip.offsets[i])
+    if (g.scene.clip.offsets[i + 1] != g.scene.clip.offsets[i]) {
       ASSERT_LT(distance_to_crease(ShapeKind::kCube, g.scene.positions[i]), 2 * g.scene.radii[i])
           << i;
+    }
 }
 
 TEST(RenderClip, CubeEdgesAreSharpOnlyWithClipping) {
@@ -140,7 +141,9 @@ TEST(RenderClip, CubePixelsShowTheRightFaceUpToTheCorner) {
         near_edge =
             near_edge || std::fabs((x + 0.5 - a.x) * ey - (y + 0.5 - a.y) * ex) / len < 0.75;
       }
-      if (!near_edge) EXPECT_EQ(with[p], ref[p]) << x << "," << y;
+      if (!near_edge) {
+        EXPECT_EQ(with[p], ref[p]) << x << "," << y;
+      }
       ++near_corner;
     }
   EXPECT_GT(near_corner, 40);

@@ -89,7 +89,9 @@ TEST_P(RenderSurfacesTwoSpheres, NoMixedColourAlongTheIntersection) {
   // mixed pixels along it and only there. Clipping alone removes most of the overhang.
   EXPECT_GT(neither.mixed, 100);
   EXPECT_LT(neither.farthest_from_crease, 4 * g.scene.max_radius);
-  if (!GetParam()) EXPECT_LT(clip_only.mixed, neither.mixed / 2);
+  if (!GetParam()) {
+    EXPECT_LT(clip_only.mixed, neither.mixed / 2);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(UnionAndWhole, RenderSurfacesTwoSpheres, ::testing::Bool());
