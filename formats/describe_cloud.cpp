@@ -71,8 +71,8 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
   for (const auto& rgb : c.colors)
     for (int k = 0; k < 3; ++k) col[k].add(rgb[k]);
   for (int k = 0; k < 3 && c.has_colors(); ++k)
-    attrs.push_back(attribute(caxis[k], c.color_bits == 16 ? ScalarType::kUInt16 : ScalarType::kUInt8,
-                              col[k], n));
+    attrs.push_back(attribute(
+        caxis[k], c.color_bits == 16 ? ScalarType::kUInt16 : ScalarType::kUInt8, col[k], n));
   for (const auto& e : c.extras) {
     Range er;
     for (double v : e.values) er.add(v);
@@ -116,9 +116,7 @@ std::string describe_cloud_text(const json& r) {
   o << "\nPoints: " << r["points"].get<uint64_t>() << "\n";
   if (r["faces"].get<uint64_t>() > 0) o << "Faces: " << r["faces"].get<uint64_t>() << "\n";
   if (r.contains("bounds")) {
-    auto v3 = [](const json& a) {
-      return num(a[0]) + ", " + num(a[1]) + ", " + num(a[2]);
-    };
+    auto v3 = [](const json& a) { return num(a[0]) + ", " + num(a[1]) + ", " + num(a[2]); };
     o << "Bounds: min (" << v3(r["bounds"]["min"]) << ")\n";
     o << "        max (" << v3(r["bounds"]["max"]) << ")\n";
   }

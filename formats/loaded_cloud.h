@@ -19,7 +19,7 @@ struct RawChunk {
 
 struct LoadedCloud {
   SplatCloud cloud;
-  std::string format;             // "ply", "xyz", "pcd", "off", "las", "splk"
+  std::string format;  // "ply", "xyz", "pcd", "off", "las", "splk"
   // Format-specific facts shown by splat-info, e.g. {"encoding": "binary_little_endian",
   // "elements": [...]} for PLY or {"version": "1.4", "point_format": 6, "scale": [...]} for LAS.
   nlohmann::json header = nlohmann::json::object();

@@ -24,8 +24,10 @@ nlohmann::json make_provenance(const std::string& tool, const nlohmann::json& op
   Bounds b = compute_bounds(output);
   if (!b.empty()) {
     m["bounds"] = {
-        {"min", {b.min.x + output.origin[0], b.min.y + output.origin[1], b.min.z + output.origin[2]}},
-        {"max", {b.max.x + output.origin[0], b.max.y + output.origin[1], b.max.z + output.origin[2]}}};
+        {"min",
+         {b.min.x + output.origin[0], b.min.y + output.origin[1], b.min.z + output.origin[2]}},
+        {"max",
+         {b.max.x + output.origin[0], b.max.y + output.origin[1], b.max.z + output.origin[2]}}};
   }
   nlohmann::json history = nlohmann::json::array();
   if (input_doc.metadata.is_object() && !input_doc.metadata.empty()) {

@@ -18,14 +18,22 @@ namespace splatkit {
 
 std::string_view format_name(FileFormat f) {
   switch (f) {
-    case FileFormat::kPly: return "ply";
-    case FileFormat::kXyz: return "xyz";
-    case FileFormat::kPcd: return "pcd";
-    case FileFormat::kOff: return "off";
-    case FileFormat::kLas: return "las";
-    case FileFormat::kLaz: return "laz";
-    case FileFormat::kSplk: return "splk";
-    case FileFormat::kUnknown: break;
+    case FileFormat::kPly:
+      return "ply";
+    case FileFormat::kXyz:
+      return "xyz";
+    case FileFormat::kPcd:
+      return "pcd";
+    case FileFormat::kOff:
+      return "off";
+    case FileFormat::kLas:
+      return "las";
+    case FileFormat::kLaz:
+      return "laz";
+    case FileFormat::kSplk:
+      return "splk";
+    case FileFormat::kUnknown:
+      break;
   }
   return "unknown";
 }
@@ -75,11 +83,21 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options) {
   if (f == FileFormat::kUnknown) f = options.assume;
   LoadedCloud doc;
   switch (f) {
-    case FileFormat::kPly: doc = read_ply(in, options); break;
-    case FileFormat::kXyz: doc = read_xyz(in, options); break;
-    case FileFormat::kOff: doc = read_off(in, options); break;
-    case FileFormat::kLas: doc = read_las(in, options); break;
-    case FileFormat::kSplk: doc = read_splk(in, options); break;
+    case FileFormat::kPly:
+      doc = read_ply(in, options);
+      break;
+    case FileFormat::kXyz:
+      doc = read_xyz(in, options);
+      break;
+    case FileFormat::kOff:
+      doc = read_off(in, options);
+      break;
+    case FileFormat::kLas:
+      doc = read_las(in, options);
+      break;
+    case FileFormat::kSplk:
+      doc = read_splk(in, options);
+      break;
     case FileFormat::kLaz:
       throw_unsupported(in.path(),
                         "LAZ (compressed LAS) is not supported; decompress it first, e.g. "

@@ -42,8 +42,9 @@ constexpr ChunkType kSplt{'S', 'P', 'L', 'T'};
 constexpr ChunkType kFace{'F', 'A', 'C', 'E'};
 constexpr ChunkType kEnd{'E', 'N', 'D', ' '};
 // Chunk types registered in minor version 1 (splk.md's registry; decoded in lib/graph).
-constexpr std::array<ChunkType, 4> kSince1_1{ChunkType{'G', 'R', 'P', 'H'}, ChunkType{'C', 'L', 'A', 'S'},
-                                             ChunkType{'C', 'L', 'I', 'P'}, ChunkType{'S', 'U', 'R', 'F'}};
+constexpr std::array<ChunkType, 4> kSince1_1{
+    ChunkType{'G', 'R', 'P', 'H'}, ChunkType{'C', 'L', 'A', 'S'}, ChunkType{'C', 'L', 'I', 'P'},
+    ChunkType{'S', 'U', 'R', 'F'}};
 
 // Registered types that a later stage decodes from LoadedCloud::chunks: read_splk carries them
 // through even when they are critical. Later issues add their types here (see splk.md).

@@ -32,9 +32,15 @@ void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOpt
                 : options.big_endian ? PlyEncoding::kBinaryBigEndian
                                      : PlyEncoding::kBinaryLittleEndian);
       break;
-    case FileFormat::kXyz: write_xyz(doc.cloud, out); break;
-    case FileFormat::kOff: write_off(doc.cloud, out); break;
-    default: write_splk(doc, out); break;
+    case FileFormat::kXyz:
+      write_xyz(doc.cloud, out);
+      break;
+    case FileFormat::kOff:
+      write_off(doc.cloud, out);
+      break;
+    default:
+      write_splk(doc, out);
+      break;
   }
   out.commit();
 }

@@ -21,7 +21,7 @@ InputStream::InputStream(const std::string& path, std::size_t buffer_size) : pat
     if (fd_ < 0) throw_bad_input(path, std::string("cannot open: ") + std::strerror(errno));
     owns_fd_ = true;
   }
-  struct stat st{};
+  struct stat st {};
   if (::fstat(fd_, &st) == 0) {
     if (S_ISDIR(st.st_mode)) {
       if (owns_fd_) ::close(fd_);
@@ -109,7 +109,10 @@ std::size_t InputStream::read_some(void* dst, std::size_t n) {
           if (errno == EINTR) continue;
           fail(std::string("read error: ") + std::strerror(errno));
         }
-        if (got == 0) { eof_ = true; break; }
+        if (got == 0) {
+          eof_ = true;
+          break;
+        }
         consume(out + done, static_cast<std::size_t>(got));
         done += static_cast<std::size_t>(got);
         continue;
@@ -133,7 +136,8 @@ void InputStream::read(void* dst, std::size_t n, const char* what) {
 
 void InputStream::skip(uint64_t n, const char* what) {
   while (n > 0) {
-    if (begin_ == end_ && !fill(1)) fail(std::string("unexpected end of file while skipping ") + what);
+    if (begin_ == end_ && !fill(1))
+      fail(std::string("unexpected end of file while skipping ") + what);
     std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(n, end_ - begin_));
     consume((mem_ ? mem_ : buf_.data()) + begin_, k);
     begin_ += k;

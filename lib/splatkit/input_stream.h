@@ -26,10 +26,10 @@ class InputStream {
   InputStream(const InputStream&) = delete;
   InputStream& operator=(const InputStream&) = delete;
 
-  const std::string& path() const { return path_; }   // as given ("-" for stdin)
-  std::string name() const;                           // for messages ("<stdin>" for "-")
+  const std::string& path() const { return path_; }  // as given ("-" for stdin)
+  std::string name() const;                          // for messages ("<stdin>" for "-")
   std::optional<uint64_t> size_hint() const { return size_; }
-  uint64_t offset() const { return consumed_; }       // bytes consumed so far
+  uint64_t offset() const { return consumed_; }  // bytes consumed so far
   // CRC-32C of every byte consumed so far (the input checksum recorded in .splk metadata).
   uint32_t checksum() const { return crc_; }
 

@@ -18,7 +18,7 @@ OutputFile::OutputFile(const std::string& path, std::size_t buffer_size) : path_
     fd_ = STDOUT_FILENO;
     return;
   }
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) fail("is a directory");
   temp_path_ = path + ".tmp.XXXXXX";
   fd_ = ::mkstemp(temp_path_.data());

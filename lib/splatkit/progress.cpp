@@ -14,13 +14,15 @@ const ProgressFn& no_progress() {
 }
 
 uint64_t peak_rss_bytes() {
-  struct rusage ru{};
+  struct rusage ru {};
   ::getrusage(RUSAGE_SELF, &ru);
   return static_cast<uint64_t>(ru.ru_maxrss) * 1024;  // Linux reports KiB
 }
 
 Progress::Progress(std::string tool, bool quiet)
-    : tool_(std::move(tool)), quiet_(quiet), tty_(!quiet && ::isatty(STDERR_FILENO)),
+    : tool_(std::move(tool)),
+      quiet_(quiet),
+      tty_(!quiet && ::isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()) {}
 
 Progress::~Progress() { clear(); }
@@ -42,8 +44,8 @@ void Progress::draw(double fraction, const char* phase) {
   if (fraction > 1) fraction = 1;
   constexpr int kWidth = 30;
   int filled = static_cast<int>(fraction * kWidth);
-  std::fprintf(stderr, "\r%s: %-16.16s [%.*s%*s] %3d%%", tool_.c_str(), phase ? phase : "",
-               filled, "##############################", kWidth - filled, "",
+  std::fprintf(stderr, "\r%s: %-16.16s [%.*s%*s] %3d%%", tool_.c_str(), phase ? phase : "", filled,
+               "##############################", kWidth - filled, "",
                static_cast<int>(fraction * 100));
   std::fflush(stderr);
   drawn_ = true;
@@ -60,10 +62,14 @@ namespace {
 // 1234567 -> "1.23 M"; 980 -> "980 ".
 std::string si(double v) {
   char buf[32];
-  if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.3g G", v / 1e9);
-  else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.3g M", v / 1e6);
-  else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.3g k", v / 1e3);
-  else std::snprintf(buf, sizeof buf, "%.3g ", v);
+  if (v >= 1e9)
+    std::snprintf(buf, sizeof buf, "%.3g G", v / 1e9);
+  else if (v >= 1e6)
+    std::snprintf(buf, sizeof buf, "%.3g M", v / 1e6);
+  else if (v >= 1e3)
+    std::snprintf(buf, sizeof buf, "%.3g k", v / 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g ", v);
   return buf;
 }
 }  // namespace
@@ -75,8 +81,7 @@ void Progress::finish(uint64_t count, const std::string& unit, const std::string
   double rate = t > 0 ? static_cast<double>(count) / t : 0.0;
   std::fprintf(stderr, "%s: %llu %s in %.3f s (%s%s/s), peak RSS %.1f MiB%s%s\n", tool_.c_str(),
                static_cast<unsigned long long>(count), unit.c_str(), t, si(rate).c_str(),
-               unit.c_str(),
-               static_cast<double>(peak_rss_bytes()) / (1024.0 * 1024.0),
+               unit.c_str(), static_cast<double>(peak_rss_bytes()) / (1024.0 * 1024.0),
                extra.empty() ? "" : ", ", extra.c_str());
 }
 

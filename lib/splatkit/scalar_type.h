@@ -9,7 +9,16 @@
 namespace splatkit {
 
 enum class ScalarType : uint8_t {
-  kInt8 = 1, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kInt64, kUInt64, kFloat32, kFloat64,
+  kInt8 = 1,
+  kUInt8,
+  kInt16,
+  kUInt16,
+  kInt32,
+  kUInt32,
+  kInt64,
+  kUInt64,
+  kFloat32,
+  kFloat64,
 };
 
 // Bytes of one value (1, 2, 4 or 8).

@@ -34,8 +34,8 @@ void SplatCloud::check_consistent() const {
   for (const auto& e : extras)
     if (e.values.size() != n)
       throw std::logic_error("splat cloud: extra attribute '" + e.name + "' has " +
-                             std::to_string(e.values.size()) + " entries for " +
-                             std::to_string(n) + " points");
+                             std::to_string(e.values.size()) + " entries for " + std::to_string(n) +
+                             " points");
   if (color_bits != 8 && color_bits != 16) throw std::logic_error("splat cloud: color_bits");
   if (!face_offsets.empty()) {
     if (face_offsets.front() != 0 || face_offsets.back() != face_indices.size())

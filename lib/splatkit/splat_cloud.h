@@ -36,14 +36,14 @@ struct Bounds {
 
 struct SplatCloud {
   std::array<double, 3> origin{0, 0, 0};
-  std::vector<Vec3f> positions;                // #N, local frame
-  std::vector<Vec3f> normals;                  // #N unit vectors, or empty
-  std::vector<float> radii;                    // #N disc radii (same units as positions), or empty
-  std::vector<std::array<uint16_t, 3>> colors; // #N RGB, or empty
-  int color_bits = 8;                          // 8 or 16: range of `colors` is [0, 2^bits - 1]
-  std::vector<ExtraAttribute> extras;          // each with #N values
+  std::vector<Vec3f> positions;                 // #N, local frame
+  std::vector<Vec3f> normals;                   // #N unit vectors, or empty
+  std::vector<float> radii;                     // #N disc radii (same units as positions), or empty
+  std::vector<std::array<uint16_t, 3>> colors;  // #N RGB, or empty
+  int color_bits = 8;                           // 8 or 16: range of `colors` is [0, 2^bits - 1]
+  std::vector<ExtraAttribute> extras;           // each with #N values
   // Polygonal faces when the source had them (PLY, OFF): CSR of vertex indices.
-  std::vector<uint32_t> face_offsets;          // #F+1 (empty when there are no faces)
+  std::vector<uint32_t> face_offsets;  // #F+1 (empty when there are no faces)
   std::vector<uint32_t> face_indices;
   // Scanner position (file coordinates) when the source records one (PCD VIEWPOINT, ...).
   std::optional<std::array<double, 3>> viewpoint;

@@ -16,9 +16,24 @@ struct Vec3f {
   constexpr Vec3f operator-() const { return {-x, -y, -z}; }
   constexpr Vec3f operator*(float s) const { return {x * s, y * s, z * s}; }
   constexpr Vec3f operator/(float s) const { return {x / s, y / s, z / s}; }
-  constexpr Vec3f& operator+=(const Vec3f& o) { x += o.x; y += o.y; z += o.z; return *this; }
-  constexpr Vec3f& operator-=(const Vec3f& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-  constexpr Vec3f& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+  constexpr Vec3f& operator+=(const Vec3f& o) {
+    x += o.x;
+    y += o.y;
+    z += o.z;
+    return *this;
+  }
+  constexpr Vec3f& operator-=(const Vec3f& o) {
+    x -= o.x;
+    y -= o.y;
+    z -= o.z;
+    return *this;
+  }
+  constexpr Vec3f& operator*=(float s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
   constexpr bool operator==(const Vec3f&) const = default;
 };
 

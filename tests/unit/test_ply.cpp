@@ -2,9 +2,9 @@
 // pinned bytes, and one rejection per malformed case.
 #include <gtest/gtest.h>
 
-#include "test_format_support.h"
 #include <sys/stat.h>
 #include <unistd.h>
+#include "test_format_support.h"
 
 #include <bit>
 #include <cmath>

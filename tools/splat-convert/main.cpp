@@ -15,19 +15,23 @@ int main(int argc, char** argv) {
                       "  $ splat-convert scan.las scan.splk\n"
                       "  $ splat-convert --ascii model.splk model.ply\n"
                       "  $ cat points.xyz | splat-convert --columns x,y,z,nx,ny,nz - out.ply\n"
-                      "  $ for f in scans/*.ply; do splat-convert -q \"$f\" \"out/$(basename \"$f\" .ply).splk\"; done\n");
+                      "  $ for f in scans/*.ply; do splat-convert -q \"$f\" \"out/$(basename "
+                      "\"$f\" .ply).splk\"; done\n");
   std::string input, output, format;
   splatkit::ReadOptions read;
   splatkit::WriteOptions write;
   tool.app().add_option("IN", input, "Input file ('-' = stdin)")->required();
-  tool.app().add_option("OUT", output, "Output file ('-' = stdout, .splk unless --format)")->required();
+  tool.app()
+      .add_option("OUT", output, "Output file ('-' = stdout, .splk unless --format)")
+      ->required();
   tool.app().add_option("--columns", read.columns,
                         "Column layout of text input, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
   tool.app()
       .add_option("--format", format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk"}));
   auto* ascii = tool.app().add_flag("--ascii", write.ascii, "PLY: write ASCII");
-  tool.app().add_flag("--big-endian", write.big_endian, "PLY: write binary big-endian")
+  tool.app()
+      .add_flag("--big-endian", write.big_endian, "PLY: write binary big-endian")
       ->excludes(ascii);
   return tool.run(argc, argv, [&] {
     splatkit::Progress progress(tool.name(), tool.quiet() || output == "-");

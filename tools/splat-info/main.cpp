@@ -8,18 +8,20 @@
 #include "splatkit/tool.h"
 
 int main(int argc, char** argv) {
-  splatkit::Tool tool("splat-info",
-                      "Describe point-cloud and splat files: format, point and face counts, "
-                      "attributes with ranges, bounding box, format header, .splk chunks and metadata.",
-                      "  $ splat-info scan.ply\n"
-                      "  $ splat-info --json model.splk | jq .points\n"
-                      "  $ estimate-normals scan.las - | splat-info -\n"
-                      "  $ splat-info --columns x,y,z,_,r,g,b points.txt\n");
+  splatkit::Tool tool(
+      "splat-info",
+      "Describe point-cloud and splat files: format, point and face counts, "
+      "attributes with ranges, bounding box, format header, .splk chunks and metadata.",
+      "  $ splat-info scan.ply\n"
+      "  $ splat-info --json model.splk | jq .points\n"
+      "  $ estimate-normals scan.las - | splat-info -\n"
+      "  $ splat-info --columns x,y,z,_,r,g,b points.txt\n");
   std::vector<std::string> files;
   bool json = false;
   splatkit::ReadOptions read;
   tool.app().add_option("FILE", files, "Files to describe ('-' = stdin)")->required();
-  tool.app().add_flag("--json", json, "Print a JSON report (an array when several files are given)");
+  tool.app().add_flag("--json", json,
+                      "Print a JSON report (an array when several files are given)");
   tool.app().add_option("--columns", read.columns,
                         "Column layout of text files, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
   return tool.run(argc, argv, [&] {
