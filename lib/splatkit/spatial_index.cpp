@@ -654,6 +654,7 @@ void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, u
     return state.count == others && others > 0 ? key_d2(keys[others - 1]) : -1.0f;
   };
   for (std::size_t p = begin; p < end; leaf++) {
+    while (leaf_start_[leaf + 1] <= p) ++leaf;  // empty leaves (max_leaf_size 1, n not 2^D)
     const std::size_t leaf_end = std::min<std::size_t>(end, leaf_start_[leaf + 1]);
     float farthest = -1.0f;
     if (guess < 0.0f || others == 0) guess = search(p++, leaf) * kGuessGrowth;
