@@ -3,20 +3,9 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "graph/lowest_root_union_find.h"
+
 namespace splatkit::graph {
-
-namespace {
-
-// Root of i's tree, halving the path on the way (every node visited points to its grandparent).
-uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-}  // namespace
 
 Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
                               uint8_t sharp_mask) {
@@ -33,9 +22,7 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
     for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
       const uint32_t j = graph.neighbors[k];
       if (j <= i || (edge_flags[k] & sharp_mask)) continue;
-      const uint32_t a = find_root(parent, static_cast<uint32_t>(i)), b = find_root(parent, j);
-      if (a < b) parent[b] = a;
-      if (b < a) parent[a] = b;
+      unite(parent, static_cast<uint32_t>(i), j);
     }
   }
   Segmentation seg;

@@ -1,6 +1,7 @@
 #include "graph/segment_surfaces_robust.h"
 
 #include "graph/estimate_normal_noise.h"
+#include "graph/lowest_root_union_find.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,21 +16,6 @@ namespace splatkit::graph {
 namespace {
 
 constexpr uint32_t kUnset = 0xFFFFFFFFu;
-
-uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-// Joins the trees of i and j, the lower root becoming the root.
-void unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
-  const uint32_t a = find_root(parent, i), b = find_root(parent, j);
-  if (a < b) parent[b] = a;
-  if (b < a) parent[a] = b;
-}
 
 struct Rows {
   const NeighborGraph& graph;

@@ -27,10 +27,10 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kCellBlock = 1024;  // cells per task
-constexpr std::size_t kPad = 8;
+constexpr std::size_t kPad = 8;  // spare entries after the sorted arrays, for eight-wide loads
 constexpr std::size_t kChunk = 1 << 16;  // splats per task of the simple parallel loops
 // Splats ahead (in cell order) whose row offset is prefetched: the rows are far apart in memory.
-constexpr std::size_t kAhead = 16;  // spare entries after the sorted arrays, for eight-wide loads
+constexpr std::size_t kAhead = 16;
 constexpr std::size_t kMaxBig = 8192;
 constexpr double kMaxBigRowsPerSplat = 8;  // budget of the big splats' cell-row scans
 constexpr uint64_t kMaxCellsPerAxis = (uint64_t{1} << 21) - 3;  // keys stay below 2^63
@@ -437,7 +437,7 @@ struct Candidates {
     const __m256 zero = _mm256_setzero_ps();
     uint32_t count = 0;
     for (const auto& [a, b] : runs)
-      for (uint32_t q = a; q < b; q += 8) {
+      for (std::size_t q = a; q < b; q += 8) {
         const __m256 qx = _mm256_loadu_ps(s.x.data() + q), qy = _mm256_loadu_ps(s.y.data() + q),
                      qz = _mm256_loadu_ps(s.z.data() + q), qr = _mm256_loadu_ps(s.r.data() + q);
         const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.id.data() + q));
@@ -676,9 +676,10 @@ void write_row(uint32_t id, std::span<const uint32_t> base, std::size_t extra,
 // The best vector code this CPU runs, up to `limit`.
 OverlapSimd supported(OverlapSimd limit) {
 #if defined(__x86_64__)
-  static const OverlapSimd best = __builtin_cpu_supports("avx512f") ? OverlapSimd::kAvx512
-                                  : __builtin_cpu_supports("avx2")  ? OverlapSimd::kAvx2
-                                                                    : OverlapSimd::kPortable;
+  static const OverlapSimd best =
+      __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx2") ? OverlapSimd::kAvx512
+      : __builtin_cpu_supports("avx2")                                    ? OverlapSimd::kAvx2
+                                                                          : OverlapSimd::kPortable;
   return std::min(limit, best);
 #else
   (void)limit;

@@ -17,19 +17,14 @@
 #include "normals/robust_normals.h"
 #include "normals/splat_radius.h"
 #include "splatkit/error.h"
+#include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 constexpr std::size_t kPrefetchRows = 4;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 void check_options(const NormalOptions& o) {
   if (o.k < 3) throw_usage("-k must be at least 3 (a plane needs 3 points)");

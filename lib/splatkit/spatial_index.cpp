@@ -300,7 +300,7 @@ struct SpatialIndex::KnnSearch {
 #if defined(__SSE2__)
     const __m128 vqx = _mm_set1_ps(qx), vqy = _mm_set1_ps(qy), vqz = _mm_set1_ps(qz);
     __m128 bound = _mm_set1_ps(key_d2_or_inf(state.worst));
-    for (uint32_t p = begin; p < end; p += 4) {
+    for (std::size_t p = begin; p < end; p += 4) {
       __m128 dx = _mm_sub_ps(_mm_loadu_ps(index.xs_.data() + p), vqx);
       __m128 dy = _mm_sub_ps(_mm_loadu_ps(index.ys_.data() + p), vqy);
       __m128 dz = _mm_sub_ps(_mm_loadu_ps(index.zs_.data() + p), vqz);
@@ -465,7 +465,7 @@ struct SpatialIndex::LeafBatch {
                  bound = _mm256_set1_ps(reach2), zero = _mm256_setzero_ps();
     const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const uint32_t end = index.leaf_start_[l + 1];
-    for (uint32_t p = index.leaf_start_[l]; p < end; p += 8) {
+    for (std::size_t p = index.leaf_start_[l]; p < end; p += 8) {
       const __m256i valid = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(end - p)), lanes);
       const __m256 x = _mm256_maskload_ps(index.xs_.data() + p, valid);
       const __m256 y = _mm256_maskload_ps(index.ys_.data() + p, valid);

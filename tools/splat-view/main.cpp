@@ -98,7 +98,8 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("-o,--output", o.output,
                  "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
-                 "surface_id channel when the file has surface ids); '-' = PNG to stdout")
+                 "surface_id channel when the file has surface ids and --no-surface-ids is not "
+                 "given); '-' = PNG to stdout")
       ->required();
   app.add_option("--eye", eye, "Camera position x,y,z")->delimiter(',')->expected(3);
   app.add_option("--target", target, "Point looked at x,y,z (default: model centre)")

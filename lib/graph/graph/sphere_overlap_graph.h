@@ -19,8 +19,9 @@
 // When the big splats would cost too much (more than 8192 of them, or their cell scans add up to
 // more than 8 cells per splat) it falls back to SpatialIndex::sphere_overlaps.
 //
-// positions, radii: #N each. Throws std::invalid_argument for different sizes, a radius that is
-// negative or not finite, or a position that is not finite (like SpatialIndex). Runs in parallel
+// positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
+// is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
+// coordinate (like SpatialIndex). Runs in parallel
 // with TBB; the result does not depend on the thread count. Memory: the result (8 bytes/splat +
 // 4 per row entry) plus about 50 bytes/splat transiently.
 #pragma once
