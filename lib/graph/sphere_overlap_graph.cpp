@@ -22,6 +22,7 @@
 
 #include "splatkit/error.h"
 #include "splatkit/lane_compress.h"
+#include "splatkit/rank_sort_avx2.h"
 
 namespace splatkit::graph {
 namespace {
@@ -515,22 +516,9 @@ struct Candidates {
   }
 #pragma GCC diagnostic pop
 
-  // hits[0, m) ascending, in `sorted`, without data-dependent branches: each index's rank is the
-  // count of smaller ones (they are distinct), compared as signed after flipping the top bit.
+  // hits[0, m) ascending, in `sorted` (rank_sort_avx2).
   __attribute__((target("avx2"))) std::span<const uint32_t> sorted_avx2(uint32_t m) {
-    const __m256i flip = _mm256_set1_epi32(int(0x80000000u));
-    for (uint32_t i0 = 0; i0 < m; i0 += 8) {
-      const __m256i vi = _mm256_xor_si256(
-          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.data() + i0)), flip);
-      __m256i rank = _mm256_setzero_si256();
-      for (uint32_t j = 0; j < m; ++j)
-        rank = _mm256_sub_epi32(
-            rank, _mm256_cmpgt_epi32(vi, _mm256_set1_epi32(int(hits[j] ^ 0x80000000u))));
-      alignas(32) uint32_t ranks[8];
-      _mm256_store_si256(reinterpret_cast<__m256i*>(ranks), rank);
-      for (uint32_t lane = 0; lane < 8; ++lane)
-        sorted[i0 + lane < m ? ranks[lane] : m + lane] = hits[i0 + lane];
-    }
+    rank_sort_avx2(hits.data(), m, sorted.data());
     return {sorted.data(), m};
   }
 #endif

@@ -20,6 +20,7 @@
 
 #include "splatkit/error.h"
 #include "splatkit/lane_compress.h"
+#include "splatkit/rank_sort_avx2.h"
 
 namespace splatkit {
 
@@ -831,28 +832,12 @@ struct SpatialIndex::OverlapBatch {
     return m;
   }
 
-  // Appends hits[0, m) in ascending order without data-dependent branches: each index's rank is
-  // the count of smaller ones (indices are distinct), compared as signed after flipping the top
-  // bit.
+  // Appends hits[0, m) in ascending order (rank_sort_avx2).
   __attribute__((target("avx2"))) void sorted_avx2(std::size_t m,
                                                    std::vector<uint32_t>& neighbors) const {
     const std::size_t base = neighbors.size();
     neighbors.resize(base + m + 8);  // eight spare slots take the padding lanes
-    uint32_t* out = neighbors.data() + base;
-    const __m256i flip = _mm256_set1_epi32(static_cast<int>(0x80000000u));
-    for (std::size_t i0 = 0; i0 < m; i0 += 8) {
-      const __m256i vi = _mm256_xor_si256(
-          _mm256_loadu_si256(reinterpret_cast<const __m256i*>(hits.data() + i0)), flip);
-      __m256i rank = _mm256_setzero_si256();
-      for (std::size_t j = 0; j < m; ++j) {
-        const __m256i vj = _mm256_set1_epi32(static_cast<int>(hits[j] ^ 0x80000000u));
-        rank = _mm256_sub_epi32(rank, _mm256_cmpgt_epi32(vi, vj));
-      }
-      alignas(32) uint32_t ranks[8];
-      _mm256_store_si256(reinterpret_cast<__m256i*>(ranks), rank);
-      for (std::size_t lane = 0; lane < 8; ++lane)
-        out[i0 + lane < m ? ranks[lane] : m + lane] = hits[i0 + lane];
-    }
+    rank_sort_avx2(hits.data(), m, neighbors.data() + base);
     neighbors.resize(base + m);
   }
 #endif
