@@ -145,6 +145,24 @@ inline float key_d2_or_inf(uint64_t key) {
 
 }  // namespace
 
+template <class Far, class Leaf>
+bool SpatialIndex::visit_leaves(uint32_t root, Far&& far, Leaf&& leaf) const {
+  uint32_t stack[64];  // at most one pending node per level, plus one
+  int top = 0;
+  stack[top++] = root;
+  while (top > 0) {
+    const uint32_t node = stack[--top];
+    if (far(node)) continue;
+    if (node < first_leaf_) {
+      stack[top++] = 2 * node + 2;
+      stack[top++] = 2 * node + 1;
+    } else if (!leaf(node - first_leaf_)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // The k best candidates so far, sorted: a fixed-size insertion array, which beats a heap for the
 // small k of normal estimation. `cap` rejects candidates beyond a distance already known to hold
 // k points (a warm start from the previous query); ~0 when nothing is known.
@@ -423,32 +441,24 @@ struct SpatialIndex::LeafBatch {
       skeys.resize(room + 8);
     }
     std::size_t count = 0;
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const uint32_t node = stack[--top];
-      if (box_gap_sq(index.boxes_[node], b) > reach2) continue;
-      if (node < index.first_leaf_) {
-        stack[top++] = 2 * node + 2;
-        stack[top++] = 2 * node + 1;
-        continue;
-      }
-      if (count > limit) return false;
-      const uint32_t l = node - index.first_leaf_;
+    const bool within = index.visit_leaves(
+        0, [&](uint32_t node) { return box_gap_sq(index.boxes_[node], b) > reach2; },
+        [&](uint32_t l) {
+          if (count > limit) return false;
 #if defined(__x86_64__)
-      if (avx2) {
-        count = gather_leaf_avx2(l, b, reach2, count);
-        continue;
-      }
+          if (avx2) {
+            count = gather_leaf_avx2(l, b, reach2, count);
+            return true;
+          }
 #endif
-      for (uint32_t p = index.leaf_start_[l]; p < index.leaf_start_[l + 1]; ++p) {
-        const float x = index.xs_[p], y = index.ys_[p], z = index.zs_[p];
-        cx[count] = x, cy[count] = y, cz[count] = z, cid[count] = index.ids_[p];
-        count += box_sq_dist(b, x, y, z) <= reach2;
-      }
-    }
-    if (count > limit) return false;
+          for (uint32_t p = index.leaf_start_[l]; p < index.leaf_start_[l + 1]; ++p) {
+            const float x = index.xs_[p], y = index.ys_[p], z = index.zs_[p];
+            cx[count] = x, cy[count] = y, cz[count] = z, cid[count] = index.ids_[p];
+            count += box_sq_dist(b, x, y, z) <= reach2;
+          }
+          return true;
+        });
+    if (!within || count > limit) return false;
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t j = count; j % 8 != 0; ++j) cx[j] = cy[j] = cz[j] = nan;
     size = (count + 7) & ~std::size_t{7};
@@ -776,28 +786,24 @@ struct SpatialIndex::OverlapBatch {
       hits.resize(room + 8);
     }
     std::size_t count = 0;
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const uint32_t node = stack[--top];
-      const float reach = r_leaf + node_max_radius[node];
-      if (box_gap_sq(index.boxes_[node], b) >= reach * reach) continue;
-      if (node < index.first_leaf_) {
-        stack[top++] = 2 * node + 2;
-        stack[top++] = 2 * node + 1;
-        continue;
-      }
-      if (count > limit) return false;
-      const uint32_t l = node - index.first_leaf_;
-      for (uint32_t p = index.leaf_start_[l]; p < index.leaf_start_[l + 1]; ++p) {
-        const float x = index.xs_[p], y = index.ys_[p], z = index.zs_[p], r = tree_radii[p];
-        cx[count] = x, cy[count] = y, cz[count] = z, cr[count] = r, cid[count] = index.ids_[p];
-        const float sum = r_leaf + r;
-        count += box_sq_dist(b, x, y, z) < sum * sum;
-      }
-    }
-    if (count > limit) return false;
+    const bool within = index.visit_leaves(
+        0,
+        [&](uint32_t node) {
+          const float reach = r_leaf + node_max_radius[node];
+          return box_gap_sq(index.boxes_[node], b) >= reach * reach;
+        },
+        [&](uint32_t l) {
+          if (count > limit) return false;
+          for (uint32_t p = index.leaf_start_[l]; p < index.leaf_start_[l + 1]; ++p) {
+            const float x = index.xs_[p], y = index.ys_[p], z = index.zs_[p], r = tree_radii[p];
+            cx[count] = x, cy[count] = y, cz[count] = z, cr[count] = r;
+            cid[count] = index.ids_[p];
+            const float sum = r_leaf + r;
+            count += box_sq_dist(b, x, y, z) < sum * sum;
+          }
+          return true;
+        });
+    if (!within || count > limit) return false;
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t j = count; j % 8 != 0; ++j) cx[j] = cy[j] = cz[j] = cr[j] = nan;
     size = (count + 7) & ~std::size_t{7};
@@ -887,20 +893,16 @@ void SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float*
       }
     };
     auto descend = [&](uint32_t root) {
-      uint32_t stack[64];  // depth-first: at most one pending node per level, plus one
-      int top = 0;
-      stack[top++] = root;
-      while (top > 0) {
-        uint32_t node = stack[--top];
-        float reach = r + node_max_radius[node];
-        if (box_sq_dist(boxes_[node], qx, qy, qz) >= reach * reach) continue;
-        if (node < first_leaf_) {
-          stack[top++] = 2 * node + 2;
-          stack[top++] = 2 * node + 1;
-        } else {
-          scan_leaf(node - first_leaf_);
-        }
-      }
+      visit_leaves(
+          root,
+          [&](uint32_t node) {
+            const float reach = r + node_max_radius[node];
+            return box_sq_dist(boxes_[node], qx, qy, qz) >= reach * reach;
+          },
+          [&](uint32_t l) {
+            scan_leaf(l);
+            return true;
+          });
     };
     scan_leaf(leaf);
     const float reach_all = r + node_max_radius[0];

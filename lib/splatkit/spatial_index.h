@@ -124,6 +124,11 @@ class SpatialIndex {
   struct OverlapBatch;
   struct Builder;
 
+  // Depth-first over the subtree of node `root`, children in order: skips a node when
+  // far(node), calls leaf(l) on each leaf l reached; stops and returns false as soon as leaf(l)
+  // does (defined in the .cpp, where its only callers are).
+  template <class Far, class Leaf>
+  bool visit_leaves(uint32_t root, Far&& far, Leaf&& leaf) const;
   void knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                 float* sq_dists) const;
   void overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
