@@ -41,10 +41,9 @@ constexpr ChunkType kMeta{'M', 'E', 'T', 'A'};
 constexpr ChunkType kSplt{'S', 'P', 'L', 'T'};
 constexpr ChunkType kFace{'F', 'A', 'C', 'E'};
 constexpr ChunkType kEnd{'E', 'N', 'D', ' '};
-// Chunk types registered in minor version 1 (splk.md's registry; decoded in lib/graph).
-constexpr std::array<ChunkType, 4> kSince1_1{
-    ChunkType{'G', 'R', 'P', 'H'}, ChunkType{'C', 'L', 'A', 'S'}, ChunkType{'C', 'L', 'I', 'P'},
-    ChunkType{'S', 'U', 'R', 'F'}};
+// Chunk types registered in minor version 1 (splk.h).
+constexpr std::array<const char*, 4> kSince1_1{kSplkGraphType, kSplkClassType, kSplkClipType,
+                                               kSplkSurfaceType};
 
 // Registered types that a later stage decodes from LoadedCloud::chunks: read_splk carries them
 // through even when they are critical. Later issues add their types here (see splk.md).
@@ -759,11 +758,11 @@ void read_chunk(InputStream& in, const ChunkHeader& h, LoadedCloud& doc, SplatCl
 // written. Carried chunks of types this writer does not know do not raise it (their version is
 // unknown here; readers of any 1.x carry them through or refuse them by name).
 uint16_t minor_version_for(const LoadedCloud& doc) {
-  uint16_t minor = 0;
-  for (const RawChunk& r : doc.chunks)
-    for (const ChunkType& t : kSince1_1)
-      if (std::equal(t.begin(), t.end(), r.type)) minor = std::max<uint16_t>(minor, 1);
-  return minor;
+  const bool since_1_1 = std::any_of(doc.chunks.begin(), doc.chunks.end(), [](const RawChunk& r) {
+    return std::any_of(kSince1_1.begin(), kSince1_1.end(),
+                       [&](const char* t) { return std::equal(t, t + 4, r.type); });
+  });
+  return since_1_1 ? 1 : 0;
 }
 
 }  // namespace

@@ -16,6 +16,13 @@ namespace splatkit {
 inline constexpr uint32_t kSplkChunkCritical = 1u << 0;
 inline constexpr uint32_t kSplkChunkTiedToSplats = 1u << 1;
 
+// The chunk types registered in version 1.1 (splk.md), decoded by the stages that own them
+// (lib/graph/graph/graph_chunks.h): neighbour graph, splat classes, clip partners, surface ids.
+inline constexpr char kSplkGraphType[4] = {'G', 'R', 'P', 'H'};
+inline constexpr char kSplkClassType[4] = {'C', 'L', 'A', 'S'};
+inline constexpr char kSplkClipType[4] = {'C', 'L', 'I', 'P'};
+inline constexpr char kSplkSurfaceType[4] = {'S', 'U', 'R', 'F'};
+
 // True when the first bytes are the .splk magic (bytes 1-4 "SPLK" after 0x89, or 0x09 when a 7-bit
 // transfer stripped the high bit, so that read_splk reports a damaged magic as such). The fixed
 // header is 16 bytes: 8-byte magic, major and minor version, file flags.

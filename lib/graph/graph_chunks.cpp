@@ -8,6 +8,7 @@
 
 #include "formats/splk.h"
 #include "graph/neighbor_list_codec.h"
+#include "graph/varint.h"
 #include "splatkit/error.h"
 
 namespace splatkit::graph {
@@ -26,16 +27,6 @@ RawChunk make_chunk(const char (&type)[4], std::vector<unsigned char> payload) {
 void put_u8(std::vector<unsigned char>& out, uint8_t v) { out.push_back(v); }
 void put_le(std::vector<unsigned char>& out, uint64_t v, int bytes) {
   for (int b = 0; b < bytes; ++b) out.push_back(static_cast<unsigned char>(v >> (8 * b)));
-}
-void put_varint(std::vector<unsigned char>& out, uint64_t v) {
-  while (v >= 0x80) {
-    out.push_back(static_cast<unsigned char>(v | 0x80));
-    v >>= 7;
-  }
-  out.push_back(static_cast<unsigned char>(v));
-}
-uint64_t zigzag(int64_t x) {
-  return (static_cast<uint64_t>(x) << 1) ^ static_cast<uint64_t>(x >> 63);
 }
 
 // Bounds-checked little-endian reader over one chunk payload; every failure names the chunk and
@@ -285,7 +276,7 @@ ClipPartnerTable decode_clip_chunk(const RawChunk& chunk, uint64_t num_splats,
               std::to_string(partners));
     for (uint64_t k = 0; k < count; ++k) {
       const uint64_t code = in.varint("partner delta");
-      const int64_t delta = static_cast<int64_t>(code >> 1) ^ -static_cast<int64_t>(code & 1);
+      const int64_t delta = unzigzag(code);
       // |delta| < 2^63 and i < 2^32 here, so the sum is computed without overflow in int64 when
       // it is in range; anything else is rejected before the cast.
       if (delta == 0) in.fail("splat " + std::to_string(i) + " is its own clip partner");

@@ -2,23 +2,11 @@
 
 #include <stdexcept>
 
+#include "graph/varint.h"
 #include "splatkit/error.h"
 
 namespace splatkit::graph {
 namespace {
-
-void put_varint(std::vector<uint8_t>& out, uint64_t v) {
-  while (v >= 0x80) {
-    out.push_back(static_cast<uint8_t>(v | 0x80));
-    v >>= 7;
-  }
-  out.push_back(static_cast<uint8_t>(v));
-}
-
-uint64_t zigzag(int64_t x) {
-  return (static_cast<uint64_t>(x) << 1) ^ static_cast<uint64_t>(x >> 63);
-}
-int64_t unzigzag(uint64_t u) { return static_cast<int64_t>(u >> 1) ^ -static_cast<int64_t>(u & 1); }
 
 void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
   auto fail = [](const std::string& what) {

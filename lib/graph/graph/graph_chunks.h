@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "formats/loaded_cloud.h"
+#include "formats/splk.h"
 #include "graph/build_splat_graph.h"
 #include "graph/clip_record.h"
 #include "graph/segment_surfaces.h"
@@ -26,11 +27,11 @@ namespace splatkit::graph {
 // A surface id of SURF for splats that belong to no kept surface (segment-surfaces --min-size).
 inline constexpr uint32_t kNoSurface = 0xFFFFFFFFu;
 
-// The four chunk type codes.
-inline constexpr char kGraphChunkType[4] = {'G', 'R', 'P', 'H'};
-inline constexpr char kClassChunkType[4] = {'C', 'L', 'A', 'S'};
-inline constexpr char kClipChunkType[4] = {'C', 'L', 'I', 'P'};
-inline constexpr char kSurfaceChunkType[4] = {'S', 'U', 'R', 'F'};
+// The four chunk type codes (registered in formats/splk.h).
+inline constexpr const char (&kGraphChunkType)[4] = kSplkGraphType;
+inline constexpr const char (&kClassChunkType)[4] = kSplkClassType;
+inline constexpr const char (&kClipChunkType)[4] = kSplkClipType;
+inline constexpr const char (&kSurfaceChunkType)[4] = kSplkSurfaceType;
 
 // The first chunk of doc.chunks with this type, or nullptr.
 const RawChunk* find_chunk(const LoadedCloud& doc, const char (&type)[4]);
