@@ -57,12 +57,12 @@ void core_components(const Rows& rows, const std::vector<uint8_t>& core, uint32_
     });
   }
   std::fill(size.begin(), size.end(), 0u);
-  for (std::size_t i = 0; i < n; ++i)
-    if (core[i]) ++size[find_root(parent, uint32_t(i))];
   for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t root = core[i] ? find_root(parent, uint32_t(i)) : 0;
-    label[i] = core[i] && size[root] >= min_size ? root : kUnset;
+    label[i] = core[i] ? find_root(parent, uint32_t(i)) : kUnset;
+    if (core[i]) ++size[label[i]];
   }
+  for (std::size_t i = 0; i < n; ++i)
+    if (core[i] && size[label[i]] < min_size) label[i] = kUnset;
 }
 
 // Breadth-first from every labelled splat at once over continuous edges, one hop per round:

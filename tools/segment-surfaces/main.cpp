@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string_view>
+#include <utility>
 
 #include <chrono>
 
@@ -32,7 +33,8 @@ using splatkit::graph::Segmentation;
 
 // Surfaces with fewer than min_size splats lose their id (kNoSurface); the others are numbered
 // again 0.. in the same order (lowest splat index), so ids stay deterministic and dense.
-Segmentation drop_small_surfaces(const Segmentation& seg, uint32_t min_size) {
+Segmentation drop_small_surfaces(Segmentation seg, uint32_t min_size) {
+  if (min_size <= 1) return seg;  // every surface has a splat
   std::vector<uint32_t> new_id(seg.count(), splatkit::graph::kNoSurface);
   Segmentation out;
   for (uint32_t s = 0; s < seg.count(); ++s)
@@ -77,7 +79,6 @@ int main(int argc, char** argv) {
   std::string input, output, report_path;
   uint32_t min_size = 1;
   std::string method = "robust";
-  std::optional<float> core;
   splatkit::graph::RobustSegmentOptions robust;
   auto& app = tool.app();
   app.add_option("IN", input, "Input .splk from build-splat-graph ('-' = stdin)")->required();
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
   app.add_option("--method", method, "robust (grow from core splats) or components (the seed's)")
       ->default_val("robust")
       ->check(CLI::IsMember({"robust", "components"}));
-  app.add_option("--core", core,
+  app.add_option("--core", robust.core_threshold,
                  "robust: n_i.n_j a core splat's continuous neighbours reach at least "
                  "(default: automatic, the cosine of half the graph's sharp angle when the normals "
                  "are noisy, else the sharp threshold itself)")
@@ -132,21 +133,21 @@ int main(int argc, char** argv) {
     t0 = Clock::now();
     if (method == "robust" && !doc.cloud.has_normals())
       splatkit::throw_bad_input(name, "--method robust needs the splats' normals");
-    robust.core_threshold = core;
     robust.sharp_threshold = graph.sharp_threshold;
     splatkit::graph::RobustSegmentInfo chosen;
-    const Segmentation all = method == "robust"
-                                 ? splatkit::graph::segment_surfaces_robust(
-                                       graph.graph, graph.edge_flags, splatkit::graph::kEdgeSharp,
-                                       doc.cloud.positions, doc.cloud.normals, robust, &chosen)
-                                 : splatkit::graph::segment_surfaces(graph.graph, graph.edge_flags,
-                                                                     splatkit::graph::kEdgeSharp);
-    const Segmentation seg = drop_small_surfaces(all, min_size);
+    Segmentation all = method == "robust"
+                           ? splatkit::graph::segment_surfaces_robust(
+                                 graph.graph, graph.edge_flags, splatkit::graph::kEdgeSharp,
+                                 doc.cloud.positions, doc.cloud.normals, robust, &chosen)
+                           : splatkit::graph::segment_surfaces(graph.graph, graph.edge_flags,
+                                                               splatkit::graph::kEdgeSharp);
+    const Segmentation seg = drop_small_surfaces(std::move(all), min_size);
     const double segment_s = seconds_since(t0);
 
     nlohmann::json prov_options = {{"min_size", min_size}, {"method", method}};
     if (method == "robust") {
-      prov_options["core"] = core ? nlohmann::json(*core) : nlohmann::json("auto");
+      prov_options["core"] =
+          robust.core_threshold ? nlohmann::json(*robust.core_threshold) : nlohmann::json("auto");
       prov_options["min_core"] = robust.min_core_size;
     }
     doc.metadata = splatkit::make_provenance(tool.name(), prov_options, in, doc, doc.cloud);

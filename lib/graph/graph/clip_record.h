@@ -44,6 +44,7 @@ struct ClipPartnerTable {
   std::vector<uint8_t> splat_flags;
 
   std::size_t num_splats() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  bool has_partners(std::size_t i) const { return offsets[i + 1] != offsets[i]; }
   // Throws std::logic_error naming the first violation of the layout above (sizes, offsets,
   // partner index >= num_splats() or == its own splat, unknown flag bits, a row that does not
   // start a subset).

@@ -6,16 +6,13 @@
 #include <chrono>
 
 #include "splatkit/error.h"
+#include "splatkit/seconds_since.h"
 
 namespace splatkit::render {
 
 namespace {
 
 constexpr std::size_t kChunk = 16384;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The tiles a splat's box touches (tx0 > tx1 when it is not drawn): 8 bytes per splat, so the
 // scatter pass does not stream the large SplatRaster array through the cache again.

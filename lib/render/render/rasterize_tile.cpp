@@ -84,7 +84,7 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
 inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, const TileRect& tile,
                               const float* table, FragmentStore& store, const ClipContext* clip,
                               uint64_t& clipped) {
-  if (clip && clip->table->offsets[index + 1] != clip->table->offsets[index])
+  if (clip && clip->table->has_partners(index))
     return rasterize_splat<true>(s, index, tile, table, store, clip, clipped);
   return rasterize_splat<false>(s, index, tile, table, store, nullptr, clipped);
 }

@@ -48,10 +48,7 @@ DocumentScene scene_from_document(LoadedCloud&& doc, const std::string& name) {
   } else if (id_attribute) {
     out.surface_source = "surface_id";
   }
-  if (clip) {
-    attach_clip_partners(out.scene, std::move(*clip), name);
-    out.has_clip_chunk = true;
-  }
+  if (clip) attach_clip_partners(out.scene, std::move(*clip), name);
   return out;
 }
 

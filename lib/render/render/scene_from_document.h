@@ -25,7 +25,6 @@ struct DocumentScene {
   std::vector<graph::SplatClass> classes;  // #N, or empty when the file has none
   std::string surface_source;              // "SURF", "surface_id" (the attribute) or "" (no ids)
   std::string class_source;                // "CLAS", "class" or ""
-  bool has_clip_chunk = false;
 };
 
 // Takes the cloud out of `doc`. Errors of make_render_scene, plus the chunk errors above and

@@ -63,8 +63,7 @@ std::vector<Vec3f> sharp_colors(std::span<const graph::SplatClass> classes) {
 std::vector<Vec3f> clipped_colors(const graph::ClipPartnerTable& table) {
   const Vec3f orange = linear({1.0f, 0.45f, 0.0f}), grey = linear({0.75f, 0.75f, 0.75f});
   std::vector<Vec3f> out(table.num_splats());
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = table.offsets[i + 1] != table.offsets[i] ? orange : grey;
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = table.has_partners(i) ? orange : grey;
   return out;
 }
 

@@ -16,16 +16,11 @@
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
+#include "splatkit/seconds_since.h"
 
 namespace splatkit::render {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 const std::regex& frame_pattern() {
   static const std::regex re("%0?[0-9]*d");
@@ -97,7 +92,7 @@ void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {
       scene.colors = sharp_colors(d.classes);
       return;
     case ColorBy::kClipped:
-      if (!d.has_clip_chunk)
+      if (scene.clip.num_splats() == 0)  // no CLIP chunk
         throw_bad_input(name,
                         "--shade clipped needs clip partners (a CLIP chunk, .splk only); run "
                         "build-splat-graph first");
