@@ -27,14 +27,6 @@ constexpr std::size_t kBlock = 4096;
 // the surface passes through it; below that, sampling noise.
 constexpr float kSideMargin = 0.25f;
 
-template <class Fn>
-void for_each_splat(std::size_t n, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) fn(i);
-                    });
-}
-
 void check_inputs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                   std::span<const float> radii, const SplatGraphOptions& o) {
   if (normals.size() != positions.size() || radii.size() != positions.size())
@@ -83,23 +75,15 @@ struct Splats {
   SplatDisc disc(uint32_t i) const { return SplatDisc::circle(positions[i], normals[i], radii[i]); }
 };
 
-// Sets the kEdge* flags of row i; returns whether any of its edges is sharp.
-bool flag_row(std::size_t i, const Splats& in, float w_s, SplatGraph& g) {
-  bool any_sharp = false;
+// Adds kEdgeCrossing to the sharp edges of row i (marked by sphere_overlap_graph) whose discs
+// cross.
+void flag_crossings(std::size_t i, const Splats& in, SplatGraph& g) {
   for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+    if (!(g.edge_flags[k] & kEdgeSharp)) continue;
     const uint32_t j = g.graph.neighbors[k];
-    const float w = dot(in.normals[i], in.normals[j]);  // [3.2]
-    // Written as "not >=" so that a NaN weight (a broken normal) counts as sharp.
-    uint8_t flags = 0;
-    if (!(w >= w_s)) {
-      any_sharp = true;
-      flags = kEdgeSharp;
-      const uint32_t lo = std::min<uint32_t>(i, j), hi = std::max<uint32_t>(i, j);
-      if (disc_disc_intersect(in.disc(lo), in.disc(hi)).crosses()) flags |= kEdgeCrossing;
-    }
-    g.edge_flags[k] = flags;
+    const uint32_t lo = std::min<uint32_t>(uint32_t(i), j), hi = std::max<uint32_t>(uint32_t(i), j);
+    if (disc_disc_intersect(in.disc(lo), in.disc(hi)).crosses()) g.edge_flags[k] |= kEdgeCrossing;
   }
-  return any_sharp;
 }
 
 // The class of a splat with a sharp edge (see SplatClass), from its flagged row.
@@ -125,15 +109,20 @@ SplatClass classify_row(std::size_t i, const Splats& in, double alpha, Scratch& 
   return any_crossing ? SplatClass::kEdge : SplatClass::kIntersection;
 }
 
-// One pass over the rows: edge flags, then the class, while the row is in cache.
+// The rows with a sharp edge: crossing flags, then the class, while the row is in cache. (The
+// other splats are kSmooth.)
 void flag_and_classify(const Splats& in, const SplatGraphOptions& o,
+                       std::span<const uint32_t> sharp_rows,
                        tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
   const double alpha = o.boundary_gap_degrees * std::numbers::pi / 180;
-  for_each_splat(in.positions.size(), [&](std::size_t i) {
-    g.classes[i] = flag_row(i, in, o.sharp_threshold, g)
-                       ? classify_row(i, in, alpha, scratch.local(), g)
-                       : SplatClass::kSmooth;
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sharp_rows.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      Scratch& s = scratch.local();
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        flag_crossings(sharp_rows[k], in, g);
+                        g.classes[sharp_rows[k]] = classify_row(sharp_rows[k], in, alpha, s, g);
+                      }
+                    });
 }
 
 // One block of rows of the clip table, filled independently of the other blocks.
@@ -228,14 +217,17 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   SplatGraphTimings& t = g.timings;
   progress(0.0, "neighbour graph");
   Clock::time_point t0 = Clock::now();
-  g.graph = sphere_overlap_graph(positions, radii);
+  // [3.2]-[3.3]: the weights w_ij = n_i·n_j are tested against w_s where the rows are found.
+  SharpEdgeMarks sharp;
+  g.graph = sphere_overlap_graph(positions, radii,
+                                 SharpEdges{normals, options.sharp_threshold, kEdgeSharp}, sharp);
+  g.edge_flags = std::move(sharp.flags);
   t.overlaps = seconds_since(t0);
   progress(0.6, "sharp edges");
   t0 = Clock::now();
-  g.edge_flags.resize(g.graph.neighbors.size());
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
-  flag_and_classify(Splats{positions, normals, radii}, options, scratch, g);
+  flag_and_classify(Splats{positions, normals, radii}, options, sharp.rows, scratch, g);
   t.classify = seconds_since(t0);
   progress(0.85, "surfaces");
   t0 = Clock::now();

@@ -28,7 +28,7 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kCellBlock = 1024;  // cells per task
-constexpr std::size_t kPad = 8;  // spare entries after the sorted arrays, for eight-wide loads
+constexpr std::size_t kPad = 16;  // spare entries after the sorted arrays, for 16-wide loads
 constexpr std::size_t kChunk = 1 << 16;  // splats per task of the simple parallel loops
 // Splats ahead (in cell order) whose row offset is prefetched: the rows are far apart in memory.
 constexpr std::size_t kAhead = 16;
@@ -57,7 +57,8 @@ struct Grid {
 
 // Splats in cell order, structure of arrays, and the cells.
 struct Sorted {
-  std::vector<float> x, y, z, r;     // padded with kPad zeros for eight-wide loads
+  std::vector<float> x, y, z, r;     // padded with kPad zeros for 16-wide loads
+  std::vector<float> nx, ny, nz;     // the normals, when sharp edges are marked (also padded)
   std::vector<uint32_t> id;          // original index (also padded)
   std::size_t n = 0;                 // splats
   std::vector<uint64_t> cell_key;    // one per non-empty cell, ascending
@@ -275,14 +276,16 @@ void sort_ids(std::span<const Vec3f> positions, const Grid& g, Sorted& s) {
       n, [&](std::size_t k) { return keys[k]; }, s);
 }
 
-Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> radii, const Grid& g,
-                    float r_small) {
+Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> radii,
+                    std::span<const Vec3f> normals, const Grid& g, float r_small) {
   const std::size_t n = positions.size();
   Sorted s;
   sort_ids(positions, g, s);
   s.small_radius = r_small;
   s.n = n;
   for (auto* v : {&s.x, &s.y, &s.z, &s.r}) sized_in_parallel(*v, n + kPad);
+  if (!normals.empty())
+    for (auto* v : {&s.nx, &s.ny, &s.nz}) sized_in_parallel(*v, n + kPad);
   tbb::parallel_for(std::size_t{0}, n, std::size_t{65536}, [&](std::size_t b) {
     for (std::size_t k = b; k < std::min(n, b + 65536); ++k) {
       const Vec3f& p = positions[s.id[k]];
@@ -290,6 +293,12 @@ Sorted sort_by_cell(std::span<const Vec3f> positions, std::span<const float> rad
       s.y[k] = p.y;
       s.z[k] = p.z;
       s.r[k] = radii[s.id[k]];
+      if (!normals.empty()) {
+        const Vec3f& v = normals[s.id[k]];
+        s.nx[k] = v.x;
+        s.ny[k] = v.y;
+        s.nz[k] = v.z;
+      }
     }
   });
   return s;
@@ -319,6 +328,37 @@ constexpr std::array<BitonicStep, 10> kBitonic16 = [] {
   return steps;
 }();
 
+// One step of kBitonic16 with the cheapest shuffle that pairs lane i with lane i ^ D: within
+// 128-bit lanes for D = 1, 2, across them for D = 4, 8.
+template <int D>
+__attribute__((target("avx512f"))) inline __m512i bitonic_step(__m512i v, uint16_t take_max) {
+  __m512i other;
+  if constexpr (D == 1) other = _mm512_shuffle_epi32(v, _MM_PERM_CDAB);
+  if constexpr (D == 2) other = _mm512_shuffle_epi32(v, _MM_PERM_BADC);
+  if constexpr (D == 4) other = _mm512_shuffle_i32x4(v, v, _MM_SHUFFLE(2, 3, 0, 1));
+  if constexpr (D == 8) other = _mm512_shuffle_i32x4(v, v, _MM_SHUFFLE(1, 0, 3, 2));
+  return _mm512_mask_blend_epi32(take_max, _mm512_min_epu32(v, other), _mm512_max_epu32(v, other));
+}
+
+// The 16 lanes of v ascending (as unsigned).
+__attribute__((target("avx512f"))) inline __m512i sort16_avx512(__m512i v) {
+  constexpr auto& k = kBitonic16;
+  static_assert(k[0].distance == 1 && k[1].distance == 2 && k[2].distance == 1 &&
+                k[3].distance == 4 && k[4].distance == 2 && k[5].distance == 1 &&
+                k[6].distance == 8 && k[7].distance == 4 && k[8].distance == 2 &&
+                k[9].distance == 1);
+  v = bitonic_step<1>(v, k[0].take_max);
+  v = bitonic_step<2>(v, k[1].take_max);
+  v = bitonic_step<1>(v, k[2].take_max);
+  v = bitonic_step<4>(v, k[3].take_max);
+  v = bitonic_step<2>(v, k[4].take_max);
+  v = bitonic_step<1>(v, k[5].take_max);
+  v = bitonic_step<8>(v, k[6].take_max);
+  v = bitonic_step<4>(v, k[7].take_max);
+  v = bitonic_step<2>(v, k[8].take_max);
+  return bitonic_step<1>(v, k[9].take_max);
+}
+
 // Rows up to this long are sorted by ranking (quadratic, branch-free), longer ones by std::sort.
 constexpr uint32_t kRankLimit = 64;
 #endif
@@ -328,13 +368,17 @@ constexpr uint32_t kRankLimit = 64;
 // r_cell + r_q (r_cell their largest radius). For a splat p of the cell every splat left out has
 // d² >= (r_p + r_q)²: float subtraction, squares and sums are monotonic, so the box distance
 // computed like the pair's distance is never larger. Padded with NaN coordinates (never a hit)
-// to a multiple of 8.
+// to a multiple of 16.
 struct Candidates {
   std::vector<float> x, y, z, r;
+  std::vector<float> nx, ny, nz;  // with sharp edges: the normals
   std::vector<uint32_t> id;
-  std::vector<uint32_t> hits;    // one row before sorting
-  std::vector<uint32_t> sorted;  // sorted_avx2's output (eight spare slots)
-  OverlapSimd simd;              // the vector code in use
+  std::vector<uint32_t> hits;       // one row before sorting
+  std::vector<uint32_t> sorted;     // the row sorted (16 spare slots)
+  std::vector<uint32_t> sharp_ids;  // the row's sharp neighbours, in no order (with sharp edges)
+  OverlapSimd simd;                 // the vector code in use
+  bool sharp = false;               // find the sharp edges (the sorted splats have normals)
+  float threshold = 0;              // an edge is sharp iff !(n_i·n_j >= threshold)
   uint32_t size = 0;
 
   // False when the cell has no small splat.
@@ -354,15 +398,19 @@ struct Candidates {
     if (r_cell < 0) return false;
     std::size_t total = 0;
     for (const auto& [a, b] : runs) total += b - a;
-    if (x.size() < total + 8) {
-      for (auto* v : {&x, &y, &z, &r}) v->resize(total + 8);
-      id.resize(total + 8);
+    if (x.size() < total + 16) {
+      for (auto* v : {&x, &y, &z, &r}) v->resize(total + 16);
+      if (sharp)
+        for (auto* v : {&nx, &ny, &nz}) v->resize(total + 16);
+      id.resize(total + 16);
       hits.resize(total + 16);
       sorted.resize(total + 16);
     }
     uint32_t count = 0;
 #if defined(__x86_64__)
-    if (simd >= OverlapSimd::kAvx2) {
+    if (simd == OverlapSimd::kAvx512) {
+      count = copy_avx512(s, runs, lo, hi, r_cell);
+    } else if (simd == OverlapSimd::kAvx2) {
       count = copy_avx2(s, runs, lo, hi, r_cell);
     } else
 #endif
@@ -371,6 +419,7 @@ struct Candidates {
         for (uint32_t q = a; q < b; ++q) {
           const float qx = s.x[q], qy = s.y[q], qz = s.z[q], qr = s.r[q];
           x[count] = qx, y[count] = qy, z[count] = qz, r[count] = qr, id[count] = s.id[q];
+          if (sharp) nx[count] = s.nx[q], ny[count] = s.ny[q], nz[count] = s.nz[q];
           const float gx = std::max(std::max(lo[0] - qx, qx - hi[0]), 0.0f);
           const float gy = std::max(std::max(lo[1] - qy, qy - hi[1]), 0.0f);
           const float gz = std::max(std::max(lo[2] - qz, qz - hi[2]), 0.0f);
@@ -378,31 +427,29 @@ struct Candidates {
           count += (gx * gx + gy * gy + gz * gz < sum * sum) & (qr <= R);
         }
     }
-    // Eight padding entries (there is room), of which the ones up to a multiple of 8 are used.
+    // 16 padding entries (there is room), of which the ones up to a multiple of 16 are used.
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    std::fill_n(x.data() + count, 8, nan);
-    std::fill_n(y.data() + count, 8, nan);
-    std::fill_n(z.data() + count, 8, nan);
-    std::fill_n(r.data() + count, 8, nan);
-    std::fill_n(id.data() + count, 8, 0u);
-    size = (count + 7) & ~7u;
+    std::fill_n(x.data() + count, 16, nan);
+    std::fill_n(y.data() + count, 16, nan);
+    std::fill_n(z.data() + count, 16, nan);
+    std::fill_n(r.data() + count, 16, nan);
+    std::fill_n(id.data() + count, 16, 0u);
+    size = (count + 15) & ~15u;
     return true;
   }
 
-  // The number of neighbours of small splat p (sorted position) among the candidates.
-  uint32_t count(const Sorted& s, uint32_t p) {
-#if defined(__x86_64__)
-    if (simd >= OverlapSimd::kAvx2) return hits_avx2<false>(s, p);
-#endif
-    return hits_portable(s, p);
-  }
-
-  // The neighbours of small splat p among the candidates, ascending (in `sorted`).
+  // The neighbours of small splat p among the candidates, ascending; with sharp edges, the
+  // sharp ones also in sharp_ids.
   std::span<const uint32_t> row(const Sorted& s, uint32_t p) {
+    sharp_ids.clear();
 #if defined(__x86_64__)
+    if (simd == OverlapSimd::kAvx512) {
+      const uint32_t m = row_avx512(s, p);
+      if (m <= 16) return {sorted.data(), m};
+    }
     if (simd >= OverlapSimd::kAvx2) {
-      const uint32_t m = hits_avx2<true>(s, p);
-      if (m <= 16 && simd == OverlapSimd::kAvx512) return sorted_avx512(m);
+      sharp_ids.clear();  // a part of the row may be there from row_avx512
+      const uint32_t m = hits_avx2(s, p);
       if (m <= kRankLimit) return sorted_avx2(m);
       std::sort(hits.begin(), hits.begin() + m);
       return {hits.data(), m};
@@ -421,9 +468,17 @@ struct Candidates {
       const float dx = px - x[j], dy = py - y[j], dz = pz - z[j];
       const float sum = pr + r[j];
       hits[m] = id[j];
-      m += (dx * dx + dy * dy + dz * dz < sum * sum) & (id[j] != self);
+      const bool hit = (dx * dx + dy * dy + dz * dz < sum * sum) & (id[j] != self);
+      if (hit && sharp && !(s.nx[p] * nx[j] + s.ny[p] * ny[j] + s.nz[p] * nz[j] >= threshold))
+        sharp_ids.push_back(id[j]);
+      m += hit;
     }
     return m;
+  }
+
+  // Appends to sharp_ids the ids of candidates j + l for the bits l of `lanes`.
+  void add_sharp(unsigned lanes, std::size_t j) {
+    for (; lanes != 0; lanes &= lanes - 1) sharp_ids.push_back(id[j + std::countr_zero(lanes)]);
   }
 
 #if defined(__x86_64__)
@@ -462,18 +517,27 @@ struct Candidates {
         _mm256_storeu_ps(r.data() + count, _mm256_permutevar8x32_ps(qr, perm));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(id.data() + count),
                             _mm256_permutevar8x32_epi32(ids, perm));
+        if (sharp) {
+          _mm256_storeu_ps(nx.data() + count,
+                           _mm256_permutevar8x32_ps(_mm256_loadu_ps(s.nx.data() + q), perm));
+          _mm256_storeu_ps(ny.data() + count,
+                           _mm256_permutevar8x32_ps(_mm256_loadu_ps(s.ny.data() + q), perm));
+          _mm256_storeu_ps(nz.data() + count,
+                           _mm256_permutevar8x32_ps(_mm256_loadu_ps(s.nz.data() + q), perm));
+        }
         count += uint32_t(std::popcount(mask));
       }
     return count;
   }
 
   // The hits of p packed into `hits`, eight candidates at a time, the scalar expression's float
-  // operations lane by lane.
-  template <bool kStore>
+  // operations lane by lane (and the sharp ones in sharp_ids).
   __attribute__((target("avx2"))) uint32_t hits_avx2(const Sorted& s, uint32_t p) {
     const __m256 px = _mm256_set1_ps(s.x[p]), py = _mm256_set1_ps(s.y[p]),
                  pz = _mm256_set1_ps(s.z[p]), pr = _mm256_set1_ps(s.r[p]);
     const __m256i self = _mm256_set1_epi32(int(s.id[p]));
+    const __m256 pnx = _mm256_set1_ps(sharp ? s.nx[p] : 0), pny = _mm256_set1_ps(sharp ? s.ny[p] : 0),
+                 pnz = _mm256_set1_ps(sharp ? s.nz[p] : 0), w_s = _mm256_set1_ps(threshold);
     uint32_t m = 0;
     for (uint32_t j = 0; j < size; j += 8) {
       const __m256 dx = _mm256_sub_ps(px, _mm256_loadu_ps(x.data() + j));
@@ -486,33 +550,108 @@ struct Candidates {
       const unsigned mask =
           unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ))) &
           ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
-      if constexpr (kStore) {
-        const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
-                            _mm256_permutevar8x32_epi32(ids, perm));
-      }
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
+                          _mm256_permutevar8x32_epi32(ids, perm));
       m += uint32_t(std::popcount(mask));
+      if (sharp && mask != 0) {
+        const __m256 w = _mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(pnx, _mm256_loadu_ps(nx.data() + j)),
+                          _mm256_mul_ps(pny, _mm256_loadu_ps(ny.data() + j))),
+            _mm256_mul_ps(pnz, _mm256_loadu_ps(nz.data() + j)));
+        add_sharp(mask & ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(w, w_s, _CMP_GE_OQ))), j);
+      }
     }
     return m;
   }
 
-  // hits[0, m <= 16) ascending, in `sorted`: a bitonic sorting network in one 16-lane register,
-  // the empty lanes filled with 2^32 - 1 (above any index). (GCC 12's AVX-512 headers trip
-  // -Wuninitialized on their own undefined-vector placeholders, GCC bug 105593.)
+  // The hits of p ascending in `sorted` (16 slots written), sixteen candidates at a time, the
+  // scalar expression's float operations lane by lane: each step's hits are compressed and
+  // appended in one register, then sorted there by the bitonic network, so that no row goes
+  // through memory before it is sorted. Returns the count, or 17 when p has more than 16 hits
+  // (then `sorted` holds nothing useful). (GCC 12's AVX-512 headers trip -Wuninitialized on their
+  // own undefined-vector placeholders, GCC bug 105593.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
-  __attribute__((target("avx512f"))) std::span<const uint32_t> sorted_avx512(uint32_t m) {
-    const __mmask16 used = __mmask16((1u << m) - 1);
-    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    __m512i v = _mm512_mask_loadu_epi32(_mm512_set1_epi32(-1), used, hits.data());
-    for (const BitonicStep& step : kBitonic16) {
-      const __m512i other =
-          _mm512_permutexvar_epi32(_mm512_xor_si512(lane, _mm512_set1_epi32(step.distance)), v);
-      v = _mm512_mask_blend_epi32(step.take_max, _mm512_min_epu32(v, other),
-                                  _mm512_max_epu32(v, other));
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  __attribute__((target("avx512f"))) uint32_t row_avx512(const Sorted& s, uint32_t p) {
+    const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
+                 pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
+    const __m512i self = _mm512_set1_epi32(int(s.id[p]));
+    const __m512 pnx = _mm512_set1_ps(sharp ? s.nx[p] : 0), pny = _mm512_set1_ps(sharp ? s.ny[p] : 0),
+                 pnz = _mm512_set1_ps(sharp ? s.nz[p] : 0), w_s = _mm512_set1_ps(threshold);
+    __m512i row = _mm512_set1_epi32(-1);  // 2^32 - 1 in the empty lanes: sorted last
+    uint32_t m = 0;
+    for (std::size_t j = 0; j < size; j += 16) {
+      const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(x.data() + j));
+      const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(y.data() + j));
+      const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(z.data() + j));
+      const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(r.data() + j));
+      const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
+                                      _mm512_mul_ps(dz, dz));
+      const __m512i ids = _mm512_loadu_si512(id.data() + j);
+      const __mmask16 hit = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
+                            ~_mm512_cmpeq_epi32_mask(ids, self);
+      const uint32_t k = uint32_t(std::popcount(unsigned(hit)));
+      if (m + k > 16) return 17;
+      if (sharp && hit != 0) {
+        const __m512 w = _mm512_add_ps(
+            _mm512_add_ps(_mm512_mul_ps(pnx, _mm512_loadu_ps(nx.data() + j)),
+                          _mm512_mul_ps(pny, _mm512_loadu_ps(ny.data() + j))),
+            _mm512_mul_ps(pnz, _mm512_loadu_ps(nz.data() + j)));
+        add_sharp(unsigned(hit & ~_mm512_cmp_ps_mask(w, w_s, _CMP_GE_OQ)), j);
+      }
+      row = _mm512_mask_expand_epi32(row, __mmask16(((1u << k) - 1) << m),
+                                     _mm512_maskz_compress_epi32(hit, ids));
+      m += k;
     }
-    _mm512_mask_storeu_epi32(sorted.data(), used, v);
-    return {sorted.data(), m};
+    _mm512_storeu_si512(sorted.data(), sort16_avx512(row));
+    return m;
+  }
+
+  // gather's copy and test, sixteen splats at a time (as copy_avx2), each compressed in a register
+  // and stored whole.
+  __attribute__((target("avx512f"))) uint32_t copy_avx512(const Sorted& s, const Runs& runs,
+                                                          const float lo[3], const float hi[3],
+                                                          float r_cell) {
+    const __m512 lx = _mm512_set1_ps(lo[0]), ly = _mm512_set1_ps(lo[1]), lz = _mm512_set1_ps(lo[2]);
+    const __m512 hx = _mm512_set1_ps(hi[0]), hy = _mm512_set1_ps(hi[1]), hz = _mm512_set1_ps(hi[2]);
+    const __m512 rc = _mm512_set1_ps(r_cell), big = _mm512_set1_ps(s.small_radius);
+    const __m512 zero = _mm512_setzero_ps();
+    uint32_t count = 0;
+    for (const auto& [a, b] : runs)
+      for (std::size_t q = a; q < b; q += 16) {
+        const __m512 qx = _mm512_loadu_ps(s.x.data() + q), qy = _mm512_loadu_ps(s.y.data() + q),
+                     qz = _mm512_loadu_ps(s.z.data() + q), qr = _mm512_loadu_ps(s.r.data() + q);
+        const __m512 gx =
+            _mm512_max_ps(_mm512_max_ps(_mm512_sub_ps(lx, qx), _mm512_sub_ps(qx, hx)), zero);
+        const __m512 gy =
+            _mm512_max_ps(_mm512_max_ps(_mm512_sub_ps(ly, qy), _mm512_sub_ps(qy, hy)), zero);
+        const __m512 gz =
+            _mm512_max_ps(_mm512_max_ps(_mm512_sub_ps(lz, qz), _mm512_sub_ps(qz, hz)), zero);
+        const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(gx, gx), _mm512_mul_ps(gy, gy)),
+                                        _mm512_mul_ps(gz, gz));
+        const __m512 sum = _mm512_add_ps(rc, qr);
+        const __mmask16 lanes = b - q >= 16 ? 0xFFFF : __mmask16((1u << (b - q)) - 1);
+        const __mmask16 keep = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
+                               _mm512_cmp_ps_mask(qr, big, _CMP_LE_OQ) & lanes;
+        _mm512_storeu_ps(x.data() + count, _mm512_maskz_compress_ps(keep, qx));
+        _mm512_storeu_ps(y.data() + count, _mm512_maskz_compress_ps(keep, qy));
+        _mm512_storeu_ps(z.data() + count, _mm512_maskz_compress_ps(keep, qz));
+        _mm512_storeu_ps(r.data() + count, _mm512_maskz_compress_ps(keep, qr));
+        _mm512_storeu_si512(id.data() + count,
+                            _mm512_maskz_compress_epi32(keep, _mm512_loadu_si512(s.id.data() + q)));
+        if (sharp) {
+          _mm512_storeu_ps(nx.data() + count,
+                           _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.nx.data() + q)));
+          _mm512_storeu_ps(ny.data() + count,
+                           _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.ny.data() + q)));
+          _mm512_storeu_ps(nz.data() + count,
+                           _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.nz.data() + q)));
+        }
+        count += uint32_t(std::popcount(unsigned(keep)));
+      }
+    return count;
   }
 #pragma GCC diagnostic pop
 
@@ -675,80 +814,165 @@ OverlapSimd supported(OverlapSimd limit) {
 #endif
 }
 
-// Runs fn(c0, c1, candidates) over blocks of kCellBlock cells in parallel.
-template <class Fn>
-void for_each_cell_block(const Sorted& s, OverlapSimd simd, Fn&& fn) {
-  const std::size_t cells = s.cell_key.size();
-  tbb::parallel_for(std::size_t{0}, (cells + kCellBlock - 1) / kCellBlock, [&](std::size_t b) {
-    Candidates cand;
-    cand.simd = simd;
-    fn(b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), cand);
-  });
+// One edge flag per entry of row i, set where the edge is sharp (normals from the caller, in
+// original order): for the rows the grid does not find by itself. Returns whether any is.
+bool mark_sharp_row(uint32_t i, std::span<const uint32_t> row, const SharpEdges& sharp,
+                    uint8_t* flags) {
+  bool any = false;
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    const bool is_sharp = !(dot(sharp.normals[i], sharp.normals[row[k]]) >= sharp.threshold);
+    flags[k] = is_sharp ? sharp.flag : 0;
+    any = any || is_sharp;
+  }
+  return any;
 }
 
-// The graph in two passes over the cells, so that no rows are stored twice: the row lengths
-// (small neighbours plus the big splats' pairs) give the offsets, then each row is found again and
-// written in place, merged with its pairs.
+// marks.rows from per-chunk lists (any order of chunks): ascending.
+void join_rows(std::vector<std::vector<uint32_t>>& chunk_rows, SharpEdgeMarks& marks) {
+  marks.rows.clear();
+  for (const auto& r : chunk_rows) marks.rows.insert(marks.rows.end(), r.begin(), r.end());
+  std::sort(marks.rows.begin(), marks.rows.end());
+}
+
+void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpEdgeMarks& marks) {
+  const std::size_t n = graph.num_points(), chunk = kChunk / 16;
+  marks.flags.assign(graph.neighbors.size(), 0);
+  std::vector<std::vector<uint32_t>> rows((n + chunk - 1) / chunk);
+  tbb::parallel_for(std::size_t{0}, rows.size(), [&](std::size_t c) {
+    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+      if (mark_sharp_row(uint32_t(i), graph.row(i), sharp, marks.flags.data() + graph.offsets[i]))
+        rows[c].push_back(uint32_t(i));
+  });
+  join_rows(rows, marks);
+}
+
+// One block of cells' rows, sorted, in cell order; and where its sharp edges are in them.
+struct BlockRows {
+  std::vector<uint32_t> entries;
+  std::vector<uint64_t> sharp;  // positions in entries, ascending by row
+};
+
+// The graph in one pass over the cells: each block of kCellBlock cells keeps its rows in its own
+// buffer and writes the row lengths; the big splats' pairs are added to the lengths, whose
+// prefix sums give the offsets; then each block copies its rows into place, merged with their
+// pairs. With `sharp`, the marks are set as the rows are copied.
 NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
-                         OverlapSimd simd) {
+                         OverlapSimd simd, const SharpEdges* sharp, SharpEdgeMarks* marks) {
   const std::size_t n = s.n;
   const float R = s.small_radius;
   NeighborGraph graph;
   sized_in_parallel(graph.offsets, n + 1);
   graph.offsets[0] = 0;
-  for_each_cell_block(s, simd, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
+  const std::size_t cells = s.cell_key.size();
+  std::vector<BlockRows> blocks((cells + kCellBlock - 1) / kCellBlock);
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    const std::size_t c0 = b * kCellBlock, c1 = std::min(cells, c0 + kCellBlock);
+    Candidates cand;
+    cand.simd = simd;
+    cand.sharp = sharp != nullptr;
+    cand.threshold = sharp ? sharp->threshold : 0;
+    BlockRows& out = blocks[b];
+    out.entries.reserve(std::size_t(s.cell_start[c1] - s.cell_start[c0]) * 16);
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
         __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]], 1);
-        graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p) : 0;
+        std::span<const uint32_t> row;
+        cand.sharp_ids.clear();
+        if (any && s.r[p] <= R) row = cand.row(s, p);
+        const std::size_t at = out.entries.size();
+        out.entries.insert(out.entries.end(), row.begin(), row.end());
+        for (uint32_t j : cand.sharp_ids)
+          out.sharp.push_back(at + std::size_t(std::find(row.begin(), row.end(), j) - row.begin()));
+        graph.offsets[std::size_t{s.id[p]} + 1] = row.size();
       }
     });
   });
+  std::vector<uint32_t> base_length;
+  if (!pairs.empty()) {  // the small rows' lengths, before the pairs are added
+    base_length.resize(n);
+    for (std::size_t i = 0; i < n; ++i) base_length[i] = uint32_t(graph.offsets[i + 1]);
+  }
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
   sized_in_parallel(graph.neighbors, graph.offsets[n]);
-  for_each_cell_block(s, simd, [&](std::size_t c0, std::size_t c1, Candidates& cand) {
-    for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
-      const bool any = cand.gather(s, c, runs);
-      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
-        __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
-        const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
-        __builtin_prefetch(graph.neighbors.data() + soon, 1);
-        const uint32_t id = s.id[p];
-        const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
-        const std::span<const uint32_t> row =
-            any && s.r[p] <= R ? cand.row(s, p) : std::span<const uint32_t>{};
-        write_row(id, row, length - row.size(), pairs, graph.neighbors.data() + at);
+  uint8_t* flags = nullptr;
+  if (marks) {
+    marks->flags.clear();
+    sized_in_parallel(marks->flags, graph.offsets[n]);
+    flags = marks->flags.data();
+  }
+  std::vector<std::vector<uint32_t>> sharp_rows(blocks.size());
+  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
+    const BlockRows& in = blocks[b];
+    std::size_t from = 0, k = 0;  // in.entries[from] starts the row; in.sharp[k] is next
+    const uint32_t p0 = s.cell_start[b * kCellBlock],
+                   p1 = s.cell_start[std::min(cells, (b + 1) * kCellBlock)];
+    for (uint32_t p = p0; p < p1; ++p) {
+      __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
+      const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
+      __builtin_prefetch(graph.neighbors.data() + soon, 1);
+      const uint32_t id = s.id[p];
+      const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
+      const std::size_t small = pairs.empty() ? length : base_length[id];
+      uint32_t* row = graph.neighbors.data() + at;
+      write_row(id, {in.entries.data() + from, small}, length - small, pairs, row);
+      bool any_sharp;
+      if (length != small) {  // merged with pairs: its entries moved, so marked directly
+        while (k < in.sharp.size() && in.sharp[k] < from + small) ++k;
+        any_sharp = flags && mark_sharp_row(id, {row, length}, *sharp, flags + at);
+      } else {
+        const std::size_t k0 = k;
+        for (; k < in.sharp.size() && in.sharp[k] < from + small; ++k)
+          flags[at + (in.sharp[k] - from)] = sharp->flag;
+        any_sharp = k > k0;
       }
-    });
+      if (any_sharp) sharp_rows[b].push_back(id);
+      from += small;
+    }
   });
+  if (marks) join_rows(sharp_rows, *marks);
   return graph;
 }
 
-}  // namespace
-
-NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii) {
-  return sphere_overlap_graph(positions, radii, OverlapSimd::kAvx512);
-}
-
-NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
-                                   OverlapSimd limit) {
+NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                            OverlapSimd limit, const SharpEdges* sharp, SharpEdgeMarks* marks) {
   check(positions, radii);
   const std::size_t n = positions.size();
-  if (n == 0) return NeighborGraph{{0}, {}};
+  // Graphs the grid does not build get their flags afterwards, from the caller's normals.
+  auto marked = [&](NeighborGraph graph) {
+    if (sharp) mark_sharp_rows(graph, *sharp, *marks);
+    return graph;
+  };
+  if (n == 0) return marked(NeighborGraph{{0}, {}});
   const float r_small = small_radius(radii);
   if (!(r_small > 0)) {
     // All radii 0: (0 + 0)² is never > d². Otherwise almost all are 0 and a grid has no scale.
     if (*std::max_element(radii.begin(), radii.end()) == 0)
-      return NeighborGraph{std::vector<uint64_t>(n + 1, 0), {}};
-    return SpatialIndex(positions).sphere_overlaps(radii);
+      return marked(NeighborGraph{std::vector<uint64_t>(n + 1, 0), {}});
+    return marked(SpatialIndex(positions).sphere_overlaps(radii));
   }
   const Grid g = make_grid(positions, r_small);
-  const Sorted s = sort_by_cell(positions, radii, g, r_small);
+  const Sorted s =
+      sort_by_cell(positions, radii, sharp ? sharp->normals : std::span<const Vec3f>{}, g, r_small);
   std::vector<uint64_t> pairs;
-  if (!big_pairs(s, g, pairs)) return SpatialIndex(positions).sphere_overlaps(radii);
-  return small_rows(s, g, pairs, supported(limit));
+  if (!big_pairs(s, g, pairs)) return marked(SpatialIndex(positions).sphere_overlaps(radii));
+  return small_rows(s, g, pairs, supported(limit), sharp, marks);
+}
+
+}  // namespace
+
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                                   OverlapSimd limit) {
+  return overlap_graph(positions, radii, limit, nullptr, nullptr);
+}
+
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                                   const SharpEdges& sharp, SharpEdgeMarks& marks,
+                                   OverlapSimd limit) {
+  if (sharp.normals.size() != positions.size())
+    throw std::invalid_argument("sphere_overlap_graph: need one normal per position");
+  return overlap_graph(positions, radii, limit, &sharp, &marks);
 }
 
 }  // namespace splatkit::graph

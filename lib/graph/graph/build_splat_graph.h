@@ -71,8 +71,8 @@ struct SplatGraphStats {
 // Wall-clock seconds of the phases of build_splat_graph (for --report; not part of the result's
 // identity: they vary from run to run).
 struct SplatGraphTimings {
-  double overlaps = 0;  // sphere_overlap_graph: the graph [3.1] (grid, sort, rows)
-  double classify = 0;  // edge flags (sharp, crossing) and the class of every splat
+  double overlaps = 0;  // sphere_overlap_graph: the graph [3.1] and its sharp edges [3.3]
+  double classify = 0;  // crossing flags and the class of every splat
   double surfaces = 0;  // segment_surfaces
   double clip = 0;      // the clip table and its classification
 };

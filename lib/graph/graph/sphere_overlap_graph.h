@@ -9,10 +9,11 @@
 //     the cells' key order; one cursor per run moves forward only, so no hashing, no search);
 //   - splats are sorted by cell (parallel LSD radix sort on the cell key) into their own arrays;
 //   - the 27 cells' small splats that can reach a cell's bounding box are copied together once
-//     per cell and tested against each of its splats (eight at a time with AVX2, chosen at run
-//     time; rows up to 64 sorted by ranking, without branches);
-//   - two passes over the cells: the row lengths, then each row again, written in place — no
-//     copy of the rows in cell order;
+//     per cell and tested against each of its splats (16 at a time with AVX-512, 8 with AVX2,
+//     chosen at run time); a row of up to 16 is gathered and sorted in one AVX-512 register,
+//     longer ones (and AVX2) are sorted by ranking without branches;
+//   - one pass over the cells, each block of cells keeping its rows in its own buffer; the row
+//     lengths give the offsets, then the blocks copy their rows into place;
 //   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
 //     their neighbours by scanning the cells within r_b + R of their centre and by testing each
 //     other directly, and are added to the rows of the small splats they overlap.
@@ -21,25 +22,47 @@
 //
 // positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
-// coordinate (like SpatialIndex). Runs in parallel
-// with TBB; the result does not depend on the thread count. Memory: the result (8 bytes/splat +
-// 4 per row entry) plus about 50 bytes/splat transiently.
+// coordinate (like SpatialIndex). Runs in parallel with TBB; the result does not depend on the
+// thread count. Memory: the result (8 bytes/splat + 4 per row entry) plus about 50 bytes/splat
+// and a copy of the rows (4 bytes per entry) transiently.
 #pragma once
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit::graph {
 
-NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii);
-
-// The same graph with the vector code limited to `limit` (lowered further to what the CPU runs),
-// so that tests can compare every path: portable scalar code; AVX2 (tests and ranking sort);
-// AVX-512 (bitonic sort of rows up to 16).
+// The vector code used, up to `limit` (lowered further to what the CPU runs), so that tests can
+// compare every path: portable scalar code; AVX2 (tests and ranking sort); AVX-512 (16-wide tests
+// and copies, rows up to 16 compressed and sorted in one register).
 enum class OverlapSimd { kPortable, kAvx2, kAvx512 };
+
 NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
-                                   OverlapSimd limit);
+                                   OverlapSimd limit = OverlapSimd::kAvx512);
+
+// Which edges are sharp [3.3]: n_i·n_j (Vec3f's dot) not >= threshold, so that a NaN normal
+// makes its edges sharp.
+struct SharpEdges {
+  std::span<const Vec3f> normals;  // #N
+  float threshold = 0.9f;
+  uint8_t flag = 1;  // the value set in the flags
+};
+
+struct SharpEdgeMarks {
+  std::vector<uint8_t> flags;  // #entries, parallel to neighbors: sharp.flag or 0
+  std::vector<uint32_t> rows;  // the rows with a sharp edge, ascending
+};
+
+// The same graph, and its sharp edges. The normals are sorted with the splats and copied with
+// the candidates, so the test runs where the rows are found, on data in cache; the graphs the
+// grid leaves to the kd-tree are marked row by row afterwards. Throws std::invalid_argument when
+// the normals are not #N.
+NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
+                                   const SharpEdges& sharp, SharpEdgeMarks& marks,
+                                   OverlapSimd limit = OverlapSimd::kAvx512);
 
 }  // namespace splatkit::graph
