@@ -1,5 +1,8 @@
 #include "graph/estimate_normal_noise.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -86,13 +89,17 @@ double estimate_normal_noise(const NeighborGraph& graph, std::span<const uint8_t
       normals.size() != graph.num_points())
     throw std::invalid_argument("estimate_normal_noise: sizes differ");
   if (samples == 0) throw std::invalid_argument("estimate_normal_noise: samples must be >= 1");
-  const std::size_t stride = (graph.num_points() + samples - 1) / samples;
-  std::vector<double> residuals;
-  std::vector<std::array<double, 5>> rows;
-  for (std::size_t i = 0; i < graph.num_points(); i += std::max<std::size_t>(stride, 1)) {
-    const double r = fit_residual(i, graph, edge_flags, sharp_mask, positions, normals, rows);
-    if (r >= 0) residuals.push_back(r);
-  }
+  const std::size_t stride = std::max<std::size_t>((graph.num_points() + samples - 1) / samples, 1);
+  const std::size_t fits = (graph.num_points() + stride - 1) / stride;
+  std::vector<double> residuals(fits);  // < 0 where the fit failed
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fits, 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<std::array<double, 5>> rows;
+                      for (std::size_t f = r.begin(); f < r.end(); ++f)
+                        residuals[f] = fit_residual(f * stride, graph, edge_flags, sharp_mask,
+                                                    positions, normals, rows);
+                    });
+  std::erase_if(residuals, [](double r) { return !(r >= 0); });
   if (residuals.empty()) return 0;
   auto mid = residuals.begin() + std::ptrdiff_t(residuals.size() / 2);
   std::nth_element(residuals.begin(), mid, residuals.end());

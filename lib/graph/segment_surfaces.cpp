@@ -1,40 +1,72 @@
 #include "graph/segment_surfaces.h"
 
-#include <numeric>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <stdexcept>
 
 #include "graph/lowest_root_union_find.h"
 
 namespace splatkit::graph {
+namespace {
+
+constexpr std::size_t kChunk = 16384;  // splats per task
+
+template <class Fn>
+void for_each_chunk(std::size_t n, Fn&& fn) {
+  tbb::parallel_for(std::size_t{0}, (n + kChunk - 1) / kChunk,
+                    [&](std::size_t c) { fn(c, c * kChunk, std::min(n, (c + 1) * kChunk)); });
+}
+
+}  // namespace
 
 Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
                               uint8_t sharp_mask) {
   if (edge_flags.size() != graph.neighbors.size())
     throw std::invalid_argument("segment_surfaces: one edge flag per neighbour entry needed");
   const std::size_t n = graph.num_points();
-  // Union-find over the continuous edges, rows in index order (the CSR arrays are read once,
-  // front to back, which is what makes this faster than a breadth-first walk). The root of a
-  // tree is always its lowest index, so the components and their ids are exactly those of a
-  // breadth-first search started at the lowest unvisited index.
+  // Union-find over the continuous edges (each once, from its lower end), rows in index order
+  // within each chunk, the chunks in parallel. The root of a tree is always its lowest index, so
+  // the components and their ids are exactly those of a breadth-first search started at the
+  // lowest unvisited index.
   std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
-      const uint32_t j = graph.neighbors[k];
-      if (j <= i || (edge_flags[k] & sharp_mask)) continue;
-      unite(parent, static_cast<uint32_t>(i), j);
+  for_each_chunk(n, [&](std::size_t, std::size_t i0, std::size_t i1) {
+    for (std::size_t i = i0; i < i1; ++i) parent[i] = uint32_t(i);
+  });
+  for_each_chunk(n, [&](std::size_t, std::size_t i0, std::size_t i1) {
+    for (std::size_t i = i0; i < i1; ++i) {
+      const auto row = graph.row(i);  // ascending: the entries above i come last
+      const std::size_t first = std::size_t(
+          std::upper_bound(row.begin(), row.end(), uint32_t(i)) - row.begin());
+      const uint8_t* flags = edge_flags.data() + graph.offsets[i];
+      uint32_t root = uint32_t(i);  // an ancestor of i, handed back by unite
+      for (std::size_t k = first; k < row.size(); ++k)
+        if (!(flags[k] & sharp_mask)) root = unite(parent, root, row[k]);
     }
-  }
+  });
+  // Ids in order of the roots: each chunk counts its roots, then numbers them after the earlier
+  // chunks'; parent then maps a root to its id.
   Segmentation seg;
   seg.surface.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t root = find_root(parent, static_cast<uint32_t>(i));
-    if (root == i) {
-      seg.surface[i] = seg.count();
-      seg.sizes.push_back(0);
-    } else {
-      seg.surface[i] = seg.surface[root];  // root < i: already labelled
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<uint32_t> first_id(chunks + 1, 0);
+  for_each_chunk(n, [&](std::size_t c, std::size_t i0, std::size_t i1) {
+    uint32_t roots = 0;
+    for (std::size_t i = i0; i < i1; ++i) {
+      seg.surface[i] = find_root(parent, uint32_t(i));
+      roots += seg.surface[i] == i;
     }
+    first_id[c + 1] = roots;
+  });
+  for (std::size_t c = 0; c < chunks; ++c) first_id[c + 1] += first_id[c];
+  for_each_chunk(n, [&](std::size_t c, std::size_t i0, std::size_t i1) {
+    uint32_t id = first_id[c];
+    for (std::size_t i = i0; i < i1; ++i)
+      if (seg.surface[i] == i) parent[i] = id++;
+  });
+  seg.sizes.assign(first_id[chunks], 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    seg.surface[i] = parent[seg.surface[i]];
     ++seg.sizes[seg.surface[i]];
   }
   return seg;

@@ -50,12 +50,16 @@ void core_components(const Rows& rows, const std::vector<uint8_t>& core, uint32_
                      std::vector<uint32_t>& label) {
   const std::size_t n = core.size();
   std::iota(parent.begin(), parent.end(), 0u);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!core[i]) continue;
-    rows.continuous(i, [&](uint32_t j) {
-      if (j > i && core[j]) unite(parent, uint32_t(i), j);
-    });
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        if (!core[i]) continue;
+                        uint32_t root = uint32_t(i);  // an ancestor of i (see unite)
+                        rows.continuous(i, [&](uint32_t j) {
+                          if (j > i && core[j]) root = unite(parent, root, j);
+                        });
+                      }
+                    });
   std::fill(size.begin(), size.end(), 0u);
   for (std::size_t i = 0; i < n; ++i) {
     label[i] = core[i] ? find_root(parent, uint32_t(i)) : kUnset;
@@ -101,12 +105,16 @@ void label_the_rest(const Rows& rows, std::vector<uint32_t>& label, std::vector<
     any = any || label[i] == kUnset;
   }
   if (!any) return;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (label[i] != kUnset) continue;
-    rows.continuous(i, [&](uint32_t j) {
-      if (j > i && label[j] == kUnset) unite(parent, uint32_t(i), j);
-    });
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        if (label[i] != kUnset) continue;
+                        uint32_t root = uint32_t(i);
+                        rows.continuous(i, [&](uint32_t j) {
+                          if (j > i && label[j] == kUnset) root = unite(parent, root, j);
+                        });
+                      }
+                    });
   for (std::size_t i = 0; i < n; ++i)
     if (label[i] == kUnset) label[i] = find_root(parent, uint32_t(i));
 }

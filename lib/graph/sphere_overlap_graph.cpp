@@ -163,9 +163,10 @@ void radix_sort(std::vector<uint64_t>& keys, std::vector<uint32_t>& ids, uint64_
   }
 }
 
-// v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first, so the
-// zeroing in resize does not fault them in one at a time on one thread (a fresh page costs more
-// than writing it; the arrays here are tens of MB).
+// v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first (as huge
+// pages where it gives them), so the zeroing in resize does not fault them in one at a time on
+// one thread (a fresh page costs more than writing it; the arrays here are tens of MB). The
+// madvise calls are hints only: what stays unmapped is faulted in on first use.
 template <class T>
 void sized_in_parallel(std::vector<T>& v, std::size_t size) {
   v.reserve(size);
@@ -174,9 +175,12 @@ void sized_in_parallel(std::vector<T>& v, std::size_t size) {
   const auto begin = (reinterpret_cast<uintptr_t>(v.data()) + kPage - 1) & ~(kPage - 1);
   const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
   if (end > begin) {
+#if defined(MADV_HUGEPAGE)
+    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
     tbb::parallel_for(uintptr_t{0}, (end - begin + kBytes - 1) / kBytes, [&](uintptr_t c) {
       const uintptr_t from = begin + c * kBytes, to = std::min(end, from + kBytes);
-      madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);  // a hint only
+      madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);
     });
   }
 #endif
@@ -449,17 +453,28 @@ struct Candidates {
     }
     if (simd >= OverlapSimd::kAvx2) {
       sharp_ids.clear();  // a part of the row may be there from row_avx512
-      const uint32_t m = hits_avx2(s, p);
+      const uint32_t m = hits_avx2<true>(s, p);
       if (m <= kRankLimit) return sorted_avx2(m);
       std::sort(hits.begin(), hits.begin() + m);
       return {hits.data(), m};
     }
 #endif
-    const uint32_t m = hits_portable(s, p);
+    const uint32_t m = hits_portable<true>(s, p);
     std::sort(hits.begin(), hits.begin() + m);
     return {hits.data(), m};
   }
 
+  // The number of neighbours of small splat p (sorted position) among the candidates.
+  uint32_t count(const Sorted& s, uint32_t p) {
+#if defined(__x86_64__)
+    if (simd == OverlapSimd::kAvx512) return count_avx512(s, p);
+    if (simd == OverlapSimd::kAvx2) return hits_avx2<false>(s, p);
+#endif
+    return hits_portable<false>(s, p);
+  }
+
+  // kRow: the hits in `hits` (and the sharp ones in sharp_ids); else only their number.
+  template <bool kRow>
   uint32_t hits_portable(const Sorted& s, uint32_t p) {
     const float px = s.x[p], py = s.y[p], pz = s.z[p], pr = s.r[p];
     const uint32_t self = s.id[p];
@@ -469,7 +484,7 @@ struct Candidates {
       const float sum = pr + r[j];
       hits[m] = id[j];
       const bool hit = (dx * dx + dy * dy + dz * dz < sum * sum) & (id[j] != self);
-      if (hit && sharp && !(s.nx[p] * nx[j] + s.ny[p] * ny[j] + s.nz[p] * nz[j] >= threshold))
+      if (kRow && hit && sharp && !(s.nx[p] * nx[j] + s.ny[p] * ny[j] + s.nz[p] * nz[j] >= threshold))
         sharp_ids.push_back(id[j]);
       m += hit;
     }
@@ -532,6 +547,7 @@ struct Candidates {
 
   // The hits of p packed into `hits`, eight candidates at a time, the scalar expression's float
   // operations lane by lane (and the sharp ones in sharp_ids).
+  template <bool kRow>
   __attribute__((target("avx2"))) uint32_t hits_avx2(const Sorted& s, uint32_t p) {
     const __m256 px = _mm256_set1_ps(s.x[p]), py = _mm256_set1_ps(s.y[p]),
                  pz = _mm256_set1_ps(s.z[p]), pr = _mm256_set1_ps(s.r[p]);
@@ -550,10 +566,11 @@ struct Candidates {
       const unsigned mask =
           unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d2, _mm256_mul_ps(sum, sum), _CMP_LT_OQ))) &
           ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, self))));
-      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m),
-                          _mm256_permutevar8x32_epi32(ids, perm));
       m += uint32_t(std::popcount(mask));
+      if constexpr (!kRow) continue;
+      const __m256i perm = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(int64_t(kLaneCompress[mask])));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m - std::popcount(mask)),
+                          _mm256_permutevar8x32_epi32(ids, perm));
       if (sharp && mask != 0) {
         const __m256 w = _mm256_add_ps(
             _mm256_add_ps(_mm256_mul_ps(pnx, _mm256_loadu_ps(nx.data() + j)),
@@ -574,6 +591,26 @@ struct Candidates {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  __attribute__((target("avx512f"))) uint32_t count_avx512(const Sorted& s, uint32_t p) {
+    const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
+                 pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
+    const __m512i self = _mm512_set1_epi32(int(s.id[p]));
+    uint32_t m = 0;
+    for (std::size_t j = 0; j < size; j += 16) {
+      const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(x.data() + j));
+      const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(y.data() + j));
+      const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(z.data() + j));
+      const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(r.data() + j));
+      const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
+                                      _mm512_mul_ps(dz, dz));
+      const __mmask16 hit =
+          _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
+          ~_mm512_cmpeq_epi32_mask(_mm512_loadu_si512(id.data() + j), self);
+      m += uint32_t(std::popcount(unsigned(hit)));
+    }
+    return m;
+  }
+
   __attribute__((target("avx512f"))) uint32_t row_avx512(const Sorted& s, uint32_t p) {
     const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
                  pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
@@ -846,53 +883,37 @@ void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpE
   join_rows(rows, marks);
 }
 
-// One block of cells' rows, sorted, in cell order; and where its sharp edges are in them.
-struct BlockRows {
-  std::vector<uint32_t> entries;
-  std::vector<uint64_t> sharp;  // positions in entries, ascending by row
-};
-
-// The graph in one pass over the cells: each block of kCellBlock cells keeps its rows in its own
-// buffer and writes the row lengths; the big splats' pairs are added to the lengths, whose
-// prefix sums give the offsets; then each block copies its rows into place, merged with their
-// pairs. With `sharp`, the marks are set as the rows are copied.
+// The graph in two passes over the cells, so that no rows are stored twice: the row lengths
+// (small neighbours plus the big splats' pairs) give the offsets, then each row is found again
+// and written in place, merged with its pairs. With `sharp`, the marks are set as the rows are
+// written.
 NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
                          OverlapSimd simd, const SharpEdges* sharp, SharpEdgeMarks* marks) {
   const std::size_t n = s.n;
   const float R = s.small_radius;
+  const std::size_t cells = s.cell_key.size(), blocks = (cells + kCellBlock - 1) / kCellBlock;
+  // fn(b, c0, c1, candidates) for the blocks of cells, in parallel.
+  auto for_each_block = [&](auto&& fn) {
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      Candidates cand;
+      cand.simd = simd;
+      cand.sharp = sharp != nullptr;
+      cand.threshold = sharp ? sharp->threshold : 0;
+      fn(b, b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), cand);
+    });
+  };
   NeighborGraph graph;
   sized_in_parallel(graph.offsets, n + 1);
   graph.offsets[0] = 0;
-  const std::size_t cells = s.cell_key.size();
-  std::vector<BlockRows> blocks((cells + kCellBlock - 1) / kCellBlock);
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    const std::size_t c0 = b * kCellBlock, c1 = std::min(cells, c0 + kCellBlock);
-    Candidates cand;
-    cand.simd = simd;
-    cand.sharp = sharp != nullptr;
-    cand.threshold = sharp ? sharp->threshold : 0;
-    BlockRows& out = blocks[b];
-    out.entries.reserve(std::size_t(s.cell_start[c1] - s.cell_start[c0]) * 16);
+  for_each_block([&](std::size_t, std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
         __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]], 1);
-        std::span<const uint32_t> row;
-        cand.sharp_ids.clear();
-        if (any && s.r[p] <= R) row = cand.row(s, p);
-        const std::size_t at = out.entries.size();
-        out.entries.insert(out.entries.end(), row.begin(), row.end());
-        for (uint32_t j : cand.sharp_ids)
-          out.sharp.push_back(at + std::size_t(std::find(row.begin(), row.end(), j) - row.begin()));
-        graph.offsets[std::size_t{s.id[p]} + 1] = row.size();
+        graph.offsets[std::size_t{s.id[p]} + 1] = any && s.r[p] <= R ? cand.count(s, p) : 0;
       }
     });
   });
-  std::vector<uint32_t> base_length;
-  if (!pairs.empty()) {  // the small rows' lengths, before the pairs are added
-    base_length.resize(n);
-    for (std::size_t i = 0; i < n; ++i) base_length[i] = uint32_t(graph.offsets[i + 1]);
-  }
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
   sized_in_parallel(graph.neighbors, graph.offsets[n]);
@@ -902,34 +923,34 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
     sized_in_parallel(marks->flags, graph.offsets[n]);
     flags = marks->flags.data();
   }
-  std::vector<std::vector<uint32_t>> sharp_rows(blocks.size());
-  tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
-    const BlockRows& in = blocks[b];
-    std::size_t from = 0, k = 0;  // in.entries[from] starts the row; in.sharp[k] is next
-    const uint32_t p0 = s.cell_start[b * kCellBlock],
-                   p1 = s.cell_start[std::min(cells, (b + 1) * kCellBlock)];
-    for (uint32_t p = p0; p < p1; ++p) {
-      __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
-      const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
-      __builtin_prefetch(graph.neighbors.data() + soon, 1);
-      const uint32_t id = s.id[p];
-      const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
-      const std::size_t small = pairs.empty() ? length : base_length[id];
-      uint32_t* row = graph.neighbors.data() + at;
-      write_row(id, {in.entries.data() + from, small}, length - small, pairs, row);
-      bool any_sharp;
-      if (length != small) {  // merged with pairs: its entries moved, so marked directly
-        while (k < in.sharp.size() && in.sharp[k] < from + small) ++k;
-        any_sharp = flags && mark_sharp_row(id, {row, length}, *sharp, flags + at);
-      } else {
-        const std::size_t k0 = k;
-        for (; k < in.sharp.size() && in.sharp[k] < from + small; ++k)
-          flags[at + (in.sharp[k] - from)] = sharp->flag;
-        any_sharp = k > k0;
+  std::vector<std::vector<uint32_t>> sharp_rows(blocks);
+  for_each_block([&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
+    for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
+      const bool any = cand.gather(s, c, runs);
+      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+        __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
+        const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
+        __builtin_prefetch(graph.neighbors.data() + soon, 1);
+        const uint32_t id = s.id[p];
+        const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
+        std::span<const uint32_t> row;
+        cand.sharp_ids.clear();
+        if (any && s.r[p] <= R) row = cand.row(s, p);
+        uint32_t* out = graph.neighbors.data() + at;
+        write_row(id, row, length - row.size(), pairs, out);
+        if (!flags) continue;
+        bool any_sharp;
+        if (length != row.size()) {  // merged with pairs: marked directly
+          any_sharp = mark_sharp_row(id, {out, length}, *sharp, flags + at);
+        } else {
+          for (uint32_t j : cand.sharp_ids)
+            flags[at + std::size_t(std::find(row.begin(), row.end(), j) - row.begin())] =
+                sharp->flag;
+          any_sharp = !cand.sharp_ids.empty();
+        }
+        if (any_sharp) sharp_rows[b].push_back(id);
       }
-      if (any_sharp) sharp_rows[b].push_back(id);
-      from += small;
-    }
+    });
   });
   if (marks) join_rows(sharp_rows, *marks);
   return graph;

@@ -49,8 +49,9 @@ TEST(GraphSegmentSurfaces, IdsFollowLowestIndexNotVisitOrder) {
 
 TEST(GraphSegmentSurfaces, MatchesBreadthFirstSearchOnRandomGraphs) {
   std::mt19937 rng(7);
-  for (int round = 0; round < 20; ++round) {
-    const uint32_t n = 1 + rng() % 300;
+  for (int round = 0; round < 23; ++round) {
+    // The last rounds span several of the union-find's parallel chunks, with edges across them.
+    const uint32_t n = round < 20 ? 1 + rng() % 300 : 60000 + rng() % 60000;
     std::vector<std::set<uint32_t>> rows(n);
     std::set<std::pair<uint32_t, uint32_t>> sharp;
     for (uint32_t e = 0; e < n; ++e) {
@@ -92,6 +93,9 @@ TEST(GraphSegmentSurfaces, MatchesBreadthFirstSearchOnRandomGraphs) {
     const Segmentation seg = segment_surfaces(g, flags, 1);
     EXPECT_EQ(seg.surface, expected) << round;
     EXPECT_EQ(seg.count(), next_id);
+    std::vector<uint32_t> sizes(next_id, 0);
+    for (uint32_t id : expected) ++sizes[id];
+    EXPECT_EQ(seg.sizes, sizes) << round;
   }
 }
 

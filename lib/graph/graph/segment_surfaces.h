@@ -24,7 +24,7 @@ struct Segmentation {
 // the lowest unvisited index), so they are stable and independent of thread count. A splat with
 // no continuous edge is a surface of its own. Throws std::invalid_argument when edge_flags does
 // not match graph.neighbors in size. Computed with a union-find (lowest index as root), which
-// gives the same components and ids as the breadth-first search; O(E α(N)), sequential.
+// gives the same components and ids as the breadth-first search; O(E α(N)), in parallel.
 Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
                               uint8_t sharp_mask);
 

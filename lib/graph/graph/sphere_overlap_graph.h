@@ -12,8 +12,8 @@
 //     per cell and tested against each of its splats (16 at a time with AVX-512, 8 with AVX2,
 //     chosen at run time); a row of up to 16 is gathered and sorted in one AVX-512 register,
 //     longer ones (and AVX2) are sorted by ranking without branches;
-//   - one pass over the cells, each block of cells keeping its rows in its own buffer; the row
-//     lengths give the offsets, then the blocks copy their rows into place;
+//   - two passes over the cells: the row lengths, then each row again, written in place — no
+//     copy of the rows in cell order (fewer fresh pages, which cost more than the second pass);
 //   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
 //     their neighbours by scanning the cells within r_b + R of their centre and by testing each
 //     other directly, and are added to the rows of the small splats they overlap.
@@ -24,7 +24,7 @@
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
 // coordinate (like SpatialIndex). Runs in parallel with TBB; the result does not depend on the
 // thread count. Memory: the result (8 bytes/splat + 4 per row entry) plus about 50 bytes/splat
-// and a copy of the rows (4 bytes per entry) transiently.
+// transiently (62 with sharp edges).
 #pragma once
 
 #include <cstdint>
