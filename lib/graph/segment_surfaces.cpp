@@ -25,24 +25,20 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
   if (edge_flags.size() != graph.neighbors.size())
     throw std::invalid_argument("segment_surfaces: one edge flag per neighbour entry needed");
   const std::size_t n = graph.num_points();
-  // Union-find over the continuous edges (each once, from its lower end), rows in index order
-  // within each chunk, the chunks in parallel. The root of a tree is always its lowest index, so
-  // the components and their ids are exactly those of a breadth-first search started at the
-  // lowest unvisited index.
+  // Union-find over the continuous edges (each once, from its lower end), in parallel chunks of
+  // rows (unite_rows). The root of a tree is always its lowest index, so the components and their
+  // ids are exactly those of a breadth-first search started at the lowest unvisited index.
   std::vector<uint32_t> parent(n);
   for_each_chunk(n, [&](std::size_t, std::size_t i0, std::size_t i1) {
     for (std::size_t i = i0; i < i1; ++i) parent[i] = uint32_t(i);
   });
-  for_each_chunk(n, [&](std::size_t, std::size_t i0, std::size_t i1) {
-    for (std::size_t i = i0; i < i1; ++i) {
-      const auto row = graph.row(i);  // ascending: the entries above i come last
-      const std::size_t first = std::size_t(
-          std::upper_bound(row.begin(), row.end(), uint32_t(i)) - row.begin());
-      const uint8_t* flags = edge_flags.data() + graph.offsets[i];
-      uint32_t root = uint32_t(i);  // an ancestor of i, handed back by unite
-      for (std::size_t k = first; k < row.size(); ++k)
-        if (!(flags[k] & sharp_mask)) root = unite(parent, root, row[k]);
-    }
+  unite_rows(parent, [&](std::size_t i, auto&& fn) {
+    const auto row = graph.row(i);  // ascending: the entries above i come last
+    const uint8_t* flags = edge_flags.data() + graph.offsets[i];
+    std::size_t first = 0;  // counted without branches: rows are short, a search mispredicts
+    for (uint32_t j : row) first += j < i;
+    for (std::size_t k = first; k < row.size(); ++k)
+      if (!(flags[k] & sharp_mask)) fn(row[k]);
   });
   // Ids in order of the roots: each chunk counts its roots, then numbers them after the earlier
   // chunks'; parent then maps a root to its id.
@@ -53,7 +49,7 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
   for_each_chunk(n, [&](std::size_t c, std::size_t i0, std::size_t i1) {
     uint32_t roots = 0;
     for (std::size_t i = i0; i < i1; ++i) {
-      seg.surface[i] = find_root(parent, uint32_t(i));
+      seg.surface[i] = root_of(parent, uint32_t(i));
       roots += seg.surface[i] == i;
     }
     first_id[c + 1] = roots;

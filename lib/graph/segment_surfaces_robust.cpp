@@ -50,16 +50,11 @@ void core_components(const Rows& rows, const std::vector<uint8_t>& core, uint32_
                      std::vector<uint32_t>& label) {
   const std::size_t n = core.size();
   std::iota(parent.begin(), parent.end(), 0u);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        if (!core[i]) continue;
-                        uint32_t root = uint32_t(i);  // an ancestor of i (see unite)
-                        rows.continuous(i, [&](uint32_t j) {
-                          if (j > i && core[j]) root = unite(parent, root, j);
-                        });
-                      }
-                    });
+  unite_rows(parent, [&](std::size_t i, auto&& fn) {
+    if (core[i]) rows.continuous(i, [&](uint32_t j) {
+        if (j > i && core[j]) fn(j);
+      });
+  });
   std::fill(size.begin(), size.end(), 0u);
   for (std::size_t i = 0; i < n; ++i) {
     label[i] = core[i] ? find_root(parent, uint32_t(i)) : kUnset;
@@ -105,16 +100,11 @@ void label_the_rest(const Rows& rows, std::vector<uint32_t>& label, std::vector<
     any = any || label[i] == kUnset;
   }
   if (!any) return;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        if (label[i] != kUnset) continue;
-                        uint32_t root = uint32_t(i);
-                        rows.continuous(i, [&](uint32_t j) {
-                          if (j > i && label[j] == kUnset) root = unite(parent, root, j);
-                        });
-                      }
-                    });
+  unite_rows(parent, [&](std::size_t i, auto&& fn) {
+    if (label[i] == kUnset) rows.continuous(i, [&](uint32_t j) {
+        if (j > i && label[j] == kUnset) fn(j);
+      });
+  });
   for (std::size_t i = 0; i < n; ++i)
     if (label[i] == kUnset) label[i] = find_root(parent, uint32_t(i));
 }

@@ -2,50 +2,73 @@
 // components come out in the order of their lowest member (the ids a breadth-first search from
 // the lowest unvisited index gives). Used by segment_surfaces and segment_surfaces_robust.
 // parent: #N, parent[i] = i initially; indices < N (unchecked).
-//
-// Safe to call from several threads on the same parent array: every access is a relaxed atomic
-// one; a link is a compare-and-swap on a root, so two threads never link the same root, and a
-// path is only shortened on nodes that are no longer roots (which nothing else writes but other
-// shortenings, each to an ancestor). The components, and so the roots, do not depend on the
-// order or the threads of the calls.
 #pragma once
 
-#include <atomic>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 namespace splatkit::graph {
 
-// Root of i's tree, halving the path on the way (a node visited points to its grandparent).
+// Root of i's tree, halving the path on the way (every node visited points to its grandparent).
 inline uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
-  for (;;) {
-    const uint32_t p = std::atomic_ref<uint32_t>(parent[i]).load(std::memory_order_relaxed);
-    if (p == i) return i;
-    const uint32_t g = std::atomic_ref<uint32_t>(parent[p]).load(std::memory_order_relaxed);
-    if (g == p) return p;
-    std::atomic_ref<uint32_t>(parent[i]).store(g, std::memory_order_relaxed);
-    i = g;
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
   }
+  return i;
 }
 
-// Joins the trees of i and j, the lower root becoming the root; returns it (an ancestor of both
-// by the time it is used, when other threads link meanwhile). i may be any node of its tree, so
-// a caller joining one splat to many passes the last result back as i.
+// Root of i's tree, leaving the tree as it is: safe from several threads once the joining is
+// done.
+inline uint32_t root_of(const std::vector<uint32_t>& parent, uint32_t i) {
+  while (parent[i] != i) i = parent[i];
+  return i;
+}
+
+// Joins the trees of i and j, the lower root becoming the root; returns it.
 inline uint32_t unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
-  // The common case in a row-by-row pass: j already hangs from the node passed back.
-  if (std::atomic_ref<uint32_t>(parent[j]).load(std::memory_order_relaxed) == i) return i;
-  for (;;) {
-    uint32_t a = find_root(parent, i), b = find_root(parent, j);
-    if (a == b) return a;
-    if (a < b) std::swap(a, b);  // a, the higher root, goes under b
-    uint32_t expected = a;
-    if (std::atomic_ref<uint32_t>(parent[a]).compare_exchange_strong(expected, b,
-                                                                     std::memory_order_relaxed))
-      return b;
-    i = a;  // a was linked meanwhile: again from its new root
-    j = b;
-  }
+  const uint32_t a = find_root(parent, i), b = find_root(parent, j);
+  if (a < b) parent[b] = a;
+  if (b < a) parent[a] = b;
+  return std::min(a, b);
+}
+
+// Joins i and j for every edge the rows give, in parallel: edges(i, fn) calls fn(j) for the
+// edges (i, j), j > i, to be joined. Each chunk of rows joins the edges that stay inside it on its
+// own (a chunk's trees only hold its own splats, so the chunks never touch the same entry); the
+// edges that leave their chunk are kept and joined afterwards, in order. The components, and so
+// the roots, do not depend on the thread count. parent: as above, all splats their own root.
+template <class Edges>
+void unite_rows(std::vector<uint32_t>& parent, Edges&& edges) {
+  constexpr std::size_t kChunk = 16384;  // rows per task
+  const std::size_t n = parent.size(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> leaving(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t i = c * kChunk; i < end; ++i) {
+      uint32_t root = find_root(parent, uint32_t(i));
+      edges(i, [&](uint32_t j) {
+        if (j >= end) {
+          leaving[c].emplace_back(uint32_t(i), j);
+          return;
+        }
+        // Rows are joined in ascending order, so every tree with more than one splat has its
+        // root at or below i < j: a j that is its own root is alone, and hangs from i's root
+        // like a j that is already there (the common cases, without a search).
+        const uint32_t p = parent[j];
+        if (p == root || p == j)
+          parent[j] = root;
+        else
+          root = unite(parent, root, j);
+      });
+    }
+  });
+  for (const auto& pairs : leaving)
+    for (const auto& [i, j] : pairs) unite(parent, i, j);
 }
 
 }  // namespace splatkit::graph
