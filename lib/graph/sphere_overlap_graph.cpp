@@ -892,12 +892,13 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   const std::size_t n = s.n;
   const float R = s.small_radius;
   const std::size_t cells = s.cell_key.size(), blocks = (cells + kCellBlock - 1) / kCellBlock;
-  // fn(b, c0, c1, candidates) for the blocks of cells, in parallel.
-  auto for_each_block = [&](auto&& fn) {
+  // fn(b, c0, c1, candidates) for the blocks of cells, in parallel; the candidates carry the
+  // normals when with_normals.
+  auto for_each_block = [&](bool with_normals, auto&& fn) {
     tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
       Candidates cand;
       cand.simd = simd;
-      cand.sharp = sharp != nullptr;
+      cand.sharp = with_normals;
       cand.threshold = sharp ? sharp->threshold : 0;
       fn(b, b * kCellBlock, std::min(cells, (b + 1) * kCellBlock), cand);
     });
@@ -905,7 +906,7 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   NeighborGraph graph;
   sized_in_parallel(graph.offsets, n + 1);
   graph.offsets[0] = 0;
-  for_each_block([&](std::size_t, std::size_t c0, std::size_t c1, Candidates& cand) {
+  for_each_block(false, [&](std::size_t, std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
@@ -924,7 +925,8 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
     flags = marks->flags.data();
   }
   std::vector<std::vector<uint32_t>> sharp_rows(blocks);
-  for_each_block([&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
+  for_each_block(sharp != nullptr,
+                 [&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
     for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
       const bool any = cand.gather(s, c, runs);
       for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
