@@ -20,9 +20,6 @@
 namespace splatkit::graph {
 namespace {
 
-// Splats per parallel task and per output block: fixed, so the block layout (and with it every
-// result) does not depend on the number of threads.
-constexpr std::size_t kBlock = 4096;
 // How far (in splat radii) a continuous neighbour must lie beyond a partner's plane to show that
 // the surface passes through it; below that, sampling noise.
 constexpr float kSideMargin = 0.25f;
@@ -125,9 +122,10 @@ void flag_and_classify(const Splats& in, const SplatGraphOptions& o,
                     });
 }
 
-// One block of rows of the clip table, filled independently of the other blocks.
+// One block of the rows with a sharp edge, for the clip table, filled independently of the other
+// blocks (only class kEdge rows have partners; every other row is empty).
 struct ClipBlock {
-  std::vector<uint32_t> counts, partners;
+  std::vector<uint32_t> counts, partners;  // counts: one per row of the block
   std::vector<uint8_t> flags, splat_flags;
 };
 
@@ -165,43 +163,51 @@ void clip_row(std::size_t i, std::span<const Vec3f> positions, std::span<const V
 
 void build_clip_table(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                       std::span<const float> radii, const SplatGraphOptions& o,
+                      std::span<const uint32_t> sharp_rows,
                       tbb::enumerable_thread_specific<Scratch>& scratch, SplatGraph& g) {
-  const std::size_t n = positions.size();
-  std::vector<ClipBlock> blocks((n + kBlock - 1) / kBlock);
+  const std::size_t n = positions.size(), rows = sharp_rows.size();
+  constexpr std::size_t kRows = 256;  // sharp rows per block
+  std::vector<ClipBlock> blocks((rows + kRows - 1) / kRows);
   tbb::parallel_for(std::size_t{0}, blocks.size(), [&](std::size_t b) {
     Scratch& s = scratch.local();
-    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i)
-      clip_row(i, positions, normals, radii, o, g, s, blocks[b]);
+    for (std::size_t k = b * kRows; k < std::min(rows, (b + 1) * kRows); ++k)
+      clip_row(sharp_rows[k], positions, normals, radii, o, g, s, blocks[b]);
   });
+  // Row lengths at i + 1, then their sums; the blocks' partners in order (rows ascending).
   ClipPartnerTable& t = g.clip;
-  t.offsets.assign(1, 0);
-  t.offsets.reserve(n + 1);
-  for (const ClipBlock& b : blocks) {
-    for (uint32_t c : b.counts) t.offsets.push_back(t.offsets.back() + c);
-    t.partners.insert(t.partners.end(), b.partners.begin(), b.partners.end());
-    t.flags.insert(t.flags.end(), b.flags.begin(), b.flags.end());
-    t.splat_flags.insert(t.splat_flags.end(), b.splat_flags.begin(), b.splat_flags.end());
+  t.offsets.assign(n + 1, 0);
+  t.splat_flags.assign(n, 0);
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const ClipBlock& block = blocks[b];
+    for (std::size_t k = 0; k < block.counts.size(); ++k) {
+      const uint32_t i = sharp_rows[b * kRows + k];
+      t.offsets[i + 1] = block.counts[k];
+      t.splat_flags[i] = block.splat_flags[k];
+    }
+    t.partners.insert(t.partners.end(), block.partners.begin(), block.partners.end());
+    t.flags.insert(t.flags.end(), block.flags.begin(), block.flags.end());
   }
+  for (std::size_t i = 0; i < n; ++i) t.offsets[i + 1] += t.offsets[i];
 }
 
-SplatGraphStats count_stats(const SplatGraph& g) {
+// The columns of the report; the sharp and crossing edges are all in the rows with a sharp edge.
+SplatGraphStats count_stats(const SplatGraph& g, std::span<const uint32_t> sharp_rows) {
   SplatGraphStats st;
   st.splats = g.classes.size();
   st.edges = g.graph.neighbors.size() / 2;
   st.mean_degree = st.splats ? double(g.graph.neighbors.size()) / double(st.splats) : 0;
-  for (uint8_t f : g.edge_flags) {
-    st.sharp_edges += (f & kEdgeSharp) != 0;
-    st.crossing_edges += (f & kEdgeCrossing) != 0;
+  for (uint32_t i : sharp_rows) {
+    for (uint64_t k = g.graph.offsets[i]; k < g.graph.offsets[i + 1]; ++k) {
+      st.sharp_edges += (g.edge_flags[k] & kEdgeSharp) != 0;
+      st.crossing_edges += (g.edge_flags[k] & kEdgeCrossing) != 0;
+    }
+    st.candidate_splats += g.classes[i] != SplatClass::kSmooth;
+    st.edge_splats += g.classes[i] == SplatClass::kEdge;
+    st.intersection_splats += g.classes[i] == SplatClass::kIntersection;
+    st.clipped_splats += g.clip.has_partners(i);
   }
   st.sharp_edges /= 2;
   st.crossing_edges /= 2;
-  for (SplatClass c : g.classes) {
-    st.candidate_splats += c != SplatClass::kSmooth;
-    st.edge_splats += c == SplatClass::kEdge;
-    st.intersection_splats += c == SplatClass::kIntersection;
-  }
-  for (std::size_t i = 0; i + 1 < g.clip.offsets.size(); ++i)
-    st.clipped_splats += g.clip.offsets[i + 1] > g.clip.offsets[i];
   st.clip_partners = g.clip.partners.size();
   st.surfaces = g.surfaces.count();
   return st;
@@ -245,9 +251,9 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   t.surfaces = seconds_since(t0);
   progress(0.9, "clip partners");
   t0 = Clock::now();
-  build_clip_table(positions, normals, radii, options, scratch, g);
+  build_clip_table(positions, normals, radii, options, sharp.rows, scratch, g);
   t.clip = seconds_since(t0);
-  g.stats = count_stats(g);
+  g.stats = count_stats(g, sharp.rows);
   g.stats.surface_method = robust_info;
   progress(1.0, "done");
   return g;
