@@ -229,7 +229,7 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
                                  SharpEdges{normals, options.sharp_threshold, kEdgeSharp}, sharp);
   g.edge_flags = std::move(sharp.flags);
   t.overlaps = seconds_since(t0);
-  progress(0.6, "sharp edges");
+  progress(0.6, "classes");
   t0 = Clock::now();
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;

@@ -33,12 +33,10 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
     for (std::size_t i = i0; i < i1; ++i) parent[i] = uint32_t(i);
   });
   unite_rows(parent, [&](std::size_t i, auto&& fn) {
-    const auto row = graph.row(i);  // ascending: the entries above i come last
+    const auto row = graph.row(i);
     const uint8_t* flags = edge_flags.data() + graph.offsets[i];
-    std::size_t first = 0;  // counted without branches: rows are short, a search mispredicts
-    for (uint32_t j : row) first += j < i;
-    for (std::size_t k = first; k < row.size(); ++k)
-      if (!(flags[k] & sharp_mask)) fn(row[k]);
+    for (std::size_t k = 0; k < row.size(); ++k)
+      if (row[k] > i && !(flags[k] & sharp_mask)) fn(row[k]);
   });
   // Ids in order of the roots: each chunk counts its roots, then numbers them after the earlier
   // chunks'; parent then maps a root to its id.

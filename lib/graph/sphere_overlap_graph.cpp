@@ -176,7 +176,11 @@ void sized_in_parallel(std::vector<T>& v, std::size_t size) {
   const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
   if (end > begin) {
 #if defined(MADV_HUGEPAGE)
-    madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+    // Only whole 2 MB pages inside the vector: the hint stays on the range after it is freed.
+    constexpr uintptr_t kHuge = uintptr_t{1} << 21;
+    const uintptr_t huge_begin = (begin + kHuge - 1) & ~(kHuge - 1), huge_end = end & ~(kHuge - 1);
+    if (huge_end > huge_begin)
+      madvise(reinterpret_cast<void*>(huge_begin), huge_end - huge_begin, MADV_HUGEPAGE);
 #endif
     tbb::parallel_for(uintptr_t{0}, (end - begin + kBytes - 1) / kBytes, [&](uintptr_t c) {
       const uintptr_t from = begin + c * kBytes, to = std::min(end, from + kBytes);
@@ -582,15 +586,12 @@ struct Candidates {
     return m;
   }
 
-  // The hits of p ascending in `sorted` (16 slots written), sixteen candidates at a time, the
-  // scalar expression's float operations lane by lane: each step's hits are compressed and
-  // appended in one register, then sorted there by the bitonic network, so that no row goes
-  // through memory before it is sorted. Returns the count, or 17 when p has more than 16 hits
-  // (then `sorted` holds nothing useful). (GCC 12's AVX-512 headers trip -Wuninitialized on their
-  // own undefined-vector placeholders, GCC bug 105593.)
+  // (GCC 12's AVX-512 headers trip -Wuninitialized on their own undefined-vector placeholders,
+  // GCC bug 105593.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+  // The number of hits of p, sixteen candidates at a time (row_avx512's test).
   __attribute__((target("avx512f"))) uint32_t count_avx512(const Sorted& s, uint32_t p) {
     const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
                  pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
@@ -611,6 +612,11 @@ struct Candidates {
     return m;
   }
 
+  // The hits of p ascending in `sorted` (16 slots written), sixteen candidates at a time, the
+  // scalar expression's float operations lane by lane (and the sharp ones in sharp_ids): each
+  // step's hits are compressed and appended in one register, then sorted there by the bitonic
+  // network, so that no row goes through memory before it is sorted. Returns the count, or 17
+  // when p has more than 16 hits (then `sorted` holds nothing useful).
   __attribute__((target("avx512f"))) uint32_t row_avx512(const Sorted& s, uint32_t p) {
     const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
                  pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
@@ -865,7 +871,7 @@ bool mark_sharp_row(uint32_t i, std::span<const uint32_t> row, const SharpEdges&
 }
 
 // marks.rows from per-chunk lists (any order of chunks): ascending.
-void join_rows(std::vector<std::vector<uint32_t>>& chunk_rows, SharpEdgeMarks& marks) {
+void join_rows(const std::vector<std::vector<uint32_t>>& chunk_rows, SharpEdgeMarks& marks) {
   marks.rows.clear();
   for (const auto& r : chunk_rows) marks.rows.insert(marks.rows.end(), r.begin(), r.end());
   std::sort(marks.rows.begin(), marks.rows.end());
@@ -936,8 +942,13 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
         const uint32_t id = s.id[p];
         const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
         std::span<const uint32_t> row;
-        cand.sharp_ids.clear();
-        if (any && s.r[p] <= R) row = cand.row(s, p);
+        if (any && s.r[p] <= R)
+          row = cand.row(s, p);  // (and its sharp ids)
+        else
+          cand.sharp_ids.clear();
+        // Both passes test with the same float operations; a row that grew would overrun.
+        if (row.size() > length)
+          throw std::logic_error("sphere_overlap_graph: a row differs between the passes");
         uint32_t* out = graph.neighbors.data() + at;
         write_row(id, row, length - row.size(), pairs, out);
         if (!flags) continue;
@@ -945,8 +956,8 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
         if (length != row.size()) {  // merged with pairs: marked directly
           any_sharp = mark_sharp_row(id, {out, length}, *sharp, flags + at);
         } else {
-          for (uint32_t j : cand.sharp_ids)
-            flags[at + std::size_t(std::find(row.begin(), row.end(), j) - row.begin())] =
+          for (uint32_t j : cand.sharp_ids)  // (always in the row: found by the same test)
+            flags[at + std::size_t(std::lower_bound(row.begin(), row.end(), j) - row.begin())] =
                 sharp->flag;
           any_sharp = !cand.sharp_ids.empty();
         }

@@ -52,7 +52,7 @@ TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1, 1);
   for (int round = 0; round < 12; ++round) {
-    const std::size_t n = 1 + rng() % 1500;
+    const std::size_t n = round == 7 ? 1500 : 1 + rng() % 1500;
     std::vector<Vec3f> c(n);
     std::vector<float> r(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -63,7 +63,7 @@ TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
       if (i > 0 && rng() % 100 == 0) c[i] = c[i - 1];  // duplicates
     }
     if (round == 5) c[0] = {1000, -1000, 3};  // a far-away splat: a long, empty grid
-    if (round == 7) r[n / 2] = 100;           // its cell scan is over budget: the kd-tree answers
+    if (round == 7) r[n / 2] = 1000;          // its cell scan is over budget: the kd-tree answers
     const NeighborGraph expected = brute_force(c, r);
     for (OverlapSimd simd : kEverySimd)
       expect_same(sphere_overlap_graph(c, r, simd), expected, "brute force");
@@ -130,20 +130,28 @@ TEST(GraphSphereOverlapGraph, SharpMarksMatchADirectTest) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<float> u(-1, 1);
   for (int round = 0; round < 9; ++round) {
-    const std::size_t count = 1 + rng() % 1500;
+    // Round 4: rows of about 50 (past the 16 one AVX-512 register holds); round 7: one radius
+    // of 1000, whose cell scan is over budget (the kd-tree answers, marked afterwards); the
+    // others: rows of 1-10, with big splats merged into them.
+    const std::size_t count = round == 4 || round == 7 ? 1500 : 1 + rng() % 1500;
     std::vector<Vec3f> c(count), n(count);
     std::vector<float> r(count);
     for (std::size_t i = 0; i < count; ++i) {
       c[i] = {u(rng), u(rng), u(rng) * 0.2f};
-      // Rows of up to about 40 in round 4 (past the 16 one AVX-512 register holds), else ~13.
       r[i] = (round == 4 ? 0.12f : 0.05f) * (1 + 0.2f * u(rng));
       if (rng() % 200 == 0) r[i] *= 1 + float(rng() % 30);  // big splats: rows merged with pairs
       // Normals near +z, some tipped past the threshold, a few not numbers.
       n[i] = normalized(Vec3f{0.6f * u(rng), 0.6f * u(rng), 1});
       if (rng() % 400 == 0) n[i].x = std::numeric_limits<float>::quiet_NaN();
     }
-    if (round == 7) r[count / 2] = 100;  // the kd-tree answers; marked afterwards
-    expect_marks(c, r, n, 0.9f, brute_force(c, r));
+    if (round == 7) r[count / 2] = 1000;
+    const NeighborGraph expected = brute_force(c, r);
+    if (round == 4) {
+      std::size_t longest = 0;
+      for (std::size_t i = 0; i < count; ++i) longest = std::max(longest, expected.row(i).size());
+      EXPECT_GT(longest, 32u);
+    }
+    expect_marks(c, r, n, 0.9f, expected);
   }
   // A shape with true normals: its creases are the sharp edges.
   ShapeOptions so;
@@ -152,11 +160,21 @@ TEST(GraphSphereOverlapGraph, SharpMarksMatchADirectTest) {
   const SplatCloud cad = make_shape(so);
   expect_marks(cad.positions, cad.radii, cad.normals, 0.9f,
                SpatialIndex(cad.positions).sphere_overlaps(cad.radii));
-  std::vector<Vec3f> n(3, Vec3f{0, 0, 1});
+  // The early answers: nothing, all radii zero, almost all zero (the kd-tree's answer).
+  const std::vector<Vec3f> same(5, Vec3f{1, 2, 3});
+  std::vector<Vec3f> tipped(5, Vec3f{0, 0, 1});
+  tipped[3] = {1, 0, 0};
+  expect_marks({}, {}, {}, 0.9f, brute_force({}, {}));
+  expect_marks(same, std::vector<float>(5, 0), tipped, 0.9f,
+               brute_force(same, std::vector<float>(5, 0)));
+  std::vector<float> mostly_zero(5, 0);
+  mostly_zero[2] = 1;
+  expect_marks(same, mostly_zero, tipped, 0.9f, brute_force(same, mostly_zero));
+  std::vector<Vec3f> three(3, Vec3f{0, 0, 1});
   EXPECT_THROW(
       {
         SharpEdgeMarks marks;
-        sphere_overlap_graph(cad.positions, cad.radii, SharpEdges{n, 0.9f, 1}, marks);
+        sphere_overlap_graph(cad.positions, cad.radii, SharpEdges{three, 0.9f, 1}, marks);
       },
       std::invalid_argument);
 }

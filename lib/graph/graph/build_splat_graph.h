@@ -72,7 +72,7 @@ struct SplatGraphStats {
 // identity: they vary from run to run).
 struct SplatGraphTimings {
   double overlaps = 0;  // sphere_overlap_graph: the graph [3.1] and its sharp edges [3.3]
-  double classify = 0;  // crossing flags and the class of every splat
+  double classify = 0;  // crossing flags and classes of the splats with a sharp edge
   double surfaces = 0;  // segment_surfaces
   double clip = 0;      // the clip table and its classification
 };

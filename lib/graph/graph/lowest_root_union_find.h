@@ -38,7 +38,8 @@ inline uint32_t unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
 }
 
 // Joins i and j for every edge the rows give, in parallel: edges(i, fn) calls fn(j) for the
-// edges (i, j), j > i, to be joined. Each chunk of rows joins the edges that stay inside it on its
+// edges (i, j) to be joined, each with j > i (required: a j below i could belong to another
+// chunk). Each chunk of rows joins the edges that stay inside it on its
 // own (a chunk's trees only hold its own splats, so the chunks never touch the same entry); the
 // edges that leave their chunk are kept and joined afterwards, in order. The components, and so
 // the roots, do not depend on the thread count. parent: as above, all splats their own root.

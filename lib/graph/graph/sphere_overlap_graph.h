@@ -10,8 +10,9 @@
 //   - splats are sorted by cell (parallel LSD radix sort on the cell key) into their own arrays;
 //   - the 27 cells' small splats that can reach a cell's bounding box are copied together once
 //     per cell and tested against each of its splats (16 at a time with AVX-512, 8 with AVX2,
-//     chosen at run time); a row of up to 16 is gathered and sorted in one AVX-512 register,
-//     longer ones (and AVX2) are sorted by ranking without branches;
+//     chosen at run time); a row of up to 16 is gathered and sorted in one AVX-512 register;
+//     a longer one is tested again eight at a time, and rows up to 64 are sorted by ranking
+//     without branches, longer ones by std::sort;
 //   - two passes over the cells: the row lengths, then each row again, written in place — no
 //     copy of the rows in cell order (fewer fresh pages, which cost more than the second pass);
 //   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
@@ -23,8 +24,8 @@
 // positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
 // coordinate (like SpatialIndex). Runs in parallel with TBB; the result does not depend on the
-// thread count. Memory: the result (8 bytes/splat + 4 per row entry) plus about 50 bytes/splat
-// transiently (62 with sharp edges).
+// thread count. Memory: the result (8 bytes/splat + 4 per row entry; with sharp edges 1 more per
+// entry) plus about 50 bytes/splat transiently (62 with sharp edges).
 #pragma once
 
 #include <cstdint>
