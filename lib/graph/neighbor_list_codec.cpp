@@ -1,6 +1,11 @@
 #include "graph/neighbor_list_codec.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "graph/varint.h"
 #include "splatkit/error.h"
@@ -8,6 +13,32 @@
 namespace splatkit::graph {
 namespace {
 
+constexpr std::size_t kRowChunk = 16384;  // rows per parallel task of the encoder
+
+// fn(c, begin, end) for fixed chunks of n rows, in parallel.
+template <class Fn>
+void for_each_row_chunk(uint64_t n, Fn&& fn) {
+  tbb::parallel_for(uint64_t{0}, (n + kRowChunk - 1) / kRowChunk,
+                    [&](uint64_t c) { fn(c, c * kRowChunk, std::min(n, (c + 1) * kRowChunk)); });
+}
+
+// The first violation of the layout in rows [begin, end), or "".
+std::string layout_error(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+                         uint64_t begin, uint64_t end) {
+  const uint64_t n = offsets.size() - 1;
+  for (uint64_t i = begin; i < end; ++i) {
+    if (offsets[i + 1] < offsets[i]) return "offsets decrease at row " + std::to_string(i);
+    for (uint64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      if (neighbors[k] >= n || neighbors[k] == i)
+        return "row " + std::to_string(i) + ": bad index " + std::to_string(neighbors[k]);
+      if (k > offsets[i] && neighbors[k] <= neighbors[k - 1])
+        return "row " + std::to_string(i) + " is not strictly ascending";
+    }
+  }
+  return {};
+}
+
+// Throws std::invalid_argument naming the first violation (the same one for any thread count).
 void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
   auto fail = [](const std::string& what) {
     throw std::invalid_argument("encode_neighbor_lists: " + what);
@@ -16,15 +47,16 @@ void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> n
     fail("offsets must run from 0 to the neighbour count");
   const uint64_t n = offsets.size() - 1;
   if (n >= (uint64_t{1} << 32)) fail("more than 2^32 - 1 rows");
-  for (uint64_t i = 0; i < n; ++i) {
+  // Chunks past a decreasing offset may read rows out of range: each chunk stops at its first
+  // violation, and only the first chunk with one is reported.
+  for (uint64_t i = 0; i < n; ++i)
     if (offsets[i + 1] < offsets[i]) fail("offsets decrease at row " + std::to_string(i));
-    for (uint64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      if (neighbors[k] >= n || neighbors[k] == i)
-        fail("row " + std::to_string(i) + ": bad index " + std::to_string(neighbors[k]));
-      if (k > offsets[i] && neighbors[k] <= neighbors[k - 1])
-        fail("row " + std::to_string(i) + " is not strictly ascending");
-    }
-  }
+  std::vector<std::string> errors((n + kRowChunk - 1) / kRowChunk);
+  for_each_row_chunk(n, [&](uint64_t c, uint64_t begin, uint64_t end) {
+    errors[c] = layout_error(offsets, neighbors, begin, end);
+  });
+  for (const std::string& e : errors)
+    if (!e.empty()) fail(e);
 }
 
 // A bounds-checked reader over the payload; every failure names the byte and the row.
@@ -68,23 +100,34 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
                                            NeighborListMode mode) {
   check_layout(offsets, neighbors);
   const uint64_t n = offsets.size() - 1;
-  std::vector<uint8_t> out;
-  out.reserve(n + neighbors.size() * (mode == NeighborListMode::kUpper ? 1 : 2));
-  for (uint64_t i = 0; i < n; ++i) {
-    uint64_t begin = offsets[i];
-    const uint64_t end = offsets[i + 1];
-    if (mode == NeighborListMode::kUpper)
-      while (begin < end && neighbors[begin] < i) ++begin;
-    put_varint(out, end - begin);
-    for (uint64_t k = begin; k < end; ++k) {
-      if (k > begin)
-        put_varint(out, uint64_t{neighbors[k]} - neighbors[k - 1] - 1);
-      else if (mode == NeighborListMode::kUpper)
-        put_varint(out, neighbors[k] - i - 1);
-      else
-        put_varint(out, zigzag(static_cast<int64_t>(neighbors[k]) - static_cast<int64_t>(i)));
+  // Rows are coded independently: fixed chunks of rows in parallel, then joined in order.
+  std::vector<std::vector<uint8_t>> parts((n + kRowChunk - 1) / kRowChunk);
+  for_each_row_chunk(n, [&](uint64_t c, uint64_t first, uint64_t last) {
+    std::vector<uint8_t>& out = parts[c];
+    out.reserve((last - first) + (offsets[last] - offsets[first]) *
+                                     (mode == NeighborListMode::kUpper ? 1 : 2));
+    for (uint64_t i = first; i < last; ++i) {
+      uint64_t begin = offsets[i];
+      const uint64_t end = offsets[i + 1];
+      if (mode == NeighborListMode::kUpper)
+        while (begin < end && neighbors[begin] < i) ++begin;
+      put_varint(out, end - begin);
+      for (uint64_t k = begin; k < end; ++k) {
+        if (k > begin)
+          put_varint(out, uint64_t{neighbors[k]} - neighbors[k - 1] - 1);
+        else if (mode == NeighborListMode::kUpper)
+          put_varint(out, neighbors[k] - i - 1);
+        else
+          put_varint(out, zigzag(static_cast<int64_t>(neighbors[k]) - static_cast<int64_t>(i)));
+      }
     }
-  }
+  });
+  std::vector<std::size_t> at(parts.size() + 1, 0);
+  for (std::size_t c = 0; c < parts.size(); ++c) at[c + 1] = at[c] + parts[c].size();
+  std::vector<uint8_t> out(at.back());
+  tbb::parallel_for(std::size_t{0}, parts.size(), [&](std::size_t c) {
+    std::copy(parts[c].begin(), parts[c].end(), out.begin() + std::ptrdiff_t(at[c]));
+  });
   return out;
 }
 
