@@ -92,13 +92,13 @@ double estimate_normal_noise(const NeighborGraph& graph, std::span<const uint8_t
   const std::size_t stride = std::max<std::size_t>((graph.num_points() + samples - 1) / samples, 1);
   const std::size_t fits = (graph.num_points() + stride - 1) / stride;
   std::vector<double> residuals(fits);  // < 0 where the fit failed
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fits, 256),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::vector<std::array<double, 5>> rows;
-                      for (std::size_t f = r.begin(); f < r.end(); ++f)
-                        residuals[f] = fit_residual(f * stride, graph, edge_flags, sharp_mask,
-                                                    positions, normals, rows);
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, fits, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::array<double, 5>> rows;
+        for (std::size_t f = r.begin(); f < r.end(); ++f)
+          residuals[f] =
+              fit_residual(f * stride, graph, edge_flags, sharp_mask, positions, normals, rows);
+      });
   std::erase_if(residuals, [](double r) { return !(r >= 0); });
   if (residuals.empty()) return 0;
   auto mid = residuals.begin() + std::ptrdiff_t(residuals.size() / 2);

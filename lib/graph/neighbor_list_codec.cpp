@@ -104,8 +104,8 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
   std::vector<std::vector<uint8_t>> parts((n + kRowChunk - 1) / kRowChunk);
   for_each_row_chunk(n, [&](uint64_t c, uint64_t first, uint64_t last) {
     std::vector<uint8_t>& out = parts[c];
-    out.reserve((last - first) + (offsets[last] - offsets[first]) *
-                                     (mode == NeighborListMode::kUpper ? 1 : 2));
+    out.reserve((last - first) +
+                (offsets[last] - offsets[first]) * (mode == NeighborListMode::kUpper ? 1 : 2));
     for (uint64_t i = first; i < last; ++i) {
       uint64_t begin = offsets[i];
       const uint64_t end = offsets[i + 1];

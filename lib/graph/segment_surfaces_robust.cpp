@@ -51,7 +51,8 @@ void core_components(const Rows& rows, const std::vector<uint8_t>& core, uint32_
   const std::size_t n = core.size();
   std::iota(parent.begin(), parent.end(), 0u);
   unite_rows(parent, [&](std::size_t i, auto&& fn) {
-    if (core[i]) rows.continuous(i, [&](uint32_t j) {
+    if (core[i])
+      rows.continuous(i, [&](uint32_t j) {
         if (j > i && core[j]) fn(j);
       });
   });
@@ -101,7 +102,8 @@ void label_the_rest(const Rows& rows, std::vector<uint32_t>& label, std::vector<
   }
   if (!any) return;
   unite_rows(parent, [&](std::size_t i, auto&& fn) {
-    if (label[i] == kUnset) rows.continuous(i, [&](uint32_t j) {
+    if (label[i] == kUnset)
+      rows.continuous(i, [&](uint32_t j) {
         if (j > i && label[j] == kUnset) fn(j);
       });
   });

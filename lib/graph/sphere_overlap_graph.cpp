@@ -28,7 +28,7 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kCellBlock = 1024;  // cells per task
-constexpr std::size_t kPad = 16;  // spare entries after the sorted arrays, for 16-wide loads
+constexpr std::size_t kPad = 16;         // spare entries after the sorted arrays, for 16-wide loads
 constexpr std::size_t kChunk = 1 << 16;  // splats per task of the simple parallel loops
 // Splats ahead (in cell order) whose row offset is prefetched: the rows are far apart in memory.
 constexpr std::size_t kAhead = 16;
@@ -488,7 +488,8 @@ struct Candidates {
       const float sum = pr + r[j];
       hits[m] = id[j];
       const bool hit = (dx * dx + dy * dy + dz * dz < sum * sum) & (id[j] != self);
-      if (kRow && hit && sharp && !(s.nx[p] * nx[j] + s.ny[p] * ny[j] + s.nz[p] * nz[j] >= threshold))
+      if (kRow && hit && sharp &&
+          !(s.nx[p] * nx[j] + s.ny[p] * ny[j] + s.nz[p] * nz[j] >= threshold))
         sharp_ids.push_back(id[j]);
       m += hit;
     }
@@ -556,7 +557,8 @@ struct Candidates {
     const __m256 px = _mm256_set1_ps(s.x[p]), py = _mm256_set1_ps(s.y[p]),
                  pz = _mm256_set1_ps(s.z[p]), pr = _mm256_set1_ps(s.r[p]);
     const __m256i self = _mm256_set1_epi32(int(s.id[p]));
-    const __m256 pnx = _mm256_set1_ps(sharp ? s.nx[p] : 0), pny = _mm256_set1_ps(sharp ? s.ny[p] : 0),
+    const __m256 pnx = _mm256_set1_ps(sharp ? s.nx[p] : 0),
+                 pny = _mm256_set1_ps(sharp ? s.ny[p] : 0),
                  pnz = _mm256_set1_ps(sharp ? s.nz[p] : 0), w_s = _mm256_set1_ps(threshold);
     uint32_t m = 0;
     for (uint32_t j = 0; j < size; j += 8) {
@@ -576,10 +578,10 @@ struct Candidates {
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(hits.data() + m - std::popcount(mask)),
                           _mm256_permutevar8x32_epi32(ids, perm));
       if (sharp && mask != 0) {
-        const __m256 w = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(pnx, _mm256_loadu_ps(nx.data() + j)),
-                          _mm256_mul_ps(pny, _mm256_loadu_ps(ny.data() + j))),
-            _mm256_mul_ps(pnz, _mm256_loadu_ps(nz.data() + j)));
+        const __m256 w =
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(pnx, _mm256_loadu_ps(nx.data() + j)),
+                                        _mm256_mul_ps(pny, _mm256_loadu_ps(ny.data() + j))),
+                          _mm256_mul_ps(pnz, _mm256_loadu_ps(nz.data() + j)));
         add_sharp(mask & ~unsigned(_mm256_movemask_ps(_mm256_cmp_ps(w, w_s, _CMP_GE_OQ))), j);
       }
     }
@@ -604,9 +606,8 @@ struct Candidates {
       const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(r.data() + j));
       const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
                                       _mm512_mul_ps(dz, dz));
-      const __mmask16 hit =
-          _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
-          ~_mm512_cmpeq_epi32_mask(_mm512_loadu_si512(id.data() + j), self);
+      const __mmask16 hit = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
+                            ~_mm512_cmpeq_epi32_mask(_mm512_loadu_si512(id.data() + j), self);
       m += uint32_t(std::popcount(unsigned(hit)));
     }
     return m;
@@ -621,7 +622,8 @@ struct Candidates {
     const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
                  pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
     const __m512i self = _mm512_set1_epi32(int(s.id[p]));
-    const __m512 pnx = _mm512_set1_ps(sharp ? s.nx[p] : 0), pny = _mm512_set1_ps(sharp ? s.ny[p] : 0),
+    const __m512 pnx = _mm512_set1_ps(sharp ? s.nx[p] : 0),
+                 pny = _mm512_set1_ps(sharp ? s.ny[p] : 0),
                  pnz = _mm512_set1_ps(sharp ? s.nz[p] : 0), w_s = _mm512_set1_ps(threshold);
     __m512i row = _mm512_set1_epi32(-1);  // 2^32 - 1 in the empty lanes: sorted last
     uint32_t m = 0;
@@ -638,10 +640,10 @@ struct Candidates {
       const uint32_t k = uint32_t(std::popcount(unsigned(hit)));
       if (m + k > 16) return 17;
       if (sharp && hit != 0) {
-        const __m512 w = _mm512_add_ps(
-            _mm512_add_ps(_mm512_mul_ps(pnx, _mm512_loadu_ps(nx.data() + j)),
-                          _mm512_mul_ps(pny, _mm512_loadu_ps(ny.data() + j))),
-            _mm512_mul_ps(pnz, _mm512_loadu_ps(nz.data() + j)));
+        const __m512 w =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(pnx, _mm512_loadu_ps(nx.data() + j)),
+                                        _mm512_mul_ps(pny, _mm512_loadu_ps(ny.data() + j))),
+                          _mm512_mul_ps(pnz, _mm512_loadu_ps(nz.data() + j)));
         add_sharp(unsigned(hit & ~_mm512_cmp_ps_mask(w, w_s, _CMP_GE_OQ)), j);
       }
       row = _mm512_mask_expand_epi32(row, __mmask16(((1u << k) - 1) << m),
@@ -931,40 +933,40 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
     flags = marks->flags.data();
   }
   std::vector<std::vector<uint32_t>> sharp_rows(blocks);
-  for_each_block(sharp != nullptr,
-                 [&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
-    for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
-      const bool any = cand.gather(s, c, runs);
-      for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
-        __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
-        const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
-        __builtin_prefetch(graph.neighbors.data() + soon, 1);
-        const uint32_t id = s.id[p];
-        const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
-        std::span<const uint32_t> row;
-        if (any && s.r[p] <= R)
-          row = cand.row(s, p);  // (and its sharp ids)
-        else
-          cand.sharp_ids.clear();
-        // Both passes test with the same float operations; a row that grew would overrun.
-        if (row.size() > length)
-          throw std::logic_error("sphere_overlap_graph: a row differs between the passes");
-        uint32_t* out = graph.neighbors.data() + at;
-        write_row(id, row, length - row.size(), pairs, out);
-        if (!flags) continue;
-        bool any_sharp;
-        if (length != row.size()) {  // merged with pairs: marked directly
-          any_sharp = mark_sharp_row(id, {out, length}, *sharp, flags + at);
-        } else {
-          for (uint32_t j : cand.sharp_ids)  // (always in the row: found by the same test)
-            flags[at + std::size_t(std::lower_bound(row.begin(), row.end(), j) - row.begin())] =
-                sharp->flag;
-          any_sharp = !cand.sharp_ids.empty();
-        }
-        if (any_sharp) sharp_rows[b].push_back(id);
-      }
-    });
-  });
+  for_each_block(
+      sharp != nullptr, [&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
+        for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
+          const bool any = cand.gather(s, c, runs);
+          for (uint32_t p = s.cell_start[c]; p < s.cell_start[c + 1]; ++p) {
+            __builtin_prefetch(&graph.offsets[s.id[std::min<std::size_t>(p + kAhead, n - 1)]]);
+            const uint64_t soon = graph.offsets[s.id[std::min<std::size_t>(p + kAhead / 4, n - 1)]];
+            __builtin_prefetch(graph.neighbors.data() + soon, 1);
+            const uint32_t id = s.id[p];
+            const uint64_t at = graph.offsets[id], length = graph.offsets[std::size_t{id} + 1] - at;
+            std::span<const uint32_t> row;
+            if (any && s.r[p] <= R)
+              row = cand.row(s, p);  // (and its sharp ids)
+            else
+              cand.sharp_ids.clear();
+            // Both passes test with the same float operations; a row that grew would overrun.
+            if (row.size() > length)
+              throw std::logic_error("sphere_overlap_graph: a row differs between the passes");
+            uint32_t* out = graph.neighbors.data() + at;
+            write_row(id, row, length - row.size(), pairs, out);
+            if (!flags) continue;
+            bool any_sharp;
+            if (length != row.size()) {  // merged with pairs: marked directly
+              any_sharp = mark_sharp_row(id, {out, length}, *sharp, flags + at);
+            } else {
+              for (uint32_t j : cand.sharp_ids)  // (always in the row: found by the same test)
+                flags[at + std::size_t(std::lower_bound(row.begin(), row.end(), j) - row.begin())] =
+                    sharp->flag;
+              any_sharp = !cand.sharp_ids.empty();
+            }
+            if (any_sharp) sharp_rows[b].push_back(id);
+          }
+        });
+      });
   if (marks) join_rows(sharp_rows, *marks);
   return graph;
 }

@@ -188,10 +188,15 @@ int main(int argc, char** argv) {
     const double pcl_s = seconds_since(t0);
     bool ok = ours.offsets == g.offsets && ours.neighbors == g.neighbors;
 
-    nlohmann::json out = {
-        {"splats", doc.cloud.size()}, {"threads", args.threads}, {"edges", g.neighbors.size() / 2},
-        {"read_s", read_s},           {"ours_s", ours_s},        {"pcl_s", pcl_s},
-        {"build_tree_s", tree_s},     {"query_s", pcl_s - tree_s}, {"same_as_ours", ok}};
+    nlohmann::json out = {{"splats", doc.cloud.size()},
+                          {"threads", args.threads},
+                          {"edges", g.neighbors.size() / 2},
+                          {"read_s", read_s},
+                          {"ours_s", ours_s},
+                          {"pcl_s", pcl_s},
+                          {"build_tree_s", tree_s},
+                          {"query_s", pcl_s - tree_s},
+                          {"same_as_ours", ok}};
     if (!args.compare.empty()) {
       const bool same = same_graph(args.compare, doc, g);
       out["same_graph"] = same;
