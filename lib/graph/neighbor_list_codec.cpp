@@ -144,6 +144,9 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
   NeighborLists rows;  // kUpper: the stored halves first, mirrored below
   rows.offsets.reserve(num_rows + 1);
   rows.offsets.push_back(0);
+  // At most one entry per byte left after the degrees: room for all of a usual graph's entries
+  // (no regrowth and copy), capped so that a hostile payload cannot reserve much more.
+  rows.neighbors.reserve(std::min<uint64_t>(bytes.size() - num_rows, 32 * num_rows));
   for (uint64_t i = 0; i < num_rows; ++i) {
     const std::size_t at = in.pos();
     const uint64_t degree = in.varint(i);
