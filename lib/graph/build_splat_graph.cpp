@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -32,9 +33,10 @@ void check_inputs(std::span<const Vec3f> positions, std::span<const Vec3f> norma
     throw_usage("--sharp must be in [-1, 1] (got " + std::to_string(o.sharp_threshold) + ")");
   if (!(o.boundary_gap_degrees > 0 && o.boundary_gap_degrees <= 360))
     throw_usage("--boundary-gap must be in (0, 360] degrees");
-  if (o.core_threshold && !(*o.core_threshold >= -1 && *o.core_threshold <= 1))
-    throw_usage("--core must be in [-1, 1] (got " + std::to_string(*o.core_threshold) + ")");
-  if (o.min_core_size == 0) throw_usage("--min-core must be >= 1");
+  const std::optional<float>& core = o.robust.core_threshold;
+  if (core && !(*core >= -1 && *core <= 1))
+    throw_usage("--core must be in [-1, 1] (got " + std::to_string(*core) + ")");
+  if (o.robust.min_core_size == 0) throw_usage("--min-core must be >= 1");
   if (!(o.flat_tolerance >= 0 && std::isfinite(o.flat_tolerance)))
     throw_usage("the flatness tolerance must be finite and >= 0");
   for (std::size_t i = 0; i < radii.size(); ++i)
@@ -239,10 +241,8 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   t0 = Clock::now();
   RobustSegmentInfo robust_info;
   if (options.robust_surfaces) {
-    RobustSegmentOptions ro;
-    ro.core_threshold = options.core_threshold;
+    RobustSegmentOptions ro = options.robust;
     ro.sharp_threshold = options.sharp_threshold;
-    ro.min_core_size = options.min_core_size;
     g.surfaces = segment_surfaces_robust(g.graph, g.edge_flags, kEdgeSharp, positions, normals, ro,
                                          &robust_info);
   } else {

@@ -1,7 +1,5 @@
 #include "graph/graph_chunks.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -12,6 +10,7 @@
 #include "graph/neighbor_list_codec.h"
 #include "graph/varint.h"
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph {
 namespace {
@@ -124,11 +123,11 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
   // their upper edges, write one code per edge after the earlier chunks', then the codes are
   // packed, all in parallel.
   constexpr std::size_t kRows = 16384;
-  const std::size_t n = graph.num_points(), chunks = (n + kRows - 1) / kRows;
+  const std::size_t n = graph.num_points(), chunks = chunk_count(n, kRows);
   std::vector<uint64_t> first(chunks + 1, 0);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(n, kRows, [&](std::size_t c, std::size_t begin, std::size_t end) {
     uint64_t count = 0;  // without branches: half of each row is below i
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+    for (std::size_t i = begin; i < end; ++i)
       for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k)
         count += graph.neighbors[k] > i;
     first[c + 1] = count;
@@ -136,23 +135,24 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
   for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
   const uint64_t edges = first[chunks];
   std::vector<uint8_t> codes(edges + 1);  // + 1: every entry is written, the upper ones kept
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(n, kRows, [&](std::size_t c, std::size_t begin, std::size_t end) {
     uint64_t e = first[c];
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+    for (std::size_t i = begin; i < end; ++i)
       for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
         codes[e] = edge_flags[k] & 3u;
         e += graph.neighbors[k] > i;
       }
   });
   std::vector<uint8_t> bits((edges + 3) / 4);
-  tbb::parallel_for(std::size_t{0}, bits.size(), std::size_t{1} << 16, [&](std::size_t b0) {
-    for (std::size_t b = b0; b < std::min(bits.size(), b0 + (std::size_t{1} << 16)); ++b) {
-      uint8_t byte = 0;
-      for (uint64_t e = 4 * b; e < std::min<uint64_t>(edges, 4 * b + 4); ++e)
-        byte = static_cast<uint8_t>(byte | codes[e] << (2 * (e % 4)));
-      bits[b] = byte;
-    }
-  });
+  for_each_chunk(bits.size(), std::size_t{1} << 16,
+                 [&](std::size_t, std::size_t b0, std::size_t b1) {
+                   for (std::size_t b = b0; b < b1; ++b) {
+                     uint8_t byte = 0;
+                     for (uint64_t e = 4 * b; e < std::min<uint64_t>(edges, 4 * b + 4); ++e)
+                       byte = static_cast<uint8_t>(byte | codes[e] << (2 * (e % 4)));
+                     bits[b] = byte;
+                   }
+                 });
   std::vector<unsigned char> out;
   out.reserve(34 + stream.size() + bits.size());
   put_le(out, graph.num_points(), 8);

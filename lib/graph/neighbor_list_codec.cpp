@@ -9,18 +9,12 @@
 
 #include "graph/varint.h"
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kRowChunk = 16384;  // rows per parallel task of the encoder
-
-// fn(c, begin, end) for fixed chunks of n rows, in parallel.
-template <class Fn>
-void for_each_row_chunk(uint64_t n, Fn&& fn) {
-  tbb::parallel_for(uint64_t{0}, (n + kRowChunk - 1) / kRowChunk,
-                    [&](uint64_t c) { fn(c, c * kRowChunk, std::min(n, (c + 1) * kRowChunk)); });
-}
 
 // The first violation of the layout in rows [begin, end), or "".
 std::string layout_error(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
@@ -51,8 +45,8 @@ void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> n
   // violation, and only the first chunk with one is reported.
   for (uint64_t i = 0; i < n; ++i)
     if (offsets[i + 1] < offsets[i]) fail("offsets decrease at row " + std::to_string(i));
-  std::vector<std::string> errors((n + kRowChunk - 1) / kRowChunk);
-  for_each_row_chunk(n, [&](uint64_t c, uint64_t begin, uint64_t end) {
+  std::vector<std::string> errors(chunk_count(n, kRowChunk));
+  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     errors[c] = layout_error(offsets, neighbors, begin, end);
   });
   for (const std::string& e : errors)
@@ -101,8 +95,8 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
   check_layout(offsets, neighbors);
   const uint64_t n = offsets.size() - 1;
   // Rows are coded independently: fixed chunks of rows in parallel, then joined in order.
-  std::vector<std::vector<uint8_t>> parts((n + kRowChunk - 1) / kRowChunk);
-  for_each_row_chunk(n, [&](uint64_t c, uint64_t first, uint64_t last) {
+  std::vector<std::vector<uint8_t>> parts(chunk_count(n, kRowChunk));
+  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
     std::vector<uint8_t>& out = parts[c];
     out.reserve((last - first) +
                 (offsets[last] - offsets[first]) * (mode == NeighborListMode::kUpper ? 1 : 2));

@@ -1,22 +1,15 @@
 #include "graph/segment_surfaces.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <stdexcept>
 
 #include "graph/lowest_root_union_find.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kChunk = 16384;  // splats per task
-
-template <class Fn>
-void for_each_chunk(std::size_t n, Fn&& fn) {
-  tbb::parallel_for(std::size_t{0}, (n + kChunk - 1) / kChunk,
-                    [&](std::size_t c) { fn(c, c * kChunk, std::min(n, (c + 1) * kChunk)); });
-}
 
 }  // namespace
 
@@ -29,7 +22,7 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
   // rows (unite_rows). The root of a tree is always its lowest index, so the components and their
   // ids are exactly those of a breadth-first search started at the lowest unvisited index.
   std::vector<uint32_t> parent(n);
-  for_each_chunk(n, [&](std::size_t, std::size_t i0, std::size_t i1) {
+  for_each_chunk(n, kChunk, [&](std::size_t, std::size_t i0, std::size_t i1) {
     for (std::size_t i = i0; i < i1; ++i) parent[i] = uint32_t(i);
   });
   unite_rows(parent, [&](std::size_t i, auto&& fn) {
@@ -42,9 +35,9 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
   // chunks'; parent then maps a root to its id.
   Segmentation seg;
   seg.surface.resize(n);
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t chunks = chunk_count(n, kChunk);
   std::vector<uint32_t> first_id(chunks + 1, 0);
-  for_each_chunk(n, [&](std::size_t c, std::size_t i0, std::size_t i1) {
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t i0, std::size_t i1) {
     uint32_t roots = 0;
     for (std::size_t i = i0; i < i1; ++i) {
       seg.surface[i] = root_of(parent, uint32_t(i));
@@ -53,7 +46,7 @@ Segmentation segment_surfaces(const NeighborGraph& graph, std::span<const uint8_
     first_id[c + 1] = roots;
   });
   for (std::size_t c = 0; c < chunks; ++c) first_id[c + 1] += first_id[c];
-  for_each_chunk(n, [&](std::size_t c, std::size_t i0, std::size_t i1) {
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t i0, std::size_t i1) {
     uint32_t id = first_id[c];
     for (std::size_t i = i0; i < i1; ++i)
       if (seg.surface[i] == i) parent[i] = id++;

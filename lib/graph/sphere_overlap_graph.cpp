@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 #include "splatkit/lane_compress.h"
 #include "splatkit/rank_sort_avx2.h"
 
@@ -77,10 +78,10 @@ void check(std::span<const Vec3f> positions, std::span<const float> radii) {
            !std::isfinite(p.y) || !std::isfinite(p.z);
   };
   // The first bad splat, found in parallel chunks (the same one for any thread count).
-  const std::size_t n = positions.size(), chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t n = positions.size(), chunks = chunk_count(n, kChunk);
   std::vector<std::size_t> first_bad(chunks, n);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
       if (bad(i)) {
         first_bad[c] = i;
         return;
@@ -115,11 +116,11 @@ Grid make_grid(std::span<const Vec3f> positions, float r_small) {
     hi[a] = -HUGE_VAL;
   }
   // The bounding box from parallel chunks' boxes (min and max are exact: any order).
-  const std::size_t n = positions.size(), chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t n = positions.size(), chunks = chunk_count(n, kChunk);
   std::vector<std::array<double, 6>> box(chunks);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     std::array<double, 6> b = {HUGE_VAL, HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (std::size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       const double v[3] = {positions[i].x, positions[i].y, positions[i].z};
       for (int a = 0; a < 3; ++a) {
         b[a] = std::min(b[a], v[a]);
@@ -197,17 +198,16 @@ void sized_in_parallel(std::vector<T>& v, std::size_t size) {
 void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
   constexpr int kBits = 11;
   constexpr std::size_t kBuckets = std::size_t{1} << kBits;
-  const std::size_t n = items.size(), chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t n = items.size(), chunks = chunk_count(n, kChunk);
   std::vector<uint64_t> other;
   sized_in_parallel(other, n);
   std::vector<std::size_t> start(chunks * kBuckets);
   for (int shift = 32; shift < 64 && (max_key >> (shift - 32)) != 0; shift += kBits) {
     auto bucket = [shift](uint64_t v) { return std::size_t(v >> shift) & (kBuckets - 1); };
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
       std::size_t* count = start.data() + c * kBuckets;
       std::fill(count, count + kBuckets, 0);
-      for (std::size_t e = c * kChunk; e < std::min(n, (c + 1) * kChunk); ++e)
-        ++count[bucket(items[e])];
+      for (std::size_t e = begin; e < end; ++e) ++count[bucket(items[e])];
     });
     std::size_t at = 0;
     for (std::size_t b = 0; b < kBuckets; ++b)
@@ -216,10 +216,9 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
         start[c * kBuckets + b] = at;
         at += count;
       }
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
       std::size_t* to = start.data() + c * kBuckets;
-      for (std::size_t e = c * kChunk; e < std::min(n, (c + 1) * kChunk); ++e)
-        other[to[bucket(items[e])]++] = items[e];
+      for (std::size_t e = begin; e < end; ++e) other[to[bucket(items[e])]++] = items[e];
     });
     items.swap(other);
   }
@@ -229,19 +228,18 @@ void radix_sort_packed(std::vector<uint64_t>& items, uint64_t max_key) {
 // chunks: each counts the cells that start in it, then writes them after the earlier chunks'.
 template <class Key>
 void find_cells(std::size_t n, Key&& key, Sorted& s) {
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t chunks = chunk_count(n, kChunk);
   auto starts = [&](std::size_t k) { return k == 0 || key(k) != key(k - 1); };
   std::vector<std::size_t> first(chunks + 1, 0);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k)
-      first[c + 1] += starts(k);
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) first[c + 1] += starts(k);
   });
   for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
   s.cell_key.resize(first[chunks]);
   s.cell_start.resize(first[chunks] + 1);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     std::size_t at = first[c];
-    for (std::size_t k = c * kChunk; k < std::min(n, (c + 1) * kChunk); ++k)
+    for (std::size_t k = begin; k < end; ++k)
       if (starts(k)) {
         s.cell_key[at] = key(k);
         s.cell_start[at++] = uint32_t(k);
@@ -775,10 +773,10 @@ std::vector<uint32_t> big_row(const Sorted& s, const Grid& g, uint32_t b,
 // false when they would cost more than the budget.
 bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
   const std::size_t n = s.n;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  const std::size_t chunks = chunk_count(n, kChunk);
   std::vector<std::vector<uint32_t>> chunk_bigs(chunks);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t p = c * kChunk; p < std::min(n, (c + 1) * kChunk); ++p)
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t p = begin; p < end; ++p)
       if (s.r[p] > s.small_radius) chunk_bigs[c].push_back(uint32_t(p));
   });
   std::vector<uint32_t> bigs;
@@ -811,18 +809,17 @@ bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
 // offsets[i] += offsets[i - 1] for all i, in parallel over fixed chunks (the same sums for any
 // thread count: integer addition).
 void prefix_sum(std::vector<uint64_t>& v) {
-  const std::size_t chunks = (v.size() + kChunk - 1) / kChunk;
+  const std::size_t chunks = chunk_count(v.size(), kChunk);
   std::vector<uint64_t> carry(chunks + 1, 0);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(v.size(), kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     uint64_t sum = 0;
-    for (std::size_t i = c * kChunk; i < std::min(v.size(), (c + 1) * kChunk); ++i) sum += v[i];
+    for (std::size_t i = begin; i < end; ++i) sum += v[i];
     carry[c + 1] = sum;
   });
   for (std::size_t c = 0; c < chunks; ++c) carry[c + 1] += carry[c];
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+  for_each_chunk(v.size(), kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     uint64_t sum = carry[c];
-    for (std::size_t i = c * kChunk; i < std::min(v.size(), (c + 1) * kChunk); ++i)
-      v[i] = sum += v[i];
+    for (std::size_t i = begin; i < end; ++i) v[i] = sum += v[i];
   });
 }
 
@@ -882,9 +879,9 @@ void join_rows(const std::vector<std::vector<uint32_t>>& chunk_rows, SharpEdgeMa
 void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpEdgeMarks& marks) {
   const std::size_t n = graph.num_points(), chunk = kChunk / 16;
   marks.flags.assign(graph.neighbors.size(), 0);
-  std::vector<std::vector<uint32_t>> rows((n + chunk - 1) / chunk);
-  tbb::parallel_for(std::size_t{0}, rows.size(), [&](std::size_t c) {
-    for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i)
+  std::vector<std::vector<uint32_t>> rows(chunk_count(n, chunk));
+  for_each_chunk(n, chunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
       if (mark_sharp_row(uint32_t(i), graph.row(i), sharp, marks.flags.data() + graph.offsets[i]))
         rows[c].push_back(uint32_t(i));
   });

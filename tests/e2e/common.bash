@@ -39,6 +39,36 @@ expect_eq() {  # expect_eq WHAT GOT WANT
   if [ "$2" != "$3" ]; then fail "$1: got '$2', want '$3'"; else pass; fi
 }
 
+# patch_iou PLY: the IoU of every true patch (patch_id) with its best surface (surface_id) in a
+# binary little-endian PLY, as "segments N" then "patch P splats N surface S IoU X" per patch
+# (X at full precision, so that a comparison with a threshold is exact).
+patch_iou() {
+  python3 - "$1" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+props, n = [], 0
+for line in data[:end].decode().splitlines():
+    w = line.split()
+    if w[:2] == ["element", "vertex"]: n = int(w[2])
+    if w[0] == "property": props.append((w[1], w[2]))
+fmt = {"float": "f", "uint": "I", "uchar": "B", "int": "i", "double": "d", "ushort": "H"}
+rec = struct.Struct("<" + "".join(fmt[t] for t, _ in props))
+names = [p for _, p in props]
+pi, si = names.index("patch_id"), names.index("surface_id")
+patch, surf, pairs = {}, {}, {}
+for v in rec.iter_unpack(data[end:end + n * rec.size]):
+    p, s = v[pi], v[si]
+    patch[p] = patch.get(p, 0) + 1
+    surf[s] = surf.get(s, 0) + 1
+    pairs[(p, s)] = pairs.get((p, s), 0) + 1
+print("segments", len(surf))
+for p in sorted(patch):
+    best = max((c / (patch[p] + surf[s] - c), s) for (q, s), c in pairs.items() if q == p)
+    print("patch %d splats %d surface %d IoU %r" % (p, patch[p], best[1], best[0]))
+PY
+}
+
 finish() {
   echo "$CHECKS checks passed, $FAILS failed"
   [ "$FAILS" -eq 0 ]

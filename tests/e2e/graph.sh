@@ -22,36 +22,6 @@ echo "build-splat-graph cad.ply: $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"e
 " $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"bytes_per_edge":[0-9.]*'),"\
 " $(tr -d ' \n' <"$WORK/cad-g.json" | grep -o '"time_s":[0-9.e-]*')"
 
-# IoU of every true patch (patch_id) with its best surface (surface_id) of a binary PLY.
-patch_iou() {
-  python3 - "$1" <<'PY'
-import struct, sys
-data = open(sys.argv[1], "rb").read()
-end = data.index(b"end_header\n") + len(b"end_header\n")
-props, n = [], 0
-for line in data[:end].decode().splitlines():
-    w = line.split()
-    if w[:2] == ["element", "vertex"]: n = int(w[2])
-    if w[0] == "property": props.append((w[1], w[2]))
-fmt = {"float": "f", "uint": "I", "uchar": "B", "int": "i", "double": "d", "ushort": "H"}
-rec = "<" + "".join(fmt[t] for t, _ in props)
-names = [p for _, p in props]
-pi, si = names.index("patch_id"), names.index("surface_id")
-size = struct.calcsize(rec)
-patch, surf = {}, {}
-pairs = {}
-for k in range(n):
-    v = struct.unpack_from(rec, data, end + k * size)
-    p, s = v[pi], v[si]
-    patch[p] = patch.get(p, 0) + 1
-    surf[s] = surf.get(s, 0) + 1
-    pairs[(p, s)] = pairs.get((p, s), 0) + 1
-print("segments", len(surf))
-for p in sorted(patch):
-    best = max((c / (patch[p] + surf[s] - c), s) for (q, s), c in pairs.items() if q == p)
-    print("patch %d splats %d surface %d IoU %.4f" % (p, patch[p], best[1], best[0]))
-PY
-}
 # Every true patch recovered with IoU >= 0.95 (cad.ply: 9 patches, cube.ply: 6).
 for shape in cad:9 cube:6; do
   name=${shape%:*} want=${shape#*:}

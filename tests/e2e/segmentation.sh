@@ -8,29 +8,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 
 # recovered PLY: how many true patches have a surface with IoU >= 0.95, as "K of P".
 recovered() {
-  python3 - "$1" <<'PY'
-import struct, sys
-data = open(sys.argv[1], "rb").read()
-end = data.index(b"end_header\n") + len(b"end_header\n")
-props, n = [], 0
-for line in data[:end].decode().splitlines():
-    w = line.split()
-    if w[:2] == ["element", "vertex"]: n = int(w[2])
-    if w[0] == "property": props.append((w[1], w[2]))
-fmt = {"float": "f", "uint": "I", "uchar": "B", "int": "i", "double": "d", "ushort": "H"}
-rec = struct.Struct("<" + "".join(fmt[t] for t, _ in props))
-names = [p for _, p in props]
-pi, si = names.index("patch_id"), names.index("surface_id")
-patch, surf, pairs = {}, {}, {}
-for v in rec.iter_unpack(data[end:end + n * rec.size]):
-    p, s = v[pi], v[si]
-    patch[p] = patch.get(p, 0) + 1
-    surf[s] = surf.get(s, 0) + 1
-    pairs[(p, s)] = pairs.get((p, s), 0) + 1
-ok = sum(1 for p in patch
-         if max(c / (patch[p] + surf[s] - c) for (q, s), c in pairs.items() if q == p) >= 0.95)
-print("%d of %d" % (ok, len(patch)))
-PY
+  patch_iou "$1" | awk '/^patch/ { n++; if ($8 >= 0.95) k++ } END { printf "%d of %d\n", k, n }'
 }
 
 for noise in 0 0.00125; do

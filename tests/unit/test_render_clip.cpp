@@ -57,6 +57,22 @@ const CubeEdge kFrontEdges[] = {
     {{1, 1, 1}, {-1, 1, 1}, {0, 1, 0}, {0, 0, 1}},
 };
 
+// One edge's profiles with clipping (sharp) and without (soft): with, the 10-90 % transition
+// is at most 1.5 px wide, centred on the projected edge within 0.5 px, with no background
+// (holes); without, it is at least half a splat radius wide.
+void expect_sharp_only_with_clipping(const char* shape, const testing::EdgeProfile& sharp,
+                                     const testing::EdgeProfile& soft, float radius_px) {
+  std::printf(
+      "%s edge: clipped 10-90 %% width %.2f px (centre %+.2f), unclipped %.2f px; "
+      "splat radius %.2f px\n",
+      shape, sharp.width_10_90, sharp.centre, soft.width_10_90, radius_px);
+  ASSERT_GT(sharp.samples, 50);
+  EXPECT_LE(sharp.width_10_90, 1.5);
+  EXPECT_LE(std::fabs(sharp.centre), 0.5);
+  EXPECT_EQ(sharp.background, 0);
+  EXPECT_GE(soft.width_10_90, 0.5 * radius_px);
+}
+
 TEST(RenderClip, CubeHasClipPartnersAlongItsTwelveEdges) {
   const GraphScene& g = cube();
   EXPECT_EQ(g.stats.surfaces, 6u);
@@ -91,15 +107,7 @@ TEST(RenderClip, CubeEdgesAreSharpOnlyWithClipping) {
                  << radius_px << " px: clipped width " << sharp.width_10_90 << " centre "
                  << sharp.centre << ", unclipped width " << soft.width_10_90 << " centre "
                  << soft.centre);
-    std::printf(
-        "cube edge: clipped 10-90 %% width %.2f px (centre %+.2f), unclipped %.2f px; "
-        "splat radius %.2f px\n",
-        sharp.width_10_90, sharp.centre, soft.width_10_90, radius_px);
-    ASSERT_GT(sharp.samples, 50);
-    EXPECT_LE(sharp.width_10_90, 1.5);
-    EXPECT_LE(std::fabs(sharp.centre), 0.5);
-    EXPECT_EQ(sharp.background, 0);
-    EXPECT_GE(soft.width_10_90, 0.5 * radius_px);
+    ASSERT_NO_FATAL_FAILURE(expect_sharp_only_with_clipping("cube", sharp, soft, radius_px));
   }
 }
 
@@ -209,15 +217,7 @@ TEST(RenderClip, CadPartEdgesAreSharpOnlyWithClipping) {
         pr.focal_px * g.scene.mean_radius / testing::project(pr, (e.p0 + e.p1) * 0.5f).z;
     const auto sharp = testing::edge_profile(clipped, pr, e.p0, e.p1, e.n_a, e.n_b, e.into_a);
     const auto soft = testing::edge_profile(plain, pr, e.p0, e.p1, e.n_a, e.n_b, e.into_a);
-    std::printf(
-        "cad edge: clipped 10-90 %% width %.2f px (centre %+.2f), unclipped %.2f px; "
-        "splat radius %.2f px\n",
-        sharp.width_10_90, sharp.centre, soft.width_10_90, radius_px);
-    ASSERT_GT(sharp.samples, 50);
-    EXPECT_LE(sharp.width_10_90, 1.5);
-    EXPECT_LE(std::fabs(sharp.centre), 0.5);
-    EXPECT_EQ(sharp.background, 0);
-    EXPECT_GE(soft.width_10_90, 0.5 * radius_px);
+    ASSERT_NO_FATAL_FAILURE(expect_sharp_only_with_clipping("cad", sharp, soft, radius_px));
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <chrono>
 
+#include "common/robust_options.h"
 #include "formats/provenance.h"
 #include "formats/read_cloud.h"
 #include "formats/splk.h"
@@ -75,16 +76,7 @@ int main(int argc, char** argv) {
                  "segment-surfaces) or components (the seed's)")
       ->default_val("robust")
       ->check(CLI::IsMember({"robust", "components"}));
-  app.add_option(
-         "--core", options.core_threshold,
-         "robust surfaces: n_i.n_j a core splat's continuous neighbours reach at least "
-         "(default: automatic, the cosine of half the sharp angle when the normals are noisy, "
-         "else the sharp threshold itself)")
-      ->check(CLI::Range(-1.0f, 1.0f));
-  app.add_option("--min-core", options.min_core_size,
-                 "robust surfaces: core components with fewer splats are not cores")
-      ->default_val(10)
-      ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
+  splatkit::tools::add_robust_options(app, options.robust);
   app.add_option("--report", report_path, "Write the seed's table columns and timings as JSON");
   tool.add_threads_option();
 
@@ -125,11 +117,7 @@ int main(int argc, char** argv) {
     nlohmann::json prov_options = {{"sharp", options.sharp_threshold},
                                    {"boundary_gap", options.boundary_gap_degrees},
                                    {"surfaces", surfaces}};
-    if (options.robust_surfaces) {
-      prov_options["core"] =
-          options.core_threshold ? nlohmann::json(*options.core_threshold) : nlohmann::json("auto");
-      prov_options["min_core"] = options.min_core_size;
-    }
+    if (options.robust_surfaces) splatkit::tools::put_robust_options(prov_options, options.robust);
     doc.metadata = splatkit::make_provenance(tool.name(), prov_options, in, doc, doc.cloud);
     splatkit::WriteOptions write;
     write.format = splatkit::FileFormat::kSplk;

@@ -11,6 +11,7 @@
 
 #include <chrono>
 
+#include "common/robust_options.h"
 #include "formats/provenance.h"
 #include "formats/read_cloud.h"
 #include "formats/splk.h"
@@ -90,15 +91,7 @@ int main(int argc, char** argv) {
   app.add_option("--method", method, "robust (grow from core splats) or components (the seed's)")
       ->default_val("robust")
       ->check(CLI::IsMember({"robust", "components"}));
-  app.add_option("--core", robust.core_threshold,
-                 "robust: n_i.n_j a core splat's continuous neighbours reach at least "
-                 "(default: automatic, the cosine of half the graph's sharp angle when the normals "
-                 "are noisy, else the sharp threshold itself)")
-      ->check(CLI::Range(-1.0f, 1.0f));
-  app.add_option("--min-core", robust.min_core_size,
-                 "robust: core components with fewer splats are not cores")
-      ->default_val(10)
-      ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
+  splatkit::tools::add_robust_options(app, robust);
   app.add_option("--report", report_path, "Write the surfaces and their sizes as JSON here");
 
   return tool.run(argc, argv, [&] {
@@ -145,11 +138,7 @@ int main(int argc, char** argv) {
     const double segment_s = seconds_since(t0);
 
     nlohmann::json prov_options = {{"min_size", min_size}, {"method", method}};
-    if (method == "robust") {
-      prov_options["core"] =
-          robust.core_threshold ? nlohmann::json(*robust.core_threshold) : nlohmann::json("auto");
-      prov_options["min_core"] = robust.min_core_size;
-    }
+    if (method == "robust") splatkit::tools::put_robust_options(prov_options, robust);
     doc.metadata = splatkit::make_provenance(tool.name(), prov_options, in, doc, doc.cloud);
     splatkit::WriteOptions write;
     if (ply) {

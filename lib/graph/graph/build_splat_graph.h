@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -45,11 +44,10 @@ struct SplatGraphOptions {
   bool per_surface = true;           // group clip partners by surface (false: the seed's
                                      // single set per splat, for comparison)
   // Surfaces: segment_surfaces_robust (true, default) or the seed's components of the
-  // continuous edges, segment_surfaces (false). core_threshold: the robust method's, in [-1, 1];
-  // none: automatic (RobustSegmentOptions).
+  // continuous edges, segment_surfaces (false). robust: the robust method's core threshold (in
+  // [-1, 1]; none: automatic) and min_core_size (>= 1); its sharp_threshold is the one above.
   bool robust_surfaces = true;
-  std::optional<float> core_threshold;
-  uint32_t min_core_size = 10;  // >= 1
+  RobustSegmentOptions robust;
 };
 
 // The columns of seed 002 tables 6.1–6.3. Edges are undirected pairs.

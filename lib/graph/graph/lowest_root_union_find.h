@@ -4,12 +4,12 @@
 // parent: #N, parent[i] = i initially; indices < N (unchecked).
 #pragma once
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
+
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph {
 
@@ -46,11 +46,10 @@ inline uint32_t unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
 template <class Edges>
 void unite_rows(std::vector<uint32_t>& parent, Edges&& edges) {
   constexpr std::size_t kChunk = 16384;  // rows per task
-  const std::size_t n = parent.size(), chunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> leaving(chunks);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    const std::size_t end = std::min(n, (c + 1) * kChunk);
-    for (std::size_t i = c * kChunk; i < end; ++i) {
+  const std::size_t n = parent.size();
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> leaving(chunk_count(n, kChunk));
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
       uint32_t root = find_root(parent, uint32_t(i));
       edges(i, [&](uint32_t j) {
         if (j >= end) {

@@ -23,7 +23,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -34,15 +33,13 @@
 #include "formats/read_cloud.h"
 #include "graph/graph_chunks.h"
 #include "graph/sphere_overlap_graph.h"
+#include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using splatkit::Clock;
+using splatkit::seconds_since;
 
 struct Args {
   std::string input, compare;
