@@ -845,10 +845,9 @@ void write_row(uint32_t id, std::span<const uint32_t> base, std::size_t extra,
 // The best vector code this CPU runs, up to `limit`.
 OverlapSimd supported(OverlapSimd limit) {
 #if defined(__x86_64__)
-  static const OverlapSimd best =
-      __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx2") ? OverlapSimd::kAvx512
-      : __builtin_cpu_supports("avx2")                                    ? OverlapSimd::kAvx2
-                                                                          : OverlapSimd::kPortable;
+  static const OverlapSimd best = !cpu_has_avx2()                     ? OverlapSimd::kPortable
+                                  : __builtin_cpu_supports("avx512f") ? OverlapSimd::kAvx512
+                                                                      : OverlapSimd::kAvx2;
   return std::min(limit, best);
 #else
   (void)limit;

@@ -5,7 +5,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -619,11 +618,7 @@ void SpatialIndex::knn_rows(std::size_t begin, std::size_t end, std::size_t k, u
   LeafBatch batch{*this, {}, {}, {}, {}, 0, {}};
   uint32_t leaf = static_cast<uint32_t>(
       std::upper_bound(leaf_start_.begin(), leaf_start_.end(), begin) - leaf_start_.begin() - 1);
-#if defined(__x86_64__)
-  static const bool use_avx2 = __builtin_cpu_supports("avx2");
-#else
-  constexpr bool use_avx2 = false;
-#endif
+  const bool use_avx2 = cpu_has_avx2();
   float guess = -1.0f;           // the previous leaf's largest k-th squared distance; < 0: none yet
   double previous_reach = -1.0;  // k-th distance of the previous row, < 0 when unknown
   auto write_row = [&](std::size_t p, std::size_t found) {
@@ -878,11 +873,7 @@ struct SpatialIndex::OverlapBatch {
 void SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
                                 const float* node_max_radius, std::vector<uint32_t>& neighbors,
                                 std::vector<uint32_t>& counts) const {
-#if defined(__x86_64__)
-  static const bool use_avx2 = __builtin_cpu_supports("avx2");
-#else
-  constexpr bool use_avx2 = false;
-#endif
+  const bool use_avx2 = cpu_has_avx2();
   auto search = [&](std::size_t p, uint32_t leaf) {
     const float qx = xs_[p], qy = ys_[p], qz = zs_[p], r = tree_radii[p];
     auto scan_leaf = [&](uint32_t l) {

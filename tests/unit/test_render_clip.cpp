@@ -76,7 +76,7 @@ void expect_sharp_only_with_clipping(const char* shape, const testing::EdgeProfi
 TEST(RenderClip, CubeHasClipPartnersAlongItsTwelveEdges) {
   const GraphScene& g = cube();
   EXPECT_EQ(g.stats.surfaces, 6u);
-  EXPECT_GT(g.scene.clipped_splats, 500u);
+  EXPECT_GT(g.scene.clip.clipped_splats(), 500u);
   // Every clipped splat lies near a crease: clipping is about edges, nothing else.
   for (std::size_t i = 0; i < g.scene.size(); ++i)
     if (g.scene.clip.offsets[i + 1] != g.scene.clip.offsets[i]) {
@@ -227,7 +227,6 @@ TEST(RenderClip, NoClipDataRendersTheSameAsClippingOff) {
   RenderScene bare = g.scene;
   bare.clip = {};
   bare.clip_planes.clear();
-  bare.clipped_splats = 0;
   RenderOptions o;
   o.planes = {true, false, true, true};
   FrameRenderer r;

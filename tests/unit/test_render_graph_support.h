@@ -19,6 +19,7 @@
 #include "render/frame_renderer.h"
 #include "render/render_scene.h"
 #include "splatkit/synthetic_shapes.h"
+#include "test_render_support.h"
 
 namespace splatkit::render::testing {
 
@@ -195,15 +196,10 @@ inline EdgeProfile edge_profile(const Framebuffer& fb, const Projection& pr, con
   return out;
 }
 
-// With SPLATKIT_RENDER_TEST_DUMP=<dir> set, writes <dir>/<name>.ppm (the 8-bit colour plane).
+// <name>.ppm, the 8-bit colour plane (dump_ppm).
 inline void dump_rgb8(const std::string& name, const Framebuffer& fb) {
-  const char* dir = std::getenv("SPLATKIT_RENDER_TEST_DUMP");
-  if (!dir || fb.rgb8.empty()) return;
-  FILE* f = std::fopen((std::string(dir) + "/" + name + ".ppm").c_str(), "wb");
-  if (!f) return;
-  std::fprintf(f, "P6\n%d %d\n255\n", fb.width, fb.height);
-  std::fwrite(fb.rgb8.data(), 1, fb.rgb8.size(), f);
-  std::fclose(f);
+  if (!fb.rgb8.empty())
+    dump_ppm(name + ".ppm", fb.width, fb.height, [&](std::size_t i) { return fb.rgb8[i]; });
 }
 
 }  // namespace splatkit::render::testing

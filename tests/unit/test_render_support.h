@@ -176,20 +176,25 @@ inline Comparison compare(const ReferenceImage& ref, const Framebuffer& fb) {
   return c;
 }
 
-// With SPLATKIT_RENDER_TEST_DUMP=<dir> set, writes <dir>/<name>_splats.ppm and _reference.ppm
-// for looking at the pictures; does nothing otherwise.
-inline void dump_images(const std::string& name, const ReferenceImage& ref, const Framebuffer& fb) {
+// With SPLATKIT_RENDER_TEST_DUMP=<dir> set, writes <dir>/<file>, a binary PPM of width × height
+// pixels whose i-th byte is byte(i), for looking at the pictures; does nothing otherwise.
+template <class Byte>
+void dump_ppm(const std::string& file, int width, int height, Byte&& byte) {
   const char* dir = std::getenv("SPLATKIT_RENDER_TEST_DUMP");
   if (!dir) return;
-  auto write = [&](const std::string& file, auto&& value) {
-    FILE* f = std::fopen((std::string(dir) + "/" + name + file).c_str(), "wb");
-    if (!f) return;
-    std::fprintf(f, "P6\n%d %d\n255\n", ref.width, ref.height);
-    for (std::size_t i = 0; i < ref.rgb.size(); ++i) std::fputc(value(i), f);
-    std::fclose(f);
-  };
-  write("_splats.ppm", [&](std::size_t i) { return fb.rgb8[i]; });
-  write("_reference.ppm", [&](std::size_t i) { return int(std::round(ref.rgb[i] * 255.0)); });
+  FILE* f = std::fopen((std::string(dir) + "/" + file).c_str(), "wb");
+  if (!f) return;
+  std::fprintf(f, "P6\n%d %d\n255\n", width, height);
+  for (std::size_t i = 0; i < std::size_t(width) * std::size_t(height) * 3; ++i)
+    std::fputc(byte(i), f);
+  std::fclose(f);
+}
+
+// <name>_splats.ppm and <name>_reference.ppm (dump_ppm).
+inline void dump_images(const std::string& name, const ReferenceImage& ref, const Framebuffer& fb) {
+  dump_ppm(name + "_splats.ppm", ref.width, ref.height, [&](std::size_t i) { return fb.rgb8[i]; });
+  dump_ppm(name + "_reference.ppm", ref.width, ref.height,
+           [&](std::size_t i) { return int(std::round(ref.rgb[i] * 255.0)); });
 }
 
 }  // namespace splatkit::render::testing

@@ -45,6 +45,11 @@ struct ClipPartnerTable {
 
   std::size_t num_splats() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   bool has_partners(std::size_t i) const { return offsets[i + 1] != offsets[i]; }
+  std::size_t clipped_splats() const {  // splats with at least one partner
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < num_splats(); ++i) count += has_partners(i);
+    return count;
+  }
   // Throws std::logic_error naming the first violation of the layout above (sizes, offsets,
   // partner index >= num_splats() or == its own splat, unknown flag bits, a row that does not
   // start a subset).

@@ -24,9 +24,6 @@
 
 namespace splatkit::graph {
 
-// A surface id of SURF for splats that belong to no kept surface (segment-surfaces --min-size).
-inline constexpr uint32_t kNoSurface = 0xFFFFFFFFu;
-
 // The four chunk type codes (registered in formats/splk.h).
 inline constexpr const char (&kGraphChunkType)[4] = kSplkGraphType;
 inline constexpr const char (&kClassChunkType)[4] = kSplkClassType;

@@ -10,6 +10,9 @@
 
 namespace splatkit::graph {
 
+// The surface id of splats that belong to no kept surface (segment-surfaces --min-size; SURF).
+inline constexpr uint32_t kNoSurface = 0xFFFFFFFFu;
+
 struct Segmentation {
   std::vector<uint32_t> surface;  // #N: surface id of every splat, 0 .. count - 1
   std::vector<uint32_t> sizes;    // #count: splats per surface

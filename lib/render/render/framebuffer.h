@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "graph/segment_surfaces.h"
+
 namespace splatkit::render {
 
 struct FramebufferPlanes {
@@ -16,7 +18,7 @@ struct FramebufferPlanes {
 };
 
 // The surface id of background pixels (and of splats that belong to no surface).
-inline constexpr uint32_t kNoSurfaceId = 0xFFFFFFFFu;
+inline constexpr uint32_t kNoSurfaceId = graph::kNoSurface;
 
 struct Framebuffer {
   int width = 0, height = 0;

@@ -108,8 +108,6 @@ void attach_clip_partners(RenderScene& scene, graph::ClipPartnerTable table,
     throw_bad_input(name, std::string("clip partner table: ") + e.what());
   }
   scene.clip_planes = graph::make_clip_planes(table, scene.positions, scene.normals);
-  scene.clipped_splats = 0;
-  for (std::size_t i = 0; i < scene.size(); ++i) scene.clipped_splats += table.has_partners(i);
   scene.clip = std::move(table);
 }
 

@@ -25,12 +25,11 @@ struct RenderScene {
   // they are in the same (local) frame as the fragments. Set with attach_clip_partners.
   graph::ClipPartnerTable clip;
   std::vector<graph::ClipPlane> clip_planes;
-  uint64_t clipped_splats = 0;  // splats with at least one clip partner
-  BoundingSphere bounds;        // encloses every disc
+  BoundingSphere bounds;  // encloses every disc
   float mean_radius = 0, max_radius = 0;
 
   std::size_t size() const { return positions.size(); }
-  bool has_clip() const { return clipped_splats > 0; }
+  bool has_clip() const { return !clip.partners.empty(); }
 };
 
 // Converts `cloud` (taking its arrays). Throws Error(kBadInput) naming `name` when the cloud has

@@ -184,7 +184,7 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
 
   if (!o.stats_path.empty()) {
     nlohmann::json j = per_frame.back();
-    j["input"] = display_name(o.input);
+    j["input"] = name;
     j["width"] = o.width;
     j["height"] = o.height;
     j["threads"] = o.threads;
@@ -193,7 +193,7 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     j["surface_ids"] = use_ids ? document.surface_source : "none";
     j["surfaces"] = use_ids ? surface_count(scene.surface_ids) : 0;
     j["clip"] = o.render.clip && scene.has_clip();
-    j["clipped_splats"] = o.render.clip ? scene.clipped_splats : 0;
+    j["clipped_splats"] = o.render.clip ? scene.clip.clipped_splats() : 0;
     j["clip_partners"] = o.render.clip ? scene.clip.partners.size() : 0;
     j["load_ms"] = std::round(summary.load_seconds * 1e6) / 1e3;
     if (frames > 1) {
