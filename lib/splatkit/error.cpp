@@ -21,4 +21,8 @@ void throw_output(const std::string& file, const std::string& what) {
 
 void throw_usage(const std::string& what) { throw Error(ErrorKind::kUsage, what); }
 
+void throw_out_of_memory(const std::string& what) {
+  throw Error(ErrorKind::kOutOfMemory, "out of memory while " + what);
+}
+
 }  // namespace splatkit

@@ -17,6 +17,8 @@ enum class ErrorKind : int {
   kBadInput = 2,     // malformed, truncated or inconsistent input file
   kUnsupported = 3,  // valid input that splatkit does not handle (LAZ, unknown major version, ...)
   kOutput = 4,       // cannot write the output (permissions, disk full, broken pipe)
+  kInternal = 5,     // a bug: an invariant of splatkit's own code did not hold
+  kOutOfMemory = 6,  // an allocation failed (the input is too large for this machine's memory)
 };
 
 class Error : public std::runtime_error {
@@ -34,6 +36,9 @@ class Error : public std::runtime_error {
 [[noreturn]] void throw_unsupported(const std::string& file, const std::string& what);
 [[noreturn]] void throw_output(const std::string& file, const std::string& what);
 [[noreturn]] void throw_usage(const std::string& what);
+// "out of memory while <what>", kind kOutOfMemory: for a std::bad_alloc caught where the work in
+// progress can be named.
+[[noreturn]] void throw_out_of_memory(const std::string& what);
 
 // The name to show for a path: "<stdin>" / "<stdout>" for "-", else the path itself.
 std::string display_name(const std::string& path, bool is_output = false);

@@ -19,7 +19,7 @@ Tool::Tool(std::string name, std::string description, std::string examples)
   app_.add_flag("-q,--quiet", quiet_, "No progress and no summary line on stderr");
   app_.footer("Examples:\n" + examples +
               "\nExit codes: 0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, "
-              "5 internal error.\n'-' reads standard input / writes standard output.");
+              "5 internal error, 6 out of memory.\n'-' reads standard input / writes standard output.");
   app_.get_formatter()->column_width(30);
 }
 
@@ -59,10 +59,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     return e.exit_code();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "%s: out of memory\n", name_.c_str());
-    return static_cast<int>(ErrorKind::kBadInput);
+    return static_cast<int>(ErrorKind::kOutOfMemory);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: internal error: %s\n", name_.c_str(), e.what());
-    return 5;
+    return static_cast<int>(ErrorKind::kInternal);
   }
 }
 

@@ -1,7 +1,7 @@
 // The shared frame of every splatkit executable: argument parsing (CLI11), the common options
 // (-q, --threads, --version, --help with examples), the one catch that turns exceptions into a
 // message "<tool>: <cause>" on stderr and an exit code by class:
-//   0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, 5 internal error.
+//   0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, 5 internal error, 6 out of memory.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "splatkit/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "formats/splk.h"
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "splatkit/error.h"
 
 namespace {

@@ -14,7 +14,7 @@
 #include "formats/splk.h"
 #include "formats/write_cloud.h"
 #include "graph/build_splat_graph.h"
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
 #include "splatkit/progress.h"

@@ -17,7 +17,7 @@
 #include "formats/splk.h"
 #include "formats/write_cloud.h"
 #include "graph/build_splat_graph.h"
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "graph/segment_surfaces.h"
 #include "graph/segment_surfaces_robust.h"
 #include "splatkit/error.h"

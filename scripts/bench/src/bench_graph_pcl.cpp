@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "formats/read_cloud.h"
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "graph/sphere_overlap_graph.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"

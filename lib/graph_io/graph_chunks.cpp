@@ -1,4 +1,4 @@
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 
 #include <algorithm>
 #include <bit>

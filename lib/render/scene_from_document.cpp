@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "graph/graph_chunks.h"
+#include "graph_io/graph_chunks.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
