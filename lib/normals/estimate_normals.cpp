@@ -9,6 +9,7 @@
 #include <mutex>
 #include <vector>
 
+#include "normals/fill_isolated_radii.h"
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
@@ -131,6 +132,7 @@ nlohmann::json NormalReport::to_json() const {
           {"duplicates_merged", duplicates_merged},
           {"degenerate_points", degenerate_points},
           {"unresolved_points", unresolved_points},
+          {"isolated_points", isolated_points},
           {"flipped_points", flipped_points},
           {"components", components},
           {"robust", robust},
@@ -182,6 +184,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     report.unresolved_points = stats.unresolved;
   });
   degenerate = {};
+  if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
 
   if (robust) {
     progress(0.65, "robust");

@@ -9,7 +9,8 @@
 //      PCA normal over the first k entries (neighborhood_pca.h), splat radius from the first
 //      radius_k neighbours (splat_radius.h); no n×k array is ever held;
 //   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear) get their normal from a
-//      wider neighbourhood (resolve_degenerate_normals.h);
+//      wider neighbourhood (resolve_degenerate_normals.h); isolated points (no neighbour at a
+//      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
 //   5. method robust: crease-preserving refinement (robust_normals.h);
 //   6. orientation: mst (consistent over a minimum spanning tree, outward per component), viewpoint
 //      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
@@ -53,6 +54,7 @@ struct NormalReport {
   std::size_t duplicates_merged = 0;
   std::size_t degenerate_points = 0;  // k-neighbourhood degenerate, normal taken from a wider one
   std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
+  std::size_t isolated_points = 0;    // no neighbour at a finite distance: the median radius
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
   std::size_t components = 0;         // kNN-graph components (orient mst only)
   // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}
@@ -69,7 +71,8 @@ struct NormalReport {
 
 // Replaces cloud.normals and cloud.radii (and merges duplicates) in place. Throws Error(kUsage) for
 // bad options (k < 3, radius_k < 1, radius_scale not finite and > 0, viewpoint needed but absent),
-// before any work. An empty cloud is returned empty. Progress fractions cover the whole call.
+// before any work, and Error(kBadInput) for a cloud of one distinct point (no radius can be
+// estimated). An empty cloud is returned empty. Progress fractions cover the whole call.
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                               const ProgressFn& progress = no_progress());
 

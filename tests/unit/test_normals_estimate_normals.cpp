@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "splatkit/error.h"
 #include "splatkit/synthetic_shapes.h"
@@ -170,22 +172,37 @@ TEST(NormalsEstimate, LineStrandTakesNormalFromWiderNeighbourhood) {
   for (std::size_t i = plane; i < c.size(); ++i) EXPECT_GT(c.normals[i].z, 0.9f) << i;
 }
 
-TEST(NormalsEstimate, AllIdenticalPoints) {
+TEST(NormalsEstimate, AllIdenticalPointsHaveNoRadius) {
+  // One distinct point: no neighbour at a positive distance, so no splat size can be estimated;
+  // a radius of 0 would be rejected downstream, so the cloud is refused as bad input.
   SplatCloud c;
   c.positions.assign(50, Vec3f{1, 2, 3});
   SplatCloud kept = c;
-  NormalReport r = estimate_normals(c, pca_unoriented());
-  EXPECT_EQ(r.duplicates_merged, 49u);
-  ASSERT_EQ(c.size(), 1u);
-  EXPECT_EQ(c.normals[0], (Vec3f{0, 0, 1}));
-  EXPECT_EQ(c.radii[0], 0.0f);
-
+  try {
+    estimate_normals(c, pca_unoriented());
+    FAIL() << "a cloud of one distinct point must be refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("no two distinct points"), std::string::npos) << e.what();
+  }
   NormalOptions o = pca_unoriented();
   o.keep_duplicates = true;
-  r = estimate_normals(kept, o);
-  EXPECT_EQ(r.degenerate_points, 50u);
-  for (const Vec3f& n : kept.normals) EXPECT_EQ(n, (Vec3f{0, 0, 1}));
-  EXPECT_TRUE(all_finite(kept));
+  EXPECT_THROW(estimate_normals(kept, o), Error);
+}
+
+TEST(NormalsEstimate, FarOutlierGetsTheMedianRadiusNotZero) {
+  // A plane plus one point so far away that its squared distances overflow float: its kNN row
+  // holds no finite distance, and it gets the cloud's median radius.
+  SplatCloud c = jittered_plane(40, 30, 0.01f, 2.5f, 1);
+  c.positions.push_back(Vec3f{1e30f, 0, 0});
+  NormalReport r = estimate_normals(c, pca_unoriented());
+  ASSERT_EQ(c.radii.size(), 1201u);
+  EXPECT_EQ(r.isolated_points, 1u);
+  std::vector<float> plane(c.radii.begin(), c.radii.end() - 1);
+  std::nth_element(plane.begin(), plane.begin() + 599, plane.end());
+  EXPECT_EQ(c.radii.back(), plane[599]);
+  for (const float radius : c.radii) EXPECT_GT(radius, 0.0f);
+  EXPECT_TRUE(all_finite(c));
 }
 
 TEST(NormalsEstimate, FewerPointsThanK) {
