@@ -14,11 +14,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
+#include "splatkit/remove_on_signal.h"
 
 namespace splatkit {
 
@@ -50,7 +52,8 @@ struct PcdHeader {
 };
 
 // Everything the validator consumes is copied here when the input is not a regular file, so that
-// PCL (which only reads paths) gets the same bytes. Removed on destruction.
+// PCL (which only reads paths) gets the same bytes. Removed on destruction, and by SIGINT, SIGTERM
+// or SIGHUP (RemoveOnSignal).
 class SpillFile {
  public:
   SpillFile() {
@@ -59,6 +62,7 @@ class SpillFile {
     fd_ = ::mkstemp(path_.data());
     if (fd_ < 0)
       throw_output(path_, std::string("cannot create temporary file: ") + std::strerror(errno));
+    remove_on_signal_.emplace(path_);
   }
   ~SpillFile() {
     if (fd_ >= 0) ::close(fd_);
@@ -88,6 +92,7 @@ class SpillFile {
  private:
   std::string path_;
   int fd_ = -1;
+  std::optional<RemoveOnSignal> remove_on_signal_;
 };
 
 // Walks an LZF stream (the format of PCL's lzf.cpp) without producing output: every back

@@ -1,16 +1,90 @@
 #include "splatkit/output_file.h"
 
 #include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <string_view>
 
 #include "splatkit/error.h"
 
 namespace splatkit {
+
+namespace {
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+// The descriptor a name like /dev/stdout, /dev/fd/3 or /proc/self/fd/3 (bash's `>(...)`) stands
+// for, or -1. Such a target is written through a duplicate of that descriptor, with the caller's
+// offset and flags (`>> log` appends): renaming over the name would replace a link in /dev or
+// /proc, and reopening it would truncate what the caller opened.
+int descriptor_named(const std::string& path) {
+  if (path == "/dev/stdout") return STDOUT_FILENO;
+  if (path == "/dev/stderr") return STDERR_FILENO;
+  for (const std::string_view prefix : {"/dev/fd/", "/proc/self/fd/"}) {
+    if (!path.starts_with(prefix) || path.size() == prefix.size() ||
+        path.size() > prefix.size() + 9)
+      continue;
+    int fd = 0;
+    for (std::size_t i = prefix.size(); i < path.size(); ++i) {
+      if (path[i] < '0' || path[i] > '9') return -1;
+      fd = fd * 10 + (path[i] - '0');
+    }
+    return fd;
+  }
+  return -1;
+}
+
+bool is_special(mode_t mode) {
+  return S_ISFIFO(mode) || S_ISCHR(mode) || S_ISBLK(mode) || S_ISSOCK(mode);
+}
+
+// Empty if `path` may be replaced, else why not. Permission bits do not stop root, so for root a
+// file nobody may write counts as write-protected too.
+std::string why_not_replaceable(const std::string& path, const struct stat& st) {
+  if (::faccessat(AT_FDCWD, path.c_str(), W_OK, AT_EACCESS) != 0) {
+    const int e = errno;
+    if (e == EACCES || e == EPERM) return "is write-protected; not replacing it";
+    return "cannot write: " + errno_text(e);
+  }
+  if (::geteuid() == 0 && (st.st_mode & 0222) == 0)
+    return "is write-protected (no write permission for anyone); not replacing it";
+  return {};
+}
+
+int connect_stream_socket(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof addr.sun_path) {
+    errno = ENAMETOOLONG;
+    return -1;
+  }
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+    const int e = errno;
+    ::close(fd);
+    errno = e;
+    return -1;
+  }
+  return fd;
+}
+
+std::string resolve_symlinks(const std::string& path) {
+  std::unique_ptr<char, decltype(&std::free)> resolved(::realpath(path.c_str(), nullptr),
+                                                       &std::free);
+  return resolved ? std::string(resolved.get()) : std::string();
+}
+
+}  // namespace
 
 OutputFile::OutputFile(const std::string& path, std::size_t buffer_size) : path_(path) {
   buf_.resize(buffer_size);
@@ -18,36 +92,79 @@ OutputFile::OutputFile(const std::string& path, std::size_t buffer_size) : path_
     fd_ = STDOUT_FILENO;
     return;
   }
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) fail("is a directory");
-  temp_path_ = path + ".tmp.XXXXXX";
-  fd_ = ::mkstemp(temp_path_.data());
-  if (fd_ < 0) {
-    int e = errno;
-    temp_path_.clear();
-    fail(std::string("cannot create: ") + std::strerror(e));
+  if (const int fd = descriptor_named(path); fd >= 0) {
+    fd_ = ::fcntl(fd, F_DUPFD_CLOEXEC, 0);
+    if (fd_ < 0)
+      fail("cannot write to descriptor " + std::to_string(fd) + ": " + errno_text(errno));
+    owns_fd_ = true;
+    return;
   }
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    struct stat link {};
+    if (errno == ENOENT && ::lstat(path.c_str(), &link) == 0 && S_ISLNK(link.st_mode))
+      fail("is a dangling symbolic link; not writing through it");
+    open_temporary(path);  // a new file (or mkstemp reports why it cannot be made)
+    return;
+  }
+  if (S_ISDIR(st.st_mode)) fail("is a directory");
+  if (is_special(st.st_mode)) {
+    open_direct(st.st_mode);
+    return;
+  }
+  if (const std::string why = why_not_replaceable(path, st); !why.empty()) fail(why);
+  replaces_ = true;
+  mode_ = st.st_mode & 0777;
+  uid_ = st.st_uid;
+  gid_ = st.st_gid;
+  struct stat link {};
+  if (::lstat(path.c_str(), &link) == 0 && S_ISLNK(link.st_mode)) {
+    const std::string target = resolve_symlinks(path);
+    if (target.empty()) fail("cannot resolve symbolic link: " + errno_text(errno));
+    open_temporary(target);
+    return;
+  }
+  open_temporary(path);
+}
+
+void OutputFile::open_direct(mode_t type) {
+  fd_ = S_ISSOCK(type) ? connect_stream_socket(path_)
+                       : ::open(path_.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd_ < 0) fail("cannot open for writing: " + errno_text(errno));
+  owns_fd_ = true;
+}
+
+void OutputFile::open_temporary(const std::string& target) {
+  target_path_ = target;
+  std::string temp = target + ".tmp.XXXXXX";
+  fd_ = ::mkstemp(temp.data());
+  if (fd_ < 0) fail("cannot create: " + errno_text(errno));
+  owns_fd_ = true;
+  temp_path_ = std::move(temp);
+  remove_on_signal_.emplace(temp_path_);
 }
 
 OutputFile::~OutputFile() {
-  if (!committed_ && !temp_path_.empty()) {
-    if (fd_ >= 0) ::close(fd_);
-    ::unlink(temp_path_.c_str());
-  }
+  if (owns_fd_ && fd_ >= 0) ::close(fd_);
+  if (!committed_ && !temp_path_.empty()) ::unlink(temp_path_.c_str());
 }
 
 void OutputFile::fail(const std::string& what) const { throw_output(path_, what); }
 
-void OutputFile::flush() {
+void OutputFile::write_all(const char* p, std::size_t n) {
   std::size_t off = 0;
-  while (off < used_) {
-    ssize_t k = ::write(fd_, buf_.data() + off, used_ - off);
+  while (off < n) {
+    ssize_t k = ::write(fd_, p + off, n - off);
     if (k < 0) {
       if (errno == EINTR) continue;
-      fail(std::string("write failed: ") + std::strerror(errno));
+      fail("write failed: " + errno_text(errno));
     }
     off += static_cast<std::size_t>(k);
   }
+}
+
+void OutputFile::flush() {
+  write_all(buf_.data(), used_);
   used_ = 0;
 }
 
@@ -59,15 +176,7 @@ void OutputFile::write(const void* data, std::size_t n) {
   if (used_ + n > buf_.size()) {
     flush();
     if (n >= buf_.size()) {  // bulk data goes straight out, no extra copy
-      std::size_t off = 0;
-      while (off < n) {
-        ssize_t k = ::write(fd_, p + off, n - off);
-        if (k < 0) {
-          if (errno == EINTR) continue;
-          fail(std::string("write failed: ") + std::strerror(errno));
-        }
-        off += static_cast<std::size_t>(k);
-      }
+      write_all(p, n);
       return;
     }
   }
@@ -78,21 +187,29 @@ void OutputFile::write(const void* data, std::size_t n) {
 void OutputFile::commit() {
   if (committed_) return;
   flush();
-  if (temp_path_.empty()) {  // stdout
+  if (!owns_fd_) {  // stdout
     committed_ = true;
     return;
   }
-  mode_t mask = ::umask(0);
-  ::umask(mask);
-  ::fchmod(fd_, 0666 & ~mask);
-  if (::close(fd_) != 0) {
-    fd_ = -1;
-    fail(std::string("close failed: ") + std::strerror(errno));
+  if (!temp_path_.empty()) {
+    if (replaces_) {
+      // Best effort: only root may give a file away; a file of one's own keeps its group if the
+      // caller is in that group. Otherwise the replacement belongs to the caller.
+      [[maybe_unused]] const int kept_owner = ::fchown(fd_, uid_, gid_);
+      ::fchmod(fd_, mode_);
+    } else {
+      const mode_t mask = ::umask(0);
+      ::umask(mask);
+      ::fchmod(fd_, 0666 & ~mask);
+    }
   }
+  const int closed = ::close(fd_);
   fd_ = -1;
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0)
-    fail(std::string("cannot rename temporary file into place: ") + std::strerror(errno));
+  if (closed != 0) fail("close failed: " + errno_text(errno));
+  if (!temp_path_.empty() && std::rename(temp_path_.c_str(), target_path_.c_str()) != 0)
+    fail("cannot rename temporary file into place: " + errno_text(errno));
   committed_ = true;
+  remove_on_signal_.reset();
 }
 
 }  // namespace splatkit

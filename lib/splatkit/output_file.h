@@ -1,16 +1,39 @@
-// Atomic output: bytes go to a temporary file beside the target, renamed over it by commit().
+// Atomic output: bytes go to a temporary file `<target>.tmp.XXXXXX` beside the target, renamed
+// over it by commit().
 //
-// A run that fails (exception, signal before commit) leaves no partial file and never clobbers an
-// existing good one: the destructor removes the temporary file unless commit() succeeded.
-// "-" streams to standard output (commit() flushes). Writes are buffered; every failure throws
+// A run that fails (exception) leaves no partial file and never clobbers an existing good one: the
+// destructor removes the temporary file unless commit() succeeded. A run killed by SIGINT, SIGTERM
+// or SIGHUP removes it too (RemoveOnSignal) and dies of the signal. Every failure throws
 // Error(kOutput) naming the target and the cause (disk full, broken pipe, permission denied).
+//
+// What the target may be:
+// - "-": standard output (commit() flushes).
+// - /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N (e.g. bash's `>(...)`): written through
+//   a duplicate of that descriptor, with its offset and flags (`-o /dev/stdout >> log` appends).
+// - A FIFO, a character or block device (e.g. /dev/null) or a Unix stream socket: opened and
+//   written directly.
+//   These two kinds get no temporary file and no rename: a failed run may have written part of
+//   the output there.
+// - A symbolic link: followed as `cp` does. The temporary file goes beside the link's final
+//   target and is renamed over that target; the link stays. A dangling link is refused.
+// - An existing regular file: replaced, keeping its permission bits (not set-user/group-ID) and,
+//   where the system allows it (as root, or for one's own file), its owner and group. A file the
+//   caller may not write is refused ("is write-protected"), as is, for root (whom permissions do
+//   not stop), a file with no write permission for anyone (mode 0444 and the like).
+// - A directory: refused.
+// - Anything else (a new name): created with mode 0666 less the umask.
 #pragma once
+
+#include <sys/types.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "splatkit/remove_on_signal.h"
 
 namespace splatkit {
 
@@ -26,16 +49,28 @@ class OutputFile {
   uint64_t bytes_written() const { return written_; }
   const std::string& path() const { return path_; }
   bool is_stdout() const { return path_ == "-"; }
+  // Whether the bytes go straight to the target (stdout, /dev/fd/N, FIFO, device, socket).
+  bool is_direct() const { return temp_path_.empty(); }
 
-  // Flushes, closes and renames into place (file mode 0644 less the umask). Idempotent.
+  // Flushes, closes and renames into place (or just flushes and closes a direct target).
+  // Idempotent.
   void commit();
 
  private:
+  void open_direct(mode_t type);
+  void open_temporary(const std::string& target);
   void flush();
+  void write_all(const char* p, std::size_t n);
   [[noreturn]] void fail(const std::string& what) const;
 
-  std::string path_, temp_path_;
+  std::string path_, temp_path_, target_path_;  // target_path_: path_ with symlinks resolved
   int fd_ = -1;
+  bool owns_fd_ = false;
+  bool replaces_ = false;  // an existing regular file: its mode and owner are kept
+  mode_t mode_ = 0;
+  uid_t uid_ = 0;
+  gid_t gid_ = 0;
+  std::optional<RemoveOnSignal> remove_on_signal_;  // the temporary file, until commit
   std::vector<char> buf_;
   std::size_t used_ = 0;
   uint64_t written_ = 0;

@@ -5,10 +5,13 @@
 #include "test_format_support.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -142,15 +145,68 @@ TEST(Pcd, ZeroPoints) {
   EXPECT_EQ(doc.cloud.size(), 0u);
 }
 
-TEST(Pcd, ReadsARegularFileInPlace) {
-  auto dir =
-      std::filesystem::path(testing::TempDir()) / ("splatkit_pcd_" + std::to_string(::getpid()));
+// Points TMPDIR (where a PCD that is not a regular file is spilled for PCL) somewhere else for
+// the lifetime of the object.
+class ScopedTmpdir {
+ public:
+  explicit ScopedTmpdir(const std::string& dir) {
+    if (const char* old = std::getenv("TMPDIR")) old_ = old;
+    ::setenv("TMPDIR", dir.c_str(), 1);
+  }
+  ~ScopedTmpdir() {
+    if (old_)
+      ::setenv("TMPDIR", old_->c_str(), 1);
+    else
+      ::unsetenv("TMPDIR");
+  }
+  ScopedTmpdir(const ScopedTmpdir&) = delete;
+  ScopedTmpdir& operator=(const ScopedTmpdir&) = delete;
+
+ private:
+  std::optional<std::string> old_;
+};
+
+std::filesystem::path private_dir(const std::string& name) {
+  auto dir = std::filesystem::path(testing::TempDir()) /
+             ("splatkit_pcd_" + std::to_string(::getpid()) + "_" + name);
+  std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// TMPDIR names a directory that does not exist: a spill would fail, so a read that succeeds did
+// not spill. The in-memory read shows that the trap works.
+TEST(Pcd, ReadsARegularFileInPlace) {
+  const auto dir = private_dir("in_place");
   const std::string path = (dir / "in place.pcd").string();
-  std::ofstream(path, std::ios::binary)
-      << header("x y z", "4 4 4", "F F F", "1 1 1", 1, 1, "ascii") + "7 8 9\n";
-  InputStream in(path);
-  EXPECT_EQ(read_pcd(in).cloud.positions[0], (Vec3f{7, 8, 9}));
+  const std::string bytes = header("x y z", "4 4 4", "F F F", "1 1 1", 1, 1, "ascii") + "7 8 9\n";
+  std::ofstream(path, std::ios::binary) << bytes;
+  {
+    ScopedTmpdir no_spill((dir / "no such dir").string());
+    InputStream in(path);
+    EXPECT_EQ(read_pcd(in).cloud.positions[0], (Vec3f{7, 8, 9}));
+    test::expect_read_error([&] { read_bytes(bytes); }, ErrorKind::kOutput,
+                            "cannot create temporary file");
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+  std::filesystem::remove_all(dir);
+}
+
+// Input that is not a regular file is spilled into TMPDIR; the spill file is gone after the read,
+// whether it succeeded or failed.
+TEST(Pcd, SpillFileIsRemovedAfterReadingAndAfterAnError) {
+  const auto dir = private_dir("spill");
+  {
+    ScopedTmpdir spill(dir.string());
+    EXPECT_EQ(read_bytes(header("x y z", "4 4 4", "F F F", "1 1 1", 1, 1, "ascii") + "7 8 9\n")
+                  .cloud.positions[0],
+              (Vec3f{7, 8, 9}));
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+    expect_error(header("x y z", "4 4 4", "F F F", "1 1 1", 2, 1, "ascii") + "7 8 9\n1 2 zz\n",
+                 ErrorKind::kBadInput, "zz");
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+  }
+  std::filesystem::remove_all(dir);
 }
 
 // Written by PCL 1.13's own writer (pcl_convert_pcd_ascii_binary, see tests/data/pcd/README.md):
