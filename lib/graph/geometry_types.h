@@ -1,4 +1,4 @@
-// Value types shared by the disc–disc intersection functions (seed 002 §4.2): a line in 3D, a
+// Value types shared by the disc–disc intersection functions ([IvoMSc] §4.2, docs/references.md): a line in 3D, a
 // closed interval of its parameter, and a splat as a disc or an ellipse in object space.
 #pragma once
 
