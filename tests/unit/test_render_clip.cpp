@@ -1,4 +1,4 @@
-// Rendering with clip partners (SPEC §4–§5, seed 002 §4.4): a cube's and the CAD part's creases
+// Rendering with clip partners ([IvoMSc] §4.4, docs/references.md): a cube's and the CAD part's creases
 // come out as sharp as a mesh render, at the right place, with no holes, and the faces meeting at
 // a corner each keep their own pixels; without clipping the splats overhang the creases by about
 // a splat radius. Shapes from make_shape (true normals, radii from the 5-neighbour spacing), the
