@@ -1,6 +1,6 @@
 // Classify a splat's clip partners and choose its clip rules: [IvoMSc] §4.3 eqs. 4.13–4.15
-// (docs/references.md), and beyond the thesis (its §7.3) per surface, for corners where the partners come from several
-// surfaces. Output: the flags of the clip record (clip_record.h).
+// (docs/references.md), and beyond the thesis (its §7.3) per surface, for corners where the
+// partners come from several surfaces. Output: the flags of the clip record (clip_record.h).
 #pragma once
 
 #include <cstdint>
@@ -46,8 +46,8 @@ struct ClipClassification {
 //      wrong if it is inside the solid behind a surface S sees OR in the air beyond a surface S
 //      does not see. Example: S on a box's side face near the floor and near another side face.
 //    - otherwise every subset is reduced to one representative (mean centre, normalised mean
-//      normal) and the representatives are classified like partners: eq. 4.13 then eq. 4.15 with the
-//      common side. Cube corner, S on face A, partners on B and C (S sees neither; B, C convex)
+//      normal) and the representatives are classified like partners: eq. 4.13 then eq. 4.15 with
+//      the common side. Cube corner, S on face A, partners on B and C (S sees neither; B, C convex)
 //      -> union: discard what lies beyond B's plane or beyond C's. S on the floor next to a box's
 //      vertical edge (sees both faces, convex pair) -> intersection: discard only what is inside
 //      the box (behind both faces); a plain "any subset discards" would cut holes into the floor.

@@ -3,8 +3,8 @@
 // describes). Header-only: the fragment test runs per pixel.
 //
 // A splat S with clip partners N_cp has its partners grouped in subsets, one per surface id of
-// the partners (one subset when no surface ids are known: the method of [IvoMSc]). Each subset k has
-// its rule R_k (union or intersection of its partners' areas); the splat has a combine rule R
+// the partners (one subset when no surface ids are known: the method of [IvoMSc]). Each subset k
+// has its rule R_k (union or intersection of its partners' areas); the splat has a combine rule R
 // across the subsets. Each partner j has a side: its clip area is {P : (P - C_j)·n_j > 0} (front)
 // or {P : (P - C_j)·n_j < 0} (behind) (eq. 4.17). A fragment at P is discarded iff
 //     R over subsets k of ( R_k over partners j in k of [P in area_j] )

@@ -21,11 +21,11 @@ struct BoundaryTestResult {
 // S_i by a continuous edge, N_c(S_i) (same frame). alpha: the gap threshold, radians.
 //
 // Each neighbour gives the direction v'_j = (C_j - C_i) × n_i (eq. 4.2), which lies in S_i's plane
-// and is the projection v_j of C_j onto that plane (eq. 4.1) turned by -90° about n_i: the same turn
-// for every j, so the gaps between consecutive directions are those between the projections. The
-// angle of v'_j is measured in one fixed orthonormal frame (e1, e2, n_i) built from n_i alone
-// (Duff et al. 2017, "Building an orthonormal basis, revisited", [Duff17]), atan2(v'_j·e2, v'_j·e1); the
-// angles are sorted and the gaps include the wrap-around one, 2π - last + first.
+// and is the projection v_j of C_j onto that plane (eq. 4.1) turned by -90° about n_i: the same
+// turn for every j, so the gaps between consecutive directions are those between the projections.
+// The angle of v'_j is measured in one fixed orthonormal frame (e1, e2, n_i) built from n_i alone
+// (Duff et al. 2017, "Building an orthonormal basis, revisited", [Duff17]), atan2(v'_j·e2,
+// v'_j·e1); the angles are sorted and the gaps include the wrap-around one, 2π - last + first.
 //
 // boundary = (fewer than 2 usable directions) or (largest gap > alpha). A neighbour whose centre
 // coincides with C_i or lies on the normal line through it (|v'_j| <= 1e-6 |C_j - C_i|) has no

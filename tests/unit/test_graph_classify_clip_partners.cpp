@@ -1,6 +1,6 @@
-// Clip-partner classification and the fragment rule: [IvoMSc] §4.3–§4.4 in docs/references.md (eqs. 4.13–4.18, fig.
-// 4.5) on constructed configurations whose correct discard regions are known from the geometry,
-// and the per-surface extension at corners ([IvoMSc] §7.3).
+// Clip-partner classification and the fragment rule: [IvoMSc] §4.3–§4.4 in docs/references.md
+// (eqs. 4.13–4.18, fig. 4.5) on constructed configurations whose correct discard regions are known
+// from the geometry, and the per-surface extension at corners ([IvoMSc] §7.3).
 #include <gtest/gtest.h>
 
 #include <cmath>
