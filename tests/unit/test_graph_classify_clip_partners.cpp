@@ -223,7 +223,7 @@ TEST(GraphClipClassification, MixedCornerSeedFailsPerSurfaceWorks) {
   EXPECT_EQ(seed.subsets[0].splat, Convexity::kMixed);
   const Vec3f below_floor{1, 0.875f, -0.0625f}, beyond_b{1, 1.0625f, 0.125f};
   const Vec3f on_face{1, 0.875f, 0.125f};
-  // The seed cannot classify the set. The fallback (one side for the whole set from the
+  // [IvoMSc]'s method cannot classify the set. The fallback (one side for the whole set from the
   // symmetric test, intersection for a mixed set) removes the piece beyond B but keeps the piece
   // below the floor.
   EXPECT_EQ(seed.subsets[0].rule, ClipRule::kIntersection);
