@@ -1,4 +1,5 @@
-// ASPRS LAS 1.2–1.4, uncompressed, point data formats 0–3 and 6–8. Spec: las.md.
+// ASPRS LAS 1.0–1.4, uncompressed, point data formats 0–3 (any version) and 6–8 (LAS 1.4).
+// Spec: formats/las.md.
 #pragma once
 
 #include "formats/loaded_cloud.h"

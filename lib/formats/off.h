@@ -1,4 +1,4 @@
-// OFF meshes (OFF, COFF, NOFF, CNOFF headers; ascii). Spec: off.md.
+// OFF meshes (OFF, COFF, NOFF, CNOFF headers; ascii). Spec: formats/off.md.
 #pragma once
 
 #include "formats/loaded_cloud.h"

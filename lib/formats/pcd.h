@@ -1,4 +1,5 @@
-// PCL's PCD (ascii, binary, binary_compressed), read through PCL's own reader. Spec: pcd.md.
+// PCL's PCD (ascii, binary, binary_compressed), read through PCL's own reader. Spec:
+// formats/pcd.md.
 #pragma once
 
 #include "formats/loaded_cloud.h"

@@ -1,4 +1,5 @@
-// PLY (Stanford polygon format): ascii, binary_little_endian, binary_big_endian. Spec: ply.md.
+// PLY (Stanford polygon format): ascii, binary_little_endian, binary_big_endian. Spec:
+// formats/ply.md.
 #pragma once
 
 #include <string>

@@ -4,7 +4,7 @@
 // InputStream buffer into the SoA arrays, one column (property) at a time with a per-type loop;
 // x y z / nx ny nz stored as three consecutive native float32 are copied as one 12-byte unit.
 // Everything else (ASCII, faces, vertex rows with lists) goes through a row-at-a-time path.
-// Every count is checked against the bytes left before anything is allocated. Spec: ply.md.
+// Every count is checked against the bytes left before anything is allocated. Spec: formats/ply.md.
 #include <algorithm>
 #include <bit>
 #include <charconv>

@@ -46,7 +46,8 @@ constexpr std::array<const char*, 4> kSince1_1{kSplkGraphType, kSplkClassType, k
                                                kSplkSurfaceType};
 
 // Registered types that a later stage decodes from LoadedCloud::chunks: read_splk carries them
-// through even when they are critical. Later issues add their types here (see splk.md).
+// through even when they are critical. None so far; a new type goes here (formats/splk.md,
+// "Adding a chunk type").
 constexpr std::array<ChunkType, 0> kCarriedTypes{};
 
 static_assert(sizeof(Vec3f) == 12, "Vec3f columns are read and written as 3 packed float32");

@@ -1,4 +1,4 @@
-// Delimited text point clouds: XYZ / PTS / TXT / CSV. Spec: xyz.md.
+// Delimited text point clouds: XYZ / PTS / TXT / CSV. Spec: formats/xyz.md.
 #pragma once
 
 #include "formats/loaded_cloud.h"

@@ -225,7 +225,7 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   SplatGraphTimings& t = g.timings;
   progress(0.0, "neighbour graph");
   Clock::time_point t0 = Clock::now();
-  // [3.2]-[3.3]: the weights w_ij = n_i·n_j are tested against w_s where the rows are found.
+  // Eqs. 3.2–3.3: the weights w_ij = n_i·n_j are tested against w_s where the rows are found.
   SharpEdgeMarks sharp;
   g.graph = sphere_overlap_graph(positions, radii,
                                  SharpEdges{normals, options.sharp_threshold, kEdgeSharp}, sharp);

@@ -1,6 +1,8 @@
-// The splat graph of seed 002 ch. 3–4 (SPEC §4): neighbour graph by bounding spheres, sharp and
-// continuous edges, per-splat class (Linsen), disc–disc crossings, clip partners and their
-// classification, and the smooth surfaces (SPEC §5) used to group the partners.
+// The splat graph of [IvoMSc] ch. 3–4 (docs/references.md; section, table and equation numbers
+// below are that thesis's): neighbour graph by bounding spheres, sharp and continuous edges,
+// per-splat class ([Linsen01]), disc–disc crossings, clip partners and their classification, and
+// the smooth surfaces (§5.4) used to group the partners. lib/graph/README.md has the decisions
+// taken where the thesis is silent.
 #pragma once
 
 #include <cstdint>
@@ -24,7 +26,7 @@ enum class SplatClass : uint8_t {
 };
 // A splat with a sharp edge is kEdge when
 //   (a) Linsen's test (linsen_boundary_test over its continuous neighbours, gap > α) finds it on
-//       a boundary — the seed's test (§4.1); or, beyond the seed,
+//       a boundary — the test of §4.1; or, beyond the thesis,
 //   (b) it has sharp neighbours whose discs cross its own, and for every such S_j all its
 //       continuous neighbours' centres lie on one side of the line where the two planes meet
 //       (none more than r_i / 4 beyond it, measured in S_i's plane): its surface stops at S_j
@@ -34,27 +36,27 @@ enum class SplatClass : uint8_t {
 // Otherwise it is kIntersection.
 
 // Per neighbour entry (parallel to NeighborGraph::neighbors; symmetric).
-inline constexpr uint8_t kEdgeSharp = 1;     // w_ij = n_i·n_j < w_s [3.3] (or not a number)
+inline constexpr uint8_t kEdgeSharp = 1;     // w_ij = n_i·n_j < w_s (eq. 3.3; or not a number)
 inline constexpr uint8_t kEdgeCrossing = 2;  // sharp, and the discs cross (§4.2)
 
 struct SplatGraphOptions {
   float sharp_threshold = 0.9f;      // w_s: an edge is sharp iff n_i·n_j < w_s, in [-1, 1]
   double boundary_gap_degrees = 90;  // α of the Linsen test, in (0, 360]
   double flat_tolerance = 1e-3;      // convexity tolerance, as a fraction of the splat's radius
-  bool per_surface = true;           // group clip partners by surface (false: the seed's
-                                     // single set per splat, for comparison)
-  // Surfaces: segment_surfaces_robust (true, default) or the seed's components of the
+  bool per_surface = true;           // group clip partners by surface (false: one set per
+                                     // splat as in the thesis, for comparison)
+  // Surfaces: segment_surfaces_robust (true, default) or the thesis's components of the
   // continuous edges, segment_surfaces (false). robust: the robust method's core threshold (in
   // [-1, 1]; none: automatic) and min_core_size (>= 1); its sharp_threshold is the one above.
   bool robust_surfaces = true;
   RobustSegmentOptions robust;
 };
 
-// The columns of seed 002 tables 6.1–6.3. Edges are undirected pairs.
+// The columns of [IvoMSc] tables 6.1–6.3. Edges are undirected pairs.
 struct SplatGraphStats {
   uint64_t splats = 0;
   uint64_t edges = 0;
-  double mean_degree = 0;  // m = 2 |E| / |V| [3.4]
+  double mean_degree = 0;  // m = 2 |E| / |V| (eq. 3.4)
   uint64_t sharp_edges = 0;
   uint64_t crossing_edges = 0;    // sharp edges whose discs cross: the real intersections
   uint64_t candidate_splats = 0;  // splats with at least one sharp edge
@@ -69,14 +71,14 @@ struct SplatGraphStats {
 // Wall-clock seconds of the phases of build_splat_graph (for --report; not part of the result's
 // identity: they vary from run to run).
 struct SplatGraphTimings {
-  double overlaps = 0;  // sphere_overlap_graph: the graph [3.1] and its sharp edges [3.3]
+  double overlaps = 0;  // sphere_overlap_graph: the graph (eq. 3.1), its sharp edges (3.3)
   double classify = 0;  // crossing flags and classes of the splats with a sharp edge
   double surfaces = 0;  // segment_surfaces
   double clip = 0;      // the clip table and its classification
 };
 
 struct SplatGraph {
-  NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} [3.1], built by
+  NeighborGraph graph;              // E = {(i, j) : |C_i - C_j| < r_i + r_j} (eq. 3.1), built by
                                     // sphere_overlap_graph
   std::vector<uint8_t> edge_flags;  // kEdge* bits, parallel to graph.neighbors
   std::vector<SplatClass> classes;  // #N

@@ -30,7 +30,7 @@ ClipSide classify_subset(const Vec3f& c, const Vec3f& n, std::span<const Vec3f> 
   } else {
     // The symmetric crease test on the subset as a whole: S sees the surface plus the surface
     // sees S. A floor around a box's corner puts some floor partners behind the plane of a box
-    // face splat and some in front ([4.14] mixed), yet the floor plane sees S from one side.
+    // face splat and some in front (eq. 4.14 mixed), yet the floor plane sees S from one side.
     const Vec3d cd = to_vec3d(c);
     side = dot(m - cd, to_vec3d(n) - normal) > 0 ? ClipSide::kBehind : ClipSide::kFront;
   }

@@ -1,13 +1,14 @@
-// The per-splat clip record: written by build_splat_graph, read by splat-view (SPEC §4, seed 002
-// §4.3–§4.4 [4.15]–[4.18], extended per surface). Header-only: the fragment test runs per pixel.
+// The per-splat clip record: written by build_splat_graph, read by splat-view ([IvoMSc]
+// §4.3–§4.4, eqs. 4.15–4.18, in docs/references.md; extended per surface as lib/graph/README.md
+// describes). Header-only: the fragment test runs per pixel.
 //
 // A splat S with clip partners N_cp has its partners grouped in subsets, one per surface id of
-// the partners (one subset when no surface ids are known: the seed's method). Each subset k has
-// its rule R_k (union or intersection of its partners' areas); the splat has a combine rule R
+// the partners (one subset when no surface ids are known: the method of [IvoMSc]). Each subset k
+// has its rule R_k (union or intersection of its partners' areas); the splat has a combine rule R
 // across the subsets. Each partner j has a side: its clip area is {P : (P - C_j)·n_j > 0} (front)
-// or {P : (P - C_j)·n_j < 0} (behind) [4.17]. A fragment at P is discarded iff
+// or {P : (P - C_j)·n_j < 0} (behind) (eq. 4.17). A fragment at P is discarded iff
 //     R over subsets k of ( R_k over partners j in k of [P in area_j] )
-// with union = "at least one", intersection = "all" [4.18]. A splat without partners is never
+// with union = "at least one", intersection = "all" (eq. 4.18). A splat without partners is never
 // clipped. How the rules are chosen: classify_clip_partners.h.
 #pragma once
 
@@ -81,7 +82,7 @@ inline bool in_clip_area(const ClipPlane& plane, const Vec3f& p) {
   return dot(plane.m, p) > plane.e;
 }
 
-// [4.18] per subset, then the combine rule: true iff the fragment at p (same frame as the splat
+// Eq. 4.18 per subset, then the combine rule: true iff the fragment at p (same frame as the splat
 // centres) must be discarded. O(count), no allocation, no branch on anything but the flags.
 inline bool fragment_discarded(const ClipView& view, const Vec3f& p) {
   if (view.count == 0) return false;

@@ -1,5 +1,5 @@
-// Do two splats cross? (seed 002 §4.2: plane line [4.4]–[4.7], chords [4.11]/[4.12], overlap
-// §4.2.3)
+// Do two splats cross? ([IvoMSc] §4.2 in docs/references.md: plane line eqs. 4.4–4.7, chords
+// eqs. 4.11/4.12, overlap §4.2.3)
 #pragma once
 
 #include "graph/geometry_types.h"
@@ -26,10 +26,10 @@ struct DiscDiscResult {
 
 // Intersects splats s_i and s_j (circles or ellipses, see SplatDisc; unit normals). The chords
 // are closed intervals of the line's parameter, and the splats cross iff they are not disjoint
-// (the seed's "não forem disjuntos"): chords that touch at one point count as crossing.
-// Swapping i and j gives the same line with its direction reversed (t negated), hence the same
-// answer up to rounding; callers that need bit-identical results (build_splat_graph) always pass
-// the lower splat index as i.
+// ([IvoMSc] §4.2.3: "não forem disjuntos", are not disjoint): chords that touch at one point count
+// as crossing. Swapping i and j gives the same line with its direction reversed (t negated), hence
+// the same answer up to rounding; callers that need bit-identical results (build_splat_graph)
+// always pass the lower splat index as i.
 DiscDiscResult disc_disc_intersect(const SplatDisc& s_i, const SplatDisc& s_j,
                                    double min_sin2 = 1e-12);
 

@@ -1,5 +1,6 @@
-// Value types shared by the disc–disc intersection functions (seed 002 §4.2): a line in 3D, a
-// closed interval of its parameter, and a splat as a disc or an ellipse in object space.
+// Value types shared by the disc–disc intersection functions ([IvoMSc] §4.2, docs/references.md): a
+// line in 3D, a closed interval of its parameter, and a splat as a disc or an ellipse in object
+// space.
 #pragma once
 
 #include "graph/vec3d.h"

@@ -1,4 +1,5 @@
-// The part of a line inside a circular splat (seed 002 §4.2.2, [4.12]).
+// The part of a line inside a circular splat ([IvoMSc] §4.2.2, eq. 4.12;
+// docs/references.md).
 #pragma once
 
 #include <optional>
@@ -10,7 +11,7 @@ namespace splatkit::graph {
 
 // Returns the closed parameter interval [t0, t1] of the points line.point + t line.direction that
 // lie in the disc {P : (P - center)·normal = 0, |P - center| <= radius}, i.e. the roots of
-// A t² + 2B t + C = 0 with A = d·d, B = P_o·d, C = P_o·P_o - r² [4.12], where P_o and d are the
+// A t² + 2B t + C = 0 with A = d·d, B = P_o·d, C = P_o·P_o - r² (eq. 4.12), where P_o and d are the
 // line's point (relative to the centre) and direction with their components along the normal
 // removed. For a line in the disc's plane (what plane_plane_line gives, up to rounding) this is
 // exactly the chord; for another line it is the chord of its orthogonal projection onto the plane.

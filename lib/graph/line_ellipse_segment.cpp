@@ -10,7 +10,7 @@ std::optional<Interval> line_ellipse_segment(const Line3& line, const Vec3f& cen
   if (!(semi_u > 0) || !(semi_v > 0)) return std::nullopt;
   const Vec3d u = to_vec3d(axis_u), v = to_vec3d(axis_v);
   const Vec3d p = line.point - to_vec3d(center);
-  // Dividing by the semi-axes first turns [4.11] into the unit-circle case of [4.12].
+  // Dividing by the semi-axes first turns eq. 4.11 into the unit-circle case of eq. 4.12.
   const double pu = dot(p, u) / semi_u, pv = dot(p, v) / semi_v;
   const double du = dot(line.direction, u) / semi_u, dv = dot(line.direction, v) / semi_v;
   const double a = du * du + dv * dv;

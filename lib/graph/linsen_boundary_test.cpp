@@ -24,7 +24,7 @@ BoundaryTestResult linsen_boundary_test(const Vec3f& c_i, const Vec3f& n_i,
   const Vec3d c = to_vec3d(c_i);
   for (const Vec3f& cj : neighbours) {
     const Vec3d w = to_vec3d(cj) - c;
-    const Vec3d v = cross(w, n);  // [4.2]
+    const Vec3d v = cross(w, n);  // eq. 4.2
     const double vv = dot(v, v);
     if (!(vv > 1e-12 * dot(w, w))) continue;
     scratch.push_back(std::atan2(dot(v, e2), dot(v, e1)));

@@ -1,5 +1,5 @@
-// Segmentation into smooth surfaces: breadth-first search over continuous edges (SPEC §5,
-// seed 002 §5.4, fig. 5.4).
+// Segmentation into smooth surfaces: breadth-first search over continuous edges ([IvoMSc] §5.4,
+// fig. 5.4; docs/references.md).
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,8 @@
-// Segmentation into smooth surfaces that does not leak across noisy creases (beyond the seed,
-// SPEC §5; the default of build_splat_graph and segment-surfaces).
+// Segmentation into smooth surfaces that does not leak across noisy creases (beyond the
+// breadth-first segmentation of [IvoMSc] §5.4, docs/references.md; the default of
+// build_splat_graph and segment-surfaces).
 //
-// segment_surfaces (the seed's BFS) joins every continuous edge, so one chain of splats whose
+// segment_surfaces (the thesis's BFS) joins every continuous edge, so one chain of splats whose
 // normals turn by less than the sharp angle per step merges two faces. Noisy creases are made of
 // such chains: near a crease the estimated normals blend from one face to the other over a band
 // a few splats wide (robust normals at 0.125 % noise: RMS error 30° within 2 spacings of a

@@ -1,5 +1,7 @@
 // estimate_normals: turns a raw point cloud into splats — unit normal and disc radius per point —
-// the work behind the estimate-normals tool (SPEC §1; seed 000 §2.1.1, seed 002 §2 and §6).
+// the work behind the estimate-normals tool. PCA normals and MST orientation after [Hoppe92],
+// crease-preserving normals after [Li10], radii by the rule of [IvoMSc] ch. 6
+// (docs/references.md).
 //
 // Pipeline, each phase timed in the report:
 //   1. merge exact duplicates (merge_duplicates.h) unless keep_duplicates: fewer points out, the

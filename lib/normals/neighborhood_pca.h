@@ -1,4 +1,5 @@
-// neighborhood_pca: the PCA normal of a point's neighbourhood (seed 000 §2.1.1, SPEC §1):
+// neighborhood_pca: the PCA normal of a point's neighbourhood ([Hoppe92]; [Carvalho09] §2.1.1;
+// docs/references.md):
 // C = Σ (x_j − x̄)(x_j − x̄)ᵀ over the neighbourhood, normal = eigenvector of the smallest
 // eigenvalue of C, from the closed-form solver splatkit/pca_normal.h.
 //
@@ -8,7 +9,7 @@
 // that the unoriented result is fully determined by the set of points. Never NaN: an empty or
 // single-point neighbourhood gives (0, 0, 1) and degenerate = true.
 //
-// Degenerate (SPEC §1: fewer than 3 distinct points or rank < 2): the middle eigenvalue is at most
+// Degenerate (fewer than 3 distinct points, or rank < 2): the middle eigenvalue is at most
 // kCollinearRatio times the largest one (points on a line, or all identical). Such a normal is an
 // arbitrary perpendicular and must be replaced from a wider neighbourhood.
 #pragma once

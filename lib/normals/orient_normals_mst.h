@@ -1,16 +1,16 @@
 // orient_normals_mst: consistent normal orientation by propagation over a minimum spanning tree of
-// the kNN graph (Hoppe, DeRose, Duchamp, McDonald, Stuetzle 1992; SPEC §1), `estimate-normals
-// --orient mst`.
+// the kNN graph (Hoppe, DeRose, Duchamp, McDonald, Stuetzle 1992: [Hoppe92] in
+// docs/references.md), `estimate-normals --orient mst`.
 //
 // Graph: every point joined to its k - 1 nearest neighbours (undirected). Hoppe's sign rule
 // (flip n_j when n_i·n_j < 0) and weight 1 − |n_i·n_j| assume the normals turn smoothly; with
 // crease-sharp normals (--method robust) a consistent pair across a 90° crease has n_i·n_j ≈ 0
 // and across the 120° jump of a 60° wedge n_i·n_j < 0. So for pairs whose normals are more than
 // 45° from parallel the agreement is measured on the mirrored normal (König & Gumhold,
-// "Consistent propagation of normal orientations in point clouds", VMV 2009): a = n_i·n_j', with
-// n_j' = n_j mirrored in the plane that bisects the edge x_i x_j; for two faces of a crease
-// sampled symmetrically about it a = +1 for a consistent pair, −1 otherwise. Pairs within 45°
-// keep a = n_i·n_j: the mirror reads the edge direction, which position noise tilts (measured:
+// "Consistent propagation of normal orientations in point clouds", VMV 2009: [Konig09]): a =
+// n_i·n_j', with n_j' = n_j mirrored in the plane that bisects the edge x_i x_j; for two faces of a
+// crease sampled symmetrically about it a = +1 for a consistent pair, −1 otherwise. Pairs within
+// 45° keep a = n_i·n_j: the mirror reads the edge direction, which position noise tilts (measured:
 // the mirror everywhere turned half of the noisy CAD part inward). Weight 1 − |a|, quantised to
 // kOrientBuckets levels of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting
 // sort with ties broken by edge order (point index, then neighbour rank); the minimum spanning

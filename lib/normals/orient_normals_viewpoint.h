@@ -1,4 +1,4 @@
-// orient_normals_viewpoint: `estimate-normals --orient viewpoint` (SPEC §1): every normal is made
+// orient_normals_viewpoint: `estimate-normals --orient viewpoint`: every normal is made
 // to point towards a viewpoint, the scanner position: n_i is flipped when n_i·(v − x_i) < 0. A
 // normal perpendicular to the line of sight (dot exactly 0) keeps its sign.
 #pragma once

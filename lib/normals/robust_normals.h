@@ -1,39 +1,41 @@
-// robust_normals: crease-preserving normals for `estimate-normals --method robust` (SPEC §1;
-// seed 002 §2: "normals must respect discontinuities").
+// robust_normals: crease-preserving normals for `estimate-normals --method robust`: sharp edges
+// and clip partners ([IvoMSc] §2, docs/references.md) need normals that respect the
+// discontinuities instead of blending across them.
 //
-// Method: robust statistics with random sampling, after Li, Zhang, Yang, Wang, Chen, Ma, "Robust
-// normal estimation for point clouds with sharp features" (Computers & Graphics 34, 2010). PCA
-// fits one plane to a neighbourhood that straddles a crease and returns a blend of the two sides;
-// Li et al. instead look for the plane that the point's OWN side supports best: candidate planes
-// through random triplets of neighbours are scored by a kernel density of their residuals, with the
-// kernel's bandwidth taken from a robust (order-statistic) scale estimate, and the winner must pass
-// close to the query point. Inside a ball centred on a point near a crease, the point's own side
-// always covers more of the ball than the other side, so its plane collects the most inliers and
-// wins; the normal is then refit by PCA over that plane's inliers only. Here: 32 triplets per
-// point, every other one through the point itself; pass 1 keeps the candidates that pass within
-// their own band (2.5 σ, σ from their residuals' 1/3 quantile, so a corner whose own face holds
-// a third of the ball still works) and takes the smallest σ as the common scale; pass 2 scores
-// the kept candidates by an Epanechnikov kernel of their residuals at bandwidth 2.5 σ; two PCA
-// refits over the winner's inliers follow.
-// Measured limits: points within ~1/3 spacing of a curved rim (hole, boss) can take the flat
-// face's normal (8 of 200k on the CAD part); within a spacing of a crease and with noise of half
-// a spacing, neither side can be told apart (see scripts/bench/normals-accuracy.sh).
-// Why this one: it needs nothing but the kNN rows we already compute, is exact on noiseless
-// planes at any distance from a crease (Jones et al. 2004 mollify towards a smooth field and still
-// round creases off by about a kernel width), handles noise through the scale estimate, and its
-// cost is per point and local, so it can be limited to the few points that need it (Boulch &
-// Marlet's randomized Hough transform gives similar quality, but accumulates hundreds of
-// hypotheses per point and quantises the normal into bins).
+// Method: robust statistics with random sampling, after Li, Schnabel, Klein, Cheng, Dang, Jin,
+// "Robust normal estimation for point clouds with sharp features" (Computers & Graphics 34, 2010;
+// [Li10]). PCA fits one plane to a neighbourhood that straddles a crease and returns a blend of the
+// two sides; Li et al. instead look for the plane that the point's OWN side supports best:
+// candidate planes through random triplets of neighbours are scored by a kernel density of their
+// residuals, with the kernel's bandwidth taken from a robust (order-statistic) scale estimate, and
+// the winner must pass close to the query point. Inside a ball centred on a point near a crease,
+// the point's own side always covers more of the ball than the other side, so its plane collects
+// the most inliers and wins; the normal is then refit by PCA over that plane's inliers only. Here:
+// 32 triplets per point, every other one through the point itself; pass 1 keeps the candidates that
+// pass within their own band (2.5 σ, σ from their residuals' 1/3 quantile, so a corner whose own
+// face holds a third of the ball still works) and takes the smallest σ as the common scale; pass 2
+// scores the kept candidates by an Epanechnikov kernel of their residuals at bandwidth 2.5 σ; two
+// PCA refits over the winner's inliers follow.
+//
+// Measured limits: points within ~1/3 spacing of a curved rim (hole, boss) can take the flat face's
+// normal (8 of 200k on the CAD part); within a spacing of a crease and with noise of half a
+// spacing, neither side can be told apart (see scripts/bench/normals-accuracy.sh).
+//
+// Why this one: it needs nothing but the kNN rows we already compute, is exact on noiseless planes
+// at any distance from a crease ([Jones04] mollify towards a smooth field and still round creases
+// off by about a kernel width), handles noise through the scale estimate, and its cost is per point
+// and local, so it can be limited to the few points that need it ([Boulch12]'s randomized Hough
+// transform gives similar quality, but accumulates hundreds of hypotheses per point and quantises
+// the normal into bins).
 //
 // Speed: only points whose PCA neighbourhood is not planar get the robust treatment. The test is
-// the surface variation λ0 / (λ0 + λ1 + λ2) of the PCA (Pauly et al. 2002) against a threshold
+// the surface variation λ0 / (λ0 + λ1 + λ2) of the PCA ([Pauly02]) against a threshold
 // that adapts to the cloud: max(kMinVariation, kVariationFactor × the median over all points), so
 // noise raises the bar with the typical planar value and only outliers of the distribution — the
 // creases, corners and strongly curved parts — are refined. Within a fit, candidates that can
 // change neither the scale nor the winner are skipped, and a candidate's order statistic is
 // selected only when it beats the best so far (about 4 selections of 32): the same result as
-// scoring every candidate in full, at under half the cost (noisy CAD part, 200k points: robust
-// phase 0.43 s -> 0.18 s on one thread).
+// scoring every candidate in full, at under half the cost (README.md, Choices).
 //
 // Noise: with noisy points, PCA over k = 16 is itself too noisy on plain faces (at a noise of 0.5
 // spacing, ~8° RMS). The median surface variation v of the k-neighbourhoods measures it: for a flat

@@ -1,5 +1,6 @@
-// splat_radius: the disc radius of a splat from its kNN row (seed 002 §6): the mean Euclidean
-// distance to its `radius_k` nearest neighbours, so that neighbouring splats overlap.
+// splat_radius: the disc radius of a splat from its kNN row, by the rule of [IvoMSc] ch. 6
+// (docs/references.md): the mean Euclidean distance to its `radius_k` nearest neighbours, so that
+// neighbouring splats overlap.
 //
 // `sq_dists` is one row as SpatialIndex::knn_all gives it: column 0 is the point itself (distance
 // 0), then neighbours by ascending squared distance; +inf marks unused slots (a cloud smaller than

@@ -1,7 +1,8 @@
 // One frame, start to finish: LOD selection -> per-splat setup and tile binning -> per tile (in
 // parallel): rasterisation into the tile's A-buffer (fragments in a splat's clip area discarded
-// when the scene has clip partners, SPEC §4), surface reconstruction into a tile G-buffer (only
-// fragments of one surface id blend, SPEC §5), deferred shading into the Framebuffer.
+// when the scene has clip partners, [IvoMSc] §4.4), surface reconstruction into a tile G-buffer
+// (only fragments of one surface id blend, [IvoMSc] §5.5; docs/references.md), deferred shading
+// into the Framebuffer.
 //
 // Deterministic: every tile is computed from its own splat list in splat index order with
 // per-tile scratch, so the image is byte-identical for any thread count (threads come from the
@@ -40,7 +41,7 @@ struct FrameStats {
   uint64_t fragments = 0;  // stored in the A-buffer
   uint64_t pixels_covered = 0, pixels_overflowed = 0;
   uint64_t splats_hidden = 0;  // (splat, tile) pairs skipped as hidden behind the tile's surface
-  uint64_t fragments_clipped = 0;  // discarded in a clip area (SPEC §4) before the A-buffer
+  uint64_t fragments_clipped = 0;  // discarded in a clip area (clip_record.h) before the A-buffer
   // Wall-clock seconds per stage. The tile pass runs rasterise, reconstruct and shade per tile;
   // its wall time is split between them in proportion to their summed thread time.
   double select_s = 0, setup_s = 0, binning_s = 0, raster_s = 0, reconstruct_s = 0, shade_s = 0;

@@ -9,10 +9,10 @@
 // skipped without ray casting. What the store keeps (the K nearest fragments within the window)
 // does not depend on the order, so neither does the image.
 //
-// Clipping (SPEC §4, seed 002 §4.4): a fragment of a splat with clip partners is discarded before
-// it reaches the store when graph::fragment_discarded holds for its 3D point P = eye + z·ray
-// (the ray through the pixel centre meeting the splat's plane at camera depth z, in the scene
-// frame the clip planes were made in). Splats without partners take the unclipped loop, and a
+// Clipping ([IvoMSc] §4.4, docs/references.md): a fragment of a splat with clip partners is
+// discarded before it reaches the store when graph::fragment_discarded holds for its 3D point P =
+// eye + z·ray (the ray through the pixel centre meeting the splat's plane at camera depth z, in the
+// scene frame the clip planes were made in). Splats without partners take the unclipped loop, and a
 // frame without clip data passes no ClipContext: no per-fragment cost.
 #pragma once
 

@@ -79,7 +79,7 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
     depth += f[k].depth * w;
     weight += w;
   }
-  // Opaque splats: the first surface covers the pixel fully, so compositing [5.1] stops here.
+  // Opaque splats: the first surface covers the pixel fully, so compositing (eq. 5.1) stops here.
   const float inv = 1.0f / weight;
   out.normal = normal * inv;
   out.albedo = albedo * inv;

@@ -1,16 +1,17 @@
-// Surface reconstruction of one pixel from its A-buffer fragments (SPEC §5, seed 002 ch. 5).
+// Surface reconstruction of one pixel from its A-buffer fragments ([IvoMSc] ch. 5;
+// docs/references.md).
 //
-// Fragments are sorted front to back by depth (ties by splat index). The adapted method of seed
-// 002 §5.5 finds the nearest fragment f1, sets aside the fragments of other surface ids, and
+// Fragments are sorted front to back by depth (ties by splat index). The adapted method of
+// [IvoMSc] §5.5 finds the nearest fragment f1, sets aside the fragments of other surface ids, and
 // runs the classic method on the rest from f1:
-//   Z-threshold (Zwicker et al. 2001): the next fragment joins while its depth is less than
-//     epsilon beyond the previous joined one;
-//   Z-range (Räsänen 2002): the next fragment joins while its splat's depth range overlaps the
-//     union of the joined fragments' ranges.
-// The joined fragments are blended by their weights, c = Σ c_k w_k / Σ w_k [5.2] (normal, colour
-// and depth alike). Surfaces composite front to back [5.1]; splats are opaque, so the first
-// surface decides the pixel. Without surface ids every fragment is on surface 0 and the method
-// is the classic one.
+//   Z-threshold (Zwicker et al. 2001, [Zwicker01]): the next fragment joins while its depth is
+//     less than epsilon beyond the previous joined one;
+//   Z-range (Räsänen 2002, [Rasanen02]): the next fragment joins while its splat's depth range
+//     overlaps the union of the joined fragments' ranges.
+// The joined fragments are blended by their weights, c = Σ c_k w_k / Σ w_k (eq. 5.2; normal,
+// colour and depth alike). Surfaces composite front to back (eq. 5.1); splats are opaque, so the
+// first surface decides the pixel. Without surface ids every fragment is on surface 0 and the
+// method is the classic one.
 #pragma once
 
 #include <cstdint>

@@ -20,8 +20,8 @@ struct RenderScene {
   std::vector<Vec3f> colors;          // #N linear RGB in [0, 1], or empty (grey albedo)
   std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface;
                                       // 0xFFFFFFFF (no surface) is a surface like any other
-  // Clip partners (SPEC §4; build-splat-graph's CLIP chunk), or an empty table: nothing is
-  // clipped. clip_planes: #clip.partners, made from `positions` and `normals` of this scene, so
+  // Clip partners (graph/clip_record.h; build-splat-graph's CLIP chunk), or an empty table: nothing
+  // is clipped. clip_planes: #clip.partners, made from `positions` and `normals` of this scene, so
   // they are in the same (local) frame as the fragments. Set with attach_clip_partners.
   graph::ClipPartnerTable clip;
   std::vector<graph::ClipPlane> clip_planes;

@@ -1,4 +1,5 @@
-// A render scene from a loaded file, with the splat graph's data when the file has it (SPEC §4–§5):
+// A render scene from a loaded file, with the splat graph's data when the file has it
+// (formats/splk.md, lib/graph/README.md):
 //   CLIP chunk (build-splat-graph)  -> RenderScene::clip, clip_planes (attach_clip_partners);
 //   SURF chunk (segment-surfaces)   -> RenderScene::surface_ids; without SURF the `surface_id`
 //                                      attribute (segment-surfaces' PLY output) is used. When both

@@ -1,7 +1,7 @@
-// Per-splat setup for rasterisation by local ray casting (Botsch et al. 2004), exact under
-// perspective: for each splat, the pixel box its projected disc covers and three linear
-// functions of the pixel that give, per pixel, the ray's hit point in disc coordinates and its
-// depth with one division.
+// Per-splat setup for rasterisation by local ray casting (Botsch et al. 2004, [Botsch04] in
+// docs/references.md), exact under perspective: for each splat, the pixel box its projected disc
+// covers and three linear functions of the pixel that give, per pixel, the ray's hit point in disc
+// coordinates and its depth with one division.
 //
 // For the ray d(i, j) through the centre of pixel (i, j) (forward component 1) and a disc with
 // centre c (relative to the eye), unit normal n, radius r and in-plane unit axes a, b:

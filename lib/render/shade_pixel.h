@@ -1,5 +1,5 @@
 // Deferred shading: one colour per pixel from the reconstructed surface (blended normal, albedo,
-// depth), after all fragments are resolved (seed 002 §6.3).
+// depth), after all fragments are resolved ([IvoMSc] §6.3).
 //   phong:   ambient + Lambert diffuse + Blinn-Phong specular, one white light above-left of the
 //            camera (fixed relative to the camera), two-sided (a normal facing away is mirrored to
 //            face the viewer);

@@ -19,7 +19,8 @@ namespace splatkit::render {
 Vec3f surface_color(uint32_t id);
 std::vector<Vec3f> surface_colors(std::span<const uint32_t> ids);
 
-// Seed 002 fig. 3.4: splats with a sharp edge (class edge or intersection) red, the rest green.
+// As in [IvoMSc] fig. 3.4 (docs/references.md): splats with a sharp edge (class edge or
+// intersection) red, the rest green.
 std::vector<Vec3f> sharp_colors(std::span<const graph::SplatClass> classes);
 
 // Splats with clip partners orange, the rest light grey. table: one row per splat.

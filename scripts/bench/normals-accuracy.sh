@@ -5,7 +5,7 @@
 # within 10° (up to sign, orientation none) per band of distance from the nearest crease in units
 # of s (the mean nearest-neighbour distance), robust / pca time (wall and CPU: the machine may be
 # shared), and the MST orientation time per million points on a torus with random signs. Exits 1
-# when a target of issue 3 is missed (robust: >= 85 % of the points within 2s of a crease within
+# when a target is missed (robust: >= 85 % of the points within 2s of a crease within
 # 10°, >= 97 % of all within 5°, noisy >= 90 % of all within 10°, time <= 5x pca; MST <= 2 s per
 # million points, 100 % outward). The CAD runs also orient both methods' normals with --orient mst
 # and count the points left inward.

@@ -4,7 +4,7 @@
 # file (ours: duplicate merge + kd-tree + PCA normals + radii, from its --report; PCL: kd-tree
 # build + normals inside compute()), and the whole commands are timed too. Prints the ratios, the
 # peak RSS per point and the agreement of the normals (within 0.5°, up to sign), and exits 1 when a
-# target of issue 3 is missed (>= 3x faster, <= 250 bytes/point, >= 99.9 % agree).
+# target is missed (>= 3x faster, <= 250 bytes/point, >= 99.9 % agree).
 # usage: scripts/bench/normals.sh [points] [k] [threads] [repeats] [synth options...]
 #   (build dir: $BUILD_DIR; e.g. 'normals.sh 1000000 16 2 3 --random' for an i.i.d. sample)
 set -euo pipefail

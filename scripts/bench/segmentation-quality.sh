@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Segmentation quality on the CAD-like part with known smooth patches (issue 5): splat-synth cad
+# Segmentation quality on the CAD-like part with known smooth patches: splat-synth cad
 # (9 patches, patch_id ground truth) -> estimate-normals --method robust -> build-splat-graph ->
-# segment-surfaces (robust surfaces, the default; and --method components, the seed's, for
+# segment-surfaces (robust surfaces, the default; and --method components, the method of
+# [IvoMSc] §5.4 (docs/references.md), for
 # comparison), then per true patch the best-matching surface by IoU (bench_segmentation_iou).
 # Targets: clean, every patch with IoU >= 0.95; with Gaussian noise of 0.125 % of the bounding-box
 # diagonal, >= 80 % of the patches. Exits 1 when a target is missed at any size.

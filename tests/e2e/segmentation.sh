@@ -1,8 +1,8 @@
-# Segmentation quality through the tools (issue 5) at a size that runs in seconds: splat-synth
+# Segmentation quality through the tools at a size that runs in seconds: splat-synth
 # cad 50 k with Gaussian noise of 0.125 % of the bounding-box diagonal -> estimate-normals
 # --method robust -> build-splat-graph -> segment-surfaces .ply; IoU of every true patch
 # (patch_id) with its best surface. Robust surfaces (the default) recover >= 80 % of the patches
-# with IoU >= 0.95, the seed's components (--method components) fewer; on the same part without
+# with IoU >= 0.95, the components of [IvoMSc] §5.4 (--method components) fewer; on the same part without
 # noise both give identical bytes. Also the options' errors.
 source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 

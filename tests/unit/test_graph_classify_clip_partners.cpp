@@ -1,6 +1,6 @@
-// Clip-partner classification and the fragment rule: seed 002 §4.3–§4.4 ([4.13]–[4.18], fig.
-// 4.5) on constructed configurations whose correct discard regions are known from the geometry,
-// and the per-surface extension at corners (seed §7.3).
+// Clip-partner classification and the fragment rule: [IvoMSc] §4.3–§4.4 in docs/references.md
+// (eqs. 4.13–4.18, fig. 4.5) on constructed configurations whose correct discard regions are known
+// from the geometry, and the per-surface extension at corners ([IvoMSc] §7.3).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +16,7 @@ namespace {
 struct Config {
   Vec3f c, n;
   std::vector<Vec3f> centres, normals;
-  std::vector<uint32_t> surfaces;  // empty: the seed's single set
+  std::vector<uint32_t> surfaces;  // empty: [IvoMSc]'s single set
 };
 
 ClipClassification classify(const Config& cfg, double tol = 1e-4) {
@@ -55,7 +55,7 @@ Config cylinder_case(double s_r, float partner_z, bool outward) {
   return cfg;
 }
 
-TEST(GraphClipRule, SeedTable) {  // [4.15]
+TEST(GraphClipRule, SeedTable) {  // [IvoMSc] eq. 4.15
   EXPECT_EQ(clip_rule(Convexity::kConcave, ClipSide::kBehind), ClipRule::kUnion);
   EXPECT_EQ(clip_rule(Convexity::kConcave, ClipSide::kFront), ClipRule::kIntersection);
   EXPECT_EQ(clip_rule(Convexity::kConvex, ClipSide::kBehind), ClipRule::kIntersection);
@@ -189,7 +189,7 @@ TEST(GraphClipClassification, CubeCornerPerSurface) {
   EXPECT_TRUE(discarded(cfg, cls, {1, 1.0625f, 0.9375f}));   // beyond B only
   EXPECT_TRUE(discarded(cfg, cls, {1, 0.9375f, 1.0625f}));   // beyond C only
   EXPECT_TRUE(discarded(cfg, cls, {1, 1.0625f, 1.0625f}));   // beyond both
-  // The seed's single set classifies this corner too (convex/convex, union): same decisions.
+  // [IvoMSc]'s single set classifies this corner too (convex/convex, union): same decisions.
   const Config seed_cfg = cube_corner(false);
   const auto seed = classify(seed_cfg);
   ASSERT_EQ(seed.subsets.size(), 1u);
@@ -202,7 +202,7 @@ TEST(GraphClipClassification, CubeCornerPerSurface) {
 
 // A box [-1, 1]² × [0, 2] standing on the floor z = 0. S on the box's face A (x = 1) near the
 // floor and near face B (y = 1): S sees the floor partners (concave crease) but not B's
-// (convex edge) — the seed's failing case (§7.3). S must lose what is below the floor and what
+// (convex edge) — [IvoMSc]'s failing case (§7.3). S must lose what is below the floor and what
 // is beyond B.
 Config box_on_floor(bool with_surfaces) {
   Config cfg;
@@ -223,7 +223,7 @@ TEST(GraphClipClassification, MixedCornerSeedFailsPerSurfaceWorks) {
   EXPECT_EQ(seed.subsets[0].splat, Convexity::kMixed);
   const Vec3f below_floor{1, 0.875f, -0.0625f}, beyond_b{1, 1.0625f, 0.125f};
   const Vec3f on_face{1, 0.875f, 0.125f};
-  // The seed cannot classify the set. The fallback (one side for the whole set from the
+  // [IvoMSc]'s method cannot classify the set. The fallback (one side for the whole set from the
   // symmetric test, intersection for a mixed set) removes the piece beyond B but keeps the piece
   // below the floor.
   EXPECT_EQ(seed.subsets[0].rule, ClipRule::kIntersection);

@@ -111,7 +111,7 @@ TEST(GraphClipBoxOnFloor, RegularSamplingIsExactPerSurface) {
   EXPECT_EQ(per_surface.kept_in_air, 0);
   EXPECT_EQ(per_surface.kept_hidden, 0);
   EXPECT_EQ(per_surface.holes, 0);
-  // The seed's single set fails at the four mixed corners at the box's foot.
+  // [IvoMSc]'s single set fails at the four mixed corners at the box's foot.
   const Errors seed = sample_discs(s, false);
   EXPECT_EQ(seed.kept_hidden, 160);
 }

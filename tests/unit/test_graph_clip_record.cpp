@@ -1,4 +1,4 @@
-// The clip record: layout checks, plane folding and the fragment test [4.17], [4.18].
+// The clip record: layout checks, plane folding and the fragment test ([IvoMSc] eqs. 4.17, 4.18).
 #include <gtest/gtest.h>
 
 #include <stdexcept>

@@ -1,4 +1,4 @@
-// disc_disc_intersect: do two splats cross (seed 002 §4.2, fig. 4.2)?
+// disc_disc_intersect: do two splats cross ([IvoMSc] §4.2, fig. 4.2)?
 #include <gtest/gtest.h>
 
 #include <cmath>

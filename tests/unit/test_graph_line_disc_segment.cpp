@@ -1,4 +1,5 @@
-// line_disc_segment [4.12] and line_ellipse_segment [4.11]: chords of a line through a splat.
+// line_disc_segment ([IvoMSc] eq. 4.12) and line_ellipse_segment (eq. 4.11): chords of a line
+// through a splat.
 #include <gtest/gtest.h>
 
 #include <cmath>

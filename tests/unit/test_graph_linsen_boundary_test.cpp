@@ -1,4 +1,4 @@
-// linsen_boundary_test: edge (boundary of a smooth surface) or intersection (seed 002 §4.1).
+// linsen_boundary_test: edge (boundary of a smooth surface) or intersection ([IvoMSc] §4.1).
 #include <gtest/gtest.h>
 
 #include <cmath>

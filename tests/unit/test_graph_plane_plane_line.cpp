@@ -1,4 +1,4 @@
-// plane_plane_line: the line of two splat planes (seed 002 [4.4]–[4.7]).
+// plane_plane_line: the line of two splat planes ([IvoMSc] eqs. 4.4–4.7).
 #include <gtest/gtest.h>
 
 #include <cmath>

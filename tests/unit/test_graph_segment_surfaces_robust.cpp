@@ -18,7 +18,7 @@ namespace {
 
 // 30 splats on the x axis, each joined to those within 2 places. Normals: 0° (+z) up to splat 9,
 // then turning 9° per splat to 90° (+x) at splat 19 and after: a smeared crease. Every edge turns
-// by at most 18°, below the sharp angle of w_s = 0.9 (25.8°), so the seed's components are one.
+// by at most 18°, below the sharp angle of w_s = 0.9 (25.8°), so [IvoMSc]'s components are one.
 struct Chain {
   NeighborGraph graph;
   std::vector<uint8_t> flags;
@@ -53,7 +53,7 @@ RobustSegmentOptions fixed(float core, uint32_t min_core) {
 
 TEST(GraphSegmentSurfacesRobust, SmearedCreaseSplitsBetweenTheCores) {
   const Chain c = smeared_crease();
-  ASSERT_EQ(segment_surfaces(c.graph, c.flags, 1).count(), 1u);  // the seed's method leaks
+  ASSERT_EQ(segment_surfaces(c.graph, c.flags, 1).count(), 1u);  // the method of [IvoMSc] leaks
   // Cores at 12.9°: splats 0..8 and 20..29. Round by round the band is handed out from both
   // sides: 9, 10 from splat 7/8; 18, 19 from 20; then 11, 12; 16, 17; 13, 14; 15 (from 16).
   RobustSegmentInfo info;

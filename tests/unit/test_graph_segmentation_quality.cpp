@@ -1,9 +1,9 @@
-// Segmentation quality on the CAD-like part with known patches (issue 5), at a size that runs in
+// Segmentation quality on the CAD-like part with known patches, at a size that runs in
 // about a second: splat-synth's shape, estimate_normals --method robust, build_splat_graph,
 // robust surfaces; every true patch must be recovered with IoU >= 0.95 on clean input and
 // >= 80 % of them with Gaussian noise of 0.125 % of the bounding-box diagonal. The components
-// alone (the seed's method) recover fewer with noise: two faces merge across a crease. The full
-// sizes (200 k, 1 M) are scripts/bench/segmentation-quality.sh.
+// alone (the method of [IvoMSc] §5.4) recover fewer with noise: two faces merge across a crease.
+// The full sizes (200 k, 1 M) are scripts/bench/segmentation-quality.sh.
 #include <gtest/gtest.h>
 
 #include <string>

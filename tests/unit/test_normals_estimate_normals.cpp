@@ -323,8 +323,8 @@ TEST(NormalsEstimatePipeline, RobustMethodRunsThroughThePipeline) {
   EXPECT_TRUE(r.timings.contains("robust"));
   std::size_t outward = 0;
   for (std::size_t i = 0; i < c.size(); ++i) outward += dot(c.normals[i], truth[i]) > 0;
-  // Closed part, mst: the normals on the outer side (the 100 % target of issue 3 is the
-  // orientation's own test; this checks the wiring: guide and output passed the right way).
+  // Closed part, mst: the normals on the outer side (100 % outward is the orientation's own
+  // test, test_normals_orient.cpp; this checks the wiring: guide and output passed the right way).
   EXPECT_GE(outward, c.size() * 999 / 1000);
 }
 

@@ -1,8 +1,9 @@
-// Rendering with clip partners (SPEC §4–§5, seed 002 §4.4): a cube's and the CAD part's creases
-// come out as sharp as a mesh render, at the right place, with no holes, and the faces meeting at
-// a corner each keep their own pixels; without clipping the splats overhang the creases by about
-// a splat radius. Shapes from make_shape (true normals, radii from the 5-neighbour spacing), the
-// graph from build_splat_graph, surface ids on in both renders so that only clipping differs.
+// Rendering with clip partners ([IvoMSc] §4.4, docs/references.md): a cube's and the CAD part's
+// creases come out as sharp as a mesh render, at the right place, with no holes, and the faces
+// meeting at a corner each keep their own pixels; without clipping the splats overhang the creases
+// by about a splat radius. Shapes from make_shape (true normals, radii from the 5-neighbour
+// spacing), the graph from build_splat_graph, surface ids on in both renders so that only clipping
+// differs.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // reconstruct_pixel on hand-made fragment lists with exact answers: Z-threshold chains, Z-range
-// overlaps, the adapted method with surface ids (seed 002 §5.5), the depth window.
+// overlaps, the adapted method with surface ids ([IvoMSc] §5.5), the depth window.
 #include <gtest/gtest.h>
 
 #include <vector>

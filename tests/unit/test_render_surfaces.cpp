@@ -1,7 +1,7 @@
-// Surface ids in reconstruction (SPEC §5, seed 002 §5.5): two interpenetrating spheres, red and
-// blue, drawn unlit, show no pixel of mixed colour along their intersection when reconstruction
-// keeps surfaces apart, and a band of mixed pixels along it when it does not. Also the surface-id
-// plane and the false-colour palettes.
+// Surface ids in reconstruction ([IvoMSc] §5.5, docs/references.md): two interpenetrating spheres,
+// red and blue, drawn unlit, show no pixel of mixed colour along their intersection when
+// reconstruction keeps surfaces apart, and a band of mixed pixels along it when it does not. Also
+// the surface-id plane and the false-colour palettes.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,11 +1,11 @@
 // bench_graph_pcl: the PCL peer of scripts/bench/graph.sh — the sphere-overlap graph
-// E = {(i, j) : |C_i - C_j| < r_i + r_j} (SPEC §4, seed [3.1]) built with pcl::KdTreeFLANN:
-// kd-tree build, then for every splat radiusSearch(C_i, r_i + r_max) and keep the candidates with
-// |C_i - C_j|² < (r_i + r_j)², in parallel (TBB, --threads), into the same compressed rows as
-// splatkit::SpatialIndex::sphere_overlaps (ascending neighbours, no self). Timed inside the
-// program after the file was read: tree build + queries + rows. In the same process, first,
-// splatkit::graph::sphere_overlap_graph builds the same graph (build-splat-graph's first phase
-// without the sharp edges), timed the same way, and the two graphs are compared.
+// E = {(i, j) : |C_i - C_j| < r_i + r_j} ([IvoMSc] eq. 3.1, docs/references.md) built with
+// pcl::KdTreeFLANN: kd-tree build, then for every splat radiusSearch(C_i, r_i + r_max) and keep the
+// candidates with |C_i - C_j|² < (r_i + r_j)², in parallel (TBB, --threads), into the same
+// compressed rows as splatkit::SpatialIndex::sphere_overlaps (ascending neighbours, no self). Timed
+// inside the program after the file was read: tree build + queries + rows. In the same process,
+// first, splatkit::graph::sphere_overlap_graph builds the same graph (build-splat-graph's first
+// phase without the sharp edges), timed the same way, and the two graphs are compared.
 //
 // usage: bench_graph_pcl IN [--threads 2] [--compare OURS.splk]
 //
@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "formats/read_cloud.h"
-#include "graph_io/graph_chunks.h"
 #include "graph/sphere_overlap_graph.h"
+#include "graph_io/graph_chunks.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"
 

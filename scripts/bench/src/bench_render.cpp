@@ -5,7 +5,7 @@
 // Ours: render::FrameRenderer at full quality (tile-binned local ray casting, bounded A-buffer,
 // Z-threshold reconstruction, deferred Phong, 8-bit sRGB output), with `threads` threads.
 // Naive (one thread): the plain two-pass splatter of the early 2000s without tiles: per splat a
-// screen square of side s = 2 r f / z [seed 002, 4.16]; per pixel a ray-disc test. Pass 1 writes
+// screen square of side s = 2 r f / z ([IvoMSc] eq. 4.16); per pixel a ray-disc test. Pass 1 writes
 // depth + epsilon into a z-buffer (visibility splatting with a depth offset); pass 2 accumulates
 // Gaussian-weighted colour and normal of the fragments not behind it; pass 3 normalises and shades.
 //
