@@ -127,7 +127,7 @@ void parse_shade(const std::string& s, Resolved& r) {
 }
 
 Vec3f parse_background(const std::string& text) {
-  const std::array<double, 3> c = parse_triple(text, "--background");
+  const std::array<double, 3> c = parse_triple(text, "--background", "r,g,b");
   for (double v : c)
     if (!(v >= 0 && v <= 1))
       throw_usage("--background must be three numbers in [0, 1] (sRGB), got '" + text + "'");

@@ -31,6 +31,16 @@ void Tool::add_threads_option() {
       ->default_val(0);
 }
 
+void Tool::add_columns_option(std::string& columns) {
+  app_.add_option("--columns", columns,
+                  "Column layout of text input, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips a column)");
+}
+
+void Tool::add_ply_encoding_options(bool& ascii, bool& big_endian) {
+  auto* ascii_flag = app_.add_flag("--ascii", ascii, "PLY: write ASCII");
+  app_.add_flag("--big-endian", big_endian, "PLY: write binary big-endian")->excludes(ascii_flag);
+}
+
 void Tool::add_in_out(apps::StagePaths& paths, const std::string& in_help,
                       const std::string& out_help) {
   app_.add_option("IN", paths.input, in_help)->required();

@@ -27,6 +27,10 @@ class Tool {
   int threads() const { return threads_; }
   // Adds --threads N (only to tools that run parallel work).
   void add_threads_option();
+  // --columns: the column layout of text input (ReadOptions::columns).
+  void add_columns_option(std::string& columns);
+  // --ascii / --big-endian: the PLY encoding (WriteOptions::ascii, big_endian), alternatives.
+  void add_ply_encoding_options(bool& ascii, bool& big_endian);
   // Declares the required positionals IN and OUT into paths.input and paths.output.
   void add_in_out(apps::StagePaths& paths, const std::string& in_help, const std::string& out_help);
 

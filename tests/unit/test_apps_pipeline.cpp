@@ -161,6 +161,7 @@ TEST(AppsSegmentSurfaces, CubeHasSixFacesAndMinSizeDropsNone) {
   const nlohmann::json report = read_json(o.paths.report);
   EXPECT_EQ(report["segments"], 6);
   EXPECT_EQ(report["unassigned_splats"], 0);
+  EXPECT_EQ(report["segments_before_min_size"], 6);
   o.paths.output = (c.dir / "surf.ply").string();
   o.min_size = doc.cloud.size();  // larger than any face: no surface left
   EXPECT_EQ(run_segment_surfaces(o).extra, "0 surfaces");

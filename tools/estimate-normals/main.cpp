@@ -44,8 +44,7 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-duplicates", o.normals.keep_duplicates, "Do not merge exact duplicates");
   app.add_option("--format", o.format, "Output format, overriding OUT's extension")
       ->check(CLI::IsMember({"ply", "splk"}));
-  app.add_option("--columns", o.read.columns,
-                 "Column layout of text input, e.g. x,y,z,r,g,b ('_' skips)");
+  tool.add_columns_option(o.read.columns);
   app.add_option("--report", o.paths.report, "Write counts, timings and peak RSS as JSON here");
   tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {

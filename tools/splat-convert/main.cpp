@@ -16,12 +16,10 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   tool.add_in_out(o.paths, "Input file ('-' = stdin)",
                   "Output file ('-' = stdout, .splk unless --format)");
-  app.add_option("--columns", o.read.columns,
-                 "Column layout of text input, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
+  tool.add_columns_option(o.read.columns);
   app.add_option("--format", o.format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk"}));
-  auto* ascii = app.add_flag("--ascii", o.write.ascii, "PLY: write ASCII");
-  app.add_flag("--big-endian", o.write.big_endian, "PLY: write binary big-endian")->excludes(ascii);
+  tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_convert(o, progress);
   });

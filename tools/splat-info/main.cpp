@@ -19,7 +19,6 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   app.add_option("FILE", o.files, "Files to describe ('-' = stdin)")->required();
   app.add_flag("--json", o.json, "Print a JSON report (an array when several files are given)");
-  app.add_option("--columns", o.read.columns,
-                 "Column layout of text files, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
+  tool.add_columns_option(o.read.columns);
   return tool.run(argc, argv, [&] { splatkit::apps::run_splat_info(o, std::cout, std::cerr); });
 }

@@ -35,8 +35,7 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-inside", o.sample.keep_inside,
                "two-spheres: keep the part of each sphere inside the other (two whole spheres)");
   app.add_flag("--no-color", o.no_color, "Leave out the colours (smaller files)");
-  auto* ascii = app.add_flag("--ascii", o.write.ascii, "PLY: write ASCII");
-  app.add_flag("--big-endian", o.write.big_endian, "PLY: write binary big-endian")->excludes(ascii);
+  tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_synth(o, progress);
   });
