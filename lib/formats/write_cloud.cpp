@@ -19,12 +19,23 @@ FileFormat output_format_for(const std::string& path) {
   return FileFormat::kSplk;
 }
 
-void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOptions& options) {
+FileFormat writable_format(const std::string& path, const WriteOptions& options) {
   FileFormat f = options.format == FileFormat::kUnknown ? output_format_for(path) : options.format;
   if (f == FileFormat::kLas || f == FileFormat::kLaz || f == FileFormat::kPcd)
     throw_unsupported(path, std::string("writing ") + std::string(format_name(f)) +
                                 " is not supported; write .ply, .splk, .xyz or .off");
+  return f;
+}
+
+void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOptions& options) {
+  writable_format(path, options);  // before OutputFile creates anything
   OutputFile out(path);
+  write_cloud(doc, out, options);
+  out.commit();
+}
+
+void write_cloud(const LoadedCloud& doc, OutputFile& out, const WriteOptions& options) {
+  const FileFormat f = writable_format(out.path(), options);
   switch (f) {
     case FileFormat::kPly:
       write_ply(doc.cloud, out,
@@ -42,7 +53,6 @@ void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOpt
       write_splk(doc, out);
       break;
   }
-  out.commit();
 }
 
 }  // namespace splatkit

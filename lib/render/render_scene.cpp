@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "graph/make_clip_planes.h"
+#include "splatkit/check_splats.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
@@ -57,12 +58,7 @@ BoundingSphere enclosing_sphere(const RenderScene& s) {
 
 RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
   if (cloud.size() == 0) throw_bad_input(name, "the cloud has no points; nothing to render");
-  if (!cloud.has_normals() && !cloud.has_radii())
-    throw_bad_input(name, "the cloud has no normals and no radii; run estimate-normals first");
-  if (!cloud.has_normals())
-    throw_bad_input(name, "the cloud has no normals; run estimate-normals first");
-  if (!cloud.has_radii())
-    throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
+  check_splats(cloud, name);
   RenderScene s;
   s.colors = linear_colors(cloud);
   s.positions = std::move(cloud.positions);
@@ -70,17 +66,9 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
   s.radii = std::move(cloud.radii);
   double sum = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    float r = s.radii[i];
-    if (!(r > 0) || !std::isfinite(r))
-      throw_bad_input(name, "splat " + std::to_string(i) + " has radius " + std::to_string(r) +
-                                "; radii must be positive");
-    Vec3f& n = s.normals[i];
-    float len = norm(n);
-    if (!(len > 0) || !std::isfinite(len))
-      throw_bad_input(name, "splat " + std::to_string(i) + " has a zero or non-finite normal");
-    n = n / len;
-    sum += r;
-    s.max_radius = std::max(s.max_radius, r);
+    s.normals[i] = normalized(s.normals[i]);
+    sum += s.radii[i];
+    s.max_radius = std::max(s.max_radius, s.radii[i]);
   }
   if (const ExtraAttribute* ids = cloud.find_extra("surface_id")) {
     s.surface_ids.resize(s.size());

@@ -89,6 +89,13 @@ FramebufferPlanes planes_for_output(const std::string& path, bool surface_ids) {
 void check_output_format(const std::string& path) { create_output(path); }
 
 void write_image(const Framebuffer& frame, const std::string& path) {
+  OutputFile file(path);
+  write_image(frame, file);
+  file.commit();
+}
+
+void write_image(const Framebuffer& frame, OutputFile& file) {
+  const std::string& path = file.path();
   auto out = create_output(path);
   std::vector<unsigned char> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
@@ -112,9 +119,7 @@ void write_image(const Framebuffer& frame, const std::string& path) {
     ok = out->write_image(OIIO::TypeDesc::UINT8, frame.rgb8.data());
   }
   if (!ok || !out->close()) throw_output(name, out->geterror());
-  OutputFile file(path);
   file.write(bytes.data(), bytes.size());
-  file.commit();
 }
 
 }  // namespace splatkit::render

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "render/framebuffer.h"
+#include "splatkit/output_file.h"
 
 namespace splatkit::render {
 
@@ -24,6 +25,8 @@ FramebufferPlanes planes_for_output(const std::string& path, bool surface_ids = 
 // Throws Error(kUsage) for an extension OpenImageIO cannot write, Error(kOutput) when writing
 // fails (the message names the file and the cause).
 void write_image(const Framebuffer& frame, const std::string& path);
+// The same into `file` (its path picks the format) without committing it.
+void write_image(const Framebuffer& frame, OutputFile& file);
 
 // Throws Error(kUsage) unless OpenImageIO can write `path`'s format (checked before rendering).
 void check_output_format(const std::string& path);

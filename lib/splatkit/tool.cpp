@@ -3,6 +3,7 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <memory>
@@ -17,9 +18,10 @@ Tool::Tool(std::string name, std::string description, std::string examples)
     : name_(std::move(name)), app_(std::move(description), name_) {
   app_.set_version_flag("--version", std::string(name_) + " (splatkit) " + kVersion);
   app_.add_flag("-q,--quiet", quiet_, "No progress and no summary line on stderr");
-  app_.footer("Examples:\n" + examples +
-              "\nExit codes: 0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, "
-              "5 internal error, 6 out of memory.\n'-' reads standard input / writes standard output.");
+  app_.footer(
+      "Examples:\n" + examples +
+      "\nExit codes: 0 ok, 1 usage, 2 bad input, 3 unsupported, 4 output failure, "
+      "5 internal error, 6 out of memory.\n'-' reads standard input / writes standard output.");
   app_.get_formatter()->column_width(30);
 }
 
@@ -27,6 +29,22 @@ void Tool::add_threads_option() {
   app_.add_option("--threads", threads_, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(0);
+}
+
+void Tool::add_columns_option(std::string& columns) {
+  app_.add_option("--columns", columns,
+                  "Column layout of text input, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips a column)");
+}
+
+void Tool::add_ply_encoding_options(bool& ascii, bool& big_endian) {
+  auto* ascii_flag = app_.add_flag("--ascii", ascii, "PLY: write ASCII");
+  app_.add_flag("--big-endian", big_endian, "PLY: write binary big-endian")->excludes(ascii_flag);
+}
+
+void Tool::add_in_out(apps::StagePaths& paths, const std::string& in_help,
+                      const std::string& out_help) {
+  app_.add_option("IN", paths.input, in_help)->required();
+  app_.add_option("OUT", paths.output, out_help)->required();
 }
 
 int Tool::run(int argc, char** argv, const std::function<void()>& work) {
@@ -42,6 +60,9 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     std::fprintf(stderr, "%s: %s\nRun '%s --help' for usage.\n", name_.c_str(), e.what(),
                  name_.c_str());
     return static_cast<int>(ErrorKind::kUsage);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());
+    return e.exit_code();
   }
   // A closed pipe downstream becomes a write error (exit 4) instead of a silent kill.
   std::signal(SIGPIPE, SIG_IGN);
@@ -64,6 +85,39 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     std::fprintf(stderr, "%s: internal error: %s\n", name_.c_str(), e.what());
     return static_cast<int>(ErrorKind::kInternal);
   }
+}
+
+int Tool::run_stage(int argc, char** argv, const std::string& output,
+                    const std::function<apps::StageSummary(const ProgressFn&)>& stage) {
+  return run(argc, argv, [&] {
+    Progress progress(name_, quiet_ || output == "-");
+    const apps::StageSummary summary = stage(progress.callback());
+    progress.finish(summary.count, summary.unit, summary.extra);
+  });
+}
+
+CLI::Validator finite_range(double lo, double hi) {
+  const std::string range =
+      "[" + CLI::detail::to_string(lo) + ", " + CLI::detail::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || v < lo || v > hi)
+          return "must be a finite number in " + range + ", got " + text;
+        return {};
+      },
+      "in " + range);
+}
+
+CLI::Validator positive_finite() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || !(v > 0))
+          return "must be a finite number > 0, got " + text;
+        return {};
+      },
+      "> 0");
 }
 
 }  // namespace splatkit

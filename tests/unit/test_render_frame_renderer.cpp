@@ -10,7 +10,6 @@
 #include "render/camera.h"
 #include "render/frame_renderer.h"
 #include "render/render_scene.h"
-#include "render/splat_view.h"
 #include "splatkit/error.h"
 #include "test_render_support.h"
 
@@ -174,21 +173,6 @@ TEST(RenderCamera, DegenerateCamerasAreUsageErrors) {
   EXPECT_NEAR(norm(centre - p.forward), 0, 1e-6);
   // The top row of the image looks up (+up), the right column right.
   EXPECT_GT(dot(p.ray(0.5f * c.width, 0), c.up), 0);
-}
-
-TEST(RenderSplatView, TurntableFrameNames) {
-  EXPECT_EQ(frame_path("out/turn_%04d.png", 7), "out/turn_0007.png");
-  EXPECT_EQ(frame_path("f%d.exr", 12), "f12.exr");
-  SplatViewOptions o;
-  o.input = "unused.ply";
-  o.output = "no_number.png";
-  o.turntable = 4;
-  EXPECT_THROW(run_splat_view(o), Error);  // rejected before reading the input
-  o.output = "x.png";
-  o.turntable = 0;
-  o.eye = Vec3f{1, 1, 1};
-  o.view = std::array<float, 2>{0, 0};
-  EXPECT_THROW(run_splat_view(o), Error);
 }
 
 }  // namespace

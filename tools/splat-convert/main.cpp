@@ -1,10 +1,5 @@
-// splat-convert: convert between point-cloud formats (PLY, XYZ/CSV, OFF, LAS, PCD -> PLY, XYZ,
-// OFF, .splk), keeping every attribute.
-#include "formats/provenance.h"
-#include "formats/read_cloud.h"
-#include "formats/write_cloud.h"
-#include "splatkit/error.h"
-#include "splatkit/progress.h"
+// splat-convert: declares the options of apps::run_splat_convert (lib/apps) and calls it.
+#include "apps/run_splat_convert.h"
 #include "splatkit/tool.h"
 
 int main(int argc, char** argv) {
@@ -17,33 +12,15 @@ int main(int argc, char** argv) {
                       "  $ cat points.xyz | splat-convert --columns x,y,z,nx,ny,nz - out.ply\n"
                       "  $ for f in scans/*.ply; do splat-convert -q \"$f\" \"out/$(basename "
                       "\"$f\" .ply).splk\"; done\n");
-  std::string input, output, format;
-  splatkit::ReadOptions read;
-  splatkit::WriteOptions write;
-  tool.app().add_option("IN", input, "Input file ('-' = stdin)")->required();
-  tool.app()
-      .add_option("OUT", output, "Output file ('-' = stdout, .splk unless --format)")
-      ->required();
-  tool.app().add_option("--columns", read.columns,
-                        "Column layout of text input, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
-  tool.app()
-      .add_option("--format", format, "Output format, overriding the extension")
+  splatkit::apps::SplatConvertOptions o;
+  auto& app = tool.app();
+  tool.add_in_out(o.paths, "Input file ('-' = stdin)",
+                  "Output file ('-' = stdout, .splk unless --format)");
+  tool.add_columns_option(o.read.columns);
+  app.add_option("--format", o.format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk"}));
-  auto* ascii = tool.app().add_flag("--ascii", write.ascii, "PLY: write ASCII");
-  tool.app()
-      .add_flag("--big-endian", write.big_endian, "PLY: write binary big-endian")
-      ->excludes(ascii);
-  return tool.run(argc, argv, [&] {
-    splatkit::Progress progress(tool.name(), tool.quiet() || output == "-");
-    if (format == "ply") write.format = splatkit::FileFormat::kPly;
-    if (format == "xyz") write.format = splatkit::FileFormat::kXyz;
-    if (format == "off") write.format = splatkit::FileFormat::kOff;
-    if (format == "splk") write.format = splatkit::FileFormat::kSplk;
-    splatkit::InputStream in(input);
-    splatkit::LoadedCloud doc = splatkit::read_cloud(in, read);
-    nlohmann::json options = {{"columns", read.columns}, {"format", format}};
-    doc.metadata = splatkit::make_provenance(tool.name(), options, in, doc, doc.cloud);
-    splatkit::write_cloud(doc, output, write);
-    progress.finish(doc.cloud.size());
+  tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
+  return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
+    return splatkit::apps::run_splat_convert(o, progress);
   });
 }

@@ -1,46 +1,24 @@
-// splat-info: describe point-cloud and splat files (format, counts, attributes, bounds, chunks).
-#include <cstdio>
+// splat-info: declares the options of apps::run_splat_info (lib/apps) and calls it.
 #include <iostream>
 
-#include "formats/describe_cloud.h"
-#include "formats/read_cloud.h"
-#include "splatkit/error.h"
+#include "apps/run_splat_info.h"
 #include "splatkit/tool.h"
 
 int main(int argc, char** argv) {
   splatkit::Tool tool(
       "splat-info",
       "Describe point-cloud and splat files: format, point and face counts, "
-      "attributes with ranges, bounding box, format header, .splk chunks and metadata.",
+      "attributes with ranges, bounding box, format header, .splk chunks and metadata. A file "
+      "that cannot be read is reported on stderr and the others are still described (exit "
+      "code of the first failure).",
       "  $ splat-info scan.ply\n"
       "  $ splat-info --json model.splk | jq .points\n"
       "  $ estimate-normals scan.las - | splat-info -\n"
       "  $ splat-info --columns x,y,z,_,r,g,b points.txt\n");
-  std::vector<std::string> files;
-  bool json = false;
-  splatkit::ReadOptions read;
-  tool.app().add_option("FILE", files, "Files to describe ('-' = stdin)")->required();
-  tool.app().add_flag("--json", json,
-                      "Print a JSON report (an array when several files are given)");
-  tool.app().add_option("--columns", read.columns,
-                        "Column layout of text files, e.g. x,y,z,nx,ny,nz,r,g,b ('_' skips)");
-  return tool.run(argc, argv, [&] {
-    nlohmann::json reports = nlohmann::json::array();
-    for (std::size_t i = 0; i < files.size(); ++i) {
-      splatkit::InputStream in(files[i]);
-      auto bytes = in.size_hint();
-      splatkit::LoadedCloud doc = splatkit::read_cloud(in, read);
-      if (!bytes) bytes = in.offset();
-      nlohmann::json report = splatkit::describe_cloud(doc, files[i], bytes);
-      if (json) {
-        reports.push_back(std::move(report));
-      } else {
-        if (i > 0) std::cout << "\n";
-        std::cout << splatkit::describe_cloud_text(report);
-      }
-    }
-    if (json) std::cout << (reports.size() == 1 ? reports[0] : reports).dump(2) << "\n";
-    std::cout.flush();
-    if (!std::cout) splatkit::throw_output("-", "cannot write the report");
-  });
+  splatkit::apps::SplatInfoOptions o;
+  auto& app = tool.app();
+  app.add_option("FILE", o.files, "Files to describe ('-' = stdin)")->required();
+  app.add_flag("--json", o.json, "Print a JSON report (an array when several files are given)");
+  tool.add_columns_option(o.read.columns);
+  return tool.run(argc, argv, [&] { splatkit::apps::run_splat_info(o, std::cout, std::cerr); });
 }

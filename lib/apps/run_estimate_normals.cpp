@@ -1,0 +1,81 @@
+#include "apps/run_estimate_normals.h"
+
+#include <string_view>
+
+#include "apps/parse_triple.h"
+#include "splatkit/error.h"
+
+namespace splatkit::apps {
+
+namespace {
+
+// The output format: --format, else OUT's extension (.ply, .splk), else .splk for '-'.
+FileFormat output_format(const std::string& output, const std::string& format) {
+  if (format == "ply") return FileFormat::kPly;
+  if (format == "splk") return FileFormat::kSplk;
+  if (!format.empty()) throw_usage("--format must be ply or splk, got '" + format + "'");
+  if (output == "-") return FileFormat::kSplk;
+  const FileFormat f = output_format_for(output);
+  if (f == FileFormat::kPly || std::string_view(output).ends_with(".splk")) return f;
+  throw_usage("OUT must end in .ply or .splk, or be '-' (or give --format ply|splk): " + output);
+}
+
+NormalOptions normal_options(const EstimateNormalsOptions& o) {
+  NormalOptions n = o.normals;
+  if (o.method != "pca" && o.method != "robust")
+    throw_usage("--method must be pca or robust, got '" + o.method + "'");
+  n.method = o.method == "robust" ? NormalMethod::kRobust : NormalMethod::kPca;
+  std::string orient = o.orient.empty() ? "mst" : o.orient;
+  if (!o.viewpoint.empty()) {
+    if (!o.orient.empty() && o.orient != "viewpoint")
+      throw_usage("--viewpoint conflicts with --orient " + o.orient);
+    orient = "viewpoint";
+    n.viewpoint = parse_triple(o.viewpoint, "--viewpoint");
+  }
+  if (orient != "mst" && orient != "viewpoint" && orient != "none")
+    throw_usage("--orient must be mst, viewpoint or none, got '" + orient + "'");
+  n.orient = orient == "viewpoint" ? NormalOrientation::kViewpoint
+             : orient == "none"    ? NormalOrientation::kNone
+                                   : NormalOrientation::kMst;
+  if (!(n.radius_scale > 0) || !std::isfinite(n.radius_scale))
+    throw_usage("--radius-scale must be a positive finite number");
+  return n;
+}
+
+nlohmann::json provenance_options(const NormalOptions& o) {
+  nlohmann::json j = {{"k", o.k},
+                      {"radius_k", o.radius_k},
+                      {"radius_scale", o.radius_scale},
+                      {"method", method_name(o.method)},
+                      {"orient", orientation_name(o.orient)},
+                      {"keep_duplicates", o.keep_duplicates}};
+  if (o.viewpoint) j["viewpoint"] = *o.viewpoint;
+  return j;
+}
+
+}  // namespace
+
+StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const ProgressFn& progress) {
+  WriteOptions write;
+  write.format = output_format(o.paths.output, o.format);
+  const NormalOptions options = normal_options(o);
+  Stage stage("estimate-normals", o.paths);
+  LoadedCloud doc = stage.read(o.read);
+  const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
+    return estimate_normals(doc.cloud, options, progress);
+  });
+  stage.stamp(doc, provenance_options(options));
+  nlohmann::json report;
+  if (!o.paths.report.empty()) {
+    report = result.to_json();
+    const uint64_t rss = peak_rss_bytes();
+    report["peak_rss_bytes_per_point"] =
+        result.input_points > 0 ? static_cast<double>(rss) / result.input_points : 0.0;
+  }
+  stage.write(doc, write, std::move(report));
+  return {doc.cloud.size(), "points",
+          std::to_string(result.duplicates_merged) + " duplicates merged, " +
+              std::to_string(result.degenerate_points) + " degenerate"};
+}
+
+}  // namespace splatkit::apps

@@ -1,0 +1,33 @@
+// estimate-normals' work, callable without the command line: read a point cloud (any format),
+// estimate a unit normal and a splat radius per point (normals/estimate_normals.h), write .ply or
+// .splk with the provenance, and optionally a JSON report.
+#pragma once
+
+#include <string>
+
+#include "apps/stage.h"
+#include "apps/stage_types.h"
+#include "normals/estimate_normals.h"
+#include "splatkit/progress.h"
+
+namespace splatkit::apps {
+
+struct EstimateNormalsOptions {
+  StagePaths paths;  // OUT: .ply or .splk (or "-": .splk), unless `format` says
+  ReadOptions read;  // read.columns: text input's column layout
+  // k, radius_k, radius_scale, keep_duplicates; method, orient and viewpoint come from the texts
+  // below.
+  NormalOptions normals;
+  std::string method = "pca";  // pca | robust
+  std::string orient;          // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
+  std::string viewpoint;       // "x,y,z" in file coordinates, or empty
+  std::string format;          // ply | splk, or empty: OUT's extension
+};
+
+// Throws Error(kUsage) for bad or conflicting options and unusable paths (before reading),
+// Error(kBadInput) / Error(kUnsupported) for the input, Error(kOutput) when writing fails,
+// Error(kOutOfMemory) naming the step.
+StageSummary run_estimate_normals(const EstimateNormalsOptions& options,
+                                  const ProgressFn& progress = no_progress());
+
+}  // namespace splatkit::apps

@@ -1,0 +1,142 @@
+#include "apps/run_segment_surfaces.h"
+
+#include <string_view>
+#include <utility>
+
+#include "apps/robust_provenance.h"
+#include "graph/drop_small_surfaces.h"
+#include "graph/segment_surfaces.h"
+#include "graph_io/graph_chunks.h"
+#include "splatkit/check_splats.h"
+#include "splatkit/error.h"
+
+namespace splatkit::apps {
+
+namespace {
+
+using graph::Segmentation;
+
+void add_extra(SplatCloud& cloud, const std::string& name, ScalarType type,
+               std::vector<double> values) {
+  if (ExtraAttribute* old = cloud.find_extra(name)) {
+    old->type = type;
+    old->values = std::move(values);
+    return;
+  }
+  cloud.extras.push_back({name, type, std::move(values)});
+}
+
+// The chunk of this type, or nullptr; a second one is an error (which of them would count?).
+const RawChunk* single_chunk(const LoadedCloud& doc, const char (&type)[4], const char* what,
+                             const std::string& name) {
+  const RawChunk* found = nullptr;
+  for (const RawChunk& c : doc.chunks) {
+    if (std::string_view(c.type, 4) != std::string_view(type, 4)) continue;
+    if (found != nullptr)
+      throw_bad_input(
+          name, "two " + std::string(type, 4) + " chunks (" + what + "); a file holds at most one");
+    found = &c;
+  }
+  return found;
+}
+
+struct GraphChunks {
+  graph::DecodedGraph graph;
+  std::vector<graph::SplatClass> classes;
+};
+
+// Decodes GRPH and CLAS, and checks CLIP and SURF (passed on to OUT) by decoding them too.
+GraphChunks decode_chunks(const LoadedCloud& doc, const std::string& name) {
+  const RawChunk* grph = single_chunk(doc, graph::kGraphChunkType, "neighbour graph", name);
+  const RawChunk* clas = single_chunk(doc, graph::kClassChunkType, "splat classes", name);
+  const RawChunk* clip = single_chunk(doc, graph::kClipChunkType, "clip partners", name);
+  const RawChunk* surf = single_chunk(doc, graph::kSurfaceChunkType, "surface ids", name);
+  if (grph == nullptr) throw_bad_input(name, "no neighbour graph; run build-splat-graph first");
+  if (clas == nullptr)
+    throw_bad_input(name, "no splat classes (CLAS chunk); run build-splat-graph first");
+  const uint64_t n = doc.cloud.size();
+  GraphChunks out{graph::decode_graph_chunk(*grph, n, name),
+                  graph::decode_class_chunk(*clas, n, name)};
+  if (clip != nullptr) {
+    const graph::ClipPartnerTable table = graph::decode_clip_chunk(*clip, n, name);
+    try {
+      table.check_consistent();
+    } catch (const std::logic_error& e) {
+      throw_bad_input(name, std::string("CLIP chunk: ") + e.what());
+    }
+  }
+  if (surf != nullptr) graph::decode_surface_chunk(*surf, n, name);
+  return out;
+}
+
+}  // namespace
+
+StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const ProgressFn& progress) {
+  const std::string& output = o.paths.output;
+  const bool ply = std::string_view(output).ends_with(".ply");
+  if (output != "-" && !ply && !std::string_view(output).ends_with(".splk"))
+    throw_usage("OUT must end in .splk or .ply, or be '-': " + output);
+  if (o.method != "robust" && o.method != "components")
+    throw_usage("--method must be robust or components, got '" + o.method + "'");
+  if (o.min_size == 0) throw_usage("--min-size must be >= 1");
+  const std::optional<float>& core = o.robust.core_threshold;
+  if (core && !(*core >= -1 && *core <= 1)) throw_usage("--core must be a number in [-1, 1]");
+  if (o.robust.min_core_size == 0) throw_usage("--min-core must be >= 1");
+  const bool robust = o.method == "robust";
+
+  Stage stage("segment-surfaces", o.paths);
+  LoadedCloud doc = stage.read();
+  const std::string& name = stage.input_name();
+  check_splats(doc.cloud, name);
+  const GraphChunks chunks =
+      stage.phase("decode", "decoding the graph", [&] { return decode_chunks(doc, name); });
+  graph::RobustSegmentOptions robust_options = o.robust;
+  robust_options.sharp_threshold = chunks.graph.sharp_threshold;
+  graph::RobustSegmentInfo chosen;
+  uint32_t segments_before = 0;
+  const Segmentation seg = stage.phase("segment", "segmenting the surfaces", [&] {
+    progress(0.0, "segmenting");
+    const graph::DecodedGraph& g = chunks.graph;
+    Segmentation all = robust ? graph::segment_surfaces_robust(
+                                    g.graph, g.edge_flags, graph::kEdgeSharp, doc.cloud.positions,
+                                    doc.cloud.normals, robust_options, &chosen)
+                              : graph::segment_surfaces(g.graph, g.edge_flags, graph::kEdgeSharp);
+    segments_before = all.count();
+    return graph::drop_small_surfaces(std::move(all), o.min_size);
+  });
+
+  nlohmann::json prov_options = {{"min_size", o.min_size}, {"method", o.method}};
+  if (robust) put_robust_options(prov_options, o.robust);
+  stage.stamp(doc, prov_options, /*keep_chunks=*/true);
+  const uint64_t n = doc.cloud.size();
+  WriteOptions write;
+  if (ply) {
+    add_extra(doc.cloud, "surface_id", ScalarType::kUInt32,
+              std::vector<double>(seg.surface.begin(), seg.surface.end()));
+    std::vector<double> class_values(n);
+    for (uint64_t i = 0; i < n; ++i) class_values[i] = static_cast<double>(chunks.classes[i]);
+    add_extra(doc.cloud, "class", ScalarType::kUInt8, std::move(class_values));
+    write.format = FileFormat::kPly;
+  } else {
+    graph::put_chunk(doc, graph::encode_surface_chunk(seg));
+    write.format = FileFormat::kSplk;
+  }
+  nlohmann::json report;
+  if (!o.paths.report.empty()) {
+    uint64_t unassigned = 0;
+    for (uint32_t id : seg.surface) unassigned += id == graph::kNoSurface;
+    report = {{"splats", n},
+              {"segments", seg.count()},
+              {"segments_before_min_size", segments_before},
+              {"unassigned_splats", unassigned},
+              {"sizes", seg.sizes}};
+    if (robust) {
+      report["normal_noise_degrees"] = chosen.normal_noise_degrees;
+      report["core_threshold"] = chosen.core_threshold;
+    }
+  }
+  stage.write(doc, write, std::move(report));
+  return {n, "splats", std::to_string(seg.count()) + " surfaces"};
+}
+
+}  // namespace splatkit::apps

@@ -1,0 +1,33 @@
+#include "apps/run_splat_convert.h"
+
+#include "splatkit/error.h"
+
+namespace splatkit::apps {
+
+namespace {
+
+FileFormat format_option(const std::string& format) {
+  if (format.empty()) return FileFormat::kUnknown;
+  if (format == "ply") return FileFormat::kPly;
+  if (format == "xyz") return FileFormat::kXyz;
+  if (format == "off") return FileFormat::kOff;
+  if (format == "splk") return FileFormat::kSplk;
+  throw_usage("--format must be ply, xyz, off or splk, got '" + format + "'");
+}
+
+}  // namespace
+
+StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& progress) {
+  WriteOptions write = o.write;
+  write.format = format_option(o.format);
+  if (write.ascii && write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
+  Stage stage("splat-convert", o.paths);
+  stage.check_output_format(write);
+  progress(0.0, "reading");
+  LoadedCloud doc = stage.read(o.read);
+  stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
+  stage.write(doc, write);
+  return {doc.cloud.size(), "points", ""};
+}
+
+}  // namespace splatkit::apps

@@ -1,0 +1,62 @@
+#include "apps/run_splat_info.h"
+
+#include <nlohmann/json.hpp>
+
+#include <exception>
+#include <new>
+#include <optional>
+#include <ostream>
+
+#include "formats/describe_cloud.h"
+#include "splatkit/error.h"
+
+namespace splatkit::apps {
+
+namespace {
+
+nlohmann::json describe(const std::string& path, const ReadOptions& read) {
+  try {
+    InputStream in(path);
+    auto bytes = in.size_hint();
+    const LoadedCloud doc = read_cloud(in, read);
+    if (!bytes) bytes = in.offset();
+    return describe_cloud(doc, path, bytes);
+  } catch (const std::bad_alloc&) {
+    throw_out_of_memory("reading " + display_name(path));
+  }
+}
+
+}  // namespace
+
+void run_splat_info(const SplatInfoOptions& o, std::ostream& out, std::ostream& err) {
+  nlohmann::json reports = nlohmann::json::array();
+  std::optional<Error> first_failure;
+  std::size_t failures = 0, printed = 0;
+  for (const std::string& file : o.files) {
+    nlohmann::json report;
+    try {
+      report = describe(file, o.read);
+    } catch (const Error& e) {
+      if (o.files.size() == 1) throw;
+      err << "splat-info: " << e.what() << "\n";
+      if (!first_failure) first_failure = e;
+      ++failures;
+      continue;
+    }
+    if (o.json) {
+      reports.push_back(std::move(report));
+    } else {
+      if (printed++ > 0) out << "\n";
+      out << describe_cloud_text(report);
+    }
+  }
+  if (o.json) out << (o.files.size() == 1 ? reports[0] : reports).dump(2) << "\n";
+  out.flush();
+  if (!out) throw_output("-", "cannot write the report");
+  if (first_failure)
+    throw Error(first_failure->kind(), std::to_string(failures) + " of " +
+                                           std::to_string(o.files.size()) +
+                                           " files could not be described");
+}
+
+}  // namespace splatkit::apps

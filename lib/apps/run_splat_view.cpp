@@ -1,0 +1,344 @@
+#include "apps/run_splat_view.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <regex>
+#include <vector>
+
+#include "apps/parse_triple.h"
+#include "apps/stage.h"
+#include "formats/read_cloud.h"
+#include "render/camera.h"
+#include "render/reconstruct_pixel.h"
+#include "render/render_scene.h"
+#include "render/scene_from_document.h"
+#include "render/setup_splats.h"
+#include "render/splat_palette.h"
+#include "render/write_image.h"
+#include "splatkit/error.h"
+#include "splatkit/output_file.h"
+#include "splatkit/same_file.h"
+#include "splatkit/seconds_since.h"
+
+namespace splatkit::apps {
+
+using namespace render;
+
+namespace {
+
+// Albedo per splat: the file's colours, or false colours from the splat graph (splat_palette.h),
+// lit by the chosen shading.
+enum class ColorBy {
+  kFile,     // the file's colours (grey without)
+  kSurface,  // a colour per surface id (needs SURF or a surface_id attribute: segment-surfaces)
+  kSharp,    // splats with a sharp edge red, the rest green (needs CLAS or a class attribute)
+  kClipped,  // splats with clip partners orange, the rest grey (needs CLIP: build-splat-graph)
+};
+
+const std::regex& frame_pattern() {
+  static const std::regex re("%0?[0-9]*d");
+  return re;
+}
+
+// The options with their texts parsed and every number checked (NaN, infinity, range).
+struct Resolved {
+  std::optional<Vec3f> eye, target;
+  std::optional<std::array<float, 2>> view;
+  std::optional<float> view_distance;
+  Vec3f up{0, 0, 1};
+  ColorBy color_by = ColorBy::kFile;
+  RenderOptions render;
+};
+
+Vec3f to_vec3(const std::array<double, 3>& v) {
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+// --view AZ,EL[,DIST]: two or three finite numbers, DIST positive.
+void parse_view(const std::string& text, Resolved& r) {
+  std::vector<float> out;
+  std::size_t start = 0;
+  bool ok = true;
+  while (ok) {
+    const std::size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, comma - start);
+    std::size_t used = 0;
+    try {
+      out.push_back(std::stof(part, &used));
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    ok = used != 0 && used == part.size() && std::isfinite(out.back());
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (!ok || out.size() < 2 || out.size() > 3)
+    throw_usage("--view needs AZ,EL or AZ,EL,DIST (numbers), got '" + text + "'");
+  r.view = std::array<float, 2>{out[0], out[1]};
+  if (out.size() == 3) {
+    if (!(out[2] > 0)) throw_usage("--view distance must be positive, got '" + text + "'");
+    r.view_distance = out[2];
+  }
+}
+
+void parse_blend(const std::string& text, RenderOptions& r) {
+  if (text == "zrange") {
+    r.blend = BlendMode::kZRange;
+    return;
+  }
+  const std::string prefix = "zthreshold";
+  if (text.rfind(prefix, 0) != 0)
+    throw_usage("--blend must be zthreshold[=EPS] or zrange, got '" + text + "'");
+  r.blend = BlendMode::kZThreshold;
+  if (text.size() == prefix.size()) return;
+  std::size_t used = 0;
+  float eps = 0;
+  try {
+    if (text[prefix.size()] != '=') throw std::invalid_argument("");
+    eps = std::stof(text.substr(prefix.size() + 1), &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() - prefix.size() - 1 || !(eps > 0) || !std::isfinite(eps))
+    throw_usage("--blend zthreshold=EPS needs a positive finite number, got '" + text + "'");
+  r.epsilon = eps;
+}
+
+// --shade: a lighting mode, or a false-colour mode (lit with phong).
+void parse_shade(const std::string& s, Resolved& r) {
+  static const char* const kModes[] = {"phong",   "normals", "depth",  "flat",
+                                       "surface", "sharp",   "clipped"};
+  if (std::find(std::begin(kModes), std::end(kModes), s) == std::end(kModes))
+    throw_usage("--shade must be phong, normals, depth, flat, surface, sharp or clipped, got '" +
+                s + "'");
+  r.render.shade = s == "normals" ? ShadeMode::kNormals
+                   : s == "depth" ? ShadeMode::kDepth
+                   : s == "flat"  ? ShadeMode::kFlat
+                                  : ShadeMode::kPhong;
+  r.color_by = s == "surface"   ? ColorBy::kSurface
+               : s == "sharp"   ? ColorBy::kSharp
+               : s == "clipped" ? ColorBy::kClipped
+                                : ColorBy::kFile;
+}
+
+Vec3f parse_background(const std::string& text) {
+  const std::array<double, 3> c = parse_triple(text, "--background", "r,g,b");
+  for (double v : c)
+    if (!(v >= 0 && v <= 1))
+      throw_usage("--background must be three numbers in [0, 1] (sRGB), got '" + text + "'");
+  return {srgb_to_linear(static_cast<float>(c[0])), srgb_to_linear(static_cast<float>(c[1])),
+          srgb_to_linear(static_cast<float>(c[2]))};
+}
+
+Resolved resolve(const SplatViewOptions& o) {
+  Resolved r;
+  r.render = o.render;
+  if (!o.eye.empty()) r.eye = to_vec3(parse_triple(o.eye, "--eye"));
+  if (!o.target.empty()) r.target = to_vec3(parse_triple(o.target, "--target"));
+  if (!o.up.empty()) r.up = to_vec3(parse_triple(o.up, "--up"));
+  if (!o.view.empty()) parse_view(o.view, r);
+  if (!o.background.empty()) r.render.background = parse_background(o.background);
+  parse_blend(o.blend, r.render);
+  parse_shade(o.shade, r);
+  if (r.eye && r.view) throw_usage("--eye and --view are alternatives; give one of them");
+  if (r.target && !r.eye) throw_usage("--target needs --eye");
+  if (!(norm(r.up) > 0)) throw_usage("--up must not be zero");
+  if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180)) throw_usage("--fov must be in (0, 180) degrees");
+  if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide)
+    throw_usage("--width and --height must be in [1, " + std::to_string(kMaxImageSide) + "]");
+  if (o.render.max_fragments < 1 || o.render.max_fragments > kMaxFragmentsPerPixel)
+    throw_usage("--max-fragments must be in [1, " + std::to_string(kMaxFragmentsPerPixel) + "]");
+  if (o.turntable < 0) throw_usage("--turntable must be positive");
+  if (o.turntable > 0) {
+    const auto begin = std::sregex_iterator(o.output.begin(), o.output.end(), frame_pattern());
+    if (std::distance(begin, std::sregex_iterator()) != 1 ||
+        std::count(o.output.begin(), o.output.end(), '%') != 1)
+      throw_usage(
+          "--turntable needs an output name with one frame number field such as %04d, got '" +
+          o.output + "'");
+  }
+  check_output_format(o.turntable > 0 ? frame_path(o.output, 0) : o.output);
+  return r;
+}
+
+Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingSphere& bounds) {
+  if (r.eye) {
+    Camera c;
+    c.eye = *r.eye;
+    c.target = r.target ? *r.target : bounds.center;
+    c.up = r.up;
+    c.fov_y_deg = o.fov_y_deg;
+    c.width = o.width;
+    c.height = o.height;
+    return c;
+  }
+  const float az = r.view ? (*r.view)[0] : kDefaultAzimuthDeg;
+  const float el = r.view ? (*r.view)[1] : kDefaultElevationDeg;
+  return orbit_camera(bounds, az, el, r.view_distance, r.up, o.fov_y_deg, o.width, o.height);
+}
+
+// Rotates the eye about the axis through the target along `up` (Rodrigues).
+Camera turned(const Camera& c, float angle_rad) {
+  const Vec3f k = normalized(c.up);
+  const Vec3f v = c.eye - c.target;
+  const float cs = std::cos(angle_rad), sn = std::sin(angle_rad);
+  Camera out = c;
+  out.eye = c.target + v * cs + cross(k, v) * sn + k * (dot(k, v) * (1 - cs));
+  return out;
+}
+
+const char* blend_name(BlendMode m) { return m == BlendMode::kZRange ? "zrange" : "zthreshold"; }
+
+// Replaces the scene's colours by the false colours of `by`, or says which tool makes the data.
+void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {
+  RenderScene& scene = d.scene;
+  auto need = [&](bool present, const char* what) {
+    if (!present) throw_bad_input(name, what);
+  };
+  switch (by) {
+    case ColorBy::kFile:
+      return;
+    case ColorBy::kSurface:
+      need(!scene.surface_ids.empty(),
+           "--shade surface needs surface ids (a SURF chunk or a surface_id attribute); run "
+           "segment-surfaces first");
+      scene.colors = surface_colors(scene.surface_ids);
+      return;
+    case ColorBy::kSharp:
+      need(!d.classes.empty(),
+           "--shade sharp needs splat classes (a CLAS chunk or a class attribute); run "
+           "build-splat-graph first");
+      scene.colors = sharp_colors(d.classes);
+      return;
+    case ColorBy::kClipped:
+      need(scene.clip.num_splats() != 0,  // no CLIP chunk
+           "--shade clipped needs clip partners (a CLIP chunk, .splk only); run "
+           "build-splat-graph first");
+      scene.colors = clipped_colors(scene.clip);
+      return;
+  }
+}
+
+nlohmann::json frame_json(const FrameStats& s, double write_s) {
+  auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
+  return {{"splats_in", s.splats_in},
+          {"splats_drawn", s.splats_drawn},
+          {"fragments", s.fragments},
+          {"pixels_covered", s.pixels_covered},
+          {"pixels_overflowed", s.pixels_overflowed},
+          {"splat_tiles_hidden", s.splats_hidden},
+          {"fragments_clipped", s.fragments_clipped},
+          {"time_ms",
+           {{"select", ms(s.select_s)},
+            {"setup", ms(s.setup_s)},
+            {"binning", ms(s.binning_s)},
+            {"rasterize", ms(s.raster_s)},
+            {"reconstruct", ms(s.reconstruct_s)},
+            {"shade", ms(s.shade_s)},
+            {"frame", ms(s.total_s)},
+            {"write", ms(write_s)}}},
+          {"splats_per_second", std::round(s.splats_per_second())}};
+}
+
+// Distinct ids, not counting kNoSurfaceId.
+uint64_t surface_count(const std::vector<uint32_t>& ids) {
+  std::vector<uint32_t> sorted(ids);
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  return sorted.size() - (!sorted.empty() && sorted.back() == kNoSurfaceId);
+}
+
+}  // namespace
+
+std::string frame_path(const std::string& pattern, int index) {
+  std::smatch m;
+  if (!std::regex_search(pattern, m, frame_pattern())) return pattern;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, m.str().c_str(), index);
+  return m.prefix().str() + buf + m.suffix().str();
+}
+
+StageSummary SplatViewSummary::line() const {
+  char extra[160];
+  std::snprintf(extra, sizeof extra, "%zu frame(s), %.1f ms/frame (%.1f M splats/s)", frames,
+                1e3 * frame_seconds / frames, splats * frames / frame_seconds / 1e6);
+  return {splats, "splats", extra};
+}
+
+SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& progress) {
+  const Resolved r = resolve(o);
+  const int frames = o.turntable > 0 ? o.turntable : 1;
+  auto image_path = [&](int i) { return o.turntable > 0 ? frame_path(o.output, i) : o.output; };
+  Stage stage("splat-view", {o.input, image_path(0), o.stats_path}, "--stats");
+  for (int i = 1; i < frames; ++i)  // the other frames of a turntable
+    if (same_file(o.input, image_path(i)) || same_file(o.stats_path, image_path(i), 1, 1))
+      throw_usage("frame " + image_path(i) + " would overwrite the input or the stats");
+
+  SplatViewSummary summary;
+  const auto t0 = Clock::now();
+  progress(0.0, "reading");
+  const std::string& name = stage.input_name();
+  DocumentScene document = stage.phase(nullptr, "reading " + name,
+                                       [&] { return scene_from_document(stage.read(), name); });
+  apply_colors(r.color_by, document, name);
+  const RenderScene& scene = document.scene;
+  summary.load_seconds = seconds_since(t0);
+  const bool use_ids = r.render.surface_ids && !scene.surface_ids.empty();
+
+  const Camera base = base_camera(o, r, scene.bounds);
+  RenderOptions render = r.render;
+  render.planes = planes_for_output(o.output, use_ids);
+  FrameRenderer renderer;
+  Framebuffer frame;
+  nlohmann::json per_frame = nlohmann::json::array();
+  FrameStats last;
+  std::unique_ptr<OutputFile> last_image;  // committed after the stats
+  for (int i = 0; i < frames; ++i) {
+    progress(double(i) / frames, "rendering");
+    const Camera camera =
+        turned(base, 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
+    last = stage.phase(nullptr, "rendering",
+                       [&] { return renderer.render(scene, camera, render, frame); });
+    const auto w0 = Clock::now();
+    auto image = std::make_unique<OutputFile>(image_path(i));
+    write_image(frame, *image);
+    if (i + 1 < frames) image->commit();
+    last_image = std::move(image);
+    const double write_s = seconds_since(w0);
+    summary.frame_seconds += last.total_s;
+    summary.write_seconds += write_s;
+    per_frame.push_back(frame_json(last, write_s));
+  }
+  progress(1.0, "done");
+  summary.frames = frames;
+  summary.splats = scene.size();
+
+  nlohmann::json j;
+  if (!o.stats_path.empty()) {
+    j = per_frame.back();
+    j["width"] = o.width;
+    j["height"] = o.height;
+    j["blend"] = blend_name(r.render.blend);
+    j["max_fragments"] = r.render.max_fragments;
+    j["surface_ids"] = use_ids ? document.surface_source : "none";
+    j["surfaces"] = use_ids ? surface_count(scene.surface_ids) : 0;
+    j["clip"] = r.render.clip && scene.has_clip();
+    j["clipped_splats"] = r.render.clip ? scene.clip.clipped_splats() : 0;
+    j["clip_partners"] = r.render.clip ? scene.clip.partners.size() : 0;
+    j["load_ms"] = std::round(summary.load_seconds * 1e6) / 1e3;
+    if (frames > 1) {
+      j["frames"] = per_frame;
+      j["mean_frame_ms"] = std::round(summary.frame_seconds / frames * 1e6) / 1e3;
+    }
+  }
+  OutputFile* outputs[] = {last_image.get()};
+  stage.commit(outputs, std::move(j));
+  return summary;
+}
+
+}  // namespace splatkit::apps

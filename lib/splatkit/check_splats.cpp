@@ -1,0 +1,50 @@
+#include "splatkit/check_splats.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+namespace {
+
+std::string number(float v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// What is wrong with splat i, or empty.
+std::string splat_fault(const SplatCloud& cloud, std::size_t i) {
+  const Vec3f& n = cloud.normals[i];
+  if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z))
+    return "normal is not finite";
+  // Consumers normalise in float: a length that underflows or overflows there is as bad as zero.
+  const float length = norm(n);
+  if (n.x == 0 && n.y == 0 && n.z == 0) return "normal is zero";
+  if (!(length > 0) || !std::isfinite(length))
+    return "normal cannot be normalised (length " + number(length) + ")";
+  const float r = cloud.radii[i];
+  if (!std::isfinite(r)) return "radius " + number(r) + " is not finite";
+  if (r < 0) return "radius " + number(r) + " is negative";
+  if (r == 0) return "radius is zero";
+  return {};
+}
+
+}  // namespace
+
+void check_splats(const SplatCloud& cloud, const std::string& name) {
+  if (!cloud.has_normals() && !cloud.has_radii())
+    throw_bad_input(name, "the cloud has no normals and no radii; run estimate-normals first");
+  if (!cloud.has_normals())
+    throw_bad_input(name, "the cloud has no normals; run estimate-normals first");
+  if (!cloud.has_radii())
+    throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const std::string fault = splat_fault(cloud, i);
+    if (!fault.empty()) throw_bad_input(name, "splat " + std::to_string(i) + ": " + fault);
+  }
+}
+
+}  // namespace splatkit

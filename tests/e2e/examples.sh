@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Every example of every tool's --help (the lines "$ ...") and of README.md's "In a shell" section
+# runs as written, in a private directory holding the files the examples name (made from
+# data-samples/), with the tools first on PATH: exit code 0, nothing on stderr but the summary
+# lines, and the files the examples promise.
+source "$(dirname "$0")/common.bash"
+S=$SRC/data-samples
+EX=$WORK/ex
+mkdir -p "$EX/scans" "$EX/out" "$EX/frames"
+export PATH=$BIN:$PATH
+cd "$EX" || exit 1
+
+# The files the examples name.
+cp "$S/torus.ply" scan.ply
+cp "$S/cube.ply" big.ply
+cp "$S/torus-las12.las" scan.las
+cp "$S/sphere.ply" "$S/torus-big-endian.ply" scans/
+cp "$S/cad-noisy.xyz" part.xyz
+cp "$S/kitten.xyz" points.xyz  # x y z nx ny nz
+awk '{ printf "%s %s %s 0 %d %d %d\n", $1, $2, $3, NR % 256, (3 * NR) % 256, 128 }' \
+  "$S/kitten.xyz" > points.txt  # x y z _ r g b
+cp points.txt scan.xyz
+setup() { "$@" 2>"$WORK/setup.err" || { fail "setup: $*: $(cat "$WORK/setup.err")"; }; }
+setup splat-convert -q "$S/torus-ascii.ply" model.splk
+setup estimate-normals -q --columns x,y,z,_,_,_ "$S/kitten.xyz" bunny.splk
+setup estimate-normals -q --method robust part.xyz part.splk
+setup splat-convert -q part.splk part.ply
+setup build-splat-graph -q part.splk part-graph.splk
+setup segment-surfaces -q part-graph.splk part-surf.splk
+
+# Examples that cannot pass on this branch yet, each with its reason. An example listed here that
+# passes is a failure too, so that the list is emptied when the reason goes away.
+# Text on standard input is not recognised as XYZ by read_cloud (format detection by content);
+# the readers' own branch fixes it in lib/formats: remove these two lines when it is merged.
+XFAIL=(
+  "cat points.xyz | splat-convert --columns x,y,z,nx,ny,nz - out.ply"
+  "cat scan.xyz | splat-convert --columns x,y,z,_,r,g,b - scan.splk"
+)
+
+is_xfail() {
+  local x
+  for x in "${XFAIL[@]}"; do [ "$x" = "$1" ] && return 0; done
+  return 1
+}
+
+run_example() {  # run_example SOURCE COMMAND
+  local cmd=$2 code
+  bash -o pipefail -c "$cmd" >"$WORK/ex.out" 2>"$WORK/ex.err"
+  code=$?
+  if is_xfail "$cmd"; then
+    if [ "$code" -eq 0 ]; then
+      fail "$1: expected to fail but passed, remove it from XFAIL: $cmd"
+    else
+      echo "xfail ($1): $cmd" >&2
+      pass
+    fi
+    return
+  fi
+  if [ "$code" -ne 0 ]; then
+    fail "$1: exit $code: $cmd"; sed 's/^/  stderr: /' "$WORK/ex.err" | head -5 >&2
+  elif grep -v -E '^[a-z-]+: [0-9]+ (points|splats) in ' "$WORK/ex.err" | grep -q .; then
+    fail "$1: unexpected stderr: $cmd: $(head -3 "$WORK/ex.err")"
+  else
+    pass
+  fi
+}
+
+count=0
+for tool in splat-info splat-convert splat-synth estimate-normals build-splat-graph \
+            segment-surfaces splat-view; do
+  # The examples: lines "$ command  # comment" in the help footer (commands span one line).
+  while IFS= read -r cmd; do
+    run_example "$tool --help" "$cmd"
+    count=$((count + 1))
+  done < <("$tool" --help | sed -n 's/^ *\$ //p' | sed 's/  *# .*$//')
+done
+expect_eq "number of --help examples run" "$([ "$count" -ge 25 ] && echo ok)" ok
+
+readme=0
+while IFS= read -r cmd; do
+  run_example "README In a shell" "$cmd"
+  readme=$((readme + 1))
+done < <(awk '/^## In a shell/ { on = 1; next } on && /^```sh/ { code = 1; next }
+              on && code && /^```/ { exit } code && !/^#/ && NF' "$SRC/README.md")
+expect_eq "number of README examples run" "$([ "$readme" -ge 5 ] && echo ok)" ok
+
+# What the examples promise.
+for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply cad.ply \
+         spheres.ply torus.xyz scan.splk part-graph.splk parts.ply graph.json part-surf.ply \
+         surfaces.json bunny.png top.png part.exr turn_0000.png turn_0035.png stats.json \
+         surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json \
+         inventory.json; do
+  [ -s "$f" ] && pass || fail "no $f after the examples"
+done
+expect_eq "inventory.json describes every scan" \
+  "$(jq -r '[.[].points] | length' inventory.json 2>/dev/null)" 2
+grep -aq "property uint surface_id" part-surfaces.ply && pass ||
+  fail "part-surfaces.ply has no surface_id"
+grep -aq "property uint surface_id" parts.ply && pass || fail "parts.ply has no surface_id"
+
+finish
