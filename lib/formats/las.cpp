@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "splatkit/error.h"
+#include "splatkit/position_builder.h"
 
 namespace splatkit {
 
@@ -56,6 +58,13 @@ std::string fixed_string(const unsigned char* p, std::size_t n) {
     s += (p[i] >= 0x20 && p[i] < 0x7f) ? static_cast<char>(p[i]) : '?';
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
+}
+
+// Shortest text that reads back to v (for messages).
+std::string number_text(double v) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return ec == std::errc() ? std::string(buf, end) : std::string("?");
 }
 
 std::size_t min_header_size(int minor) {
@@ -208,7 +217,8 @@ void add_extras(SplatCloud& c, int format, std::size_t reserve, int slot[kExtras
 
 class PointDecoder {
  public:
-  PointDecoder(InputStream& in, const LasHeader& h, SplatCloud& c) : in_(in), h_(h), c_(c) {
+  PointDecoder(InputStream& in, const LasHeader& h, SplatCloud& c)
+      : in_(in), h_(h), c_(c), positions_(c, in.path()) {
     const std::size_t reserve =
         static_cast<std::size_t>(std::min<uint64_t>(h.count, std::size_t{1} << 22));
     c.positions.reserve(reserve);
@@ -232,6 +242,7 @@ class PointDecoder {
       for (std::size_t i = 0; i < n; ++i) decode(block.data() + i * h_.record_length, done + i);
       done += n;
     }
+    positions_.finish();
   }
 
  private:
@@ -242,14 +253,18 @@ class PointDecoder {
 
   void decode(const unsigned char* r, uint64_t index) {
     std::array<double, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = i32(r + 4 * k) * h_.scale[k] + h_.offset[k];
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      throw_bad_input(in_.path(), "point record " + std::to_string(index) +
-                                      ": coordinate overflows after scale and offset");
-    if (c_.positions.empty()) c_.origin = choose_origin(p);
-    c_.positions.push_back({static_cast<float>(p[0] - c_.origin[0]),
-                            static_cast<float>(p[1] - c_.origin[1]),
-                            static_cast<float>(p[2] - c_.origin[2])});
+    for (int k = 0; k < 3; ++k) {
+      const int32_t raw = i32(r + 4 * k);
+      p[k] = raw * h_.scale[k] + h_.offset[k];
+      // Positions are stored as float32: a scaled value beyond its range is an error.
+      if (!fits_float(p[k]))
+        throw_bad_input(in_.path(),
+                        "point record " + std::to_string(index) +
+                            ": coordinate overflows after scale and offset: " + "xyz"[k] + " = " +
+                            std::to_string(raw) + " * " + number_text(h_.scale[k]) + " + " +
+                            number_text(h_.offset[k]) + " is beyond float range");
+    }
+    positions_.add(p);
     put(kIntensity, u16(r + 12));
     const int f = h_.format;
     if (f < 6) {
@@ -279,6 +294,7 @@ class PointDecoder {
   InputStream& in_;
   const LasHeader& h_;
   SplatCloud& c_;
+  PositionBuilder positions_;
   int slot_[kExtras];
 };
 

@@ -10,6 +10,11 @@
 
 namespace splatkit {
 
+// The most attributes (PLY properties of an element, PLY elements, text columns, .splk columns) a
+// reader accepts. Real files have tens; each one costs the reader and splat-info far more memory
+// than the few header bytes that declare it, so a header of millions would take gigabytes.
+inline constexpr std::size_t kMaxAttributes = 16384;
+
 // A .splk chunk that splatkit does not decode here: kept byte for byte and written back.
 struct RawChunk {
   char type[4] = {0, 0, 0, 0};

@@ -9,6 +9,7 @@
 
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
+#include "splatkit/position_builder.h"
 
 namespace splatkit {
 
@@ -21,7 +22,7 @@ constexpr std::size_t kMaxReserve = std::size_t{1} << 20;
 
 class OffReader {
  public:
-  explicit OffReader(InputStream& in) : in_(in) {}
+  explicit OffReader(InputStream& in) : in_(in), positions_(doc_.cloud, in.path()) {}
   LoadedCloud read();
 
  private:
@@ -35,6 +36,7 @@ class OffReader {
 
   InputStream& in_;
   LoadedCloud doc_;
+  PositionBuilder positions_;
   std::string line_;
   uint64_t line_no_ = 0;
   std::vector<std::string_view> toks_;
@@ -134,12 +136,14 @@ void OffReader::read_vertex(uint64_t k) {
     if (!std::isfinite(v[i]))
       fail_line("vertex " + std::to_string(k) + ": NaN or infinite " +
                 (i < 3 ? "coordinate" : "normal"));
+    // Stored as float32: beyond its range is an error, not an infinity.
+    if (!fits_float(v[i]))
+      fail_line("vertex " + std::to_string(k) + ": " + (i < 3 ? "coordinate" : "normal") + " '" +
+                std::string(toks_[i].substr(0, 40)) +
+                "' is beyond float range (magnitude above 3.4e38)");
   }
   SplatCloud& c = doc_.cloud;
-  if (k == 0) c.origin = choose_origin({v[0], v[1], v[2]});
-  c.positions.push_back({static_cast<float>(v[0] - c.origin[0]),
-                         static_cast<float>(v[1] - c.origin[1]),
-                         static_cast<float>(v[2] - c.origin[2])});
+  positions_.add({v[0], v[1], v[2]});
   if (normals_)
     c.normals.push_back(
         {static_cast<float>(v[3]), static_cast<float>(v[4]), static_cast<float>(v[5])});
@@ -194,6 +198,7 @@ LoadedCloud OffReader::read() {
   if (normals_) c.normals.reserve(reserve_v);
   if (colors_) c.colors.reserve(reserve_v);
   for (uint64_t k = 0; k < nv_; ++k) read_vertex(k);
+  positions_.finish();
   if (nf_ > 0) {
     c.face_offsets.reserve(static_cast<std::size_t>(std::min<uint64_t>(nf_, kMaxReserve)) + 1);
     c.face_offsets.push_back(0);

@@ -20,6 +20,7 @@
 
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
+#include "splatkit/position_builder.h"
 #include "splatkit/remove_on_signal.h"
 
 namespace splatkit {
@@ -641,6 +642,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
 
   const std::size_t n = static_cast<std::size_t>(pc_.width) * pc_.height;
   uint64_t dropped = 0;
+  PositionBuilder positions(c, file_);
   for (std::size_t i = 0; i < n; ++i) {
     const uint8_t* rec = pc_.data.data() + i * pc_.point_step;
     std::array<double, 3> p;
@@ -651,10 +653,11 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     }
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
       throw_bad_input(file_, "point " + std::to_string(i) + ": infinite coordinate");
-    if (c.positions.empty()) c.origin = choose_origin(p);
-    c.positions.push_back({static_cast<float>(p[0] - c.origin[0]),
-                           static_cast<float>(p[1] - c.origin[1]),
-                           static_cast<float>(p[2] - c.origin[2])});
+    for (double x : p)
+      if (!fits_float(x))
+        throw_bad_input(file_, "point " + std::to_string(i) + ": coordinate " + std::to_string(x) +
+                                   " is beyond float range");
+    positions.add(p);
     if (has_normals) {
       Vec3f v;
       for (int k = 0; k < 3; ++k)
@@ -676,6 +679,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
           load(rec + f.offset + slots[s].k * type_size(f.datatype), f.datatype));
     }
   }
+  positions.finish();
   return dropped;
 }
 

@@ -12,9 +12,11 @@
 #include <cstring>
 #include <limits>
 #include <string_view>
+#include <unordered_set>
 
 #include "formats/ply.h"
 #include "splatkit/error.h"
+#include "splatkit/position_builder.h"
 
 namespace splatkit {
 namespace {
@@ -23,6 +25,8 @@ enum class Encoding { kAscii, kLittle, kBig };
 
 constexpr std::size_t kMaxHeaderLine = 64 * 1024;
 constexpr std::size_t kBlockBytes = 256 * 1024;  // decode block: stays in L2 while columns run
+constexpr std::size_t kSampleBytes =
+    64 * kOriginSampleSize * 1024;  // origin sample rows: 64 KiB each
 
 struct Property {
   std::string name;
@@ -175,8 +179,12 @@ class HeaderParser {
   void parse_element(const std::vector<std::string_view>& t) {
     if (!have_format_) fail("element before the format line (bad format line)");
     if (t.size() != 3) fail("bad element line (expected 'element <name> <count>')");
-    for (const Element& e : h_.elements)
-      if (e.name == t[1]) fail("duplicate element " + quote_text(t[1]));
+    if (h_.elements.size() == kMaxAttributes)
+      fail("more than " + std::to_string(kMaxAttributes) +
+           " elements (the most splatkit reads; real files have a few)");
+    if (!element_names_.insert(std::string(t[1])).second)
+      fail("duplicate element " + quote_text(t[1]));
+    property_names_.clear();
     Element e;
     e.name = std::string(t[1]);
     e.count = parse_count(e.name, t[2]);
@@ -203,6 +211,9 @@ class HeaderParser {
   void parse_property(const std::vector<std::string_view>& t) {
     if (h_.elements.empty()) fail("property before any element");
     Element& e = h_.elements.back();
+    if (e.properties.size() == kMaxAttributes)
+      fail("more than " + std::to_string(kMaxAttributes) + " properties in element '" + e.name +
+           "' (the most splatkit reads; real files have tens)");
     Property p;
     if (t.size() >= 2 && t[1] == "list") {
       if (t.size() != 5)
@@ -217,7 +228,7 @@ class HeaderParser {
       p.type = parse_type(t[1]);
       p.name = std::string(t[2]);
     }
-    if (e.find(p.name) >= 0)
+    if (!property_names_.insert(p.name).second)
       fail("duplicate property " + quote_text(p.name) + " in element '" + e.name + "'");
     e.properties.push_back(std::move(p));
   }
@@ -225,6 +236,9 @@ class HeaderParser {
   InputStream& in_;
   Header h_;
   bool have_format_ = false;
+  // Names seen so far (all elements; the current element's properties): duplicate checks in
+  // constant time, so that a header of many elements or properties parses in linear time.
+  std::unordered_set<std::string> element_names_, property_names_;
 };
 
 nlohmann::json header_json(const Header& h) {
@@ -556,8 +570,13 @@ class AsciiRows {
         ok = parse_integer<uint64_t>(tok, t, v);
         break;
     }
-    if (!ok)
+    if (!ok) {
+      double d = 0;
+      if (t == ScalarType::kFloat32 && parse_number(tok, d))
+        fail("value " + quote_text(tok) + " is out of range for float (magnitude above 3.4e38 " +
+             "or below 1.2e-38)");
       fail("value " + quote_text(tok) + " is not a number of type " + std::string(scalar_name(t)));
+    }
     return v;
   }
   uint64_t list_count(const Property& p) {
@@ -726,12 +745,14 @@ class PlyDecoder {
     }
     reserve_vertices(rows_to_reserve(e, std::max<uint64_t>(e.min_row_bytes(), 1)));
     std::vector<double> values(e.properties.size());
+    PositionBuilder positions(cloud_, in_.path(), plan_.wide);
     for (uint64_t r = 0; r < e.count; ++r) {
       read_row(
           e, r, rows, [&](std::size_t i, double v) { values[i] = v; },
           [](std::size_t, uint64_t) { return false; });
-      add_vertex(values, r, rows);
+      add_vertex(values, positions, rows);
     }
+    positions.finish();
   }
 
   void reserve_vertices(std::size_t n) {
@@ -757,20 +778,17 @@ class PlyDecoder {
     v.resize(n);
   }
 
-  void choose_origin_from(const double p[3]) {
-    if (plan_.wide) cloud_.origin = choose_origin({p[0], p[1], p[2]});
-  }
-
   template <class Rows>
-  void add_vertex(const std::vector<double>& v, uint64_t row, Rows& rows) {
-    const double p[3] = {v[plan_.xyz[0]], v[plan_.xyz[1]], v[plan_.xyz[2]]};
-    if (row == 0) choose_origin_from(p);
-    Vec3f q{static_cast<float>(p[0] - cloud_.origin[0]),
-            static_cast<float>(p[1] - cloud_.origin[1]),
-            static_cast<float>(p[2] - cloud_.origin[2])};
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-      rows.fail("NaN or infinite coordinate (or beyond float range)");
-    cloud_.positions.push_back(q);
+  void add_vertex(const std::vector<double>& v, PositionBuilder& positions, Rows& rows) {
+    const std::array<double, 3> p = {v[plan_.xyz[0]], v[plan_.xyz[1]], v[plan_.xyz[2]]};
+    for (double x : p) {
+      if (!std::isfinite(x)) rows.fail("NaN or infinite coordinate");
+      // Positions are float32: a double beyond its range is an error, not an infinity.
+      if (!fits_float(x))
+        rows.fail("coordinate " + number_text(x) +
+                  " is beyond float range (magnitude above 3.4e38)");
+    }
+    positions.add(p);
     if (plan_.has_normals)
       cloud_.normals.push_back({static_cast<float>(v[plan_.nxyz[0]]),
                                 static_cast<float>(v[plan_.nxyz[1]]),
@@ -804,29 +822,42 @@ class PlyDecoder {
     if (e.count == 0) return;
     if (row_bytes == 0) throw_bad_input(in_.path(), "element 'vertex' has no properties");
     const std::size_t block_rows = std::max<std::size_t>(1, kBlockBytes / row_bytes);
+    // The first block holds the origin's sample too (rows of up to 64 KiB; wider rows sample
+    // fewer points).
+    const std::size_t first_rows = std::max(
+        block_rows, std::min<std::size_t>(kOriginSampleSize,
+                                          std::max<std::size_t>(1, kSampleBytes / row_bytes)));
     const bool size_known = in_.remaining().has_value();
     if (size_known) resize_vertices(static_cast<std::size_t>(e.count));
     std::size_t done = 0;
     while (done < e.count) {
-      const std::size_t n =
-          static_cast<std::size_t>(std::min<uint64_t>(block_rows, e.count - done));
+      const std::size_t n = static_cast<std::size_t>(
+          std::min<uint64_t>(done == 0 ? first_rows : block_rows, e.count - done));
       const uint64_t block_offset = in_.offset();
       const char* data = in_.take(n * row_bytes, "element 'vertex' (truncated data)").data();
       if (!size_known) resize_vertices(done + n);
-      if (done == 0) choose_origin_from_row(data);
+      if (done == 0 && plan_.wide) cloud_.origin = origin_from_rows(data, row_bytes, n);
       decode_block(data, row_bytes, n, done);
-      check_positions(done, n, block_offset, row_bytes);
+      check_positions(data, done, n, block_offset, row_bytes);
       done += n;
     }
   }
 
-  void choose_origin_from_row(const char* row) {
-    double p[3];
-    for (int a = 0; a < 3; ++a) {
-      const Slot& s = plan_.slots[plan_.xyz[a]];
-      p[a] = load_double(swap_, s.type, row + s.offset);
+  // choose_origin_from_sample over the first rows whose x y z are finite and within float range
+  // (the others are rejected by check_positions).
+  std::array<double, 3> origin_from_rows(const char* data, std::size_t row_bytes, std::size_t n) {
+    std::vector<std::array<double, 3>> sample;
+    for (std::size_t i = 0; i < n && sample.size() < kOriginSampleSize; ++i) {
+      std::array<double, 3> p;
+      bool ok = true;
+      for (int a = 0; a < 3; ++a) {
+        const Slot& s = plan_.slots[plan_.xyz[a]];
+        p[a] = load_double(swap_, s.type, data + i * row_bytes + s.offset);
+        ok = ok && fits_float(p[a]);
+      }
+      if (ok) sample.push_back(p);
     }
-    choose_origin_from(p);
+    return choose_origin_from_sample(sample);
   }
 
   // Three consecutive native float32 fields: copied as a Vec3f.
@@ -903,14 +934,23 @@ class PlyDecoder {
     }
   }
 
-  void check_positions(std::size_t first, std::size_t n, uint64_t block_offset,
+  // Names the first row whose x, y or z is NaN, infinite or beyond float range (after the
+  // origin is subtracted), with the value as stored in the file.
+  void check_positions(const char* data, std::size_t first, std::size_t n, uint64_t block_offset,
                        std::size_t row_bytes) const {
     const Vec3f* p = cloud_.positions.data() + first;
     for (std::size_t i = 0; i < n; ++i) {
       if (std::isfinite(p[i].x) && std::isfinite(p[i].y) && std::isfinite(p[i].z)) continue;
-      throw_bad_input(in_.path(), "byte " + std::to_string(block_offset + i * row_bytes) +
-                                      ": element 'vertex' row " + std::to_string(first + i) +
-                                      ": NaN or infinite coordinate (or beyond float range)");
+      const std::string where = "byte " + std::to_string(block_offset + i * row_bytes) +
+                                ": element 'vertex' row " + std::to_string(first + i) + ": ";
+      for (int a = 0; a < 3; ++a) {
+        const Slot& s = plan_.slots[plan_.xyz[a]];
+        const double v = load_double(swap_, s.type, data + i * row_bytes + s.offset);
+        if (!std::isfinite(v)) throw_bad_input(in_.path(), where + "NaN or infinite coordinate");
+        if (!std::isfinite(static_cast<float>(v - cloud_.origin[a])))
+          throw_bad_input(in_.path(), where + "coordinate " + number_text(v) +
+                                          " is beyond float range (magnitude above 3.4e38)");
+      }
     }
   }
 

@@ -7,6 +7,7 @@
 #include "formats/off.h"
 #include "formats/ply.h"
 #include "formats/splk.h"
+#include "formats/text_numbers.h"
 #include "formats/xyz.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
@@ -55,7 +56,51 @@ bool looks_like_pcd(std::string_view s) {
   return starts_with_word(s, "VERSION") || starts_with_word(s, "FIELDS");
 }
 
+// Detaches the progress callback from the stream however the read ends.
+class ProgressAttachment {
+ public:
+  ProgressAttachment(InputStream& in, const ProgressFn& progress) : in_(in) {
+    in_.set_progress(progress, "reading");
+  }
+  ~ProgressAttachment() { in_.set_progress(nullptr); }
+  ProgressAttachment(const ProgressAttachment&) = delete;
+  ProgressAttachment& operator=(const ProgressAttachment&) = delete;
+
+ private:
+  InputStream& in_;
+};
+
 }  // namespace
+
+bool looks_like_text_columns(std::string_view head, bool complete) {
+  for (char ch : head) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 && ch != '\n' && !text::is_space(ch)) return false;  // binary
+  }
+  std::vector<std::string_view> toks;
+  bool skipped_header = false;
+  while (!head.empty()) {
+    const std::size_t nl = head.find('\n');
+    const bool cut = nl == std::string_view::npos && !complete;  // the line goes on past `head`
+    std::string_view line = text::trim(head.substr(0, nl));
+    head.remove_prefix(nl == std::string_view::npos ? head.size() : nl + 1);
+    if (line.empty() || line.front() == '#') continue;
+    if (line.substr(0, 2) == "//") line.remove_prefix(2);  // CloudCompare's header
+    const char sep = line.find(',') != std::string_view::npos   ? ','
+                     : line.find(';') != std::string_view::npos ? ';'
+                                                                : 0;
+    text::split(line, sep, toks);
+    if (cut && !toks.empty()) toks.pop_back();  // its last value may be incomplete
+    double v = 0;
+    bool numbers = true;
+    for (std::string_view t : toks) numbers = numbers && text::parse_double(t, v);
+    if (numbers && toks.size() >= 3) return true;
+    // One header line (names, or a PTS count) may come before the data.
+    if (skipped_header || cut) return false;
+    skipped_header = true;
+  }
+  return false;
+}
 
 FileFormat detect_format(InputStream& in, const std::string& path) {
   std::string_view head = in.peek(512);
@@ -78,9 +123,16 @@ FileFormat detect_format(InputStream& in, const std::string& path) {
   return FileFormat::kUnknown;
 }
 
-LoadedCloud read_cloud(InputStream& in, const ReadOptions& options) {
+LoadedCloud read_cloud(InputStream& in, const ReadOptions& options, const ProgressFn& progress) {
+  constexpr std::size_t kSniffBytes = 4096;
+  const std::string_view head = in.peek(kSniffBytes);
+  if (head.empty()) throw_bad_input(in.path(), "file is empty (0 bytes)");
   FileFormat f = detect_format(in, in.path());
   if (f == FileFormat::kUnknown) f = options.assume;
+  if (f == FileFormat::kUnknown &&
+      (!options.columns.empty() || looks_like_text_columns(head, head.size() < kSniffBytes)))
+    f = FileFormat::kXyz;
+  ProgressAttachment attach(in, progress);
   LoadedCloud doc;
   switch (f) {
     case FileFormat::kPly:
@@ -111,17 +163,19 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options) {
 #endif
     case FileFormat::kUnknown:
       throw_unsupported(in.path(),
-                        "unknown file format (not PLY, PCD, LAS, OFF or .splk by content; name it "
-                        ".xyz/.pts/.txt/.csv for text columns)");
+                        "unknown file format (not PLY, PCD, LAS, OFF, .splk or text columns by "
+                        "content; name it .xyz/.pts/.txt/.csv or give --columns for text)");
   }
   doc.format = std::string(format_name(f));
   doc.cloud.check_consistent();
+  progress(1.0, "reading");
   return doc;
 }
 
-LoadedCloud read_cloud(const std::string& path, const ReadOptions& options) {
+LoadedCloud read_cloud(const std::string& path, const ReadOptions& options,
+                       const ProgressFn& progress) {
   InputStream in(path);
-  return read_cloud(in, options);
+  return read_cloud(in, options, progress);
 }
 
 }  // namespace splatkit

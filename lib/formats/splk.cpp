@@ -35,6 +35,10 @@ constexpr std::size_t kSpltFixedBytes = 64;
 constexpr uint32_t kSpltHasViewpoint = 1;
 constexpr uint8_t kCoreColumn = 0;
 constexpr uint8_t kExtraColumn = 1;
+// Chunks a reader accepts in one file (END included): the bookkeeping of a chunk (its header
+// entry, a carried copy) costs far more than its 20 header bytes, so a file of millions of empty
+// chunks would take gigabytes. splatkit writes a handful.
+constexpr std::size_t kMaxChunks = 65536;
 
 using ChunkType = std::array<char, 4>;
 constexpr ChunkType kMeta{'M', 'E', 'T', 'A'};
@@ -662,6 +666,9 @@ void read_splt(Payload& p, SplatCloud& c) {
   for (std::size_t i = 0; i < 3; ++i) viewpoint[i] = get_f64(h.data() + 36 + 8 * i);
   const uint32_t columns = get_le<uint32_t>(h.data() + 60);
   if (flags & ~kSpltHasViewpoint) p.fail("unknown SPLT flag bits 0x" + hex32(flags));
+  if (columns > kMaxAttributes)
+    p.fail(std::to_string(columns) + " columns, more than the " + std::to_string(kMaxAttributes) +
+           " splatkit reads");
   if (n > p.left() / 12)
     p.fail("point count " + std::to_string(n) + " needs " +
            (n > UINT64_MAX / 12 ? "more than 2^64" : std::to_string(n * 12)) +
@@ -782,7 +789,12 @@ LoadedCloud read_splk(InputStream& in, const ReadOptions& /*options*/) {
   SplatCloud faces;
   ChunkHeader h;
   std::optional<ChunkType> last;
-  for (;;) {
+  for (std::size_t count = 0;; ++count) {
+    if (count == kMaxChunks)
+      throw_bad_input(in.path(), "byte " + std::to_string(in.offset()) + ": more than " +
+                                     std::to_string(kMaxChunks) +
+                                     " chunks (the most a reader accepts; damaged or not a "
+                                     "file splatkit wrote?)");
     if (!read_chunk_header(in, h))
       throw_bad_input(in.path(), "byte " + std::to_string(in.offset()) +
                                      ": missing END chunk: the file ends after " +

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
+#include "splatkit/position_builder.h"
 
 namespace splatkit {
 
@@ -72,7 +74,8 @@ const char* separator_name(char sep) { return sep == ',' ? "," : sep == ';' ? ";
 
 class XyzReader {
  public:
-  XyzReader(InputStream& in, const ReadOptions& options) : in_(in), options_(options) {}
+  XyzReader(InputStream& in, const ReadOptions& options)
+      : in_(in), options_(options), positions_(doc_.cloud, in.path()) {}
   LoadedCloud read();
 
  private:
@@ -82,10 +85,12 @@ class XyzReader {
   void set_columns_by_count(const std::vector<std::string_view>& first_data);
   void add_point(const std::vector<std::string_view>& toks);
   double number(std::string_view tok, std::size_t col) const;
+  void check_float(double v, std::string_view tok, std::size_t col, const char* what) const;
 
   InputStream& in_;
   const ReadOptions& options_;
   LoadedCloud doc_;
+  PositionBuilder positions_;
   std::string line_;
   uint64_t line_no_ = 0;
   std::string last_comment_;  // the comment just before the first data line (our own header)
@@ -116,16 +121,20 @@ bool XyzReader::next_content_line(std::string_view& content) {
 
 void XyzReader::set_columns(const std::vector<std::string_view>& names, const std::string& source) {
   auto fail = [&](const std::string& what) { throw_bad_input(in_.path(), what + " in " + source); };
+  if (names.size() > kMaxAttributes)
+    fail(std::to_string(names.size()) + " columns, more than the " +
+         std::to_string(kMaxAttributes) + " splatkit reads");
   columns_.clear();
+  columns_.reserve(names.size());
   int count[12] = {};
+  std::unordered_set<std::string> extra_names;  // duplicate check in constant time per column
   for (auto n : names) {
     if (n.empty()) fail("empty column name");
     Column c;
     c.role = role_for(n);
     c.name = text::clean_name(n);
     if (c.role == Role::kExtra) {
-      for (auto& e : doc_.cloud.extras)
-        if (e.name == c.name) fail("column '" + c.name + "' named twice");
+      if (!extra_names.insert(c.name).second) fail("column '" + c.name + "' named twice");
       c.extra = doc_.cloud.extras.size();
       doc_.cloud.extras.push_back({c.name, ScalarType::kFloat64, {}});
     } else if (c.role != Role::kSkip && ++count[static_cast<int>(c.role)] > 1) {
@@ -185,6 +194,18 @@ double XyzReader::number(std::string_view tok, std::size_t col) const {
   return v;
 }
 
+// Coordinates, normals and radii are stored as float32: a value beyond its range is an error, not
+// an infinity.
+void XyzReader::check_float(double v, std::string_view tok, std::size_t col,
+                            const char* what) const {
+  if (!std::isfinite(v))
+    fail_line(std::string("NaN or infinite ") + what + " in column " + std::to_string(col + 1));
+  if (!fits_float(v))
+    fail_line(std::string(what) + " '" + std::string(tok.substr(0, 40)) + "' in column " +
+              std::to_string(col + 1) + " (" + columns_[col].name +
+              ") is beyond float range (magnitude above 3.4e38)");
+}
+
 void XyzReader::add_point(const std::vector<std::string_view>& toks) {
   if (toks.size() != columns_.size())
     fail_line("expected " + std::to_string(columns_.size()) + " columns, found " +
@@ -201,15 +222,13 @@ void XyzReader::add_point(const std::vector<std::string_view>& toks) {
       case Role::kX:
       case Role::kY:
       case Role::kZ:
-        if (!std::isfinite(v))
-          fail_line("NaN or infinite coordinate in column " + std::to_string(i + 1));
+        check_float(v, toks[i], i, "coordinate");
         p[static_cast<int>(col.role) - static_cast<int>(Role::kX)] = v;
         break;
       case Role::kNx:
       case Role::kNy:
       case Role::kNz:
-        if (!std::isfinite(v))
-          fail_line("NaN or infinite normal in column " + std::to_string(i + 1));
+        check_float(v, toks[i], i, "normal");
         nrm[static_cast<int>(col.role) - static_cast<int>(Role::kNx)] = v;
         break;
       case Role::kR:
@@ -222,6 +241,7 @@ void XyzReader::add_point(const std::vector<std::string_view>& toks) {
         break;
       case Role::kRadius:
         if (!(v >= 0) || !std::isfinite(v)) fail_line("radius must be finite and >= 0");
+        check_float(v, toks[i], i, "radius");
         radius = static_cast<float>(v);
         break;
       case Role::kExtra:
@@ -231,10 +251,7 @@ void XyzReader::add_point(const std::vector<std::string_view>& toks) {
         break;
     }
   }
-  if (c.positions.empty()) c.origin = choose_origin(p);
-  c.positions.push_back({static_cast<float>(p[0] - c.origin[0]),
-                         static_cast<float>(p[1] - c.origin[1]),
-                         static_cast<float>(p[2] - c.origin[2])});
+  positions_.add(p);
   if (has_normals_)
     c.normals.push_back(
         {static_cast<float>(nrm[0]), static_cast<float>(nrm[1]), static_cast<float>(nrm[2])});
@@ -295,6 +312,7 @@ LoadedCloud XyzReader::read() {
       add_point(toks);
     } while (next_content_line(content));
   }
+  positions_.finish();
 
   SplatCloud& c = doc_.cloud;
   if (pts_count && *pts_count != c.size())

@@ -58,6 +58,26 @@ std::optional<uint64_t> InputStream::remaining() const {
 void InputStream::consume(const char* p, std::size_t n) {
   crc_ = crc32c(crc_, p, n);
   consumed_ += n;
+  if (progress_ && consumed_ >= next_report_) report_progress();
+}
+
+void InputStream::set_progress(ProgressFn fn, std::string phase) {
+  progress_ = std::move(fn);
+  phase_ = std::move(phase);
+  constexpr uint64_t kMiB = uint64_t{1} << 20;
+  progress_step_ = size_ ? std::max<uint64_t>(kMiB, *size_ / 1000) : kMiB;
+  next_report_ = consumed_ + progress_step_;
+}
+
+void InputStream::report_progress() {
+  next_report_ = consumed_ + progress_step_;
+  if (size_ && *size_ > 0) {
+    progress_(std::min(1.0, static_cast<double>(consumed_) / static_cast<double>(*size_)),
+              phase_.c_str());
+    return;
+  }
+  progress_text_ = "read " + std::to_string(consumed_ >> 20) + " MiB";
+  progress_(-1.0, progress_text_.c_str());
 }
 
 bool InputStream::fill(std::size_t want) {

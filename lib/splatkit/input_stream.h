@@ -5,6 +5,7 @@
 // pipe. Every failure (truncation, I/O error) throws splatkit::Error naming the file and the byte
 // offset. size_hint() is the file size when known (regular files), used by decoders to cap
 // allocations: a header claiming more data than the file holds is rejected before allocating.
+// set_progress() reports the bytes consumed to a ProgressFn while any reader runs on the stream.
 #pragma once
 
 #include <cstddef>
@@ -13,6 +14,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "splatkit/progress.h"
 
 namespace splatkit {
 
@@ -50,11 +53,19 @@ class InputStream {
   // Bytes left to the end when the size is known, else nullopt.
   std::optional<uint64_t> remaining() const;
 
+  // From now on, calls fn as bytes are consumed, about every 1 MiB (at most ~1000 times for a
+  // file of known size): with offset() / size_hint() and `phase` when the size is known, else
+  // with a negative fraction and "read <n> MiB" (how far, on a pipe). An empty fn stops the
+  // reports. fn may throw (e.g. Cancelled) to stop reading: the exception leaves the read call
+  // that consumed the bytes, and the stream is not read further.
+  void set_progress(ProgressFn fn, std::string phase = "reading");
+
   [[noreturn]] void fail(const std::string& what) const;  // "<name>: byte <offset>: <what>"
 
  private:
   bool fill(std::size_t want);  // ensures `want` bytes are buffered if the file has them
   void consume(const char* p, std::size_t n);  // advances the offset and the checksum
+  void report_progress();
 
   std::string path_;
   int fd_ = -1;
@@ -66,6 +77,9 @@ class InputStream {
   uint64_t consumed_ = 0;
   uint32_t crc_ = 0;
   bool eof_ = false;
+  ProgressFn progress_;
+  std::string phase_, progress_text_;
+  uint64_t progress_step_ = 0, next_report_ = 0;
 };
 
 }  // namespace splatkit

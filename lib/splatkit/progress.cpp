@@ -40,7 +40,12 @@ void Progress::draw(double fraction, const char* phase) {
   auto now = std::chrono::steady_clock::now();
   if (drawn_ && fraction < 1.0 && now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
-  if (fraction < 0) fraction = 0;
+  if (fraction < 0) {  // total unknown: the phase says how far
+    std::fprintf(stderr, "\r%s: %s\033[K", tool_.c_str(), phase ? phase : "");
+    std::fflush(stderr);
+    drawn_ = true;
+    return;
+  }
   if (fraction > 1) fraction = 1;
   constexpr int kWidth = 30;
   int filled = static_cast<int>(fraction * kWidth);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <vector>
 
 namespace splatkit {
 
@@ -63,6 +64,33 @@ std::array<double, 3> choose_origin(const std::array<double, 3>& p) {
   if (!(m >= 1e4) || !std::isfinite(m)) return {0, 0, 0};
   return {std::trunc(p[0] / 1000) * 1000, std::trunc(p[1] / 1000) * 1000,
           std::trunc(p[2] / 1000) * 1000};
+}
+
+std::array<double, 3> choose_origin_from_sample(
+    std::span<const std::array<double, 3>> first_points) {
+  if (first_points.empty()) return {0, 0, 0};
+  const auto sample = first_points.first(std::min(first_points.size(), kOriginSampleSize));
+  const std::array<double, 3> first = choose_origin(sample.front());
+  // Beyond this distance from the bulk of the sample a first point is a stray one: choose_origin
+  // keeps coordinates up to 1e4 unshifted, so nearer than that the first point's origin costs no
+  // precision that matters.
+  constexpr double kSlack = 1e4;
+  const std::size_t n = sample.size();
+  std::vector<double> v(n);
+  std::array<double, 3> median{};
+  bool representative = true;
+  for (int k = 0; k < 3; ++k) {
+    for (std::size_t i = 0; i < n; ++i) v[i] = sample[i][k];
+    const std::size_t lo = n / 20, mid = n / 2, hi = n - 1 - n / 20;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+    median[k] = v[mid];
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(lo), v.end());
+    const double q_lo = v[lo];
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(hi), v.end());
+    const double q_hi = v[hi];
+    representative = representative && first[k] >= q_lo - kSlack && first[k] <= q_hi + kSlack;
+  }
+  return representative ? first : choose_origin(median);
 }
 
 }  // namespace splatkit

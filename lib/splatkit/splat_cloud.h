@@ -1,8 +1,9 @@
 // The splat cloud: structure-of-arrays storage shared by every tool.
 //
 // Positions are float32 in a local frame; `origin` (float64) is added back to get the file's
-// coordinates. Readers set origin with choose_origin() so that georeferenced scans (UTM, LAS
-// offsets) keep millimetre precision in float. Optional attributes are either empty or hold
+// coordinates. Readers set origin with choose_origin_from_sample() so that georeferenced scans
+// (UTM, LAS offsets) keep millimetre precision in float, even when the file starts with a stray
+// point such as (0, 0, 0). Optional attributes are either empty or hold
 // exactly size() entries. Colours keep the source depth (8 or 16 bits per channel) losslessly.
 // Extra per-point attributes (intensity, classification, any unknown PLY property, ...) are
 // carried through by name with their original scalar type.
@@ -12,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,5 +69,17 @@ Bounds compute_bounds(const SplatCloud& cloud);
 // Origin for a cloud whose first point (file coordinates) is p: zero when every |p_i| < 1e4,
 // otherwise p truncated to a multiple of 1000 — keeps local float coordinates small.
 std::array<double, 3> choose_origin(const std::array<double, 3>& p);
+
+// How many of a file's first points the readers look at to choose the origin.
+inline constexpr std::size_t kOriginSampleSize = 256;
+
+// Origin for a cloud from its first points (file coordinates, file order, finite; at most
+// kOriginSampleSize are used): choose_origin(first point), unless on some axis that origin lies
+// more than 1e4 outside the range of the middle 90 % of the sample (the first point is a stray
+// one, e.g. (0, 0, 0) ahead of a UTM scan); then choose_origin(per-axis median of the sample).
+// Zero for an empty sample. A cloud whose first point is representative keeps the origin
+// choose_origin(first point) gives.
+std::array<double, 3> choose_origin_from_sample(
+    std::span<const std::array<double, 3>> first_points);
 
 }  // namespace splatkit
