@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# build-splat-graph against the same sphere-overlap graph built with PCL (issue 5): splat-synth
+# build-splat-graph against the same sphere-overlap graph built with PCL: splat-synth
 # cad (or another shape) with its true normals and radii from the 5-nearest-neighbour spacing,
 # --threads 2. Ours: build_splat_graph's time from --report — the graph (sphere_overlap_graph's
 # grid) with its sharp edges, classes, surfaces and clip partners — and its phases. PCL:
@@ -7,7 +7,8 @@
 # same rows, TBB with the same thread count; in the same process, first, our
 # sphere_overlap_graph builds the same graph, and both graphs are compared with each other and
 # with build-splat-graph's GRPH chunk, edge for edge. Then segment-surfaces (its segment phase,
-# and decode + segment), and the seed's reference size, 41,737 splats (76 s there, O(n^2)).
+# and decode + segment), and a small reference size, 41,737 splats (an O(n^2) pairwise test
+# took 76 s on it).
 # Prints the ratios; exits 1 when a target is missed: build_splat_graph >= 2 M splats/s; the
 # same sphere-overlap graph >= 10x faster than PCL builds it (one process, one input, the same
 # rows); segment-surfaces >= 10 M splats/s; same graph. The whole build_splat_graph (graph,
@@ -57,9 +58,9 @@ for r in $(seq "$repeats"); do
   decseg+=("$(awk -v d="$(timing decode "$work/s$r.json")" -v s="$(timing segment "$work/s$r.json")" \
     'BEGIN { print d + s }')")
 done
-"$bin/splat-synth" -q "$shape" "$work/seed.ply" -n 41737 --no-color
-"$bin/build-splat-graph" -q "$work/seed.ply" "$work/seed.splk" --threads "$threads" \
-  --report "$work/seed.json"
+"$bin/splat-synth" -q "$shape" "$work/small.ply" -n 41737 --no-color
+"$bin/build-splat-graph" -q "$work/small.ply" "$work/small.splk" --threads "$threads" \
+  --report "$work/small.json"
 
 n=$(value splats "$best")
 echo "graph: $shape, $n splats, $(value edges "$best") edges (m = $(value mean_degree "$best")), $threads threads, best of $repeats"
@@ -71,8 +72,8 @@ awk -v to="$(min "${ours[@]}")" -v tp="$(min "${pcl[@]}")" -v tc="$(min "${cmd[@
   -v ovl="$(timing overlaps "$best")" \
   -v same="$(grep -o '"same_graph": *[a-z]*' "$work/pcl1.json" | sed 's/.*: *//')" \
   -v same_ours="$(grep -o '"same_as_ours": *[a-z]*' "$work/pcl1.json" | sed 's/.*: *//')" \
-  -v sn="$(value splats "$work/seed.json")" -v st="$(timing graph "$work/seed.json")" \
-  -v sc="$(timing command "$work/seed.json")" 'BEGIN {
+  -v sn="$(value splats "$work/small.json")" -v st="$(timing graph "$work/small.json")" \
+  -v sc="$(timing command "$work/small.json")" 'BEGIN {
   printf "  %-52s %9s %12s\n", "", "seconds", "splats/s"
   printf "  %-52s %9.3f %12.0f\n", "ours: graph + classes + surfaces + clip partners", to, n / to
   printf "  %-52s %9.3f %12.0f\n", "ours: of which the graph with its sharp edges", ovl, n / ovl
@@ -83,7 +84,7 @@ awk -v to="$(min "${ours[@]}")" -v tp="$(min "${pcl[@]}")" -v tc="$(min "${cmd[@
   printf "  %-52s %9.3f %12.0f\n", "segment-surfaces: decode GRPH + segment", tds, n / tds
   printf "  x PCL, the same graph built: %.1f (sphere_overlap_graph vs KdTreeFLANN, one process)\n", tp / tg
   printf "  x PCL, build_splat_graph (graph, sharp edges, classes, surfaces, clip partners) vs PCL graph only: %.1f\n", tp / to
-  printf "  seed size: %d splats in %.3f s (command %.3f s); the seed took 76 s\n", sn, st, sc
+  printf "  small size: %d splats in %.3f s (command %.3f s); an O(n^2) pairwise test took 76 s\n", sn, st, sc
   printf "  same graph as PCL: %s (build-splat-graph), %s (sphere_overlap_graph)\n", same, same_ours
   t1 = n / to >= 2e6; t2 = tp / tg >= 10; t3 = n / ts >= 1e7
   t4 = same == "true" && same_ours == "true"

@@ -1,5 +1,5 @@
 // bench_graph_pcl: the PCL peer of scripts/bench/graph.sh — the sphere-overlap graph
-// E = {(i, j) : |C_i - C_j| < r_i + r_j} (SPEC §4, seed [3.1]) built with pcl::KdTreeFLANN:
+// E = {(i, j) : |C_i - C_j| < r_i + r_j} built with pcl::KdTreeFLANN:
 // kd-tree build, then for every splat radiusSearch(C_i, r_i + r_max) and keep the candidates with
 // |C_i - C_j|² < (r_i + r_j)², in parallel (TBB, --threads), into the same compressed rows as
 // splatkit::SpatialIndex::sphere_overlaps (ascending neighbours, no self). Timed inside the
