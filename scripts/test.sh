@@ -4,14 +4,39 @@
 #  2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/): the same tests
 #     again, plus a short libFuzzer run of every reader over its seed corpus.
 # SPLATKIT_TEST_SANITIZE=0 skips stage 2. Works from any directory.
+# SPLATKIT_SIMD=portable|sse2|avx2|avx512 caps the vector code of every kernel for the whole suite
+# (see the README); the tests that compare vector paths run at each level up to the cap that the
+# CPU has and skip the others loudly. The summary lines say which levels ran.
 set -euo pipefail
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$top/scripts/install-deps.sh"
 jobs=${SPLATKIT_JOBS:-$(nproc)}
 
+# simd_summary LOG: the SIMD levels this CPU offers, the cap, and per level how many of the
+# level-parametrised tests (named .../portable, .../avx2, ...) passed, failed or were skipped.
+simd_summary() {
+  local flags offers="portable"
+  flags=$(grep -m1 '^flags' /proc/cpuinfo 2>/dev/null || true)
+  for f in sse2 avx2 avx512f; do
+    [[ " $flags " == *" $f "* ]] && offers+=" ${f%f}"
+  done
+  echo "SIMD: this CPU offers: $offers; SPLATKIT_SIMD=${SPLATKIT_SIMD:-(unset)}"
+  for level in portable sse2 avx2 avx512; do
+    printf '  %-8s %3d passed, %3d failed, %3d skipped\n' "$level" \
+      "$(grep -cE "/$level \.+ +Passed" "$1" || true)" \
+      "$(grep -cE "/$level \.+.*(Failed|Exception|Timeout)" "$1" || true)" \
+      "$(grep -cE "/$level \.+.*Skipped" "$1" || true)"
+  done
+}
+
 echo "== Release build and tests =="
 "$top/scripts/build.sh" "$top/build" -DSPLATKIT_BUILD_TESTS=ON
-(cd "$top/build" && ctest --output-on-failure -j "$jobs")
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+status=0
+(cd "$top/build" && ctest --output-on-failure -j "$jobs") | tee "$log" || status=$?
+simd_summary "$log"
+[ "$status" -eq 0 ] || exit "$status"
 
 if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
   echo "== ASan + UBSan build, tests and fuzzers =="

@@ -1,5 +1,6 @@
-// sphere_overlap_graph: the neighbour graph of seed [3.1], E = {(i, j) : |C_i − C_j| < r_i + r_j},
-// with a uniform grid instead of a kd-tree — the first phase of build_splat_graph.
+// sphere_overlap_graph: the neighbour graph of bounding spheres that strictly overlap,
+// E = {(i, j) : |C_i − C_j| < r_i + r_j}, with a uniform grid instead of a kd-tree — the first
+// phase of build_splat_graph.
 //
 // Same answer as SpatialIndex::sphere_overlaps, entry for entry: j is a neighbour of i (j != i)
 // iff squared_distance(C_i, C_j) < (r_i + r_j)², both computed in float the same way; rows
@@ -9,17 +10,22 @@
 //     the cells' key order; one cursor per run moves forward only, so no hashing, no search);
 //   - splats are sorted by cell (parallel LSD radix sort on the cell key) into their own arrays;
 //   - the 27 cells' small splats that can reach a cell's bounding box are copied together once
-//     per cell and tested against each of its splats (16 at a time with AVX-512, 8 with AVX2,
-//     chosen at run time); a row of up to 16 is gathered and sorted in one AVX-512 register;
-//     a longer one is tested again eight at a time, and rows up to 64 are sorted by ranking
-//     without branches, longer ones by std::sort;
+//     per cell and tested against each of its splats (graph/overlap_candidates.h: 16 at a time
+//     with AVX-512, 8 with AVX2, one by one in the portable code; see splatkit/simd_level.h);
+//     a row of up to 16 is gathered and sorted in one AVX-512 register; a longer one is tested
+//     again eight at a time, and rows up to 64 are sorted by ranking without branches, longer
+//     ones by std::sort;
 //   - two passes over the cells: the row lengths, then each row again, written in place — no
 //     copy of the rows in cell order (fewer fresh pages, which cost more than the second pass);
 //   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
 //     their neighbours by scanning the cells within r_b + R of their centre and by testing each
 //     other directly, and are added to the rows of the small splats they overlap.
-// When the big splats would cost too much (more than 8192 of them, or their cell scans add up to
-// more than 8 cells per splat) it falls back to SpatialIndex::sphere_overlaps.
+// A few splats far from the rest do not set the cell size: an axis that would need more than
+// 2^21 cells covers the bulk of the splats, and the far ones are clamped into its outer cells
+// (graph/overlap_grid.h). When the cells are crowded (more than 1024 cell-mates per splat on
+// average: far clusters, or a bulk wider than 2^21 cells) or the big splats would cost too much
+// (more than 8192 of them, or their cell scans add up to more than 8 cells per splat) it falls
+// back to SpatialIndex::sphere_overlaps.
 //
 // positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
@@ -32,20 +38,21 @@
 #include <span>
 #include <vector>
 
+#include "splatkit/simd_level.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit::graph {
 
-// The vector code used, up to `limit` (lowered further to what the CPU runs), so that tests can
-// compare every path: portable scalar code; AVX2 (tests and ranking sort); AVX-512 (16-wide tests
-// and copies, rows up to 16 compressed and sorted in one register).
-enum class OverlapSimd { kPortable, kAvx2, kAvx512 };
+// The vector code used is min(limit, simd_level()), so that tests can compare every path:
+// portable scalar code (also at kSse2); AVX2 (tests and ranking sort); AVX-512 (16-wide tests and
+// copies, rows up to 16 compressed and sorted in one register). OverlapSimd is the older name.
+using OverlapSimd = SimdLevel;
 
 NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
-                                   OverlapSimd limit = OverlapSimd::kAvx512);
+                                   SimdLevel limit = SimdLevel::kAvx512);
 
-// Which edges are sharp [3.3]: n_i·n_j (Vec3f's dot) not >= threshold, so that a NaN normal
+// Which edges are sharp: n_i·n_j (Vec3f's dot) not >= threshold, so that a NaN normal
 // makes its edges sharp.
 struct SharpEdges {
   std::span<const Vec3f> normals;  // #N
@@ -64,6 +71,6 @@ struct SharpEdgeMarks {
 // the normals are not #N.
 NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
                                    const SharpEdges& sharp, SharpEdgeMarks& marks,
-                                   OverlapSimd limit = OverlapSimd::kAvx512);
+                                   SimdLevel limit = SimdLevel::kAvx512);
 
 }  // namespace splatkit::graph

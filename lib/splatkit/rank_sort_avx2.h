@@ -2,22 +2,9 @@
 // value's rank is the count of smaller ones, compared as signed after flipping the top bit, and
 // the value is stored at its rank. Quadratic: for rows up to a few hundred entries (kd-tree and
 // grid neighbour rows), where it beats std::sort's mispredicted branches. Shared by SpatialIndex
-// and graph::sphere_overlap_graph; callers check cpu_has_avx2() first.
+// and graph::sphere_overlap_graph; callers check simd_level() >= SimdLevel::kAvx2 first
+// (splatkit/simd_level.h).
 #pragma once
-
-namespace splatkit {
-
-// Whether this CPU runs AVX2 (asked once); false off x86-64.
-inline bool cpu_has_avx2() {
-#if defined(__x86_64__)
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-#else
-  return false;
-#endif
-}
-
-}  // namespace splatkit
 
 #if defined(__x86_64__)
 #include <immintrin.h>

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "graph/sphere_overlap_graph.h"
+#include "simd_level_test.h"
 #include "splatkit/error.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/synthetic_shapes.h"
@@ -30,9 +31,10 @@ NeighborGraph brute_force(const std::vector<Vec3f>& c, const std::vector<float>&
   return g;
 }
 
-// Every vector path the CPU has (the others are lowered to one it has).
-constexpr OverlapSimd kEverySimd[] = {OverlapSimd::kPortable, OverlapSimd::kAvx2,
-                                      OverlapSimd::kAvx512};
+// The tests that compare the vector paths run at every SIMD level the CPU has (simd_level() is
+// capped at the level, and the same level is passed as the limit).
+using GraphSphereOverlapGraphAt = SimdLevelTest;
+INSTANTIATE_TEST_SUITE_P(Simd, GraphSphereOverlapGraphAt, kEverySimdLevel, simd_level_param_name);
 
 void expect_same(const NeighborGraph& a, const NeighborGraph& b, const char* what) {
   EXPECT_EQ(a.offsets, b.offsets) << what;
@@ -48,7 +50,7 @@ TEST(GraphSphereOverlapGraph, TwoSplatsTouchingIsNoEdgeOverlappingIs) {
   EXPECT_EQ(g.neighbors, (std::vector<uint32_t>{2, 2, 0, 1}));
 }
 
-TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
+TEST_P(GraphSphereOverlapGraphAt, RandomCloudsWithBigSplatsMatchBruteForce) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1, 1);
   for (int round = 0; round < 12; ++round) {
@@ -64,13 +66,11 @@ TEST(GraphSphereOverlapGraph, RandomCloudsWithBigSplatsMatchBruteForce) {
     }
     if (round == 5) c[0] = {1000, -1000, 3};  // a far-away splat: a long, empty grid
     if (round == 7) r[n / 2] = 1000;          // its cell scan is over budget: the kd-tree answers
-    const NeighborGraph expected = brute_force(c, r);
-    for (OverlapSimd simd : kEverySimd)
-      expect_same(sphere_overlap_graph(c, r, simd), expected, "brute force");
+    expect_same(sphere_overlap_graph(c, r, level()), brute_force(c, r), "brute force");
   }
 }
 
-TEST(GraphSphereOverlapGraph, LongRowsMatchBruteForce) {
+TEST_P(GraphSphereOverlapGraphAt, LongRowsMatchBruteForce) {
   // Radii of several times the spacing: rows of up to about 200 neighbours (the ranking sort
   // takes rows up to 64, std::sort the longer ones; the other tests have short rows).
   std::mt19937 rng(5);
@@ -85,11 +85,10 @@ TEST(GraphSphereOverlapGraph, LongRowsMatchBruteForce) {
   std::size_t longest = 0;
   for (std::size_t i = 0; i < c.size(); ++i) longest = std::max(longest, expected.row(i).size());
   EXPECT_GT(longest, 64u);
-  for (OverlapSimd simd : kEverySimd)
-    expect_same(sphere_overlap_graph(c, r, simd), expected, "brute force");
+  expect_same(sphere_overlap_graph(c, r, level()), expected, "brute force");
 }
 
-TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {
+TEST_P(GraphSphereOverlapGraphAt, ShapesMatchTheKdTree) {
   for (ShapeKind kind : {ShapeKind::kCadPart, ShapeKind::kTwoSpheres, ShapeKind::kTorus}) {
     ShapeOptions so;
     so.kind = kind;
@@ -98,17 +97,46 @@ TEST(GraphSphereOverlapGraph, ShapesMatchTheKdTree) {
     const SplatCloud cloud = make_shape(so);
     const NeighborGraph expected = SpatialIndex(cloud.positions).sphere_overlaps(cloud.radii);
     expect_same(sphere_overlap_graph(cloud.positions, cloud.radii), expected, "kd-tree");
-    for (OverlapSimd simd : kEverySimd)
-      expect_same(sphere_overlap_graph(cloud.positions, cloud.radii, simd), expected, "kd-tree");
+  }
+}
+
+// A few splats very far from the rest (one at 1e20, one at -1e30, two copies at 3e25) must not
+// set the grid's cell size: the graph stays exact (the copies overlap each other), with small
+// and with huge radii on the far splats.
+TEST_P(GraphSphereOverlapGraphAt, FarOutliersKeepTheGraphExact) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int round = 0; round < 3; ++round) {
+    std::vector<Vec3f> c;
+    std::vector<float> r;
+    for (int i = 0; i < 6000; ++i) {
+      c.push_back({u(rng), u(rng), 0.01f * u(rng)});
+      r.push_back(0.012f * (1 + 0.3f * u(rng)));
+    }
+    const float far_r = round == 1 ? 1e20f : 0.012f;  // round 1: radii as large as the distance
+    const std::size_t at[] = {0, 2999, 3000, 5999};
+    c[at[0]] = {1e20f, 0, 0};
+    c[at[1]] = {-1e30f, 0.5f, 0.5f};
+    c[at[2]] = c[at[3]] = {3e25f, -3e25f, 1};
+    for (std::size_t i : at) r[i] = far_r;
+    if (round == 2) {  // a far cluster big enough to pass the grid's sampled quantiles
+      for (int i = 0; i < 100; ++i) {
+        c[100 + i] = {5e6f + u(rng), 0, 0};
+        r[100 + i] = 0.012f;
+      }
+    }
+    const NeighborGraph expected = brute_force(c, r);
+    EXPECT_EQ(expected.row(at[2]).size(), 1u);  // the far copies overlap each other only
+    expect_same(sphere_overlap_graph(c, r, level()), expected, "brute force");
   }
 }
 
 // The marks of sphere_overlap_graph(..., sharp, marks) against a direct test of every entry.
 void expect_marks(const std::vector<Vec3f>& c, const std::vector<float>& r,
                   const std::vector<Vec3f>& n, float threshold, const NeighborGraph& expected) {
-  for (OverlapSimd simd : kEverySimd) {
+  {
     SharpEdgeMarks marks;
-    const NeighborGraph g = sphere_overlap_graph(c, r, SharpEdges{n, threshold, 4}, marks, simd);
+    const NeighborGraph g = sphere_overlap_graph(c, r, SharpEdges{n, threshold, 4}, marks);
     expect_same(g, expected, "brute force, with marks");
     std::vector<uint8_t> flags;
     std::vector<uint32_t> rows;
@@ -121,12 +149,12 @@ void expect_marks(const std::vector<Vec3f>& c, const std::vector<float>& r,
       }
       if (any) rows.push_back(uint32_t(i));
     }
-    EXPECT_EQ(marks.flags, flags) << int(simd);
-    EXPECT_EQ(marks.rows, rows) << int(simd);
+    EXPECT_EQ(marks.flags, flags);
+    EXPECT_EQ(marks.rows, rows);
   }
 }
 
-TEST(GraphSphereOverlapGraph, SharpMarksMatchADirectTest) {
+TEST_P(GraphSphereOverlapGraphAt, SharpMarksMatchADirectTest) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<float> u(-1, 1);
   for (int round = 0; round < 9; ++round) {

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "simd_level_test.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -282,6 +283,53 @@ TEST(SpatialIndex, SphereOverlapsMatchBruteForce) {
       EXPECT_GT(graph.neighbors.size(), pts.size());  // the test is not vacuous
     }
   }
+}
+
+// The batch kNN and the sphere overlaps at every SIMD level the CPU has (simd_level() capped):
+// each vector path against brute force, on random, duplicate-heavy and uneven clouds.
+using SpatialIndexAt = SimdLevelTest;
+INSTANTIATE_TEST_SUITE_P(Simd, SpatialIndexAt, kEverySimdLevel, simd_level_param_name);
+
+TEST_P(SpatialIndexAt, KnnMatchesBruteForce) {
+  const std::vector<Vec3f> random = random_cloud(900, 81), dups = grid_cloud(400, 82);
+  for (std::size_t k : {5, 16, 40}) {
+    expect_knn_all_matches(SpatialIndex(random, 16), random, k);
+    expect_knn_all_matches(SpatialIndex(dups, 8), dups, k);
+    expect_knn_all_matches(SpatialIndex(uneven_cloud(83), 32), uneven_cloud(83), k);
+    expect_knn_matches(SpatialIndex(random, 16), random, {0.5f, 0.25f, 0.125f}, k);
+  }
+}
+
+TEST_P(SpatialIndexAt, SphereOverlapsMatchBruteForce) {
+  std::vector<Vec3f> pts = random_cloud(1500, 84);
+  Rng rng{85};
+  std::vector<float> radii(pts.size());
+  for (std::size_t i = 0; i < radii.size(); ++i)
+    radii[i] = i % 89 == 0 ? 0.3f * rng.uniformf() : 0.06f * rng.uniformf();  // rows past 160 too
+  const NeighborGraph graph = SpatialIndex(pts, 32).sphere_overlaps(radii);
+  const NeighborGraph expected = brute_overlaps(pts, radii);
+  EXPECT_EQ(graph.offsets, expected.offsets);
+  EXPECT_EQ(graph.neighbors, expected.neighbors);
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) longest = std::max(longest, expected.row(i).size());
+  EXPECT_GT(longest, 160u);
+}
+
+// A few points very far from the rest (1e20, -1e30, copies at 3e25, whose squared distances to
+// the others overflow to +inf): every kNN row and the overlap graph stay exact.
+TEST_P(SpatialIndexAt, FarOutliersKeepAnswersExact) {
+  std::vector<Vec3f> pts = random_cloud(3000, 86);
+  pts[0] = {1e20f, 0, 0};
+  pts[1500] = {-1e30f, 0.5f, 0.5f};
+  pts[1501] = pts[2999] = {3e25f, -3e25f, 1};
+  for (std::size_t k : {2, 16}) expect_knn_all_matches(SpatialIndex(pts), pts, k);
+  std::vector<float> radii(pts.size(), 0.04f);
+  radii[0] = 1e20f;
+  const NeighborGraph graph = SpatialIndex(pts).sphere_overlaps(radii);
+  const NeighborGraph expected = brute_overlaps(pts, radii);
+  EXPECT_EQ(graph.offsets, expected.offsets);
+  EXPECT_EQ(graph.neighbors, expected.neighbors);
+  EXPECT_EQ(expected.row(1501).size(), 1u);  // the far copies overlap each other only
 }
 
 TEST(SpatialIndex, SphereOverlapsAreStrict) {

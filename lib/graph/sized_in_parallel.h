@@ -1,0 +1,46 @@
+// sized_in_parallel: v.resize(size) for a new, large vector, with its pages mapped in parallel
+// first. Shared by sphere_overlap_graph's grid and driver.
+#pragma once
+
+#include <tbb/parallel_for.h>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace splatkit::graph {
+
+// v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first (as huge
+// pages where it gives them), so the zeroing in resize does not fault them in one at a time on
+// one thread (a fresh page costs more than writing it; the arrays here are tens of MB). The
+// madvise calls are hints only: what stays unmapped is faulted in on first use.
+template <class T>
+inline void sized_in_parallel(std::vector<T>& v, std::size_t size) {
+  v.reserve(size);
+#if defined(MADV_POPULATE_WRITE)
+  constexpr std::size_t kPage = 4096, kBytes = std::size_t{1} << 22;  // per madvise call
+  const auto begin = (reinterpret_cast<uintptr_t>(v.data()) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
+  if (end > begin) {
+#if defined(MADV_HUGEPAGE)
+    // Only whole 2 MB pages inside the vector: the hint stays on the range after it is freed.
+    constexpr uintptr_t kHuge = uintptr_t{1} << 21;
+    const uintptr_t huge_begin = (begin + kHuge - 1) & ~(kHuge - 1), huge_end = end & ~(kHuge - 1);
+    if (huge_end > huge_begin)
+      madvise(reinterpret_cast<void*>(huge_begin), huge_end - huge_begin, MADV_HUGEPAGE);
+#endif
+    tbb::parallel_for(uintptr_t{0}, (end - begin + kBytes - 1) / kBytes, [&](uintptr_t c) {
+      const uintptr_t from = begin + c * kBytes, to = std::min(end, from + kBytes);
+      madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);
+    });
+  }
+#endif
+  v.resize(size);
+}
+
+}  // namespace splatkit::graph
