@@ -49,7 +49,7 @@ StageSummary run_build_splat_graph(const BuildSplatGraphOptions& o, const Progre
     throw_usage("OUT must end in .splk or be '-' (the graph chunks need .splk): " + output);
   const graph::SplatGraphOptions options = graph_options(o);
   Stage stage("build-splat-graph", o.paths);
-  LoadedCloud doc = stage.read();
+  LoadedCloud doc = stage.read({}, progress);
   check_splats(doc.cloud, stage.input_name());
   const graph::SplatGraph g = stage.phase("graph", "building the splat graph", [&] {
     return graph::build_splat_graph(doc.cloud, options, progress);

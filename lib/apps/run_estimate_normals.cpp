@@ -60,7 +60,7 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   write.format = output_format(o.paths.output, o.format);
   const NormalOptions options = normal_options(o);
   Stage stage("estimate-normals", o.paths);
-  LoadedCloud doc = stage.read(o.read);
+  LoadedCloud doc = stage.read(o.read, progress);
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
     return estimate_normals(doc.cloud, options, progress);
   });

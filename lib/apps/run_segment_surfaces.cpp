@@ -85,7 +85,7 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   const bool robust = o.method == "robust";
 
   Stage stage("segment-surfaces", o.paths);
-  LoadedCloud doc = stage.read();
+  LoadedCloud doc = stage.read({}, progress);
   const std::string& name = stage.input_name();
   check_splats(doc.cloud, name);
   const GraphChunks chunks =

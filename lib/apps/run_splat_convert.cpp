@@ -24,7 +24,7 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   Stage stage("splat-convert", o.paths);
   stage.check_output_format(write);
   progress(0.0, "reading");
-  LoadedCloud doc = stage.read(o.read);
+  LoadedCloud doc = stage.read(o.read, progress);
   stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
   stage.write(doc, write);
   return {doc.cloud.size(), "points", ""};

@@ -283,8 +283,9 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   const auto t0 = Clock::now();
   progress(0.0, "reading");
   const std::string& name = stage.input_name();
-  DocumentScene document = stage.phase(nullptr, "reading " + name,
-                                       [&] { return scene_from_document(stage.read(), name); });
+  DocumentScene document = stage.phase(nullptr, "reading " + name, [&] {
+    return scene_from_document(stage.read({}, progress), name);
+  });
   apply_colors(r.color_by, document, name);
   const RenderScene& scene = document.scene;
   summary.load_seconds = seconds_since(t0);

@@ -63,10 +63,10 @@ Stage::Stage(std::string tool, StagePaths paths, std::string report_option)
   check_can_create(p.report);
 }
 
-LoadedCloud Stage::read(const ReadOptions& options) {
+LoadedCloud Stage::read(const ReadOptions& options, const ProgressFn& progress) {
   return phase("read", "reading " + input_name_, [&] {
     in_ = std::make_unique<InputStream>(paths_.input);
-    return read_cloud(*in_, options);
+    return read_cloud(*in_, options, progress);
   });
 }
 

@@ -41,8 +41,9 @@ class Stage {
   const StagePaths& paths() const { return paths_; }
   const std::string& input_name() const { return input_name_; }  // "<stdin>" for "-"
 
-  // Reads IN, timed as "read". A std::bad_alloc becomes Error(kOutOfMemory) naming IN.
-  LoadedCloud read(const ReadOptions& options = {});
+  // Reads IN, timed as "read", reporting the bytes read to `progress` (read_cloud.h). A
+  // std::bad_alloc becomes Error(kOutOfMemory) naming IN.
+  LoadedCloud read(const ReadOptions& options = {}, const ProgressFn& progress = no_progress());
 
   // Runs `work()`, timed under `key` (nullptr: not timed): a std::bad_alloc becomes
   // Error(kOutOfMemory) "out of memory while <doing>", and a bad-input error whose message lacks

@@ -28,34 +28,10 @@ setup splat-convert -q part.splk part.ply
 setup build-splat-graph -q part.splk part-graph.splk
 setup segment-surfaces -q part-graph.splk part-surf.splk
 
-# Examples that cannot pass on this branch yet, each with its reason. An example listed here that
-# passes is a failure too, so that the list is emptied when the reason goes away.
-# Text on standard input is not recognised as XYZ by read_cloud (format detection by content);
-# the readers' own branch fixes it in lib/formats: remove these two lines when it is merged.
-XFAIL=(
-  "cat points.xyz | splat-convert --columns x,y,z,nx,ny,nz - out.ply"
-  "cat scan.xyz | splat-convert --columns x,y,z,_,r,g,b - scan.splk"
-)
-
-is_xfail() {
-  local x
-  for x in "${XFAIL[@]}"; do [ "$x" = "$1" ] && return 0; done
-  return 1
-}
-
 run_example() {  # run_example SOURCE COMMAND
   local cmd=$2 code
   bash -o pipefail -c "$cmd" >"$WORK/ex.out" 2>"$WORK/ex.err"
   code=$?
-  if is_xfail "$cmd"; then
-    if [ "$code" -eq 0 ]; then
-      fail "$1: expected to fail but passed, remove it from XFAIL: $cmd"
-    else
-      echo "xfail ($1): $cmd" >&2
-      pass
-    fi
-    return
-  fi
   if [ "$code" -ne 0 ]; then
     fail "$1: exit $code: $cmd"; sed 's/^/  stderr: /' "$WORK/ex.err" | head -5 >&2
   elif grep -v -E '^[a-z-]+: [0-9]+ (points|splats) in ' "$WORK/ex.err" | grep -q .; then
