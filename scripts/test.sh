@@ -23,9 +23,9 @@ simd_summary() {
   echo "SIMD: this CPU offers: $offers; SPLATKIT_SIMD=${SPLATKIT_SIMD:-(unset)}"
   for level in portable sse2 avx2 avx512; do
     printf '  %-8s %3d passed, %3d failed, %3d skipped\n' "$level" \
-      "$(grep -cE "/$level \.+ +Passed" "$1" || true)" \
-      "$(grep -cE "/$level \.+.*(Failed|Exception|Timeout)" "$1" || true)" \
-      "$(grep -cE "/$level \.+.*Skipped" "$1" || true)"
+      "$(grep -cE "Test +#[0-9]+: [^ ]+/$level .*Passed" "$1" || true)" \
+      "$(grep -cE "Test +#[0-9]+: [^ ]+/$level .*(Failed|Exception|Timeout)" "$1" || true)" \
+      "$(grep -cE "Test +#[0-9]+: [^ ]+/$level .*Skipped" "$1" || true)"
   done
 }
 

@@ -305,7 +305,8 @@ TEST_P(SpatialIndexAt, SphereOverlapsMatchBruteForce) {
   Rng rng{85};
   std::vector<float> radii(pts.size());
   for (std::size_t i = 0; i < radii.size(); ++i)
-    radii[i] = i % 89 == 0 ? 0.3f * rng.uniformf() : 0.06f * rng.uniformf();  // rows past 160 too
+    radii[i] =
+        i % 89 == 0 ? 0.3f + 0.1f * rng.uniformf() : 0.06f * rng.uniformf();  // rows past 160
   const NeighborGraph graph = SpatialIndex(pts, 32).sphere_overlaps(radii);
   const NeighborGraph expected = brute_overlaps(pts, radii);
   EXPECT_EQ(graph.offsets, expected.offsets);
@@ -318,11 +319,11 @@ TEST_P(SpatialIndexAt, SphereOverlapsMatchBruteForce) {
 // A few points very far from the rest (1e20, -1e30, copies at 3e25, whose squared distances to
 // the others overflow to +inf): every kNN row and the overlap graph stay exact.
 TEST_P(SpatialIndexAt, FarOutliersKeepAnswersExact) {
-  std::vector<Vec3f> pts = random_cloud(3000, 86);
+  std::vector<Vec3f> pts = random_cloud(2000, 86);
   pts[0] = {1e20f, 0, 0};
   pts[1500] = {-1e30f, 0.5f, 0.5f};
-  pts[1501] = pts[2999] = {3e25f, -3e25f, 1};
-  for (std::size_t k : {2, 16}) expect_knn_all_matches(SpatialIndex(pts), pts, k);
+  pts[1501] = pts[1999] = {3e25f, -3e25f, 1};
+  expect_knn_all_matches(SpatialIndex(pts), pts, 16);
   std::vector<float> radii(pts.size(), 0.04f);
   radii[0] = 1e20f;
   const NeighborGraph graph = SpatialIndex(pts).sphere_overlaps(radii);
