@@ -31,8 +31,14 @@ for sig in INT TERM HUP; do
   if [ -n "$tmp" ] && [ -e "$tmp" ]; then pass; else fail "SIG$sig: no temporary output seen"; fi
   kill -"$sig" "$pid"
   kill -CONT "$pid"
-  wait "$pid"
-  expect_eq "SIG$sig: exit status" "$?" $((128 + $(kill -l "$sig")))
+  # Under job control, wait also returns when the job stops (status 128 + SIGSTOP): the stop may be
+  # reported only now, after the CONT. Wait again until the process has ended.
+  for _ in 1 2 3; do
+    wait "$pid"
+    status=$?
+    [ "$status" -ne $((128 + $(kill -l STOP))) ] && break
+  done
+  expect_eq "SIG$sig: exit status" "$status" $((128 + $(kill -l "$sig")))
   left=$(ls "$WORK" | grep -c '\.tmp\.')
   expect_eq "SIG$sig: temporary files left" "$left" 0
   expect_eq "SIG$sig: previous output" "$(cksum < "$WORK/out.xyz")" "$before"
