@@ -43,23 +43,23 @@ synth() {
 
 # The ground-truth samples: binary little-endian PLY with normals, radius and patch_id. Colours
 # only where they mean something (the red and blue spheres): grey would add 3 bytes a point.
-synth sphere sphere.ply -n 10000 --seed 1 --no-color
-synth torus torus.ply -n 12000 --seed 1 --no-color
-synth cad cad.ply -n 30000 --seed 1 --no-color
-synth two-spheres two-spheres.ply -n 12000 --seed 1 --keep-inside
-synth cube cube.ply -n 12000 --seed 1 --no-color
+synth sphere sphere.ply -n 10000 --seed=1 --no-color
+synth torus torus.ply -n 12000 --seed=1 --no-color
+synth cad cad.ply -n 30000 --seed=1 --no-color
+synth two-spheres two-spheres.ply -n 12000 --seed=1 --keep-inside
+synth cube cube.ply -n 12000 --seed=1 --no-color
 
 # Small variants in the other encodings and formats, for the readers.
-synth torus torus-ascii.ply -n 1000 --seed 2 --no-color --ascii
-synth torus torus-big-endian.ply -n 1000 --seed 2 --no-color --big-endian
-synth cad cad-noisy.xyz -n 1000 --seed 3 --noise 0.002 --no-color
-synth sphere sphere-random.off -n 1000 --seed 4 --random --no-color
+synth torus torus-ascii.ply -n 1000 --seed=2 --no-color --ascii
+synth torus torus-big-endian.ply -n 1000 --seed=2 --no-color --big-endian
+synth cad cad-noisy.xyz -n 1000 --seed=3 --noise 0.002 --no-color
+synth sphere sphere-random.off -n 1000 --seed=4 --random --no-color
 
 made=(sphere.ply torus.ply cad.ply two-spheres.ply cube.ply torus-ascii.ply torus-big-endian.ply
   cad-noisy.xyz sphere-random.off)
 
 if command -v pcl_ply2pcd > /dev/null; then
-  synth cad cad-pcl.ply -n 1000 --seed 5 --no-color
+  synth cad cad-pcl.ply -n 1000 --seed=5 --no-color
   pcl_ply2pcd -format 1 "$tmp/cad-pcl.ply" "$tmp/cad-pcl.pcd" > /dev/null
   made+=(cad-pcl.pcd)
 else

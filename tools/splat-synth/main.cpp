@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
       "  $ splat-synth cad cad.ply -n 30000 --noise 0.001  # CAD-like part with noise along "
       "normals\n"
       "  $ splat-synth two-spheres spheres.ply --keep-inside  # both whole spheres, red and blue\n"
-      "  $ splat-synth torus torus.xyz -n 2000 --random --seed 7  # i.i.d. uniform sample as text\n"
+      "  $ splat-synth torus torus.xyz -n 2000 --random --seed=7  # i.i.d. uniform sample as text\n"
       "  $ splat-synth cube - | splat-info -            # .splk on stdout\n");
   splatkit::apps::SplatSynthOptions o;
   auto& app = tool.app();
