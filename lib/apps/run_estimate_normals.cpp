@@ -39,6 +39,14 @@ NormalOptions normal_options(const EstimateNormalsOptions& o) {
                                    : NormalOrientation::kMst;
   if (!(n.radius_scale > 0) || !std::isfinite(n.radius_scale))
     throw_usage("--radius-scale must be a positive finite number");
+  if (o.radius != "cover" && o.radius != "mean-knn")
+    throw_usage("--radius must be cover or mean-knn, got '" + o.radius + "'");
+  if (o.splat != "circle" && o.splat != "ellipse")
+    throw_usage("--splat must be circle or ellipse, got '" + o.splat + "'");
+  n.radius_rule = o.radius == "mean-knn" ? RadiusRule::kMeanKnn : RadiusRule::kCover;
+  n.ellipses = o.splat == "ellipse";
+  if (n.ellipses && n.radius_rule != RadiusRule::kCover)
+    throw_usage("--splat ellipse needs --radius cover (ellipses are fitted to the cover cells)");
   return n;
 }
 
@@ -46,6 +54,8 @@ nlohmann::json provenance_options(const NormalOptions& o) {
   nlohmann::json j = {{"k", o.k},
                       {"radius_k", o.radius_k},
                       {"radius_scale", o.radius_scale},
+                      {"radius", o.radius_rule == RadiusRule::kCover ? "cover" : "mean-knn"},
+                      {"splat", o.ellipses ? "ellipse" : "circle"},
                       {"method", method_name(o.method)},
                       {"orient", orientation_name(o.orient)},
                       {"keep_duplicates", o.keep_duplicates}};

@@ -18,6 +18,8 @@ struct EstimateNormalsOptions {
   // k, radius_k, radius_scale, keep_duplicates; method, orient and viewpoint come from the texts
   // below.
   NormalOptions normals;
+  std::string radius = "cover";  // --radius: cover or mean-knn
+  std::string splat = "circle";  // --splat: circle or ellipse
   std::string method = "pca";  // pca | robust
   std::string orient;          // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
   std::string viewpoint;       // "x,y,z" in file coordinates, or empty

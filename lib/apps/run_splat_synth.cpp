@@ -20,9 +20,10 @@ nlohmann::json describe(const ShapeOptions& o, const SplatCloud& cloud, bool col
                   {"points", o.points},
                   {"seed", o.seed},
                   {"noise", o.noise},
-                  {"random", o.random},
+                  {"random", o.random || o.scan_lines > 1},
                   {"keep_inside", o.keep_inside},
                   {"colors", colors}};
+  if (o.scan_lines > 1) m["options"]["scan_lines"] = o.scan_lines;
   m["counts"] = {{"points", cloud.size()}, {"faces", 0}};
   if (!b.empty())
     m["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};

@@ -1,14 +1,17 @@
 #include "normals/estimate_normals.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <vector>
 
+#include "normals/cover_splat.h"
 #include "normals/fill_isolated_radii.h"
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
@@ -32,6 +35,52 @@ void check_options(const NormalOptions& o) {
   if (o.radius_k < 1) throw_usage("--radius-k must be at least 1");
   if (!std::isfinite(o.radius_scale) || !(o.radius_scale > 0))
     throw_usage("--radius-scale must be a finite number > 0");
+  if (o.ellipses && o.radius_rule != RadiusRule::kCover)
+    throw_usage("--splat ellipse needs --radius cover (ellipses are fitted to the cover cells)");
+}
+
+std::size_t row_size(const NormalOptions& o) { return std::max(o.k, o.radius_k + 1); }
+
+// The splat of point i from its kNN row (positions' indices, the point first; squared distances),
+// by the options' rule, written to the cloud's radii (and axes, minor radii). Returns whether the
+// row left the point's cover cell open (cover_splat.h): a wider row may close it.
+bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i,
+               std::span<const uint32_t> row, std::span<const float> sq_dists) {
+  const float mean_knn = splat_radius(sq_dists.first(std::min(sq_dists.size(), o.radius_k + 1)),
+                                      o.radius_k);
+  if (o.radius_rule == RadiusRule::kMeanKnn) {
+    cloud.radii[i] = mean_knn;
+    return false;
+  }
+  // Only duplicates in the row: phase 3 leaves 0 (an isolated point, filled later); a refit keeps
+  // the radius resolve_degenerate_normals took from a wider row.
+  if (mean_knn == 0) return false;
+  const SplatShape s = cover_splat(cloud.positions[i], cloud.normals[i], cloud.positions, row,
+                                   kCoverCapScale * mean_knn, o.ellipses);
+  cloud.radii[i] = s.radius;
+  if (o.ellipses) {
+    cloud.axes[i] = s.axis;
+    cloud.minor_radii[i] = s.minor_radius;
+  }
+  return s.open;
+}
+
+// Fits the splats of `points` again from rows of k points, one kNN query each: points whose
+// normal changed after phase 3, and points whose cell the phase-3 row left open.
+void refit_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
+                  std::span<const uint32_t> points, std::size_t k) {
+  k = std::min(k, cloud.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& range) {
+    std::vector<uint32_t> row(k, SpatialIndex::kNone);
+    std::vector<float> sq(k, std::numeric_limits<float>::infinity());
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      const uint32_t i = points[p];
+      const std::size_t got = index.knn(cloud.positions[i], k, row.data(), sq.data());
+      std::fill(row.begin() + got, row.end(), SpatialIndex::kNone);
+      std::fill(sq.begin() + got, sq.end(), std::numeric_limits<float>::infinity());
+      fit_splat(cloud, o, i, row, sq);
+    }
+  });
 }
 
 // Calls `progress` from whichever worker gets the lock; the others skip (the tools' callbacks are
@@ -56,13 +105,19 @@ class SharedProgress {
   std::mutex mutex_;
 };
 
+// Flags of phase 3 per point.
+constexpr uint8_t kDegenerate = 1;  // PCA neighbourhood degenerate: phase 4 finds the normal
+constexpr uint8_t kOpenCell = 2;    // cover cell left open by the row: refitted from a wider one
+// Rows of refitted splats are this many times the phase-3 row.
+constexpr std::size_t kWideRowFactor = 4;
+
 // Phase 3: one streamed kNN pass gives every point its PCA normal and its radius; points whose
 // neighbourhood is degenerate are flagged for phase 4. `variation` (empty, or #N) receives the
 // surface variation the robust method selects its points by (-1: degenerate, skip).
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& degenerate, std::vector<float>& variation,
                            const ProgressFn& progress) {
-  const std::size_t row_k = std::max(o.k, o.radius_k + 1);
+  const std::size_t row_k = row_size(o);
   const std::span<const Vec3f> positions(cloud.positions);
   SharedProgress shared(progress, 0.15, 0.6, cloud.size(), "normals");
   index.for_each_knn_block(
@@ -77,10 +132,13 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           const uint32_t i = queries[r];
           const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
           cloud.normals[i] = pca.normal;
-          degenerate[i] = pca.degenerate ? 1 : 0;
+          uint8_t flags = pca.degenerate ? kDegenerate : 0;
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
-          cloud.radii[i] = splat_radius(sq_dists.subspan(r * row_k, row_k), o.radius_k);
+          if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),
+                        sq_dists.subspan(r * row_k, row_k)))
+            flags |= kOpenCell;
+          degenerate[i] = flags;
         }
         shared.add(queries.size());
       });
@@ -133,6 +191,7 @@ nlohmann::json NormalReport::to_json() const {
           {"degenerate_points", degenerate_points},
           {"unresolved_points", unresolved_points},
           {"isolated_points", isolated_points},
+          {"refitted_points", refitted_points},
           {"flipped_points", flipped_points},
           {"components", components},
           {"robust", robust},
@@ -167,8 +226,13 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
 
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
+  cloud.axes.assign(options.ellipses ? n : 0, Vec3f{1, 0, 0});
+  cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
   const bool robust = options.method == NormalMethod::kRobust;
+  const bool cover = options.radius_rule == RadiusRule::kCover;
   std::vector<uint8_t> degenerate(n, 0);
+  // Cover rule: points whose normal changed after phase 3 or whose cell stayed open.
+  std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
         [&] { pca_normals_and_radii(index, cloud, options, degenerate, variation, progress); });
@@ -176,18 +240,22 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
     std::vector<uint32_t> points;
-    for (std::size_t i = 0; i < n; ++i)
-      if (degenerate[i]) points.push_back(static_cast<uint32_t>(i));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (degenerate[i] & kDegenerate) points.push_back(static_cast<uint32_t>(i));
+      if (degenerate[i] & kOpenCell) refit.push_back(static_cast<uint32_t>(i));
+    }
     const DegenerateStats stats = resolve_degenerate_normals(
         index, cloud.positions, points, options.k, options.radius_k, cloud.normals, cloud.radii);
     report.degenerate_points = points.size();
     report.unresolved_points = stats.unresolved;
+    if (cover) refit.insert(refit.end(), points.begin(), points.end());
   });
   degenerate = {};
-  if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
 
   if (robust) {
     progress(0.65, "robust");
+    std::vector<Vec3f> before;
+    if (cover) before = cloud.normals;
     timed("robust", [&] {
       RobustNormalOptions ro;
       ro.pca_k = options.k;
@@ -195,14 +263,34 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           robust_stats_json(robust_normals(index, cloud.positions, variation, cloud.normals, ro));
     });
     variation = {};
+    for (std::size_t i = 0; i < before.size(); ++i)
+      if (!(before[i] == cloud.normals[i])) refit.push_back(static_cast<uint32_t>(i));
   }
+  if (!refit.empty()) {
+    progress(0.8, "splats");
+    std::sort(refit.begin(), refit.end());
+    refit.erase(std::unique(refit.begin(), refit.end()), refit.end());
+    timed("refit_splats", [&] {
+      refit_splats(index, cloud, options, refit, kWideRowFactor * row_size(options));
+    });
+    report.refitted_points = refit.size();
+  }
+  if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
+  if (options.ellipses)  // isolated points: circles of the radius they were given
+    for (std::size_t i = 0; i < n; ++i)
+      if (cloud.minor_radii[i] == 0) {
+        cloud.minor_radii[i] = cloud.radii[i];
+        cloud.axes[i] = tangent_axis(cloud.normals[i]);
+      }
 
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
     timed("orient", [&] { orient(cloud, index, options, report); });
   }
-  if (options.radius_scale != 1.0f)
+  if (options.radius_scale != 1.0f) {
     for (float& r : cloud.radii) r *= options.radius_scale;
+    for (float& r : cloud.minor_radii) r *= options.radius_scale;
+  }
   report.timings["total"] = seconds_since(start);
   progress(1.0, "done");
   return report;

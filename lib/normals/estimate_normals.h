@@ -9,11 +9,14 @@
 //   2. build the kd-tree (SpatialIndex) over the positions;
 //   3. one streamed kNN pass with max(k, radius_k + 1) points per row (the point itself first):
 //      PCA normal over the first k entries (neighborhood_pca.h), splat radius from the first
-//      radius_k neighbours (splat_radius.h); no n×k array is ever held;
+//      radius_k neighbours (splat_radius.h) or, by default, the splat that covers the point's
+//      tangent-plane cell among the whole row (cover_splat.h); no n×k array is ever held;
 //   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear) get their normal from a
 //      wider neighbourhood (resolve_degenerate_normals.h); isolated points (no neighbour at a
 //      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
-//   5. method robust: crease-preserving refinement (robust_normals.h);
+//   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
+//      splats of the points whose normal phases 4 and 5 changed are fitted again in their new
+//      tangent plane (one kNN query each);
 //   6. orientation: mst (consistent over a minimum spanning tree, outward per component), viewpoint
 //      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
 //
@@ -37,11 +40,21 @@ namespace splatkit {
 
 enum class NormalMethod { kPca, kRobust };
 enum class NormalOrientation { kMst, kViewpoint, kNone };
+// kCover: each splat reaches the farthest vertex of its tangent-plane Voronoi cell among its row's
+// neighbours (cover_splat.h), capped at kCoverCapScale times the mean-kNN radius: no holes on
+// irregular sampling. kMeanKnn: the mean distance to the radius_k nearest neighbours ([IvoMSc]
+// ch. 6; leaves about 2.5 % of an i.i.d. random sample's surface uncovered).
+enum class RadiusRule { kCover, kMeanKnn };
+
+inline constexpr float kCoverCapScale = 2.0f;
 
 struct NormalOptions {
   std::size_t k = 16;         // points per PCA neighbourhood, the point itself included (>= 3)
   std::size_t radius_k = 5;   // neighbours averaged for the radius (>= 1)
   float radius_scale = 1.0f;  // radii are multiplied by this (finite, > 0)
+  RadiusRule radius_rule = RadiusRule::kCover;
+  // Elliptic splats (cloud.axes, cloud.minor_radii) fitted to the same cells; kCover only.
+  bool ellipses = false;
   NormalMethod method = NormalMethod::kPca;
   NormalOrientation orient = NormalOrientation::kMst;
   // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
@@ -57,13 +70,14 @@ struct NormalReport {
   std::size_t degenerate_points = 0;  // k-neighbourhood degenerate, normal taken from a wider one
   std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
   std::size_t isolated_points = 0;    // no neighbour at a finite distance: the median radius
+  std::size_t refitted_points = 0;    // cover rule: splats fitted again after a normal changed
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
   std::size_t components = 0;         // kNN-graph components (orient mst only)
   // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}
   // (robust_normals.h); null for pca.
   nlohmann::json robust = nullptr;
   // Seconds per phase: "merge_duplicates", "index", "normals_radii", "degenerate", "robust",
-  // "orient" (only the phases that ran), and "total" (all of them).
+  // "refit_splats", "orient" (only the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
 
   // {"input_points", "output_points", "duplicates_merged", "degenerate_points", ...,
@@ -71,8 +85,10 @@ struct NormalReport {
   nlohmann::json to_json() const;
 };
 
-// Replaces cloud.normals and cloud.radii (and merges duplicates) in place. Throws Error(kUsage) for
-// bad options (k < 3, radius_k < 1, radius_scale not finite and > 0, viewpoint needed but absent),
+// Replaces cloud.normals and cloud.radii, and cloud.axes and cloud.minor_radii (cleared, or set with
+// ellipses), and merges duplicates, in place. Throws Error(kUsage) for bad options (k < 3,
+// radius_k < 1, radius_scale not finite and > 0, ellipses without kCover, viewpoint needed but
+// absent),
 // before any work, and Error(kBadInput) for a cloud of one distinct point (no radius can be
 // estimated). An empty cloud is returned empty. Progress fractions cover the whole call.
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,

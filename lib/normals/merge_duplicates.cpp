@@ -118,6 +118,8 @@ MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
     compact(cloud.positions, kept);
     compact(cloud.normals, kept);
     compact(cloud.radii, kept);
+    compact(cloud.axes, kept);
+    compact(cloud.minor_radii, kept);
     compact(cloud.colors, kept);
     for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
     for (uint32_t& v : cloud.face_indices) v = first[v];

@@ -32,6 +32,10 @@ void SplatCloud::check_consistent() const {
   check(normals.size(), "normals");
   check(radii.size(), "radii");
   check(colors.size(), "colors");
+  check(axes.size(), "axes");
+  check(minor_radii.size(), "minor radii");
+  if (axes.empty() != minor_radii.empty() || (!axes.empty() && (radii.empty() || normals.empty())))
+    throw std::logic_error("splat cloud: ellipse axes need minor radii, radii and normals");
   for (const auto& e : extras)
     if (e.values.size() != n)
       throw std::logic_error("splat cloud: extra attribute '" + e.name + "' has " +

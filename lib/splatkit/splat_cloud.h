@@ -41,6 +41,12 @@ struct SplatCloud {
   std::vector<Vec3f> positions;                 // #N, local frame
   std::vector<Vec3f> normals;                   // #N unit vectors, or empty
   std::vector<float> radii;                     // #N disc radii (same units as positions), or empty
+  // Elliptic splats (both empty for circular ones): #N unit axes u in the splat's plane
+  // (perpendicular to its normal) and #N semi-axes along v = normal × u. `radii` then holds the
+  // semi-axis along u, the larger one, so it stays the splat's bounding-sphere radius and every
+  // consumer that knows only circles draws a disc that contains the ellipse.
+  std::vector<Vec3f> axes;
+  std::vector<float> minor_radii;
   std::vector<std::array<uint16_t, 3>> colors;  // #N RGB, or empty
   int color_bits = 8;                           // 8 or 16: range of `colors` is [0, 2^bits - 1]
   std::vector<ExtraAttribute> extras;           // each with #N values
@@ -54,11 +60,13 @@ struct SplatCloud {
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
   bool has_normals() const { return !normals.empty(); }
   bool has_radii() const { return !radii.empty(); }
+  bool has_ellipses() const { return !axes.empty(); }
   bool has_colors() const { return !colors.empty(); }
   const ExtraAttribute* find_extra(const std::string& name) const;
   ExtraAttribute* find_extra(const std::string& name);
 
-  // Throws std::logic_error when an attribute array does not match size() or a face index is out
+  // Throws std::logic_error when an attribute array does not match size(), when axes and
+  // minor_radii are not both empty or both present with radii and normals, or a face index is out
   // of range. Readers call it before returning so that every consumer can rely on the invariants.
   void check_consistent() const;
 };

@@ -554,7 +554,16 @@ void sample_revolution_stratified(const Revolution& r, double h, uint32_t patch,
   }
 }
 
-void sample_uniform(const Patch& patch, uint32_t id, DeterministicRng& rng, const Emit& emit) {
+// The middle of the band of width `spacing` (counted from `origin`) that x falls in; x itself for
+// spacing 0.
+double band_middle(double x, double origin, double spacing) {
+  return spacing > 0 ? origin + (std::floor((x - origin) / spacing) + 0.5) * spacing : x;
+}
+
+// One area-uniform sample of the patch; with line_spacing > 0, moved across to the middle of its
+// scan line's band (planes: v; surfaces of revolution: the profile position t).
+void sample_uniform(const Patch& patch, uint32_t id, double line_spacing, DeterministicRng& rng,
+                    const Emit& emit) {
   if (const auto* r = std::get_if<PlanarRegion>(&patch.surface)) {
     D2 lo = r->polygon[0], hi = lo;
     for (const D2& q : r->polygon) {
@@ -562,14 +571,18 @@ void sample_uniform(const Patch& patch, uint32_t id, DeterministicRng& rng, cons
       hi = {std::max(hi.u, q.u), std::max(hi.v, q.v)};
     }
     D2 q;
-    do q = {rng.uniform(lo.u, hi.u), rng.uniform(lo.v, hi.v)};
-    while (!inside_region(*r, q));
+    do {
+      q = {rng.uniform(lo.u, hi.u), rng.uniform(lo.v, hi.v)};
+      q.v = band_middle(q.v, lo.v, line_spacing);
+    } while (!inside_region(*r, q));
     emit(plane_point(*r, q), r->normal, 0, id);
     return;
   }
   const auto& rev = std::get<Revolution>(patch.surface);
   D3 p, n;
-  const double t = sample_profile(rev, 0, profile_length(rev), rng);
+  const double length = profile_length(rev);
+  const double t = std::min(band_middle(sample_profile(rev, 0, length, rng), 0, line_spacing),
+                            length);
   revolution_point(rev, t, rng.uniform(0, 2 * kPi), &p, &n);
   emit(p, n, 0, id);
 }
@@ -587,6 +600,8 @@ void check_options(const ShapeOptions& o) {
                 ")");
   if (!std::isfinite(o.noise) || o.noise < 0)
     throw_usage("synthetic shape: noise must be a finite number >= 0");
+  if (!(o.scan_lines >= 0 && o.scan_lines <= 1000))
+    throw_usage("synthetic shape: scan lines' anisotropy must be in [0, 1000]");
 }
 
 }  // namespace
@@ -599,7 +614,11 @@ SplatCloud make_shape(const ShapeOptions& options) {
   for (const Patch& p : model.patches) total_area += areas.emplace_back(patch_area(p));
   const double h = std::sqrt(total_area / static_cast<double>(options.points));
   const double sigma = options.noise * length(model.max - model.min);
-  const double base_radius = h * (options.random ? kRandomRadius : kStratifiedKnnRadius);
+  const bool lines = options.scan_lines > 1;
+  const bool random = options.random || lines;
+  const double line_spacing = lines ? h * std::sqrt(options.scan_lines) : 0;
+  const double base_radius = h * (random ? kRandomRadius : kStratifiedKnnRadius) *
+                             (lines ? std::sqrt(options.scan_lines) : 1.0);
 
   SplatCloud cloud;
   ExtraAttribute patch_ids{"patch_id", ScalarType::kUInt32, {}};
@@ -625,13 +644,13 @@ SplatCloud make_shape(const ShapeOptions& options) {
     patch_ids.values.push_back(patch);
   };
 
-  if (options.random) {
+  if (random) {
     DeterministicRng rng(options.seed, 0);
     for (std::size_t i = 0; i < options.points; ++i) {
       double pick = rng.uniform() * total_area;
       std::size_t k = 0;
       while (k + 1 < areas.size() && pick >= areas[k]) pick -= areas[k++];
-      sample_uniform(model.patches[k], static_cast<uint32_t>(k), rng, emit);
+      sample_uniform(model.patches[k], static_cast<uint32_t>(k), line_spacing, rng, emit);
     }
   } else {
     for (std::size_t k = 0; k < model.patches.size(); ++k) {

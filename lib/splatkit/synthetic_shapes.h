@@ -32,6 +32,11 @@ struct ShapeOptions {
   double noise = 0.0;   // Gaussian noise, standard deviation as a fraction of the bbox diagonal,
                         // applied along the true normal; true normals stay exact
   bool random = false;  // false: stratified (near-uniform) sampling; true: i.i.d. uniform
+  // Scan lines, as a line scanner samples: > 1 puts the points on parallel lines (planes: rows of
+  // constant v; surfaces of revolution: circles of constant profile position) spaced
+  // sqrt(scan_lines)·h apart, i.i.d. uniform along each line, so they are scan_lines times denser
+  // along a line than across (h = sqrt(area / points)). Implies random. 0 or 1: off.
+  double scan_lines = 0;
   bool keep_inside = false;  // kTwoSpheres: keep the parts of each sphere inside the other
                              // (false: the visible union, a closed surface whose intersection
                              // circle is a crease; true: two whole interpenetrating spheres)
@@ -51,8 +56,10 @@ struct ShapeOptions {
 // cells; random, 1.71 h (the mean 5-NN distance of a Poisson sample, 0.90 h, would leave ~8 % of
 // the surface uncovered; 1.71 h leaves 1e-4). Points are ordered patch by patch (random: in draw
 // order). Noise moves points after sampling, so the same seed with and without noise gives the
-// same normals and labels. Throws Error(kUsage) for points == 0 or > 2^30, or noise negative or
-// not finite.
+// same normals and labels. Scan lines: i.i.d. samples moved to the middle of their line's band
+// (the area-uniform draw picks the line; the radius is the random one's times sqrt(scan_lines)).
+// Throws Error(kUsage) for points == 0 or > 2^30, noise negative or not finite, or scan_lines
+// not finite, negative or above 1000.
 SplatCloud make_shape(const ShapeOptions& options);
 
 // Parses "sphere", "torus", "cad", "two-spheres", "cube"; throws Error(kUsage) otherwise.

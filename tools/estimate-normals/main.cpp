@@ -6,13 +6,16 @@ int main(int argc, char** argv) {
   splatkit::Tool tool(
       "estimate-normals",
       "Estimate a unit normal and a splat radius for every point of a cloud (any input format): "
-      "PCA over the k nearest neighbours (or a crease-preserving robust method), radius = mean "
-      "distance to the radius-k nearest neighbours, orientation by a minimum spanning tree or "
-      "towards a viewpoint. Exact duplicate points are merged (the first one's colour and "
+      "PCA over the k nearest neighbours (or a crease-preserving robust method); splats that cover "
+      "the surface: each reaches the farthest corner of its point's Voronoi cell among its "
+      "neighbours in its tangent plane (--radius cover), as circles or as ellipses fitted to the "
+      "cells (--splat ellipse: far less overdraw on scan lines); orientation by a minimum "
+      "spanning tree or towards a viewpoint. Exact duplicate points are merged (the first one's colour and "
       "attributes are kept). OUT is .ply (binary) or .splk; '-' writes .splk to stdout.",
       "  $ estimate-normals scan.ply scan.splk\n"
       "  $ estimate-normals scan.las out.ply --orient viewpoint --viewpoint 0,0,1.8\n"
       "  $ estimate-normals part.xyz part.splk --method robust -k 24 --report part.json\n"
+      "  $ estimate-normals scan.las scan.splk --splat ellipse\n"
       "  $ estimate-normals big.ply - --orient none --threads 2 | splat-info -\n");
   splatkit::apps::EstimateNormalsOptions o;
   auto& app = tool.app();
@@ -21,8 +24,22 @@ int main(int argc, char** argv) {
   app.add_option("-k", o.normals.k, "Points per PCA neighbourhood, the point included")
       ->default_val(16)
       ->check(CLI::Range(std::size_t{3}, std::size_t{1024}));
+  app.add_option("--radius", o.radius,
+                 "cover: the splat covers its point's tangent-plane Voronoi cell among the row of "
+                 "max(k, radius-k + 1) nearest points, at most 2x the mean-knn radius (no holes on "
+                 "irregular sampling); mean-knn: the mean distance to the radius-k nearest "
+                 "neighbours (leaves ~2.5 % of a random sample's surface uncovered)")
+      ->check(CLI::IsMember({"cover", "mean-knn"}))
+      ->default_str("cover");
+  app.add_option("--splat", o.splat,
+                 "circle, or ellipse: two tangent semi-axes fitted to the cover cell (elongated "
+                 "where sampling is anisotropic, e.g. scan lines; written as axis_x/y/z and "
+                 "minor_radius in PLY, an ELPS chunk in .splk); needs --radius cover")
+      ->check(CLI::IsMember({"circle", "ellipse"}))
+      ->default_str("circle");
   app.add_option("--radius-k", o.normals.radius_k,
-                 "Neighbours whose mean distance is the splat radius")
+                 "Neighbours whose mean distance is the mean-knn radius (and, doubled, the cap of "
+                 "the cover radius)")
       ->default_val(5)
       ->check(CLI::Range(std::size_t{1}, std::size_t{1024}));
   app.add_option("--radius-scale", o.normals.radius_scale, "Multiply every radius by S")

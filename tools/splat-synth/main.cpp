@@ -32,6 +32,11 @@ int main(int argc, char** argv) {
       ->default_val(0.0);
   app.add_flag("--random", o.sample.random,
                "i.i.d. uniform sampling (exactly -n points) instead of stratified");
+  app.add_option("--scan-lines", o.sample.scan_lines,
+                 "Sample along parallel scan lines, A times denser along a line than across "
+                 "(i.i.d. along each line; implies --random; planes: rows, surfaces of "
+                 "revolution: circles)")
+      ->check(splatkit::finite_range(1.0, 1000.0));
   app.add_flag("--keep-inside", o.sample.keep_inside,
                "two-spheres: keep the part of each sphere inside the other (two whole spheres)");
   app.add_flag("--no-color", o.no_color, "Leave out the colours (smaller files)");

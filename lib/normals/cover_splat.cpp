@@ -1,0 +1,153 @@
+#include "normals/cover_splat.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace splatkit {
+
+namespace {
+
+// tan(60°): neighbours more than 60° above or below the tangent plane do not bound the cell.
+constexpr double kSheetSlope = 1.7320508075688772;
+
+struct P2 {
+  double x, y;
+};
+
+// The cell as a convex polygon, counter-clockwise, clipped in place by half-planes.
+class Cell {
+ public:
+  explicit Cell(double half) {
+    v_.clear();
+    v_.push_back({-half, -half});
+    v_.push_back({half, -half});
+    v_.push_back({half, half});
+    v_.push_back({-half, half});
+    update_max();
+  }
+
+  // Keeps the side of the bisector of the centre (the origin) and d: {x : d·x <= |d|² / 2}.
+  void clip(const P2& d) {
+    const double limit = 0.5 * (d.x * d.x + d.y * d.y);
+    // The whole cell is on the centre's side when its farthest vertex is: nothing to do.
+    if (std::sqrt(max_sq_) * std::sqrt(2 * limit) <= limit) return;
+    out_.clear();
+    const std::size_t n = v_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const P2& a = v_[i];
+      const P2& b = v_[(i + 1) % n];
+      const double sa = d.x * a.x + d.y * a.y - limit;
+      const double sb = d.x * b.x + d.y * b.y - limit;
+      if (sa <= 0) out_.push_back(a);
+      if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
+        const double t = sa / (sa - sb);
+        out_.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+      }
+    }
+    v_.swap(out_);
+    update_max();
+  }
+
+  const std::vector<P2>& vertices() const { return v_; }
+  // Whether a vertex lies on the starting square: the neighbours leave the cell open that way.
+  bool open(double half) const {
+    const double edge = half * (1 - 1e-9);
+    for (const P2& p : v_)
+      if (std::fabs(p.x) >= edge || std::fabs(p.y) >= edge) return true;
+    return false;
+  }
+  double max_sq() const { return max_sq_; }
+
+  // Second moment of area about the origin, ∫ x xᵀ dA = [xx xy; xy yy], as a fan of triangles
+  // (origin, v_i, v_i+1); the origin lies inside the cell.
+  std::array<double, 3> second_moment() const {
+    std::array<double, 3> m{0, 0, 0};
+    const std::size_t n = v_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const P2& p = v_[i];
+      const P2& q = v_[(i + 1) % n];
+      const double w = (p.x * q.y - p.y * q.x) / 12.0;  // (area / 6), area = cross / 2
+      m[0] += w * (p.x * p.x + q.x * q.x + p.x * q.x);
+      m[1] += w * (p.x * p.y + q.x * q.y + 0.5 * (p.x * q.y + q.x * p.y));
+      m[2] += w * (p.y * p.y + q.y * q.y + p.y * q.y);
+    }
+    return m;
+  }
+
+ private:
+  void update_max() {
+    max_sq_ = 0;
+    for (const P2& p : v_) max_sq_ = std::max(max_sq_, p.x * p.x + p.y * p.y);
+  }
+
+  // Scratch reused by every call on a thread: cover_splat runs once per point of large clouds.
+  static thread_local std::vector<P2> v_, out_;
+  double max_sq_ = 0;
+};
+
+thread_local std::vector<P2> Cell::v_, Cell::out_;
+
+}  // namespace
+
+Vec3f tangent_axis(const Vec3f& n) {
+  const float sign = n.z >= 0 ? 1.0f : -1.0f;
+  const float a = -1.0f / (sign + n.z);
+  return {1.0f + sign * n.x * n.x * a, sign * n.x * n.y * a, -sign * n.x};
+}
+
+SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const Vec3f> positions,
+                       std::span<const uint32_t> row, float open_cap, bool ellipse) {
+  const Vec3f t1 = tangent_axis(normal);
+  const Vec3f t2 = cross(normal, t1);
+  // The square reaches the farthest neighbour: every bounded cell fits inside.
+  double half = 0;
+  for (uint32_t j : row)
+    if (j < positions.size()) half = std::max(half, double(squared_distance(positions[j], center)));
+  half = std::max(std::sqrt(half), double(open_cap));
+  Cell cell(half);
+  // Projections shorter than this would make a bisector through the centre: skipped.
+  const double tiny_sq = 1e-12 * half * half;
+  for (uint32_t j : row) {
+    if (j >= positions.size()) continue;  // kNone
+    const Vec3f d = positions[j] - center;
+    const P2 p{dot(d, t1), dot(d, t2)};
+    const double along = dot(d, normal), in_plane_sq = p.x * p.x + p.y * p.y;
+    if (in_plane_sq <= tiny_sq) continue;
+    // Steeper than kSheetSlope above or below the plane: another sheet of the surface (across a
+    // crease, the far side of a thin part), whose own splats cover what lies near it.
+    if (along * along > kSheetSlope * kSheetSlope * in_plane_sq) continue;
+    cell.clip(p);
+  }
+  SplatShape s;
+  s.axis = t1;
+  // An open cell is cut at open_cap; a closed one is covered whole.
+  s.open = cell.open(half);
+  const double cap = s.open ? double(open_cap) : half;
+  const double reach = std::min(std::sqrt(cell.max_sq()), cap);
+  s.radius = s.minor_radius = static_cast<float>(reach);
+  if (!ellipse) return s;
+
+  const std::array<double, 3> m = cell.second_moment();
+  const double mean = 0.5 * (m[0] + m[2]), dev = std::hypot(0.5 * (m[0] - m[2]), m[1]);
+  const double lmax = mean + dev, lmin = mean - dev;
+  if (!(lmax > 0)) return s;
+  const double angle = 0.5 * std::atan2(2 * m[1], m[0] - m[2]);
+  const P2 e1{std::cos(angle), std::sin(angle)}, e2{-e1.y, e1.x};
+  const double aspect = std::max(std::sqrt(std::max(lmin, 0.0) / lmax), 1.0 / kMaxEllipseAspect);
+  double scale_sq = 0;  // smallest scale of the (1, aspect) ellipse that holds every vertex
+  for (const P2& v : cell.vertices()) {
+    const double u = v.x * e1.x + v.y * e1.y, w = (v.x * e2.x + v.y * e2.y) / aspect;
+    scale_sq = std::max(scale_sq, u * u + w * w);
+  }
+  const double major = std::min(std::sqrt(scale_sq), cap);
+  const double minor = std::min(std::sqrt(scale_sq) * aspect, major);
+  if (!(major * minor < reach * reach)) return s;  // the circle is no larger
+  s.radius = static_cast<float>(major);
+  s.minor_radius = static_cast<float>(minor);
+  s.axis = normalized(t1 * static_cast<float>(e1.x) + t2 * static_cast<float>(e1.y));
+  return s;
+}
+
+}  // namespace splatkit
