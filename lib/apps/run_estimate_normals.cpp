@@ -47,6 +47,8 @@ NormalOptions normal_options(const EstimateNormalsOptions& o) {
   n.ellipses = o.splat == "ellipse";
   if (n.ellipses && n.radius_rule != RadiusRule::kCover)
     throw_usage("--splat ellipse needs --radius cover (ellipses are fitted to the cover cells)");
+  if (n.fit_centres && n.radius_rule != RadiusRule::kCover)
+    throw_usage("--fit-centres needs --radius cover");
   return n;
 }
 
@@ -56,6 +58,7 @@ nlohmann::json provenance_options(const NormalOptions& o) {
                       {"radius_scale", o.radius_scale},
                       {"radius", o.radius_rule == RadiusRule::kCover ? "cover" : "mean-knn"},
                       {"splat", o.ellipses ? "ellipse" : "circle"},
+                      {"fit_centres", o.fit_centres},
                       {"method", method_name(o.method)},
                       {"orient", orientation_name(o.orient)},
                       {"keep_duplicates", o.keep_duplicates}};

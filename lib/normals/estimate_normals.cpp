@@ -13,6 +13,7 @@
 
 #include "normals/cover_splat.h"
 #include "normals/fill_isolated_radii.h"
+#include "normals/fit_splat_centres.h"
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
@@ -37,6 +38,8 @@ void check_options(const NormalOptions& o) {
     throw_usage("--radius-scale must be a finite number > 0");
   if (o.ellipses && o.radius_rule != RadiusRule::kCover)
     throw_usage("--splat ellipse needs --radius cover (ellipses are fitted to the cover cells)");
+  if (o.fit_centres && o.radius_rule != RadiusRule::kCover)
+    throw_usage("--fit-centres needs --radius cover");
 }
 
 std::size_t row_size(const NormalOptions& o) { return std::max(o.k, o.radius_k + 1); }
@@ -192,6 +195,7 @@ nlohmann::json NormalReport::to_json() const {
           {"unresolved_points", unresolved_points},
           {"isolated_points", isolated_points},
           {"refitted_points", refitted_points},
+          {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
           {"components", components},
           {"robust", robust},
@@ -235,7 +239,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
-        [&] { pca_normals_and_radii(index, cloud, options, degenerate, variation, progress); });
+        [&] {
+    pca_normals_and_radii(index, cloud, options, degenerate, variation, progress);
+  });
 
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
@@ -283,6 +289,13 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
         cloud.axes[i] = tangent_axis(cloud.normals[i]);
       }
 
+  if (options.fit_centres && n > 0) {
+    progress(0.82, "centres");
+    timed("fit_centres", [&] {
+      report.mean_centre_shift =
+          fit_splat_centres(index, cloud.positions, cloud.normals, row_size(options));
+    });
+  }
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
     timed("orient", [&] { orient(cloud, index, options, report); });

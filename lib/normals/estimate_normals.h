@@ -55,6 +55,11 @@ struct NormalOptions {
   RadiusRule radius_rule = RadiusRule::kCover;
   // Elliptic splats (cloud.axes, cloud.minor_radii) fitted to the same cells; kCover only.
   bool ellipses = false;
+  // kCover only: move every splat centre along its normal onto the plane fitted to its point and
+  // its sheet's neighbours (SplatShape::offset). On noisy scans the splats then lie on the
+  // surface (a noise of σ along the normal leaves about σ/4 at k = 16) and cover it; positions
+  // change, by about the noise.
+  bool fit_centres = false;
   NormalMethod method = NormalMethod::kPca;
   NormalOrientation orient = NormalOrientation::kMst;
   // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
@@ -70,7 +75,9 @@ struct NormalReport {
   std::size_t degenerate_points = 0;  // k-neighbourhood degenerate, normal taken from a wider one
   std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
   std::size_t isolated_points = 0;    // no neighbour at a finite distance: the median radius
-  std::size_t refitted_points = 0;    // cover rule: splats fitted again after a normal changed
+  std::size_t refitted_points = 0;    // cover rule: splats fitted again from a wider row (open
+                                      // cell) or after their normal changed
+  double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
   std::size_t components = 0;         // kNN-graph components (orient mst only)
   // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}

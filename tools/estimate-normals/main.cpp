@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
                  "minor_radius in PLY, an ELPS chunk in .splk); needs --radius cover")
       ->check(CLI::IsMember({"circle", "ellipse"}))
       ->default_str("circle");
+  app.add_flag("--fit-centres", o.normals.fit_centres,
+               "Move each splat centre along its normal onto the plane fitted to its point and "
+               "its neighbours on the same sheet (needs --radius cover): on noisy scans the "
+               "splats then lie on the surface and cover it; positions change by about the noise");
   app.add_option("--radius-k", o.normals.radius_k,
                  "Neighbours whose mean distance is the mean-knn radius (and, doubled, the cap of "
                  "the cover radius)")
