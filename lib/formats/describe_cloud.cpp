@@ -68,6 +68,15 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
     attrs.push_back(attribute(naxis[k], ScalarType::kFloat32, nrm[k], n));
   for (float v : c.radii) rad.add(v);
   if (c.has_radii()) attrs.push_back(attribute("radius", ScalarType::kFloat32, rad, n));
+  if (c.has_ellipses()) {
+    const char* eaxis[3] = {"axis_x", "axis_y", "axis_z"};
+    Range ax[3], minor;
+    for (const Vec3f& v : c.axes)
+      for (int k = 0; k < 3; ++k) ax[k].add(v[k]);
+    for (int k = 0; k < 3; ++k) attrs.push_back(attribute(eaxis[k], ScalarType::kFloat32, ax[k], n));
+    for (float v : c.minor_radii) minor.add(v);
+    attrs.push_back(attribute("minor_radius", ScalarType::kFloat32, minor, n));
+  }
   for (const auto& rgb : c.colors)
     for (int k = 0; k < 3; ++k) col[k].add(rgb[k]);
   for (int k = 0; k < 3 && c.has_colors(); ++k)

@@ -681,10 +681,34 @@ class PlyDecoder {
                  (left ? " (" + std::to_string(*left) + " bytes)" : std::string()));
       }
     }
+    take_ellipses(cloud_);
     return std::move(cloud_);
   }
 
  private:
+  // Elliptic splats: the float properties axis_x, axis_y, axis_z and minor_radius, read as extras,
+  // become cloud.axes and cloud.minor_radii when all four are there with normals and radii.
+  static void take_ellipses(SplatCloud& c) {
+    const char* names[4] = {"axis_x", "axis_y", "axis_z", "minor_radius"};
+    std::size_t at[4];
+    for (int k = 0; k < 4; ++k) {
+      const ExtraAttribute* e = c.find_extra(names[k]);
+      if (e == nullptr || !c.has_normals() || !c.has_radii()) return;
+      at[k] = static_cast<std::size_t>(e - c.extras.data());
+    }
+    const std::size_t n = c.size();
+    c.axes.resize(n);
+    c.minor_radii.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      c.axes[i] = {static_cast<float>(c.extras[at[0]].values[i]),
+                   static_cast<float>(c.extras[at[1]].values[i]),
+                   static_cast<float>(c.extras[at[2]].values[i])};
+      c.minor_radii[i] = static_cast<float>(c.extras[at[3]].values[i]);
+    }
+    std::erase_if(c.extras, [&](const ExtraAttribute& e) {
+      return std::find(std::begin(names), std::end(names), e.name) != std::end(names);
+    });
+  }
   template <class Rows>
   void read_elements(Rows& rows) {
     for (const Element& e : h_.elements) {

@@ -45,7 +45,7 @@ std::string_view ply_type_name(ScalarType t) {
   return "?";
 }
 
-enum class Source { kPosition, kNormal, kRadius, kColor, kExtra };
+enum class Source { kPosition, kNormal, kRadius, kAxis, kMinorRadius, kColor, kExtra };
 
 struct Column {
   std::string name;
@@ -78,6 +78,11 @@ std::vector<Column> plan_columns(const SplatCloud& cloud) {
     for (int a = 0; a < 3; ++a)
       add(std::string("n") + "xyz"[a], ScalarType::kFloat32, Source::kNormal, a);
   if (cloud.has_radii()) add("radius", ScalarType::kFloat32, Source::kRadius, 0);
+  if (cloud.has_ellipses()) {
+    for (int a = 0; a < 3; ++a)
+      add(std::string("axis_") + "xyz"[a], ScalarType::kFloat32, Source::kAxis, a);
+    add("minor_radius", ScalarType::kFloat32, Source::kMinorRadius, 0);
+  }
   if (cloud.has_colors()) {
     const ScalarType ct = cloud.color_bits == 16 ? ScalarType::kUInt16 : ScalarType::kUInt8;
     const char* names[3] = {"red", "green", "blue"};
@@ -107,6 +112,12 @@ void fetch(const SplatCloud& cloud, const Column& c, std::size_t first, std::siz
         break;
       case Source::kRadius:
         out[i] = cloud.radii[r];
+        break;
+      case Source::kAxis:
+        out[i] = cloud.axes[r][c.index];
+        break;
+      case Source::kMinorRadius:
+        out[i] = cloud.minor_radii[r];
         break;
       case Source::kColor:
         out[i] = cloud.colors[r][c.index];

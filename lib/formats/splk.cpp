@@ -44,6 +44,7 @@ using ChunkType = std::array<char, 4>;
 constexpr ChunkType kMeta{'M', 'E', 'T', 'A'};
 constexpr ChunkType kSplt{'S', 'P', 'L', 'T'};
 constexpr ChunkType kFace{'F', 'A', 'C', 'E'};
+constexpr ChunkType kElps{'E', 'L', 'P', 'S'};  // elliptic splats, since 1.2
 constexpr ChunkType kEnd{'E', 'N', 'D', ' '};
 // Chunk types registered in minor version 1 (splk.h).
 constexpr std::array<const char*, 4> kSince1_1{kSplkGraphType, kSplkClassType, kSplkClipType,
@@ -321,6 +322,14 @@ void put_splt(PayloadSink& sink, const SplatCloud& c) {
   for (const auto& e : c.extras) put_extra(sink, e);
 }
 
+void put_elps(PayloadSink& sink, const SplatCloud& c) {
+  std::string h;
+  put_le(h, static_cast<uint64_t>(c.size()));
+  sink.put(h);
+  put_packed(sink, c.axes.data(), c.size() * 12, 4);
+  put_packed(sink, c.minor_radii.data(), c.size() * 4, 4);
+}
+
 void put_face(PayloadSink& sink, const SplatCloud& c) {
   std::string h;
   put_le(h, static_cast<uint64_t>(c.face_count()));
@@ -365,7 +374,7 @@ void check_writable(const LoadedCloud& doc, const OutputFile& out) {
     throw_output(out.path(), "metadata must be a JSON object");
   for (const RawChunk& r : doc.chunks) {
     ChunkType t{r.type[0], r.type[1], r.type[2], r.type[3]};
-    if (!is_valid_type(t) || t == kMeta || t == kSplt || t == kFace || t == kEnd)
+    if (!is_valid_type(t) || t == kMeta || t == kSplt || t == kFace || t == kElps || t == kEnd)
       throw_output(out.path(), "cannot carry a chunk of type '" + type_name(t) +
                                    "' (invalid or written by write_splk itself)");
     if (r.flags & ~kKnownChunkFlags)
@@ -718,6 +727,24 @@ void read_face(Payload& p, SplatCloud& c) {
   if (c.face_offsets.back() != indices) p.fail("the last face offset is not the index count");
 }
 
+// After SPLT (the splats it describes must be known), with as many entries as splats, and only
+// for splats with normals and radii.
+void read_elps(Payload& p, SplatCloud& c, bool after_splt) {
+  if (!after_splt) p.fail("the ELPS chunk comes before the SPLT chunk it describes");
+  auto h = p.fixed<8>("the ELPS header");
+  const uint64_t n = get_le<uint64_t>(h.data());
+  if (n != c.size())
+    p.fail(std::to_string(n) + " ellipses for " + std::to_string(c.size()) + " splats");
+  if (!c.has_normals() || !c.has_radii())
+    p.fail("ellipses for splats without normals or radii");
+  if (p.left() != n * 16)
+    p.fail(std::to_string(p.left()) + " bytes do not hold " + std::to_string(n) +
+           " axes and minor radii (16 bytes each)");
+  p.read_array(c.axes, n, 4, "ellipse axes");
+  p.read_array(c.minor_radii, n, 4, "minor radii");
+  p.finish();
+}
+
 RawChunk read_raw(Payload& p, const ChunkHeader& h) {
   RawChunk r;
   std::memcpy(r.type, h.type.data(), 4);
@@ -743,9 +770,10 @@ bool is_carried_type(const ChunkType& t) {
 void read_chunk(InputStream& in, const ChunkHeader& h, LoadedCloud& doc, SplatCloud& faces,
                 std::set<ChunkType>& seen) {
   Payload p(in, h);
-  const bool once = h.type == kMeta || h.type == kSplt || h.type == kFace;
+  const bool once = h.type == kMeta || h.type == kSplt || h.type == kFace || h.type == kElps;
   if (once && !seen.insert(h.type).second)
     p.fail("a second '" + type_name(h.type) + "' chunk (only one is allowed)");
+  if (h.type == kElps) return read_elps(p, doc.cloud, seen.count(kSplt) != 0);
   if (h.type == kMeta) {
     doc.metadata = read_meta(p);
   } else if (h.type == kSplt) {
@@ -766,6 +794,7 @@ void read_chunk(InputStream& in, const ChunkHeader& h, LoadedCloud& doc, SplatCl
 // written. Carried chunks of types this writer does not know do not raise it (their version is
 // unknown here; readers of any 1.x carry them through or refuse them by name).
 uint16_t minor_version_for(const LoadedCloud& doc) {
+  if (doc.cloud.has_ellipses()) return 2;
   const bool since_1_1 = std::any_of(doc.chunks.begin(), doc.chunks.end(), [](const RawChunk& r) {
     return std::any_of(kSince1_1.begin(), kSince1_1.end(),
                        [&](const char* t) { return std::equal(t, t + 4, r.type); });
@@ -847,6 +876,9 @@ void write_splk(const LoadedCloud& doc, OutputFile& out) {
   if (!doc.cloud.face_offsets.empty())
     write_chunk(out, kFace, kSplkChunkTiedToSplats,
                 [&](PayloadSink& s) { put_face(s, doc.cloud); });
+  if (doc.cloud.has_ellipses())
+    write_chunk(out, kElps, kSplkChunkTiedToSplats,
+                [&](PayloadSink& s) { put_elps(s, doc.cloud); });
   for (const RawChunk& r : doc.chunks)
     write_chunk(out, ChunkType{r.type[0], r.type[1], r.type[2], r.type[3]}, r.flags,
                 [&](PayloadSink& s) { s.put(r.payload.data(), r.payload.size()); });

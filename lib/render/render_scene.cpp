@@ -64,9 +64,13 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
   s.positions = std::move(cloud.positions);
   s.normals = std::move(cloud.normals);
   s.radii = std::move(cloud.radii);
+  s.axes = std::move(cloud.axes);
+  s.minor_radii = std::move(cloud.minor_radii);
   double sum = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
     s.normals[i] = normalized(s.normals[i]);
+    if (!s.axes.empty())  // exactly in the plane and of unit length, as the rasteriser assumes
+      s.axes[i] = normalized(s.axes[i] - s.normals[i] * dot(s.axes[i], s.normals[i]));
     sum += s.radii[i];
     s.max_radius = std::max(s.max_radius, s.radii[i]);
   }

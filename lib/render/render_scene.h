@@ -16,7 +16,9 @@ namespace splatkit::render {
 struct RenderScene {
   std::vector<Vec3f> positions;       // #N disc centres
   std::vector<Vec3f> normals;         // #N unit normals
-  std::vector<float> radii;           // #N disc radii (> 0)
+  std::vector<float> radii;           // #N disc radii (> 0); ellipses: the semi-axis along axes
+  std::vector<Vec3f> axes;            // #N unit axes of elliptic splats, or empty (circles)
+  std::vector<float> minor_radii;     // #N semi-axes along normal × axis, or empty
   std::vector<Vec3f> colors;          // #N linear RGB in [0, 1], or empty (grey albedo)
   std::vector<uint32_t> surface_ids;  // #N surface ids (segment-surfaces), or empty: one surface;
                                       // 0xFFFFFFFF (no surface) is a surface like any other

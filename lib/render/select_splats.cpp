@@ -8,6 +8,10 @@ DrawList select_splats(const RenderScene& scene, const Projection&) {
   d.positions = scene.positions.data();
   d.normals = scene.normals.data();
   d.radii = scene.radii.data();
+  if (!scene.axes.empty()) {
+    d.axes = scene.axes.data();
+    d.minor_radii = scene.minor_radii.data();
+  }
   d.colors = scene.colors.empty() ? nullptr : scene.colors.data();
   d.surface_ids = scene.surface_ids.empty() ? nullptr : scene.surface_ids.data();
   if (scene.has_clip()) {

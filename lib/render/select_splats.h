@@ -20,13 +20,17 @@ struct DrawList {
   std::size_t count = 0;
   const Vec3f* positions = nullptr;       // #count
   const Vec3f* normals = nullptr;         // #count, unit
-  const float* radii = nullptr;           // #count
+  const float* radii = nullptr;           // #count (ellipses: the semi-axis along `axes`)
   const Vec3f* colors = nullptr;          // #count linear RGB, or null (default albedo)
   const uint32_t* surface_ids = nullptr;  // #count, or null (all one surface)
   // Clip partners by DrawList index (rows of `clip`, planes in the positions' frame), or null:
   // nothing is clipped. Splats that are not in the scene (future LOD nodes) must have none.
   const graph::ClipPartnerTable* clip = nullptr;
   const graph::ClipPlane* clip_planes = nullptr;
+  // Elliptic splats: #count unit axes u (in the splat's plane) and semi-axes along normal × u, or
+  // null (circles).
+  const Vec3f* axes = nullptr;
+  const float* minor_radii = nullptr;
 };
 
 DrawList select_splats(const RenderScene& scene, const Projection& projection);

@@ -47,6 +47,7 @@ inline float fast_ceil(float v) {
 // arithmetic in a loop the compiler vectorises, then packing into SplatRaster.
 struct Block {
   float px[kBlock], py[kBlock], pz[kBlock], nx[kBlock], ny[kBlock], nz[kBlock], r[kBlock];
+  float ux[kBlock], uy[kBlock], uz[kBlock], rv[kBlock];  // elliptic splats: axis u, minor radius
   float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock];
   float x0[kBlock], x1[kBlock], y0[kBlock], y1[kBlock];
   float l[3][kBlock], u[3][kBlock], v[3][kBlock];
@@ -73,6 +74,27 @@ inline void axis_range(float centre, float n_axis, float nz, float one_minus_nz2
   last = fast_floor(min_f(max_f(mid + half - 0.5f, -2.0f), 32768.0f));
 }
 
+// Extent along one image axis of a projected ellipse with camera-space centre c, semi-axes ra
+// along a and rb along b (unit, in its plane). The tangent lines x = xc + t (normalised image
+// coordinates, xc = c_x / c_z) of the dual conic ra² aaᵀ + rb² bbᵀ − ccᵀ solve
+//   A t² + 2 B t + C = 0,  A = ra² a_z² + rb² b_z² − c_z²,  B = −(ra² α a_z + rb² β b_z),
+//   C = ra² α² + rb² β²,  α = a_x − xc a_z,  β = b_x − xc b_z
+// (with x, a_x, b_x, c_x the components along the image axis). For a circle (ra = rb) this is
+// axis_range's conic.
+inline void ellipse_axis_range(float xc, float ax, float az, float bx, float bz, float ra2,
+                               float rb2, float a, float f, float principal, float& first,
+                               float& last) {
+  const float alpha = ax - xc * az, beta = bx - xc * bz;
+  const float b = -(ra2 * alpha * az + rb2 * beta * bz);
+  const float c = ra2 * alpha * alpha + rb2 * beta * beta;
+  const float inv_a = 1.0f / a;
+  const float s = std::sqrt(max_f(0.0f, b * b - a * c));
+  const float mid = principal + f * (xc - b * inv_a);
+  const float half = f * std::fabs(s * inv_a);
+  first = fast_ceil(min_f(max_f(mid - half - 0.5f, -2.0f), 32768.0f));
+  last = fast_floor(min_f(max_f(mid + half - 0.5f, -2.0f), 32768.0f));
+}
+
 void transpose_block(const DrawList& draws, const FrameConstants& k, std::size_t begin, int count,
                      Block& b) {
   for (int i = 0; i < count; ++i) {
@@ -81,8 +103,15 @@ void transpose_block(const DrawList& draws, const FrameConstants& k, std::size_t
     b.nx[i] = n.x, b.ny[i] = n.y, b.nz[i] = n.z;
     b.r[i] = draws.radii[begin + i];
   }
+  if (draws.axes == nullptr) return;
+  for (int i = 0; i < count; ++i) {
+    const Vec3f u = draws.axes[begin + i];
+    b.ux[i] = u.x, b.uy[i] = u.y, b.uz[i] = u.z;
+    b.rv[i] = draws.minor_radii[begin + i];
+  }
 }
 
+template <bool kEllipse>
 void setup_block(const FrameConstants& k, bool cull_backfaces, int count, Block& b) {
   for (int i = 0; i < count; ++i) {
     const Vec3f cw{b.px[i], b.py[i], b.pz[i]}, nw{b.nx[i], b.ny[i], b.nz[i]};
@@ -91,32 +120,50 @@ void setup_block(const FrameConstants& k, bool cull_backfaces, int count, Block&
     const float r = b.r[i];
     const float nc = dot(n, c);
     const float one_minus_nz2 = max_f(0.0f, 1.0f - n.z * n.z);
-    const float half_depth = r * std::sqrt(one_minus_nz2);
+    // Disc axes in camera space: the ellipse's own (u, n × u), or for a circle any orthonormal
+    // pair (branchless basis, Duff et al. 2017).
+    Vec3f ax, ay;
+    float rv = r;
+    if constexpr (kEllipse) {
+      const Vec3f uw{b.ux[i], b.uy[i], b.uz[i]};
+      ax = {dot(uw, k.right), dot(uw, k.down), dot(uw, k.forward)};
+      ay = cross(n, ax);
+      rv = b.rv[i];
+    } else {
+      const float sign = n.z >= 0 ? 1.0f : -1.0f;
+      const float sd = -1.0f / (sign + n.z);
+      const float t = n.x * n.y * sd;
+      ax = {1.0f + sign * n.x * n.x * sd, sign * t, -sign * n.x};
+      ay = {t, sign + n.y * n.y * sd, -n.y};
+    }
+    const float half_depth = kEllipse ? std::sqrt(r * r * ax.z * ax.z + rv * rv * ay.z * ay.z)
+                                      : r * std::sqrt(one_minus_nz2);
     // Bitwise & and |, not && and ||: no branches, so the loop vectorises. Splats that fail
     // `front` still run through the arithmetic (on a safe depth) and are dropped when packing.
     const bool front = (c.z - half_depth > k.near) & !(cull_backfaces & (nc > 0));
     const float cz = front ? c.z : 1.0f;
     const float inv_r = 1.0f / r, inv_z = 1.0f / cz;
-    const float depth_ratio = cz * inv_r;
-    const float a = min_f(one_minus_nz2 - depth_ratio * depth_ratio, -1e-12f);
-    const float inv_a = 1.0f / a;
     float x0, x1, y0, y1;
-    axis_range(k.f * c.x * inv_z, n.x, n.z, one_minus_nz2, inv_a, a, k.f, k.cx, x0, x1);
-    axis_range(k.f * c.y * inv_z, n.y, n.z, one_minus_nz2, inv_a, a, k.f, k.cy, y0, y1);
+    if constexpr (kEllipse) {
+      const float ra2 = r * r, rb2 = rv * rv;
+      const float a = min_f(ra2 * ax.z * ax.z + rb2 * ay.z * ay.z - cz * cz, -1e-12f * ra2);
+      ellipse_axis_range(c.x * inv_z, ax.x, ax.z, ay.x, ay.z, ra2, rb2, a, k.f, k.cx, x0, x1);
+      ellipse_axis_range(c.y * inv_z, ax.y, ax.z, ay.y, ay.z, ra2, rb2, a, k.f, k.cy, y0, y1);
+    } else {
+      const float depth_ratio = cz * inv_r;
+      const float a = min_f(one_minus_nz2 - depth_ratio * depth_ratio, -1e-12f);
+      const float inv_a = 1.0f / a;
+      axis_range(k.f * c.x * inv_z, n.x, n.z, one_minus_nz2, inv_a, a, k.f, k.cx, x0, x1);
+      axis_range(k.f * c.y * inv_z, n.y, n.z, one_minus_nz2, inv_a, a, k.f, k.cy, y0, y1);
+    }
     x0 = max_f(x0, 0.0f);
     y0 = max_f(y0, 0.0f);
     x1 = min_f(x1, float(k.width - 1));
     y1 = min_f(y1, float(k.height - 1));
     b.ok[i] = front & (x0 <= x1) & (y0 <= y1) ? 1.0f : 0.0f;
-    // Disc axes (branchless orthonormal basis, Duff et al. 2017) and the linear functions at
-    // the box corner.
-    const float sign = n.z >= 0 ? 1.0f : -1.0f;
-    const float sd = -1.0f / (sign + n.z);
-    const float t = n.x * n.y * sd;
-    const Vec3f ax{1.0f + sign * n.x * n.x * sd, sign * t, -sign * n.x};
-    const Vec3f ay{t, sign + n.y * n.y * sd, -n.y};
+    // The linear functions at the box corner.
     const Vec3f wu = (ax * nc - n * dot(ax, c)) * inv_r;
-    const Vec3f wv = (ay * nc - n * dot(ay, c)) * inv_r;
+    const Vec3f wv = (ay * nc - n * dot(ay, c)) * (1.0f / rv);
     const float dx = (x0 + 0.5f - k.cx) * k.inv_f, dy = (y0 + 0.5f - k.cy) * k.inv_f;
     b.l[0][i] = n.x * k.inv_f;
     b.l[1][i] = n.y * k.inv_f;
@@ -148,7 +195,10 @@ std::size_t setup_splats(const DrawList& draws, const Projection& projection,
   for (std::size_t first = begin; first < end; first += kBlock) {
     const int count = static_cast<int>(std::min<std::size_t>(kBlock, end - first));
     transpose_block(draws, k, first, count, b);
-    setup_block(k, options.cull_backfaces, count, b);
+    if (draws.axes != nullptr)
+      setup_block<true>(k, options.cull_backfaces, count, b);
+    else
+      setup_block<false>(k, options.cull_backfaces, count, b);
     for (int i = 0; i < count; ++i) {
       SplatRaster& s = out[first - begin + i];
       if (b.ok[i] == 0) {

@@ -29,6 +29,15 @@ std::string splat_fault(const SplatCloud& cloud, std::size_t i) {
   if (!std::isfinite(r)) return "radius " + number(r) + " is not finite";
   if (r < 0) return "radius " + number(r) + " is negative";
   if (r == 0) return "radius is zero";
+  if (!cloud.has_ellipses()) return {};
+  const Vec3f& u = cloud.axes[i];
+  const float m = cloud.minor_radii[i];
+  if (!std::isfinite(u.x) || !std::isfinite(u.y) || !std::isfinite(u.z))
+    return "ellipse axis is not finite";
+  if (std::fabs(norm(u) - 1) > 1e-3f) return "ellipse axis is not a unit vector";
+  if (std::fabs(dot(u, n)) > 1e-3f * length) return "ellipse axis is not in the splat's plane";
+  if (!(m > 0) || !std::isfinite(m)) return "minor radius " + number(m) + " is not positive";
+  if (m > r * (1 + 1e-6f)) return "minor radius " + number(m) + " exceeds the radius " + number(r);
   return {};
 }
 
