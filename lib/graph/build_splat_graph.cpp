@@ -71,7 +71,13 @@ bool stops_at(std::span<const Vec3f> continuous, const Vec3f& n_i, const Vec3f& 
 struct Splats {
   std::span<const Vec3f> positions, normals;
   std::span<const float> radii;
-  SplatDisc disc(uint32_t i) const { return SplatDisc::circle(positions[i], normals[i], radii[i]); }
+  SplatEllipses ellipses;
+  SplatDisc disc(uint32_t i) const {
+    if (ellipses.axes.empty()) return SplatDisc::circle(positions[i], normals[i], radii[i]);
+    const Vec3f& u = ellipses.axes[i];
+    return SplatDisc::ellipse(positions[i], normals[i], u, cross(normals[i], u), radii[i],
+                              ellipses.minor_radii[i]);
+  }
 };
 
 // Adds kEdgeCrossing to the sharp edges of row i (marked by sphere_overlap_graph) whose discs
@@ -219,8 +225,11 @@ SplatGraphStats count_stats(const SplatGraph& g, std::span<const uint32_t> sharp
 
 SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                              std::span<const float> radii, const SplatGraphOptions& options,
-                             const ProgressFn& progress) {
+                             const ProgressFn& progress, SplatEllipses ellipses) {
   check_inputs(positions, normals, radii, options);
+  if (!ellipses.axes.empty() && (ellipses.axes.size() != positions.size() ||
+                                 ellipses.minor_radii.size() != positions.size()))
+    throw std::invalid_argument("build_splat_graph: ellipses differ in size from the splats");
   SplatGraph g;
   SplatGraphTimings& t = g.timings;
   progress(0.0, "neighbour graph");
@@ -235,7 +244,7 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   t0 = Clock::now();
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
-  flag_and_classify(Splats{positions, normals, radii}, options, sharp.rows, scratch, g);
+  flag_and_classify(Splats{positions, normals, radii, ellipses}, options, sharp.rows, scratch, g);
   t.classify = seconds_since(t0);
   progress(0.85, "surfaces");
   t0 = Clock::now();
@@ -265,7 +274,8 @@ SplatGraph build_splat_graph(const SplatCloud& cloud, const SplatGraphOptions& o
     throw Error(ErrorKind::kBadInput, "the splats have no normals: run estimate-normals first");
   if (!cloud.has_radii())
     throw Error(ErrorKind::kBadInput, "the splats have no radii: run estimate-normals first");
-  return build_splat_graph(cloud.positions, cloud.normals, cloud.radii, options, progress);
+  return build_splat_graph(cloud.positions, cloud.normals, cloud.radii, options, progress,
+                           {cloud.axes, cloud.minor_radii});
 }
 
 }  // namespace splatkit::graph

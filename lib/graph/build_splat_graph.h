@@ -88,7 +88,16 @@ struct SplatGraph {
   SplatGraphTimings timings;
 };
 
-// positions, normals (unit), radii (bounding-sphere radii): #N each, same frame. Circular splats.
+// Elliptic splats (SplatCloud::axes, minor_radii; radii holds the larger semi-axis): both empty
+// for circles. Disc–disc crossings then use the ellipses; the neighbour graph uses radii, the
+// bounding spheres, either way.
+struct SplatEllipses {
+  std::span<const Vec3f> axes;
+  std::span<const float> minor_radii;
+};
+
+// positions, normals (unit), radii (bounding-sphere radii): #N each, same frame; circles, or the
+// ellipses given.
 // Partners: for a kEdge splat S_i, every sharp neighbour S_j whose disc crosses S_i's (the test
 // is always run with the lower index first, so it is symmetric); classified by
 // classify_clip_partners with the partners' surface ids (options.per_surface) and tolerance
@@ -98,7 +107,8 @@ struct SplatGraph {
 // count. Memory: about 5 bytes per neighbour entry plus ~40 bytes per splat.
 SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                              std::span<const float> radii, const SplatGraphOptions& options,
-                             const ProgressFn& progress = no_progress());
+                             const ProgressFn& progress = no_progress(),
+                             SplatEllipses ellipses = {});
 
 // Same, for a cloud; Error(kBadInput) when it has no normals or no radii (run estimate-normals).
 SplatGraph build_splat_graph(const SplatCloud& cloud, const SplatGraphOptions& options,
