@@ -20,10 +20,10 @@ struct EstimateNormalsOptions {
   NormalOptions normals;
   std::string radius = "cover";  // --radius: cover or mean-knn
   std::string splat = "circle";  // --splat: circle or ellipse
-  std::string method = "pca";  // pca | robust
-  std::string orient;          // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
-  std::string viewpoint;       // "x,y,z" in file coordinates, or empty
-  std::string format;          // ply | splk, or empty: OUT's extension
+  std::string method = "pca";    // pca | robust
+  std::string orient;     // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
+  std::string viewpoint;  // "x,y,z" in file coordinates, or empty
+  std::string format;     // ply | splk, or empty: OUT's extension
 };
 
 // Throws Error(kUsage) for bad or conflicting options and unusable paths (before reading),

@@ -73,7 +73,8 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
     Range ax[3], minor;
     for (const Vec3f& v : c.axes)
       for (int k = 0; k < 3; ++k) ax[k].add(v[k]);
-    for (int k = 0; k < 3; ++k) attrs.push_back(attribute(eaxis[k], ScalarType::kFloat32, ax[k], n));
+    for (int k = 0; k < 3; ++k)
+      attrs.push_back(attribute(eaxis[k], ScalarType::kFloat32, ax[k], n));
     for (float v : c.minor_radii) minor.add(v);
     attrs.push_back(attribute("minor_radius", ScalarType::kFloat32, minor, n));
   }

@@ -735,8 +735,7 @@ void read_elps(Payload& p, SplatCloud& c, bool after_splt) {
   const uint64_t n = get_le<uint64_t>(h.data());
   if (n != c.size())
     p.fail(std::to_string(n) + " ellipses for " + std::to_string(c.size()) + " splats");
-  if (!c.has_normals() || !c.has_radii())
-    p.fail("ellipses for splats without normals or radii");
+  if (!c.has_normals() || !c.has_radii()) p.fail("ellipses for splats without normals or radii");
   if (p.left() != n * 16)
     p.fail(std::to_string(p.left()) + " bytes do not hold " + std::to_string(n) +
            " axes and minor radii (16 bytes each)");

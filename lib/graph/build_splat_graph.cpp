@@ -227,8 +227,8 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
                              std::span<const float> radii, const SplatGraphOptions& options,
                              const ProgressFn& progress, SplatEllipses ellipses) {
   check_inputs(positions, normals, radii, options);
-  if (!ellipses.axes.empty() && (ellipses.axes.size() != positions.size() ||
-                                 ellipses.minor_radii.size() != positions.size()))
+  if (!ellipses.axes.empty() &&
+      (ellipses.axes.size() != positions.size() || ellipses.minor_radii.size() != positions.size()))
     throw std::invalid_argument("build_splat_graph: ellipses differ in size from the splats");
   SplatGraph g;
   SplatGraphTimings& t = g.timings;

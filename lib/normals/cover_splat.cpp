@@ -98,7 +98,8 @@ Vec3f tangent_axis(const Vec3f& n) {
 }
 
 SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const Vec3f> positions,
-                       std::span<const uint32_t> row, float open_cap, bool ellipse) {
+                       std::span<const uint32_t> row, float open_cap, bool ellipse,
+                       std::span<const Vec3f> normals) {
   const Vec3f t1 = tangent_axis(normal);
   const Vec3f t2 = cross(normal, t1);
   // The square reaches the farthest neighbour: every bounded cell fits inside.
@@ -118,6 +119,7 @@ SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const
     // Steeper than kSheetSlope above or below the plane: another sheet of the surface (across a
     // crease, the far side of a thin part), whose own splats cover what lies near it.
     if (along * along > kSheetSlope * kSheetSlope * in_plane_sq) continue;
+    if (!normals.empty() && std::fabs(dot(normals[j], normal)) < kSameSheetCos) continue;
     cell.clip(p);
   }
   SplatShape s;

@@ -40,19 +40,27 @@ namespace splatkit {
 // this aspect ratio (bounds the splat's screen footprint and its numerical conditioning).
 inline constexpr float kMaxEllipseAspect = 8.0f;
 
+// Two splats whose normals are more than 25° apart (either sign) lie on different sheets of the
+// surface: across a crease, or on the two sides of a thin part.
+inline constexpr float kSameSheetCos = 0.9063078f;  // cos 25°
+
 struct SplatShape {
-  float radius = 0;         // circle radius, or the ellipse's larger semi-axis (along axis)
-  float minor_radius = 0;   // the ellipse's smaller semi-axis (= radius for a circle)
-  Vec3f axis{1, 0, 0};      // unit, in the tangent plane: direction of the larger semi-axis
-  bool open = false;        // the row's neighbours left the cell open (see above)
+  float radius = 0;        // circle radius, or the ellipse's larger semi-axis (along axis)
+  float minor_radius = 0;  // the ellipse's smaller semi-axis (= radius for a circle)
+  Vec3f axis{1, 0, 0};     // unit, in the tangent plane: direction of the larger semi-axis
+  bool open = false;       // the row's neighbours left the cell open (see above)
 };
 
 // center: the splat's centre; normal: its unit normal; neighbors: positions[row[j]] for the
 // entries of `row` that are not SpatialIndex::kNone (the centre itself may be among them and is
 // skipped like any point at distance 0). open_cap > 0 (see above). ellipse: false gives a circle
 // (minor_radius = radius).
+// normals: empty, or the unit normals of `positions` (either sign): then a neighbour whose normal
+// is more than 25° from `normal` belongs to another sheet too (across a crease that the 60° test
+// misses, such as a turn of 60°).
 SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const Vec3f> positions,
-                       std::span<const uint32_t> row, float open_cap, bool ellipse);
+                       std::span<const uint32_t> row, float open_cap, bool ellipse,
+                       std::span<const Vec3f> normals = {});
 
 // A unit vector perpendicular to the unit vector n, a continuous choice over the sphere but for
 // one seam (Duff et al. 2017, branchless orthonormal basis): the first axis of the tangent basis

@@ -47,10 +47,10 @@ std::size_t row_size(const NormalOptions& o) { return std::max(o.k, o.radius_k +
 // The splat of point i from its kNN row (positions' indices, the point first; squared distances),
 // by the options' rule, written to the cloud's radii (and axes, minor radii). Returns whether the
 // row left the point's cover cell open (cover_splat.h): a wider row may close it.
-bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i,
-               std::span<const uint32_t> row, std::span<const float> sq_dists) {
-  const float mean_knn = splat_radius(sq_dists.first(std::min(sq_dists.size(), o.radius_k + 1)),
-                                      o.radius_k);
+bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<const uint32_t> row,
+               std::span<const float> sq_dists, std::span<const Vec3f> final_normals = {}) {
+  const float mean_knn =
+      splat_radius(sq_dists.first(std::min(sq_dists.size(), o.radius_k + 1)), o.radius_k);
   if (o.radius_rule == RadiusRule::kMeanKnn) {
     cloud.radii[i] = mean_knn;
     return false;
@@ -59,7 +59,7 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i,
   // the radius resolve_degenerate_normals took from a wider row.
   if (mean_knn == 0) return false;
   const SplatShape s = cover_splat(cloud.positions[i], cloud.normals[i], cloud.positions, row,
-                                   kCoverCapScale * mean_knn, o.ellipses);
+                                   kCoverCapScale * mean_knn, o.ellipses, final_normals);
   cloud.radii[i] = s.radius;
   if (o.ellipses) {
     cloud.axes[i] = s.axis;
@@ -69,7 +69,8 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i,
 }
 
 // Fits the splats of `points` again from rows of k points, one kNN query each: points whose
-// normal changed after phase 3, and points whose cell the phase-3 row left open.
+// normal changed after phase 3, and points whose cell the phase-3 row left open. Every normal is
+// final by then, so the neighbours' normals tell the sheets apart too.
 void refit_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                   std::span<const uint32_t> points, std::size_t k) {
   k = std::min(k, cloud.size());
@@ -81,7 +82,7 @@ void refit_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOpti
       const std::size_t got = index.knn(cloud.positions[i], k, row.data(), sq.data());
       std::fill(row.begin() + got, row.end(), SpatialIndex::kNone);
       std::fill(sq.begin() + got, sq.end(), std::numeric_limits<float>::infinity());
-      fit_splat(cloud, o, i, row, sq);
+      fit_splat(cloud, o, i, row, sq, cloud.normals);
     }
   });
 }
@@ -239,9 +240,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
-        [&] {
-    pca_normals_and_radii(index, cloud, options, degenerate, variation, progress);
-  });
+        [&] { pca_normals_and_radii(index, cloud, options, degenerate, variation, progress); });
 
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
@@ -276,9 +275,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     progress(0.8, "splats");
     std::sort(refit.begin(), refit.end());
     refit.erase(std::unique(refit.begin(), refit.end()), refit.end());
-    timed("refit_splats", [&] {
-      refit_splats(index, cloud, options, refit, kWideRowFactor * row_size(options));
-    });
+    timed("refit_splats",
+          [&] { refit_splats(index, cloud, options, refit, kWideRowFactor * row_size(options)); });
     report.refitted_points = refit.size();
   }
   if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);

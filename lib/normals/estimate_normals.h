@@ -92,8 +92,8 @@ struct NormalReport {
   nlohmann::json to_json() const;
 };
 
-// Replaces cloud.normals and cloud.radii, and cloud.axes and cloud.minor_radii (cleared, or set with
-// ellipses), and merges duplicates, in place. Throws Error(kUsage) for bad options (k < 3,
+// Replaces cloud.normals and cloud.radii, and cloud.axes and cloud.minor_radii (cleared, or set
+// with ellipses), and merges duplicates, in place. Throws Error(kUsage) for bad options (k < 3,
 // radius_k < 1, radius_scale not finite and > 0, ellipses without kCover, viewpoint needed but
 // absent),
 // before any work, and Error(kBadInput) for a cloud of one distinct point (no radius can be

@@ -4,22 +4,21 @@
 // about σ/√(neighbours)).
 //
 // For point i with unit normal n_i and kNN row N(i) (k points, i included): the neighbours j with
-// n_j·n_i >= kSameSheetCos (normals within 25°, either sign: orientation may not have run) are
-// i's sheet, and c_i moves by n_i · mean_j((c_j − c_i)·n_i). Neighbours across a crease (robust
-// normals) or on the far side of a thin part are left out, so creases stay sharp. All offsets are
-// computed from the unmoved positions, then applied: the result does not depend on the order or
-// the thread count.
+// |n_j·n_i| >= kSameSheetCos (cover_splat.h: normals within 25°, either sign: orientation may not
+// have run) are i's sheet, and c_i moves by n_i · mean_j((c_j − c_i)·n_i). Neighbours across a
+// crease (robust normals) or on the far side of a thin part are left out, so creases stay sharp.
+// All offsets are computed from the unmoved positions, then applied: the result does not depend on
+// the order or the thread count.
 #pragma once
 
 #include <cstddef>
 #include <span>
 
+#include "normals/cover_splat.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit {
-
-inline constexpr float kSameSheetCos = 0.9063078f;  // cos 25°
 
 // index: built over `positions` (#N, moved in place); normals: #N unit. Returns the mean |shift|.
 double fit_splat_centres(const SpatialIndex& index, std::span<Vec3f> positions,

@@ -58,8 +58,9 @@ SplatCoverage splat_coverage(const SplatCloud& splats, std::span<const Vec3f> su
   SplatCoverage out;
   out.samples = surface.size();
   out.uncovered = total.first;
-  out.mean_splats =
-      surface.empty() ? 0.0 : static_cast<double>(total.second) / static_cast<double>(surface.size());
+  out.mean_splats = surface.empty()
+                        ? 0.0
+                        : static_cast<double>(total.second) / static_cast<double>(surface.size());
   return out;
 }
 

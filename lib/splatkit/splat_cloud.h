@@ -41,12 +41,6 @@ struct SplatCloud {
   std::vector<Vec3f> positions;                 // #N, local frame
   std::vector<Vec3f> normals;                   // #N unit vectors, or empty
   std::vector<float> radii;                     // #N disc radii (same units as positions), or empty
-  // Elliptic splats (both empty for circular ones): #N unit axes u in the splat's plane
-  // (perpendicular to its normal) and #N semi-axes along v = normal × u. `radii` then holds the
-  // semi-axis along u, the larger one, so it stays the splat's bounding-sphere radius and every
-  // consumer that knows only circles draws a disc that contains the ellipse.
-  std::vector<Vec3f> axes;
-  std::vector<float> minor_radii;
   std::vector<std::array<uint16_t, 3>> colors;  // #N RGB, or empty
   int color_bits = 8;                           // 8 or 16: range of `colors` is [0, 2^bits - 1]
   std::vector<ExtraAttribute> extras;           // each with #N values
@@ -55,6 +49,12 @@ struct SplatCloud {
   std::vector<uint32_t> face_indices;
   // Scanner position (file coordinates) when the source records one (PCD VIEWPOINT, ...).
   std::optional<std::array<double, 3>> viewpoint;
+  // Elliptic splats (both empty for circular ones): #N unit axes u in the splat's plane
+  // (perpendicular to its normal) and #N semi-axes along v = normal × u. `radii` then holds the
+  // semi-axis along u, the larger one, so it stays the splat's bounding-sphere radius and every
+  // consumer that knows only circles draws a disc that contains the ellipse.
+  std::vector<Vec3f> axes;
+  std::vector<float> minor_radii;
 
   std::size_t size() const { return positions.size(); }
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }

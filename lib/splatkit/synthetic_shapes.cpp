@@ -581,8 +581,8 @@ void sample_uniform(const Patch& patch, uint32_t id, double line_spacing, Determ
   const auto& rev = std::get<Revolution>(patch.surface);
   D3 p, n;
   const double length = profile_length(rev);
-  const double t = std::min(band_middle(sample_profile(rev, 0, length, rng), 0, line_spacing),
-                            length);
+  const double t =
+      std::min(band_middle(sample_profile(rev, 0, length, rng), 0, line_spacing), length);
   revolution_point(rev, t, rng.uniform(0, 2 * kPi), &p, &n);
   emit(p, n, 0, id);
 }

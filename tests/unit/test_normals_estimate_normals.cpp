@@ -72,6 +72,8 @@ TEST(NormalsEstimate, RadiusIsMeanDistanceToNeighbours) {
   for (int j = 0; j < 9; ++j)
     for (int i = 0; i < 9; ++i) c.positions.push_back({i * h, j * h, 0});
   NormalOptions o = pca_unoriented();
+  o.radius_rule = RadiusRule::kMeanKnn;
+  SplatCloud cover = c;
   estimate_normals(c, o);
   const float want = (4 * h + h * std::sqrt(2.0f)) / 5;
   EXPECT_NEAR(c.radii[4 * 9 + 4], want, 1e-6);
@@ -82,6 +84,11 @@ TEST(NormalsEstimate, RadiusIsMeanDistanceToNeighbours) {
   o.radius_k = 4;
   estimate_normals(scaled, o);
   EXPECT_NEAR(scaled.radii[4 * 9 + 4], 2.5f * h, 1e-6);
+
+  // The cover rule: an interior point's cell is the h × h square around it, reached at h/√2.
+  estimate_normals(cover, pca_unoriented());
+  EXPECT_NEAR(cover.radii[4 * 9 + 4], h / std::sqrt(2.0f), 1e-6);
+  EXPECT_TRUE(cover.axes.empty());
 }
 
 // Inserts a copy of ~20 % of the points, each right after a random later position, with a
@@ -213,8 +220,13 @@ TEST(NormalsEstimate, FewerPointsThanK) {
   NormalReport r = estimate_normals(c, o);
   EXPECT_EQ(r.degenerate_points, 0u);
   for (const Vec3f& n : c.normals) EXPECT_EQ(n, (Vec3f{0, 0, 1}));
-  // Centre point: 4 neighbours at √0.5 (fewer than radius_k = 5 exist).
-  EXPECT_NEAR(c.radii[4], std::sqrt(0.5f), 1e-6);
+  // Centre point: its cell among the 4 corners is the diamond |x| + |y| <= 0.5.
+  EXPECT_NEAR(c.radii[4], 0.5f, 1e-6);
+  // Mean-kNN: 4 neighbours at √0.5 (fewer than radius_k = 5 exist).
+  SplatCloud m = c;
+  o.radius_rule = RadiusRule::kMeanKnn;
+  estimate_normals(m, o);
+  EXPECT_NEAR(m.radii[4], std::sqrt(0.5f), 1e-6);
   SplatCloud empty;
   EXPECT_EQ(estimate_normals(empty, o).output_points, 0u);
 }

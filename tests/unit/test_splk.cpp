@@ -197,6 +197,29 @@ TEST_F(SplkTest, RoundTripKeepsEveryAttributeAndExtraType) {
   EXPECT_TRUE(std::signbit(b.positions[1].z));
 }
 
+TEST_F(SplkTest, EllipsesRoundTripInAnElpsChunkOfVersion1_2) {
+  LoadedCloud doc = full_doc();
+  SplatCloud& c = doc.cloud;
+  c.axes.clear();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    c.axes.push_back(normalized(cross(c.normals[i], Vec3f{0.3f, 0.5f, 0.8f})));
+    c.minor_radii.push_back(0.5f * c.radii[i]);
+  }
+  const std::string bytes = encode(doc);
+  EXPECT_EQ(bytes[10], 2);  // minor version
+  const LoadedCloud back = read_bytes(bytes);
+  EXPECT_EQ(back.cloud.axes, c.axes);
+  EXPECT_EQ(back.cloud.minor_radii, c.minor_radii);
+  EXPECT_TRUE(back.chunks.empty());
+  // A second ELPS chunk, or one with another count, is refused: duplicate the chunk before END.
+  const std::size_t at = bytes.find("ELPS");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t end = bytes.size() - 20;  // the END chunk header
+  const std::string chunk = bytes.substr(at, end - at);
+  expect_rejected(bytes.substr(0, end) + chunk + bytes.substr(end), ErrorKind::kBadInput,
+                  "a second 'ELPS' chunk");
+}
+
 TEST_F(SplkTest, RoundTripKeeps16BitColoursAndNoOptionalAttributes) {
   LoadedCloud doc;
   doc.cloud.positions = {{1, 2, 3}, {4, 5, 6}};

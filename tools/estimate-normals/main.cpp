@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
       "the surface: each reaches the farthest corner of its point's Voronoi cell among its "
       "neighbours in its tangent plane (--radius cover), as circles or as ellipses fitted to the "
       "cells (--splat ellipse: far less overdraw on scan lines); orientation by a minimum "
-      "spanning tree or towards a viewpoint. Exact duplicate points are merged (the first one's colour and "
+      "spanning tree or towards a viewpoint. Exact duplicate points are merged (the first one's "
+      "colour and "
       "attributes are kept). OUT is .ply (binary) or .splk; '-' writes .splk to stdout.",
       "  $ estimate-normals scan.ply scan.splk\n"
       "  $ estimate-normals scan.las out.ply --orient viewpoint --viewpoint 0,0,1.8\n"
