@@ -28,11 +28,12 @@ class Cell {
     update_max();
   }
 
-  // Keeps the side of the bisector of the centre (the origin) and d: {x : d·x <= |d|² / 2}.
-  void clip(const P2& d) {
-    const double limit = 0.5 * (d.x * d.x + d.y * d.y);
+  // Keeps {x : d·x <= share · |d|²}: share 1/2, the side of the bisector of the centre (the
+  // origin) and d; share 1, the side of the line through d.
+  void clip(const P2& d, double share = 0.5) {
+    const double limit = share * (d.x * d.x + d.y * d.y);
     // The whole cell is on the centre's side when its farthest vertex is: nothing to do.
-    if (std::sqrt(max_sq_) * std::sqrt(2 * limit) <= limit) return;
+    if (std::sqrt(max_sq_) * std::sqrt(limit / share) <= limit) return;
     out_.clear();
     const std::size_t n = v_.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -119,8 +120,11 @@ SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const
     // Steeper than kSheetSlope above or below the plane: another sheet of the surface (across a
     // crease, the far side of a thin part), whose own splats cover what lies near it.
     if (along * along > kSheetSlope * kSheetSlope * in_plane_sq) continue;
-    if (!normals.empty() && std::fabs(dot(normals[j], normal)) < kSameSheetCos) continue;
-    cell.clip(p);
+    // A neighbour on another sheet by its normal (across a crease) bounds the cell at its own
+    // projection, not half-way: this sheet's splats reach the crease, up to where the other
+    // sheet's samples begin.
+    const bool other = !normals.empty() && std::fabs(dot(normals[j], normal)) < kSameSheetCos;
+    cell.clip(p, other ? 1.0 : 0.5);
   }
   SplatShape s;
   s.axis = t1;

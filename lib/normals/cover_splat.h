@@ -56,8 +56,9 @@ struct SplatShape {
 // skipped like any point at distance 0). open_cap > 0 (see above). ellipse: false gives a circle
 // (minor_radius = radius).
 // normals: empty, or the unit normals of `positions` (either sign): then a neighbour whose normal
-// is more than 25° from `normal` belongs to another sheet too (across a crease that the 60° test
-// misses, such as a turn of 60°).
+// is more than 25° from `normal` lies on another sheet (across a crease that the 60° test misses,
+// such as a turn of 60°) and bounds the cell at its own projection rather than half-way, so that
+// this sheet's splat reaches the crease, up to where the other sheet's samples begin.
 SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const Vec3f> positions,
                        std::span<const uint32_t> row, float open_cap, bool ellipse,
                        std::span<const Vec3f> normals = {});

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <tuple>
 #include <vector>
 
 #include "normals/estimate_normals.h"
@@ -71,18 +73,20 @@ TEST(NormalsSplatCoverage, CoverRadiiLeaveNoHoleOnRandomSamples) {
   }
 }
 
-// The CAD part's creases: splats on either side of a crease reach it only up to the angle
-// between their planes. Measured 0.011 % clean and 0.09 % with noise (robust normals, fitted
-// centres): above the 0.01 % of smooth shapes; the bounds below keep it from getting worse.
+// The CAD part's creases: the splats of each face reach the crease, as neighbours across it
+// (another sheet, told apart by their normals) do not bound their cells.
 TEST(NormalsSplatCoverage, CadPartCoveredUpToItsCreases) {
-  const Case clean{"random cad, robust", ShapeKind::kCadPart, 0, 0, with(kRobust, false)};
-  const Case noisy{"random cad, noise, robust, fit centres", ShapeKind::kCadPart, 0.00125, 0,
-                   with(kRobust, true)};
-  const SplatCoverage a = coverage_of(clean), b = coverage_of(noisy);
-  EXPECT_LE(a.uncovered_fraction(), 2e-4);
-  EXPECT_LE(a.mean_splats, 4.0);
-  EXPECT_LE(b.uncovered_fraction(), 2e-3);
-  EXPECT_LE(b.mean_splats, 4.0);
+  const Case cases[] = {
+      {"random cad, robust", ShapeKind::kCadPart, 0, 0, with(kRobust, false)},
+      {"random cad, noise, robust, fit centres", ShapeKind::kCadPart, 0.00125, 0,
+       with(kRobust, true)},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const SplatCoverage cov = coverage_of(c);
+    EXPECT_LE(cov.uncovered_fraction(), 1e-4);
+    EXPECT_LE(cov.mean_splats, 4.0);
+  }
 }
 
 TEST(NormalsSplatCoverage, MeanKnnRadiiLeaveHoles) {
@@ -91,14 +95,20 @@ TEST(NormalsSplatCoverage, MeanKnnRadiiLeaveHoles) {
   EXPECT_GT(coverage_of(c).uncovered_fraction(), 0.01);  // the rule's known weakness, ~2.5 %
 }
 
+// Scan lines 4× denser along than across: ellipses cover as well as circles with at least 30 %
+// fewer splats over each surface point. (Both leave 0.01–0.03 % uncovered here, above the
+// i.i.d. samples' 0.01 %: the cells of the last line before a crease or a gap in a line.)
 TEST(NormalsSplatCoverage, EllipsesCoverScanLinesWithLessOverdraw) {
-  const Case circles{"scan lines 4:1 sphere, circles", ShapeKind::kSphere, 0, 4, {}};
-  const Case ellipses{"scan lines 4:1 sphere, ellipses", ShapeKind::kSphere, 0, 4,
-                      with(kPca, false, true)};
-  const SplatCoverage a = coverage_of(circles), b = coverage_of(ellipses);
-  EXPECT_LE(a.uncovered_fraction(), 5e-4);
-  EXPECT_LE(b.uncovered_fraction(), 5e-4);
-  EXPECT_LE(b.mean_splats, 0.7 * a.mean_splats);
+  for (auto [name, kind, method] : {std::tuple{"sphere", ShapeKind::kSphere, kPca},
+                                    std::tuple{"cad", ShapeKind::kCadPart, kRobust}}) {
+    SCOPED_TRACE(name);
+    const Case circles{"scan lines 4:1, circles", kind, 0, 4, with(method, false)};
+    const Case ellipses{"scan lines 4:1, ellipses", kind, 0, 4, with(method, false, true)};
+    const SplatCoverage a = coverage_of(circles), b = coverage_of(ellipses);
+    EXPECT_LE(a.uncovered_fraction(), 5e-4);
+    EXPECT_LE(b.uncovered_fraction(), std::max(5e-4, 1.2 * a.uncovered_fraction()));
+    EXPECT_LE(b.mean_splats, 0.7 * a.mean_splats);
+  }
 }
 
 }  // namespace
