@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <vector>
+#include <span>
 
 namespace splatkit {
 
@@ -16,46 +16,58 @@ struct P2 {
   double x, y;
 };
 
-// The cell as a convex polygon, counter-clockwise, clipped in place by half-planes.
+// The cell as a convex polygon, counter-clockwise, clipped in place by half-planes. Fixed
+// capacity, on the stack: a clip that would need more vertices is skipped, which leaves the cell
+// larger than it is (the splat still covers it). Voronoi cells have about 6 vertices.
 class Cell {
  public:
+  static constexpr std::size_t kCapacity = 64;
+
   explicit Cell(double half) {
-    v_.clear();
-    v_.push_back({-half, -half});
-    v_.push_back({half, -half});
-    v_.push_back({half, half});
-    v_.push_back({-half, half});
-    update_max();
+    v_[0] = {-half, -half};
+    v_[1] = {half, -half};
+    v_[2] = {half, half};
+    v_[3] = {-half, half};
+    n_ = 4;
+    max_sq_ = 2 * half * half;
   }
 
   // Keeps {x : d·x <= share · |d|²}: share 1/2, the side of the bisector of the centre (the
   // origin) and d; share 1, the side of the line through d.
   void clip(const P2& d, double share = 0.5) {
-    const double limit = share * (d.x * d.x + d.y * d.y);
-    // The whole cell is on the centre's side when its farthest vertex is: nothing to do.
-    if (std::sqrt(max_sq_) * std::sqrt(limit / share) <= limit) return;
-    out_.clear();
-    const std::size_t n = v_.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const P2& a = v_[i];
-      const P2& b = v_[(i + 1) % n];
-      const double sa = d.x * a.x + d.y * a.y - limit;
-      const double sb = d.x * b.x + d.y * b.y - limit;
-      if (sa <= 0) out_.push_back(a);
+    const double d_sq = d.x * d.x + d.y * d.y;
+    const double limit = share * d_sq;
+    // The whole cell is on the centre's side when its farthest vertex R is: R |d| <= limit.
+    if (max_sq_ * d_sq <= limit * limit) return;
+    if (n_ + 1 > kCapacity) return;
+    P2 out[kCapacity];
+    std::size_t m = 0;
+    const P2* a = &v_[n_ - 1];
+    double sa = d.x * a->x + d.y * a->y - limit;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const P2* b = &v_[i];
+      const double sb = d.x * b->x + d.y * b->y - limit;
       if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
         const double t = sa / (sa - sb);
-        out_.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+        out[m++] = {a->x + t * (b->x - a->x), a->y + t * (b->y - a->y)};
       }
+      if (sb <= 0) out[m++] = *b;
+      a = b;
+      sa = sb;
     }
-    v_.swap(out_);
-    update_max();
+    n_ = m;
+    max_sq_ = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      v_[i] = out[i];
+      max_sq_ = std::max(max_sq_, out[i].x * out[i].x + out[i].y * out[i].y);
+    }
   }
 
-  const std::vector<P2>& vertices() const { return v_; }
+  std::span<const P2> vertices() const { return {v_, n_}; }
   // Whether a vertex lies on the starting square: the neighbours leave the cell open that way.
   bool open(double half) const {
     const double edge = half * (1 - 1e-9);
-    for (const P2& p : v_)
+    for (const P2& p : vertices())
       if (std::fabs(p.x) >= edge || std::fabs(p.y) >= edge) return true;
     return false;
   }
@@ -65,10 +77,9 @@ class Cell {
   // (origin, v_i, v_i+1); the origin lies inside the cell.
   std::array<double, 3> second_moment() const {
     std::array<double, 3> m{0, 0, 0};
-    const std::size_t n = v_.size();
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       const P2& p = v_[i];
-      const P2& q = v_[(i + 1) % n];
+      const P2& q = v_[(i + 1) % n_];
       const double w = (p.x * q.y - p.y * q.x) / 12.0;  // (area / 6), area = cross / 2
       m[0] += w * (p.x * p.x + q.x * q.x + p.x * q.x);
       m[1] += w * (p.x * p.y + q.x * q.y + 0.5 * (p.x * q.y + q.x * p.y));
@@ -78,17 +89,11 @@ class Cell {
   }
 
  private:
-  void update_max() {
-    max_sq_ = 0;
-    for (const P2& p : v_) max_sq_ = std::max(max_sq_, p.x * p.x + p.y * p.y);
-  }
-
-  // Scratch reused by every call on a thread: cover_splat runs once per point of large clouds.
-  static thread_local std::vector<P2> v_, out_;
+  P2 v_[kCapacity];
+  std::size_t n_ = 0;
   double max_sq_ = 0;
 };
 
-thread_local std::vector<P2> Cell::v_, Cell::out_;
 
 }  // namespace
 
