@@ -31,6 +31,12 @@ for method in pca robust; do
 done
 # A pipeline: normals straight into the renderer's input, through a pipe.
 "$bin/estimate-normals" -q "$samples/torus-las12.las" - | "$bin/splat-info" - > "$out/normals/torus-las12.info.txt"
+# Scan lines 4x denser along than across: circles, and ellipses fitted to the same cells.
+"$bin/splat-synth" -q torus "$out/normals/torus-lines.ply" -n 40000 --scan-lines 4 --no-color
+for splat in circle ellipse; do
+  "$bin/estimate-normals" "$out/normals/torus-lines.ply" "$out/normals/torus-lines-$splat.splk" \
+    --splat "$splat" --report "$out/normals/torus-lines-$splat.report.json"
+done
 
 echo "== 3. neighbour graph, sharp edges, clip partners and surfaces (out/graph/) =="
 mkdir -p "$out/graph"
@@ -65,6 +71,9 @@ render cad-graph-sharp "$out/graph/cad-surfaces.splk" "${view[@]}" --shade sharp
 render cad-graph-clipped "$out/graph/cad-surfaces.splk" "${view[@]}" --shade clipped
 render cad-graph-no-clip "$out/graph/cad-surfaces.splk" "${view[@]}" --no-clip --no-surface-ids
 render kitten-normals "$out/normals/kitten.splk" --shade normals
+for splat in circle ellipse; do  # a close-up: no background through the surface either way
+  render "torus-lines-$splat" "$out/normals/torus-lines-$splat.splk" --view 20,35,1.6
+done
 "$bin/splat-view" -q "$samples/cad.ply" -o "$out/images/cad.exr" --width 800 --height 600
 echo "  out/images/cad.exr (colour + Z, N, A channels)"
 echo "demo: results in $out"

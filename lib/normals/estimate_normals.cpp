@@ -112,6 +112,10 @@ class SharedProgress {
 // Flags of phase 3 per point.
 constexpr uint8_t kDegenerate = 1;  // PCA neighbourhood degenerate: phase 4 finds the normal
 constexpr uint8_t kOpenCell = 2;    // cover cell left open by the row: refitted from a wider one
+// A neighbourhood whose middle PCA eigenvalue is below this fraction of the largest is a thread
+// of points (one scan line, with none of the next lines among the k nearest): its plane is the
+// line's osculating plane, not the surface's, so its normal comes from a wider neighbourhood.
+constexpr double kThinRatio = 1e-2;
 // Rows of refitted splats are this many times the phase-3 row.
 constexpr std::size_t kWideRowFactor = 4;
 
@@ -136,7 +140,8 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           const uint32_t i = queries[r];
           const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
           cloud.normals[i] = pca.normal;
-          uint8_t flags = pca.degenerate ? kDegenerate : 0;
+          const bool thin = pca.degenerate || pca.eigenvalues[1] < kThinRatio * pca.eigenvalues[2];
+          uint8_t flags = thin ? kDegenerate : 0;
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
           if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),

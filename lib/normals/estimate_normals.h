@@ -11,7 +11,8 @@
 //      PCA normal over the first k entries (neighborhood_pca.h), splat radius from the first
 //      radius_k neighbours (splat_radius.h) or, by default, the splat that covers the point's
 //      tangent-plane cell among the whole row (cover_splat.h); no n×k array is ever held;
-//   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear) get their normal from a
+//   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear, or a thread of points
+//      whose middle eigenvalue is below 1 % of the largest: one scan line) get their normal from a
 //      wider neighbourhood (resolve_degenerate_normals.h); isolated points (no neighbour at a
 //      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
 //   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
