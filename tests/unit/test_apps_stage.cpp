@@ -162,6 +162,29 @@ TEST(AppsCheckSplats, OneMessagePerFaultNamingFileAndSplat) {
     cloud.radii[19] = -5;  // a later fault: the lowest index is reported
     expect_stage_error([&] { check_splats(cloud, "s.ply"); }, ErrorKind::kBadInput, c.message);
   }
+  struct EllipseCase {
+    Vec3f axis;
+    float minor;
+    const char* message;
+  } ellipse_cases[] = {
+      {{1, 0, 0}, 0.25f, nullptr},
+      {{2, 0, 0}, 0.25f, "s.ply: splat 17: ellipse axis is not a unit vector"},
+      {{0.6f, 0, 0.8f}, 0.25f, "s.ply: splat 17: ellipse axis is not in the splat's plane"},
+      {{nan, 0, 0}, 0.25f, "s.ply: splat 17: ellipse axis is not finite"},
+      {{0, 1, 0}, 0, "s.ply: splat 17: minor radius 0 is not positive"},
+      {{0, 1, 0}, 0.75f, "s.ply: splat 17: minor radius 0.75 exceeds the radius 0.5"},
+  };
+  for (const EllipseCase& c : ellipse_cases) {
+    SplatCloud cloud = splats(20);
+    cloud.axes.assign(20, Vec3f{1, 0, 0});
+    cloud.minor_radii.assign(20, 0.5f);
+    cloud.axes[17] = c.axis;
+    cloud.minor_radii[17] = c.minor;
+    if (c.message == nullptr)
+      EXPECT_NO_THROW(check_splats(cloud, "s.ply"));
+    else
+      expect_stage_error([&] { check_splats(cloud, "s.ply"); }, ErrorKind::kBadInput, c.message);
+  }
   SplatCloud bare = splats(3);
   bare.radii.clear();
   expect_stage_error([&] { check_splats(bare, "s.ply"); }, ErrorKind::kBadInput,

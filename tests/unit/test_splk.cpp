@@ -218,6 +218,16 @@ TEST_F(SplkTest, EllipsesRoundTripInAnElpsChunkOfVersion1_2) {
   const std::string chunk = bytes.substr(at, end - at);
   expect_rejected(bytes.substr(0, end) + chunk + bytes.substr(end), ErrorKind::kBadInput,
                   "a second 'ELPS' chunk");
+  // Fewer splats than ellipses: the SPLT of a one-splat copy with this file's ELPS.
+  LoadedCloud one = doc;
+  one.cloud = SplatCloud{};
+  one.cloud.positions = {c.positions[0]};
+  one.cloud.normals = {c.normals[0]};
+  one.cloud.radii = {c.radii[0]};
+  const std::string small = encode(one);
+  const std::size_t small_end = small.size() - 20;
+  expect_rejected(small.substr(0, small_end) + chunk + small.substr(small_end),
+                  ErrorKind::kBadInput, "ellipses for 1 splats");
 }
 
 TEST_F(SplkTest, RoundTripKeeps16BitColoursAndNoOptionalAttributes) {

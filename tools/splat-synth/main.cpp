@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
       "normals\n"
       "  $ splat-synth two-spheres spheres.ply --keep-inside  # both whole spheres, red and blue\n"
       "  $ splat-synth torus torus.xyz -n 2000 --random --seed=7  # i.i.d. uniform sample as text\n"
+      "  $ splat-synth cad lines.ply -n 50000 --scan-lines 4  # scan lines, 4x denser along\n"
       "  $ splat-synth cube - | splat-info -            # .splk on stdout\n");
   splatkit::apps::SplatSynthOptions o;
   auto& app = tool.app();
