@@ -119,11 +119,12 @@ constexpr double kThinRatio = 1e-2;
 // Rows of refitted splats are this many times the phase-3 row.
 constexpr std::size_t kWideRowFactor = 4;
 
-// Phase 3: one streamed kNN pass gives every point its PCA normal and its radius; points whose
-// neighbourhood is degenerate are flagged for phase 4. `variation` (empty, or #N) receives the
+// Phase 3: one streamed kNN pass gives every point its PCA normal and its splat; `flags` marks
+// the points whose neighbourhood is degenerate or thin (phase 4 widens it) and those whose cover
+// cell the row left open (refitted from a wider row). `variation` (empty, or #N) receives the
 // surface variation the robust method selects its points by (-1: degenerate, skip).
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
-                           std::vector<uint8_t>& degenerate, std::vector<float>& variation,
+                           std::vector<uint8_t>& flags, std::vector<float>& variation,
                            const ProgressFn& progress) {
   const std::size_t row_k = row_size(o);
   const std::span<const Vec3f> positions(cloud.positions);
@@ -141,13 +142,13 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
           cloud.normals[i] = pca.normal;
           const bool thin = pca.degenerate || pca.eigenvalues[1] < kThinRatio * pca.eigenvalues[2];
-          uint8_t flags = thin ? kDegenerate : 0;
+          uint8_t f = thin ? kDegenerate : 0;
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
           if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),
                         sq_dists.subspan(r * row_k, row_k)))
-            flags |= kOpenCell;
-          degenerate[i] = flags;
+            f |= kOpenCell;
+          flags[i] = f;
         }
         shared.add(queries.size());
       });
@@ -240,19 +241,19 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
   const bool robust = options.method == NormalMethod::kRobust;
   const bool cover = options.radius_rule == RadiusRule::kCover;
-  std::vector<uint8_t> degenerate(n, 0);
+  std::vector<uint8_t> flags(n, 0);  // kDegenerate, kOpenCell
   // Cover rule: points whose normal changed after phase 3 or whose cell stayed open.
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
-        [&] { pca_normals_and_radii(index, cloud, options, degenerate, variation, progress); });
+        [&] { pca_normals_and_radii(index, cloud, options, flags, variation, progress); });
 
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
     std::vector<uint32_t> points;
     for (std::size_t i = 0; i < n; ++i) {
-      if (degenerate[i] & kDegenerate) points.push_back(static_cast<uint32_t>(i));
-      if (degenerate[i] & kOpenCell) refit.push_back(static_cast<uint32_t>(i));
+      if (flags[i] & kDegenerate) points.push_back(static_cast<uint32_t>(i));
+      if (flags[i] & kOpenCell) refit.push_back(static_cast<uint32_t>(i));
     }
     const DegenerateStats stats = resolve_degenerate_normals(
         index, cloud.positions, points, options.k, options.radius_k, cloud.normals, cloud.radii);
@@ -260,7 +261,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     report.unresolved_points = stats.unresolved;
     if (cover) refit.insert(refit.end(), points.begin(), points.end());
   });
-  degenerate = {};
+  flags = {};
 
   if (robust) {
     progress(0.65, "robust");
