@@ -40,6 +40,29 @@ expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/zt.png" --blend zthreshold=0.05 
 expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/eye.png" --eye 3,0,1 --target 0,0,0 --fov 30 \
   --width 64 --height 48
 
+# Top and bottom views with the default up (+z): the image up becomes +y, the sphere is drawn
+# (the centre pixel is not the background); a top-view turntable renders every frame. An --up
+# the user gives parallel to the view stays an error.
+pixel() { oiiotool --dumpdata "$1" | awk -v p="Pixel ($2, $3):" 'index($0, p) {print $4, $5, $6}'; }
+for eye in 0,0,3 0,0,-3; do
+  expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/pole.png" --eye $eye --target 0,0,0 \
+    --width 64 --height 48
+  if command -v oiiotool >/dev/null; then
+    corner=$(pixel "$WORK/pole.png" 0 0) centre=$(pixel "$WORK/pole.png" 32 24)
+    [ -n "$centre" ] && [ "$centre" != "$corner" ] && pass ||
+      fail "--eye $eye: centre pixel '$centre' is the background '$corner'"
+  fi
+done
+for view in 0,90 120,-90; do
+  expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/orbit.png" --view $view --width 64 --height 48
+done
+expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/top_%d.png" --eye 0,0,4 --turntable 3 \
+  --width 64 --height 48
+cmp -s "$WORK/top_0.png" "$WORK/top_1.png" && fail "top-view turntable frames 0 and 1 are equal" || pass
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,3 --target 0,0,0 --up 0,0,1
+expect_stderr "^splat-view: --up 0,0,1 is parallel to the viewing direction from --eye to --target"
+[ -e "$WORK/x.png" ] && fail "x.png written after an --up error" || pass
+
 # Turntable: N frames named by the %04d field; the JSON report has the counts and stage times.
 expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/turn_%04d.png" --turntable 3 --width 64 --height 48 \
   --stats "$WORK/stats.json"
