@@ -8,7 +8,8 @@
 // exact, which float is not beyond 2^24; 0xFFFFFFFF on background and unassigned splats, A tells
 // them apart); any other extension that
 // OpenImageIO writes (.png default, .jpg, .tif, .bmp, ...) gets 8-bit RGB composited over the
-// background, sRGB-encoded. "-" writes PNG.
+// background, sRGB-encoded. "-" writes PNG. PNG is written for speed (a turntable writes many):
+// compression level 1, the Up filter on every row, zlib's run-length strategy.
 #pragma once
 
 #include <string>
