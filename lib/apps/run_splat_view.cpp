@@ -13,6 +13,7 @@
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
+#include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
@@ -303,25 +304,37 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   render.planes = planes_for_output(o.output, use_ids);
   FrameRenderer renderer;
   Framebuffer frame;
+  // Frame i is encoded and written on the writer's thread while frame i + 1 renders; the two
+  // framebuffers take turns.
+  BackgroundImageWriter writer;
   nlohmann::json per_frame = nlohmann::json::array();
-  FrameStats last;
-  std::unique_ptr<OutputFile> last_image;  // committed after the stats
+  FrameStats last;  // of the frame in flight
+  auto finish_write = [&] {
+    BackgroundImageWriter::Written done = writer.wait();
+    summary.write_seconds += done.seconds;
+    per_frame.push_back(frame_json(last, done.seconds));
+    frame = std::move(done.frame);
+    return std::move(done.file);
+  };
   for (int i = 0; i < frames; ++i) {
     progress(double(i) / frames, "rendering");
     const Camera camera = turned_camera(
         base, r.up, 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
-    last = stage.phase(nullptr, "rendering",
-                       [&] { return renderer.render(scene, camera, render, frame); });
-    const auto w0 = Clock::now();
-    auto image = std::make_unique<OutputFile>(image_path(i));
-    write_image(frame, *image);
-    if (i + 1 < frames) image->commit();
-    last_image = std::move(image);
-    const double write_s = seconds_since(w0);
-    summary.frame_seconds += last.total_s;
-    summary.write_seconds += write_s;
-    per_frame.push_back(frame_json(last, write_s));
+    Framebuffer target = std::move(frame);
+    FrameStats stats;
+    try {
+      stats = stage.phase(nullptr, "rendering",
+                          [&] { return renderer.render(scene, camera, render, target); });
+    } catch (...) {
+      if (writer.busy()) finish_write();  // an error writing the previous frame came first
+      throw;
+    }
+    if (writer.busy()) finish_write();
+    writer.start(std::move(target), image_path(i), i + 1 < frames);
+    summary.frame_seconds += stats.total_s;
+    last = stats;
   }
+  std::unique_ptr<OutputFile> last_image = finish_write();  // committed after the stats
   progress(1.0, "done");
   summary.frames = frames;
   summary.splats = scene.size();

@@ -58,7 +58,7 @@ for view in 0,90 120,-90; do
 done
 expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/top_%d.png" --eye 0,0,4 --turntable 3 \
   --width 64 --height 48
-cmp -s "$WORK/top_0.png" "$WORK/top_1.png" && fail "top-view turntable frames 0 and 1 are equal" || pass
+cmp -s "$WORK/top_0.png" "$WORK/top_1.png" && fail "top turntable: frames 0, 1 equal" || pass
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,3 --target 0,0,0 --up 0,0,1
 expect_stderr "^splat-view: --up 0,0,1 is parallel to the viewing direction from --eye to --target"
 [ -e "$WORK/x.png" ] && fail "x.png written after an --up error" || pass
@@ -79,6 +79,23 @@ for k in ("setup", "binning", "rasterize", "reconstruct", "shade", "frame", "wri
 assert j["splats_per_second"] > 0 and len(j["frames"]) == 3
 PY
 fi
+
+# Frames are encoded on a second thread while the next renders: the bytes do not depend on it
+# nor on the thread count, and a frame that cannot be written fails the run (exit 4) as it would
+# in sequence: the frames before it are there, none after it, no temporary file.
+mkdir -p "$WORK/tt1" "$WORK/tt2" "$WORK/ttbad/f1.png"
+for t in 1 2; do
+  expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/tt$t/f%d.png" --turntable 4 --width 96 --height 64 \
+    --threads $t
+done
+for i in 0 1 2 3; do
+  cmp -s "$WORK/tt1/f$i.png" "$WORK/tt2/f$i.png" && pass || fail "turntable frame $i: threads"
+done
+expect_exit 4 "$V" -q "$S/cad.ply" -o "$WORK/ttbad/f%d.png" --turntable 4 --width 96 --height 64
+expect_stderr "f1.png"
+cmp -s "$WORK/tt1/f0.png" "$WORK/ttbad/f0.png" && pass || fail "frame 0 lost when frame 1 failed"
+[ -e "$WORK/ttbad/f2.png" ] || [ -e "$WORK/ttbad/f3.png" ] && fail "frames after a failure" || pass
+ls "$WORK/ttbad" | grep -q tmp && fail "temporary file left: $(ls "$WORK/ttbad")" || pass
 
 # PNG to standard output.
 "$V" -q "$S/sphere.ply" -o - --width 32 --height 24 > "$WORK/stdout.png" 2>"$WORK/stderr" && pass || fail "-o -"
