@@ -40,9 +40,9 @@ class BackgroundImageWriter {
   // Whether an image was started and not yet waited for.
   bool busy() const { return pending_.valid(); }
 
-  // Waits for the image in flight and returns it; rethrows its error (Error(kOutput) naming the
-  // file, Error(kUsage) for a format OpenImageIO cannot write, std::bad_alloc). Throws
-  // std::logic_error when nothing is in flight.
+  // Waits for the image in flight and returns it; rethrows its error (those of write_image():
+  // Error(kOutput) naming the file, Error(kUsage) for a format that cannot be written,
+  // Error(kUnsupported); std::bad_alloc). Throws std::logic_error when nothing is in flight.
   Written wait();
 
  private:
