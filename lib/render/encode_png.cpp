@@ -40,22 +40,17 @@ void chunk(std::vector<uint8_t>& out, const char* type, std::initializer_list<ui
   end_chunk(out, data);
 }
 
-// Deflates the filtered rows into `out`, row by row (the filtered image is never held whole).
+// Deflates the filtered rows into `out`, row by row (the filtered image is never held whole),
+// through a small staging buffer (`out` grows by what deflate produces, not by its bound).
 void deflate_rows(const uint8_t* rgb, int width, int height, std::vector<uint8_t>& out) {
   z_stream z{};
   if (deflateInit2(&z, 1, Z_DEFLATED, 15, 8, Z_RLE) != Z_OK)
     throw std::runtime_error("encode_png: zlib: deflateInit2 failed");
   const std::size_t row_bytes = std::size_t(width) * 3;
-  std::vector<uint8_t> row(row_bytes + 1);
+  std::vector<uint8_t> row(row_bytes + 1), stage(std::size_t{1} << 16);
   row[0] = kFilterUp;
-  // Room for the worst case, so deflate never stops for output space.
-  const std::size_t start = out.size();
-  const uLong bound = deflateBound(&z, static_cast<uLong>((row_bytes + 1) * height));
-  out.resize(start + bound);
-  z.next_out = out.data() + start;
-  z.avail_out = static_cast<uInt>(bound);
   int status = Z_OK;
-  for (int y = 0; y < height && status == Z_OK; ++y) {
+  for (int y = 0; y < height && status != Z_STREAM_ERROR; ++y) {
     const uint8_t* cur = rgb + row_bytes * y;
     if (y == 0) {
       std::memcpy(row.data() + 1, cur, row_bytes);
@@ -65,12 +60,19 @@ void deflate_rows(const uint8_t* rgb, int width, int height, std::vector<uint8_t
     }
     z.next_in = row.data();
     z.avail_in = static_cast<uInt>(row.size());
-    status = deflate(&z, y + 1 < height ? Z_NO_FLUSH : Z_FINISH);
+    const int flush = y + 1 < height ? Z_NO_FLUSH : Z_FINISH;
+    // As zlib's own example: until a call leaves room in the staging buffer, deflate has taken
+    // the whole row (and, with Z_FINISH, ended the stream). Z_BUF_ERROR there only means that
+    // a call had nothing to do.
+    do {
+      z.next_out = stage.data();
+      z.avail_out = static_cast<uInt>(stage.size());
+      status = deflate(&z, flush);
+      out.insert(out.end(), stage.data(), z.next_out);
+    } while (status != Z_STREAM_ERROR && z.avail_out == 0);
   }
-  const std::size_t written = z.total_out;
   deflateEnd(&z);
   if (status != Z_STREAM_END) throw std::runtime_error("encode_png: zlib: deflate failed");
-  out.resize(start + written);
 }
 
 }  // namespace
