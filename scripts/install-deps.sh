@@ -8,7 +8,7 @@ packages=(
   libgtest-dev libgmock-dev
   libpcl-dev libcgal-dev libeigen3-dev libtbb-dev libnanoflann-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev
-  libcli11-dev nlohmann-json3-dev
+  libcli11-dev nlohmann-json3-dev zlib1g-dev
 )
 # pcl-tools: PCL's own command-line tools, the peers of some benchmarks.
 [ "${SPLATKIT_BENCH_DEPS:-0}" = 1 ] && packages+=(pcl-tools)

@@ -13,6 +13,7 @@
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
+#include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
@@ -135,6 +136,17 @@ Vec3f parse_background(const std::string& text) {
           srgb_to_linear(static_cast<float>(c[2]))};
 }
 
+// An --up the user gave must orient the image: refused when parallel to the viewing direction
+// (without --up, automatic_up() picks another axis instead). eye == target is make_projection's
+// error.
+void check_explicit_up(const SplatViewOptions& o, const Vec3f& eye, const Vec3f& target,
+                       const Vec3f& up) {
+  if (eye != target && !up_orients_view(target - eye, up))
+    throw_usage("--up " + o.up + " is parallel to the viewing direction from --eye to " +
+                (o.target.empty() ? "the model centre" : "--target") +
+                "; give another --up, or none for an automatic one");
+}
+
 Resolved resolve(const SplatViewOptions& o) {
   Resolved r;
   r.render = o.render;
@@ -148,6 +160,7 @@ Resolved resolve(const SplatViewOptions& o) {
   if (r.eye && r.view) throw_usage("--eye and --view are alternatives; give one of them");
   if (r.target && !r.eye) throw_usage("--target needs --eye");
   if (!(norm(r.up) > 0)) throw_usage("--up must not be zero");
+  if (r.eye && r.target && !o.up.empty()) check_explicit_up(o, *r.eye, *r.target, r.up);
   if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180)) throw_usage("--fov must be in (0, 180) degrees");
   if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide)
     throw_usage("--width and --height must be in [1, " + std::to_string(kMaxImageSide) + "]");
@@ -171,7 +184,12 @@ Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingS
     Camera c;
     c.eye = *r.eye;
     c.target = r.target ? *r.target : bounds.center;
-    c.up = r.up;
+    if (o.up.empty()) {
+      c.up = automatic_up(c.target - c.eye, r.up);
+    } else {
+      check_explicit_up(o, c.eye, c.target, r.up);
+      c.up = r.up;
+    }
     c.fov_y_deg = o.fov_y_deg;
     c.width = o.width;
     c.height = o.height;
@@ -180,16 +198,6 @@ Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingS
   const float az = r.view ? (*r.view)[0] : kDefaultAzimuthDeg;
   const float el = r.view ? (*r.view)[1] : kDefaultElevationDeg;
   return orbit_camera(bounds, az, el, r.view_distance, r.up, o.fov_y_deg, o.width, o.height);
-}
-
-// Rotates the eye about the axis through the target along `up` (Rodrigues).
-Camera turned(const Camera& c, float angle_rad) {
-  const Vec3f k = normalized(c.up);
-  const Vec3f v = c.eye - c.target;
-  const float cs = std::cos(angle_rad), sn = std::sin(angle_rad);
-  Camera out = c;
-  out.eye = c.target + v * cs + cross(k, v) * sn + k * (dot(k, v) * (1 - cs));
-  return out;
 }
 
 const char* blend_name(BlendMode m) { return m == BlendMode::kZRange ? "zrange" : "zthreshold"; }
@@ -296,25 +304,37 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   render.planes = planes_for_output(o.output, use_ids);
   FrameRenderer renderer;
   Framebuffer frame;
+  // Frame i is encoded and written on the writer's thread while frame i + 1 renders; the two
+  // framebuffers take turns.
+  BackgroundImageWriter writer;
   nlohmann::json per_frame = nlohmann::json::array();
-  FrameStats last;
-  std::unique_ptr<OutputFile> last_image;  // committed after the stats
+  FrameStats last;  // of the frame in flight
+  auto finish_write = [&] {
+    BackgroundImageWriter::Written done = writer.wait();
+    summary.write_seconds += done.seconds;
+    per_frame.push_back(frame_json(last, done.seconds));
+    frame = std::move(done.frame);
+    return std::move(done.file);
+  };
   for (int i = 0; i < frames; ++i) {
     progress(double(i) / frames, "rendering");
-    const Camera camera =
-        turned(base, 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
-    last = stage.phase(nullptr, "rendering",
-                       [&] { return renderer.render(scene, camera, render, frame); });
-    const auto w0 = Clock::now();
-    auto image = std::make_unique<OutputFile>(image_path(i));
-    write_image(frame, *image);
-    if (i + 1 < frames) image->commit();
-    last_image = std::move(image);
-    const double write_s = seconds_since(w0);
-    summary.frame_seconds += last.total_s;
-    summary.write_seconds += write_s;
-    per_frame.push_back(frame_json(last, write_s));
+    const Camera camera = turned_camera(
+        base, r.up, 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
+    Framebuffer target = std::move(frame);
+    FrameStats stats;
+    try {
+      stats = stage.phase(nullptr, "rendering",
+                          [&] { return renderer.render(scene, camera, render, target); });
+    } catch (...) {
+      if (writer.busy()) finish_write();  // an error writing the previous frame came first
+      throw;
+    }
+    if (writer.busy()) finish_write();
+    writer.start(std::move(target), image_path(i), i + 1 < frames);
+    summary.frame_seconds += stats.total_s;
+    last = stats;
   }
+  std::unique_ptr<OutputFile> last_image = finish_write();  // committed after the stats
   progress(1.0, "done");
   summary.frames = frames;
   summary.splats = scene.size();

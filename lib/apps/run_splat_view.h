@@ -18,11 +18,14 @@ struct SplatViewOptions {
   // Camera, as the command line gives it: either eye "x,y,z" (+ target "x,y,z", default the
   // model's centre) or an orbit view "AZ,EL[,DIST]" (degrees about `up` and above the horizon,
   // distance from the bounding sphere's centre in scene units); neither gives the default
-  // three-quarter view. up "x,y,z" (default 0,0,1).
+  // three-quarter view. up "x,y,z" (default 0,0,1; turntables turn about it): when it is not
+  // given, a top or bottom view takes render::automatic_up()'s axis (+y: a map); when it is given
+  // with an eye and parallel to the viewing direction, Error(kUsage).
   std::string eye, target, view, up;
   float fov_y_deg = 40;  // in (0, 180)
   int width = 1280, height = 720;
   int turntable = 0;  // > 0: that many frames, one full turn about `up` around the target
+                      // (render::turned_camera)
   std::string blend = "zthreshold";  // zthreshold[=EPS] (EPS > 0, scene units) | zrange
   // phong | normals | depth | flat, or false colours lit with phong: surface (per surface id),
   // sharp (splats with a sharp edge), clipped (splats with clip partners)

@@ -12,7 +12,43 @@ namespace {
 
 constexpr float kDegToRad = std::numbers::pi_v<float> / 180.0f;
 
+// The orbit's frame about unit `w`: a at azimuth 0 (+x made perpendicular to w, or +y when w is
+// close to x), b = w × a at azimuth 90°.
+struct OrbitAxes {
+  Vec3f a, b;
+};
+
+OrbitAxes orbit_axes(const Vec3f& w) {
+  const Vec3f ref = std::fabs(w.x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
+  const Vec3f a = normalized(ref - w * dot(ref, w));
+  return {a, cross(w, a)};
+}
+
+// Rodrigues' rotation of v by angle (cos cs, sin sn) about unit axis k.
+Vec3f rotated(const Vec3f& v, const Vec3f& k, float cs, float sn) {
+  return v * cs + cross(k, v) * sn + k * (dot(k, v) * (1 - cs));
+}
+
 }  // namespace
+
+bool up_orients_view(const Vec3f& view, const Vec3f& up) {
+  return norm(cross(normalized(view), up)) > 1e-6f * norm(up);
+}
+
+Vec3f automatic_up(const Vec3f& view, const Vec3f& up) {
+  const Vec3f w = normalized(up);
+  if (!(std::fabs(dot(normalized(view), w)) > kAutoUpCos)) return up;
+  return orbit_axes(w).b;
+}
+
+Camera turned_camera(const Camera& camera, const Vec3f& axis, float angle_rad) {
+  const Vec3f k = normalized(axis);
+  const float cs = std::cos(angle_rad), sn = std::sin(angle_rad);
+  Camera out = camera;
+  out.eye = camera.target + rotated(camera.eye - camera.target, k, cs, sn);
+  if (norm(cross(k, normalized(camera.up))) > 1e-6f) out.up = rotated(camera.up, k, cs, sn);
+  return out;
+}
 
 Projection make_projection(const Camera& camera) {
   if (camera.width <= 0 || camera.height <= 0)
@@ -27,10 +63,9 @@ Projection make_projection(const Camera& camera) {
   Projection p;
   p.eye = camera.eye;
   p.forward = view / distance;
-  Vec3f right = cross(p.forward, camera.up);
-  if (!(norm(right) > 1e-6f * norm(camera.up)))
+  if (!up_orients_view(p.forward, camera.up))
     throw_usage("camera up vector is parallel to the viewing direction");
-  p.right = normalized(right);
+  p.right = normalized(cross(p.forward, camera.up));
   p.down = cross(p.forward, p.right);
   p.width = camera.width;
   p.height = camera.height;
@@ -54,10 +89,7 @@ Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float eleva
                     int height) {
   Vec3f w = normalized(up);
   if (!(norm(w) > 0)) throw_usage("--up must be a non-zero vector");
-  // Reference azimuth axis: +x unless up is close to x, then +y; made perpendicular to up.
-  Vec3f ref = std::fabs(w.x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
-  Vec3f a = normalized(ref - w * dot(ref, w));
-  Vec3f b = cross(w, a);
+  const auto [a, b] = orbit_axes(w);
   float az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
   Vec3f dir =
       a * (std::cos(el) * std::cos(az)) + b * (std::cos(el) * std::sin(az)) + w * std::sin(el);
@@ -66,8 +98,7 @@ Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float eleva
   Camera c;
   c.target = sphere.center;
   c.eye = sphere.center + dir * d;
-  // Looking straight along up: keep the image upright by using the reference axis as up.
-  c.up = std::fabs(std::sin(el)) > 0.9999f ? a : w;
+  c.up = automatic_up(c.target - c.eye, w);
   c.fov_y_deg = fov_y_deg;
   c.width = width;
   c.height = height;

@@ -59,9 +59,33 @@ float framing_distance(const BoundingSphere& sphere, float fov_y_deg, int width,
 // A camera on a sphere around `sphere.center`, looking at it: azimuth measured around `up` (0° on
 // the axis most perpendicular to `up` among +x, +y, turning right-handed about `up`), elevation
 // above the plane perpendicular to `up`. `distance` in scene units; default framing_distance().
+// The camera's up vector is automatic_up(): `up`, or for a top or bottom view (|elevation| above
+// 89.19°) the azimuth-90° axis.
 Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float elevation_deg,
                     std::optional<float> distance, const Vec3f& up, float fov_y_deg, int width,
                     int height);
+
+// Cosine of the largest angle between a viewing direction and `up` at which automatic_up() turns
+// to another axis (0.81°).
+inline constexpr float kAutoUpCos = 0.9999f;
+
+// The up vector for a camera looking along `view` when the caller chose none: `up`, unless `view`
+// lies within 0.81° of ±up (a top or bottom view: `up` would give the image no orientation, or
+// one that spins with the smallest move of the eye); then the axis at azimuth 90° about `up`
+// (orbit_camera's azimuth), so that azimuth 0° points right. For up +z that is +y: a top view is
+// a map (+x right, +y up), a bottom view the same map seen from below (+x left, +y up). `up` is
+// returned unchanged (not normalised) in the common case. `up` must not be zero.
+Vec3f automatic_up(const Vec3f& view, const Vec3f& up);
+
+// Whether `up` orients an image looking along `view`: false when the two are parallel (or either
+// is zero), the cameras make_projection() refuses.
+bool up_orients_view(const Vec3f& view, const Vec3f& up);
+
+// `camera` turned by `angle_rad` (right-handed) about the line through camera.target along `axis`
+// (non-zero): the eye moves on a circle around that line and the up vector turns with it, so a
+// turntable of a top view (eye on the axis, up from automatic_up()) spins the model in the image.
+// An up vector parallel to `axis` is kept bit for bit.
+Camera turned_camera(const Camera& camera, const Vec3f& axis, float angle_rad);
 
 // The default view: a three-quarter view (azimuth 35°, elevation 25°) that frames the model.
 inline constexpr float kDefaultAzimuthDeg = 35.0f;

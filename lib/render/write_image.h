@@ -1,14 +1,15 @@
-// Image output through OpenImageIO, atomically (temporary file renamed into place; see
-// OutputFile) or to standard output for "-".
+// Image output, atomically (temporary file renamed into place; see OutputFile) or to standard
+// output for "-".
 //
-// The format follows the extension: .exr writes float linear colour premultiplied by coverage
-// plus the AOVs with OpenEXR's channel names — R G B A, depth Z (camera depth, scene units,
-// +inf where nothing is drawn), world-space unit normal N.X N.Y N.Z, and, when the frame has the
-// surface id plane, `surface_id` as a 32-bit unsigned integer channel (OpenEXR UINT: ids are
-// exact, which float is not beyond 2^24; 0xFFFFFFFF on background and unassigned splats, A tells
-// them apart); any other extension that
-// OpenImageIO writes (.png default, .jpg, .tif, .bmp, ...) gets 8-bit RGB composited over the
-// background, sRGB-encoded. "-" writes PNG.
+// The format follows the extension. .png (and "-") is 8-bit RGB composited over the background,
+// sRGB-encoded, written by encode_png.h (for speed: a turntable writes many). .exr is float linear
+// colour premultiplied by coverage plus the AOVs with OpenEXR's channel names — R G B A, depth Z
+// (camera depth, scene units, +inf where nothing is drawn), world-space unit normal N.X N.Y N.Z,
+// and, when the frame has the surface id plane, `surface_id` as a 32-bit unsigned integer channel
+// (OpenEXR UINT: ids are exact, which float is not beyond 2^24; 0xFFFFFFFF on background and
+// unassigned splats, A tells them apart). Any other extension that OpenImageIO writes (.jpg,
+// .tif, .bmp, ...) gets the 8-bit RGB of PNG. EXR and those go through OpenImageIO, loaded on
+// first use (oiio_images.h).
 #pragma once
 
 #include <string>
@@ -23,12 +24,14 @@ namespace splatkit::render {
 FramebufferPlanes planes_for_output(const std::string& path, bool surface_ids = false);
 
 // Throws Error(kUsage) for an extension OpenImageIO cannot write, Error(kOutput) when writing
-// fails (the message names the file and the cause).
+// fails (the message names the file and the cause), Error(kUnsupported) when a format other than
+// PNG is asked for and OpenImageIO's module cannot be loaded.
 void write_image(const Framebuffer& frame, const std::string& path);
 // The same into `file` (its path picks the format) without committing it.
 void write_image(const Framebuffer& frame, OutputFile& file);
 
-// Throws Error(kUsage) unless OpenImageIO can write `path`'s format (checked before rendering).
+// Throws Error(kUsage) unless `path`'s format is PNG or one OpenImageIO can write (checked before
+// rendering), Error(kUnsupported) as write_image().
 void check_output_format(const std::string& path);
 
 }  // namespace splatkit::render

@@ -64,7 +64,7 @@ expect_eq "number of README examples run" "$([ "$readme" -ge 5 ] && echo ok)" ok
 for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply cad.ply \
          spheres.ply torus.xyz scan.splk part-graph.splk parts.ply graph.json part-surf.ply \
          surfaces.json bunny.png top.png part.exr turn_0000.png turn_0035.png stats.json \
-         surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json \
+         surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json part-top.png \
          inventory.json; do
   [ -s "$f" ] && pass || fail "no $f after the examples"
 done

@@ -40,6 +40,29 @@ expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/zt.png" --blend zthreshold=0.05 
 expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/eye.png" --eye 3,0,1 --target 0,0,0 --fov 30 \
   --width 64 --height 48
 
+# Top and bottom views with the default up (+z): the image up becomes +y, the sphere is drawn
+# (the centre pixel is not the background); a top-view turntable renders every frame. An --up
+# the user gives parallel to the view stays an error.
+pixel() { oiiotool --dumpdata "$1" | awk -v p="Pixel ($2, $3):" 'index($0, p) {print $4, $5, $6}'; }
+for eye in 0,0,3 0,0,-3; do
+  expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/pole.png" --eye $eye --target 0,0,0 \
+    --width 64 --height 48
+  if command -v oiiotool >/dev/null; then
+    corner=$(pixel "$WORK/pole.png" 0 0) centre=$(pixel "$WORK/pole.png" 32 24)
+    [ -n "$centre" ] && [ "$centre" != "$corner" ] && pass ||
+      fail "--eye $eye: centre pixel '$centre' is the background '$corner'"
+  fi
+done
+for view in 0,90 120,-90; do
+  expect_exit 0 "$V" -q "$S/sphere.ply" -o "$WORK/orbit.png" --view $view --width 64 --height 48
+done
+expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/top_%d.png" --eye 0,0,4 --turntable 3 \
+  --width 64 --height 48
+cmp -s "$WORK/top_0.png" "$WORK/top_1.png" && fail "top turntable: frames 0, 1 equal" || pass
+expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,3 --target 0,0,0 --up 0,0,1
+expect_stderr "^splat-view: --up 0,0,1 is parallel to the viewing direction from --eye to --target"
+[ -e "$WORK/x.png" ] && fail "x.png written after an --up error" || pass
+
 # Turntable: N frames named by the %04d field; the JSON report has the counts and stage times.
 expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/turn_%04d.png" --turntable 3 --width 64 --height 48 \
   --stats "$WORK/stats.json"
@@ -56,6 +79,23 @@ for k in ("setup", "binning", "rasterize", "reconstruct", "shade", "frame", "wri
 assert j["splats_per_second"] > 0 and len(j["frames"]) == 3
 PY
 fi
+
+# Frames are encoded on a second thread while the next renders: the bytes do not depend on it
+# nor on the thread count, and a frame that cannot be written fails the run (exit 4) as it would
+# in sequence: the frames before it are there, none after it, no temporary file.
+mkdir -p "$WORK/tt1" "$WORK/tt2" "$WORK/ttbad/f1.png"
+for t in 1 2; do
+  expect_exit 0 "$V" -q "$S/cad.ply" -o "$WORK/tt$t/f%d.png" --turntable 4 --width 96 --height 64 \
+    --threads $t
+done
+for i in 0 1 2 3; do
+  cmp -s "$WORK/tt1/f$i.png" "$WORK/tt2/f$i.png" && pass || fail "turntable frame $i: threads"
+done
+expect_exit 4 "$V" -q "$S/cad.ply" -o "$WORK/ttbad/f%d.png" --turntable 4 --width 96 --height 64
+expect_stderr "f1.png"
+cmp -s "$WORK/tt1/f0.png" "$WORK/ttbad/f0.png" && pass || fail "frame 0 lost when frame 1 failed"
+[ -e "$WORK/ttbad/f2.png" ] || [ -e "$WORK/ttbad/f3.png" ] && fail "frames after a failure" || pass
+ls "$WORK/ttbad" | grep -q tmp && fail "temporary file left: $(ls "$WORK/ttbad")" || pass
 
 # PNG to standard output.
 "$V" -q "$S/sphere.ply" -o - --width 32 --height 24 > "$WORK/stdout.png" 2>"$WORK/stderr" && pass || fail "-o -"

@@ -1,6 +1,6 @@
 // write_image's EXR: the surface_id channel is a 32-bit unsigned integer channel holding the
 // frame's ids exactly (read back with OpenImageIO), next to the float channels; without ids the
-// file has the eight float channels only.
+// file has the eight float channels only. PNG (written with fast settings) is lossless.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -66,6 +66,24 @@ TEST(RenderWriteImage, ExrWithoutIdsHasEightFloatChannels) {
   ASSERT_TRUE(in);
   EXPECT_EQ(in->spec().nchannels, 8);
   EXPECT_LT(in->spec().channelindex("surface_id"), 0);
+  in->close();
+  std::remove(path.c_str());
+}
+
+TEST(RenderWriteImage, PngIsLossless) {
+  // The fast settings (Up filter, run-length strategy) on a frame with flat runs and noise.
+  Framebuffer f;
+  f.allocate(67, 41, planes_for_output("x.png"));
+  for (std::size_t i = 0; i < f.rgb8.size(); ++i)
+    f.rgb8[i] = i < f.rgb8.size() / 2 ? 40 : uint8_t((i * 2654435761u) >> 24);
+  const std::string path = temp_path("lossless.png");
+  write_image(f, path);
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in);
+  ASSERT_EQ(in->spec().nchannels, 3);
+  std::vector<uint8_t> back(f.rgb8.size());
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, back.data()));
+  EXPECT_EQ(back, f.rgb8);
   in->close();
   std::remove(path.c_str());
 }

@@ -8,7 +8,7 @@ int main(int argc, char** argv) {
   splatkit::Tool tool(
       "splat-view", "Render a splat file (positions, normals, radii, optional colours) to an image",
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
-      "$ splat-view scan.ply -o top.png --view 0,89 --width 1920 --height 1080\n"
+      "$ splat-view scan.ply -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
@@ -27,7 +27,13 @@ int main(int argc, char** argv) {
   app.add_option("--eye", o.eye, "Camera position x,y,z")->type_name("X,Y,Z");
   app.add_option("--target", o.target, "Point looked at x,y,z (default: model centre)")
       ->type_name("X,Y,Z");
-  app.add_option("--up", o.up, "Up direction x,y,z (default 0,0,1)")->type_name("X,Y,Z");
+  app.add_option("--up", o.up,
+                 "Up direction x,y,z (default 0,0,1); turntables turn about it. A top or bottom "
+                 "view (within 0.81 degrees of it: --view AZ,90, or --eye straight above the "
+                 "target) takes the axis at azimuth 90 as the image's up: +y for the default, so "
+                 "a top view is a map with +x right and +y up. With --eye, an --up given and "
+                 "parallel to the view is an error")
+      ->type_name("X,Y,Z");
   app.add_option("--fov", o.fov_y_deg, "Vertical field of view, degrees, in (0, 180)")
       ->default_val(40);
   app.add_option("--view", o.view,
