@@ -76,7 +76,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(CloseUp{"cover_sphere", testing::Shape::kSphere, RadiusRule::kCover},
                       CloseUp{"cover_torus", testing::Shape::kTorus, RadiusRule::kCover},
                       CloseUp{"meanknn_sphere", testing::Shape::kSphere, RadiusRule::kMeanKnn}),
-    [](const ::testing::TestParamInfo<CloseUp>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<CloseUp>& p) { return std::string(p.param.name); });
 
 // Distance of a point from the circle where the two spheres cross (x = 0, radius 0.8).
 float from_intersection(const Vec3f& p) { return std::hypot(p.x, std::hypot(p.y, p.z) - 0.8f); }
