@@ -138,7 +138,9 @@ SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const
   const double cap = s.open ? double(open_cap) : half;
   const double reach = std::min(std::sqrt(cell.max_sq()), cap);
   s.radius = s.minor_radius = static_cast<float>(reach);
-  if (!ellipse) return s;
+  // An open cell is cut at the cap in every direction: only a circle still covers all of it
+  // within the cap (an ellipse shortened to the cap would lose corners nearer than the cap).
+  if (!ellipse || s.open) return s;
 
   const std::array<double, 3> m = cell.second_moment();
   const double mean = 0.5 * (m[0] + m[2]), dev = std::hypot(0.5 * (m[0] - m[2]), m[1]);
