@@ -240,18 +240,28 @@ TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
   // Some duplicates, so that the merge runs too.
   for (std::size_t i = 0; i < one.size(); i += 7) one.positions.push_back(one.positions[i]);
   one.colors.clear(), one.extras.clear(), one.normals.clear(), one.radii.clear();
-  SplatCloud two = one;
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    estimate_normals(one, pca_unoriented());
+  // Plain PCA, and every later phase: robust normals, refitted splats, ellipses, fitted centres.
+  NormalOptions all = pca_unoriented();
+  all.method = NormalMethod::kRobust;
+  all.ellipses = true;
+  all.fit_centres = true;
+  for (const NormalOptions& o : {pca_unoriented(), all}) {
+    SplatCloud a = one, b = one;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      estimate_normals(a, o);
+    }
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      estimate_normals(b, o);
+    }
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(0, std::memcmp(a.positions.data(), b.positions.data(), a.size() * sizeof(Vec3f)));
+    EXPECT_EQ(0, std::memcmp(a.normals.data(), b.normals.data(), a.size() * sizeof(Vec3f)));
+    EXPECT_EQ(0, std::memcmp(a.radii.data(), b.radii.data(), a.size() * sizeof(float)));
+    EXPECT_EQ(a.axes, b.axes);
+    EXPECT_EQ(a.minor_radii, b.minor_radii);
   }
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-    estimate_normals(two, pca_unoriented());
-  }
-  ASSERT_EQ(one.size(), two.size());
-  EXPECT_EQ(0, std::memcmp(one.normals.data(), two.normals.data(), one.size() * sizeof(Vec3f)));
-  EXPECT_EQ(0, std::memcmp(one.radii.data(), two.radii.data(), one.size() * sizeof(float)));
 }
 
 TEST(NormalsEstimate, RejectsBadOptions) {
