@@ -123,4 +123,26 @@ expect_exit 4 "$EN" -q "$WORK/sphere.ply" "$WORK/no/such/dir/o.ply" --orient non
 expect_stderr "o.ply: cannot create"
 [ ! -e "$WORK/o.ply" ] && pass || fail "a failed run left an output"
 
+# Splat shapes: --splat ellipse writes the axes (PLY axis_x/y/z + minor_radius, .splk ELPS, version
+# 1.2), which splat-convert keeps and splat-view and build-splat-graph read; bad combinations are
+# usage errors.
+"$BIN/splat-synth" -q torus "$WORK/lines.ply" -n 8000 --scan-lines 4
+expect_exit 0 "$EN" -q "$WORK/lines.ply" "$WORK/lines-e.splk" --splat ellipse --report "$WORK/re.json"
+expect_exit 0 "$BIN/splat-info" "$WORK/lines-e.splk"
+grep -q 'version: "1.2"' "$WORK/stdout" && pass || fail "ellipses: .splk is not version 1.2"
+grep -q "minor_radius" "$WORK/stdout" && pass || fail "ellipses: splat-info lists no minor_radius"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/lines-e.splk" "$WORK/lines-e.ply"
+head -c 2000 "$WORK/lines-e.ply" | grep -q "property float axis_x" && pass || fail "PLY has no axis_x"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/lines-e.ply" "$WORK/lines-e2.splk"
+expect_exit 0 "$BIN/splat-info" "$WORK/lines-e2.splk"
+grep -q "minor_radius" "$WORK/stdout" && pass || fail "ellipses lost in PLY -> .splk"
+expect_exit 0 "$BIN/splat-view" -q "$WORK/lines-e.splk" -o "$WORK/lines-e.png" --width 160 --height 120
+expect_exit 0 "$BIN/build-splat-graph" -q "$WORK/lines-e.splk" "$WORK/lines-g.splk"
+expect_exit 0 "$EN" -q "$WORK/lines.ply" "$WORK/lines-m.splk" --radius mean-knn
+expect_exit 0 "$EN" -q "$WORK/lines.ply" "$WORK/lines-f.splk" --fit-centres
+expect_exit 1 "$EN" -q "$WORK/lines.ply" "$WORK/x.splk" --splat ellipse --radius mean-knn
+expect_stderr "needs --radius cover"
+expect_exit 1 "$EN" -q "$WORK/lines.ply" "$WORK/x.splk" --radius wide
+expect_exit 1 "$EN" -q "$WORK/lines.ply" "$WORK/x.splk" --splat square
+
 finish
