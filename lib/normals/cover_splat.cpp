@@ -39,28 +39,30 @@ class Cell {
     const double limit = share * d_sq;
     // The whole cell is on the centre's side when its farthest vertex R is: R |d| <= limit.
     if (max_sq_ * d_sq <= limit * limit) return;
-    if (n_ + 1 > kCapacity) return;
-    P2 out[kCapacity];
-    std::size_t m = 0;
-    const P2* a = &v_[n_ - 1];
-    double sa = d.x * a->x + d.y * a->y - limit;
+    double side[kCapacity];
+    bool cut = false;
     for (std::size_t i = 0; i < n_; ++i) {
-      const P2* b = &v_[i];
-      const double sb = d.x * b->x + d.y * b->y - limit;
-      if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
-        const double t = sa / (sa - sb);
-        out[m++] = {a->x + t * (b->x - a->x), a->y + t * (b->y - a->y)};
+      side[i] = d.x * v_[i].x + d.y * v_[i].y - limit;
+      cut |= side[i] > 0;
+    }
+    if (!cut || n_ + 1 > kCapacity) return;
+    std::size_t m = 0;
+    double max_sq = 0;
+    auto keep = [&](const P2& q) {
+      out_[m++] = q;
+      max_sq = std::max(max_sq, q.x * q.x + q.y * q.y);
+    };
+    std::size_t a = n_ - 1;
+    for (std::size_t b = 0; b < n_; a = b++) {
+      if ((side[a] < 0 && side[b] > 0) || (side[a] > 0 && side[b] < 0)) {
+        const double t = side[a] / (side[a] - side[b]);
+        keep({v_[a].x + t * (v_[b].x - v_[a].x), v_[a].y + t * (v_[b].y - v_[a].y)});
       }
-      if (sb <= 0) out[m++] = *b;
-      a = b;
-      sa = sb;
+      if (side[b] <= 0) keep(v_[b]);
     }
+    std::swap(v_, out_);
     n_ = m;
-    max_sq_ = 0;
-    for (std::size_t i = 0; i < m; ++i) {
-      v_[i] = out[i];
-      max_sq_ = std::max(max_sq_, out[i].x * out[i].x + out[i].y * out[i].y);
-    }
+    max_sq_ = max_sq;
   }
 
   std::span<const P2> vertices() const { return {v_, n_}; }
@@ -89,11 +91,12 @@ class Cell {
   }
 
  private:
-  P2 v_[kCapacity];
+  P2 buffers_[2][kCapacity];
+  P2* v_ = buffers_[0];    // the cell's vertices
+  P2* out_ = buffers_[1];  // where a clip writes the next ones
   std::size_t n_ = 0;
   double max_sq_ = 0;
 };
-
 
 }  // namespace
 
