@@ -89,7 +89,7 @@ TEST(RenderCamera, OrbitTopAndBottomViewsMatchEyeCameras) {
       expect_near(orbit.eye, eye, 1e-4f);
     }
   // Below 89.19° the orbit keeps up itself.
-  EXPECT_EQ(orbit_camera(b, 0, 89, 10.0f, {0, 0, 1}, 40, 64, 48).up, Vec3f{0, 0, 1});
+  EXPECT_EQ(orbit_camera(b, 0, 89, 10.0f, {0, 0, 1}, 40, 64, 48).up, (Vec3f{0, 0, 1}));
 }
 
 TEST(RenderCamera, UpParallelToTheViewOrientsNothing) {
