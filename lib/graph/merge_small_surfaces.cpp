@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "graph/renumber_surfaces.h"
+#include "graph/surface_members.h"
 
 namespace splatkit::graph {
 namespace {
@@ -21,22 +22,10 @@ Segmentation merge_small_surfaces(const NeighborGraph& graph, Segmentation seg, 
   const std::size_t n = graph.num_points();
   if (seg.surface.size() != n)
     throw std::invalid_argument("merge_small_surfaces: one surface id per splat needed");
-  for (uint32_t s : seg.surface)
-    if (s >= seg.count())
-      throw std::invalid_argument("merge_small_surfaces: surface id out of range");
   const uint32_t count = seg.count();
   std::vector<uint32_t> parent(count), size = seg.sizes;  // union-find over surfaces
   for (uint32_t s = 0; s < count; ++s) parent[s] = s;
-  // Splats of each surface in index order (counting sort).
-  std::vector<uint64_t> start(count + 1, 0);
-  for (uint32_t s : seg.surface) ++start[s + 1];
-  for (uint32_t s = 0; s < count; ++s) start[s + 1] += start[s];
-  std::vector<uint32_t> members(n);
-  {
-    std::vector<uint64_t> at(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) members[at[seg.surface[i]]++] = uint32_t(i);
-  }
-
+  const SurfaceMembers groups = surface_members(seg.surface, count);
   // parts[g]: the original surfaces in group g (g a root).
   std::vector<std::vector<uint32_t>> parts(count);
   for (uint32_t s = 0; s < count; ++s) parts[s] = {s};
@@ -54,8 +43,7 @@ Segmentation merge_small_surfaces(const NeighborGraph& graph, Segmentation seg, 
       if (parent[f] != f || size[f] >= min_size) continue;  // joined earlier in this pass
       touched.clear();
       for (uint32_t s : parts[f])
-        for (uint64_t k = start[s]; k < start[s + 1]; ++k) {
-          const uint32_t i = members[k];
+        for (uint32_t i : groups.of(s)) {
           for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
             const uint32_t t = root(parent, seg.surface[graph.neighbors[e]]);
             if (t != f) touched.push_back(t);

@@ -12,47 +12,25 @@
 
 #include "graph/fit_surface_primitive.h"
 #include "graph/renumber_surfaces.h"
+#include "graph/surface_members.h"
 #include "splatkit/for_each_chunk.h"
 #include "splatkit/pca_normal.h"
 
 namespace splatkit::graph {
 namespace {
 
-constexpr uint32_t kNone = 0xFFFFFFFFu;
-constexpr std::size_t kMaxFitPoints = 16384;  // members a primitive is fitted to, evenly spaced
-constexpr std::size_t kScaleSamples = 512;    // members the local noise scale is measured on
+constexpr std::size_t kMaxFitPoints = 16384;  // splats a surface's primitive is fitted to
+constexpr std::size_t kScaleSamples = 512;    // splats its local noise is measured on
 constexpr std::size_t kChunk = 4096;
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x + v.y + v.z); }
 
-// Weighted sums of positions (relative to an origin near them) and normals: a plane by PCA.
-struct Moments {
-  double w = 0;
-  Vec3d s, n;
-  std::array<double, 6> ss{};
-
-  void add(const Vec3d& d, const Vec3f& normal) {
-    w += 1;
-    s += d;
-    ss[0] += d.x * d.x, ss[1] += d.x * d.y, ss[2] += d.x * d.z;
-    ss[3] += d.y * d.y, ss[4] += d.y * d.z, ss[5] += d.z * d.z;
-    if (finite(normal)) n += to_vec3d(normal);
-  }
-};
-
-struct Plane {
-  Vec3d c, n;  // centroid (relative to the moments' origin), unit normal along the mean normal
-};
-
-Plane plane_of(const Moments& m) {
-  const Vec3d c = m.s / m.w;
-  const std::array<double, 6> cov{m.ss[0] / m.w - c.x * c.x, m.ss[1] / m.w - c.x * c.y,
-                                  m.ss[2] / m.w - c.x * c.z, m.ss[3] / m.w - c.y * c.y,
-                                  m.ss[4] / m.w - c.y * c.z, m.ss[5] / m.w - c.z * c.z};
-  const std::array<double, 3> e = pca_normal(cov).normal;
-  Vec3d n{e[0], e[1], e[2]};
-  if (dot(n, m.n) < 0) n = -n;
-  return {c, n};
+// Every step-th member, so that at most `limit` remain (evenly spread over the indices).
+std::vector<uint32_t> spread(std::span<const uint32_t> members, std::size_t limit) {
+  const std::size_t step = std::max<std::size_t>(1, (members.size() + limit - 1) / limit);
+  std::vector<uint32_t> out;
+  for (std::size_t k = 0; k < members.size(); k += step) out.push_back(members[k]);
+  return out;
 }
 
 struct Rows {
@@ -63,32 +41,32 @@ struct Rows {
   }
 };
 
-// The geometry a surface is judged by: its primitive when one explains it, else planes fitted
-// to its splats around each splat in question.
-struct Model {
-  bool exists = false;  // a surface of at least min_surface_size splats
-  SurfacePrimitive primitive;
-  double tolerance = 0;  // primitive: 3 robust scales (at least a rounding floor)
-  bool local() const { return primitive.kind == PrimitiveKind::kNone; }
-};
-
-// Noise of the surface's splats about planes fitted to their same-surface neighbours (each
-// splat left out of its own fit), 1.4826 × median residual over up to kScaleSamples members.
+// Noise of a surface's splats about planes through their neighbours on the same surface (each
+// splat left out of its own plane): 1.4826 × the median residual over up to kScaleSamples
+// members; infinity when no member has 5 such neighbours.
 double local_scale(const Rows& rows, std::span<const Vec3f> positions,
-                   std::span<const Vec3f> normals, std::span<const uint32_t> label,
-                   std::span<const uint32_t> members) {
-  const std::size_t step = std::max<std::size_t>(1, members.size() / kScaleSamples);
+                   std::span<const uint32_t> label, std::span<const uint32_t> members) {
   std::vector<double> r;
-  for (std::size_t k = 0; k < members.size(); k += step) {
-    const uint32_t i = members[k];
+  for (uint32_t i : spread(members, kScaleSamples)) {
     const Vec3d p = to_vec3d(positions[i]);
-    Moments m;
+    double w = 0;
+    Vec3d s;
+    std::array<double, 6> ss{};
     rows.each(i, [&](uint32_t j) {
-      if (label[j] == label[i]) m.add(to_vec3d(positions[j]) - p, normals[j]);
+      if (label[j] != label[i]) return;
+      const Vec3d d = to_vec3d(positions[j]) - p;
+      w += 1;
+      s += d;
+      ss[0] += d.x * d.x, ss[1] += d.x * d.y, ss[2] += d.x * d.z;
+      ss[3] += d.y * d.y, ss[4] += d.y * d.z, ss[5] += d.z * d.z;
     });
-    if (m.w < 5) continue;
-    const Plane pl = plane_of(m);
-    r.push_back(std::abs(dot(pl.c, pl.n)));
+    if (w < 5) continue;
+    const Vec3d c = s / w;
+    const std::array<double, 3> n =
+        pca_normal({ss[0] / w - c.x * c.x, ss[1] / w - c.x * c.y, ss[2] / w - c.x * c.z,
+                    ss[3] / w - c.y * c.y, ss[4] / w - c.y * c.z, ss[5] / w - c.z * c.z})
+            .normal;
+    r.push_back(std::abs(c.x * n[0] + c.y * n[1] + c.z * n[2]));
   }
   if (r.empty()) return std::numeric_limits<double>::infinity();
   auto mid = r.begin() + r.size() / 2;
@@ -96,20 +74,22 @@ double local_scale(const Rows& rows, std::span<const Vec3f> positions,
   return 1.4826 * *mid;
 }
 
+struct Model {
+  enum State : uint8_t { kFragment, kUnexplained, kPrimitive };
+  State state = kFragment;
+  SurfacePrimitive primitive;
+  double tolerance = 0;  // 3 robust scales, at least a rounding floor
+};
+
 Model fit_model(const Rows& rows, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
                 std::span<const uint32_t> label, std::span<const uint32_t> members) {
   Model model;
-  model.exists = true;
-  std::vector<uint32_t> sample;
-  const std::size_t step = (members.size() + kMaxFitPoints - 1) / kMaxFitPoints;
-  for (std::size_t k = 0; k < members.size(); k += step) sample.push_back(members[k]);
-  SurfacePrimitive f = fit_surface_primitive(positions, normals, sample);
+  model.state = Model::kUnexplained;
+  const std::vector<uint32_t> sample = spread(members, kMaxFitPoints);
+  const SurfacePrimitive f = fit_surface_primitive(positions, normals, sample);
   if (f.kind == PrimitiveKind::kNone) return model;
-  // Explained: the primitive is about as close to the splats as local planes are, for nearly
-  // all of them (a surface that leaked over a crease has a majority face the robust fit
-  // follows, and a minority it does not explain).
-  Vec3d lo = to_vec3d(positions[members[0]]), hi = lo;
-  std::size_t inliers = 0;
+  // Rounding floor for noiseless input: 1e-5 of the surface's extent.
+  Vec3d lo = to_vec3d(positions[sample[0]]), hi = lo;
   for (uint32_t i : sample) {
     const Vec3d p = to_vec3d(positions[i]);
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
@@ -117,9 +97,13 @@ Model fit_model(const Rows& rows, std::span<const Vec3f> positions, std::span<co
   }
   const double floor = 1e-5 * norm(hi - lo);
   const double scale = std::max(f.scale, floor);
+  std::size_t inliers = 0;
   for (uint32_t i : sample) inliers += f.distance(to_vec3d(positions[i])) <= 3 * scale;
-  const double local = local_scale(rows, positions, normals, label, members);
-  if (scale <= 2 * local + floor && inliers >= 0.9 * double(sample.size())) {
+  // A leaked surface has a majority face that the robust fit follows and a minority it does
+  // not explain: the inlier count catches it where the scale (a median) does not.
+  if (scale <= 2 * local_scale(rows, positions, label, members) + floor &&
+      inliers >= 0.9 * double(sample.size())) {
+    model.state = Model::kPrimitive;
     model.primitive = f;
     model.tolerance = 3 * scale;
   }
@@ -148,31 +132,30 @@ std::vector<uint64_t> adjacent_surfaces(const NeighborGraph& graph,
   return pairs;
 }
 
-// Whether the primitive of surface `by` explains at least half of `members` (within its
-// tolerance, normals compatible).
+// Whether `by`'s primitive explains at least half of `members` (within its tolerance, normals
+// compatible).
 bool explains(const Model& by, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
               std::span<const uint32_t> members, float min_normal_dot) {
-  const std::size_t step = (members.size() + kMaxFitPoints - 1) / kMaxFitPoints;
   std::size_t total = 0, near = 0;
-  for (std::size_t k = 0; k < members.size(); k += step, ++total) {
-    const uint32_t i = members[k];
+  for (uint32_t i : spread(members, kMaxFitPoints)) {
     const Vec3d p = to_vec3d(positions[i]);
     const bool facing = !finite(normals[i]) ||
                         dot(by.primitive.normal_at(p), to_vec3d(normals[i])) >= min_normal_dot;
     near += facing && by.primitive.distance(p) <= by.tolerance;
+    ++total;
   }
   return 2 * near >= total;
 }
 
 struct Candidate {
-  uint32_t surface = kNone;
-  double signed_distance = 0;  // > 0 on the side the surface's normals point to
-  Vec3d normal;                // the surface's unit normal at the splat
-  Vec3d centroid;              // of the surface's splats among the neighbours (relative to p)
+  uint32_t surface = 0;
+  double signed_distance = 0;  // of the splat from the primitive, > 0 where its normals point
+  Vec3d normal;                // the primitive's normal at the splat
+  Vec3d centroid;              // of the surface's splats among the neighbours
   bool has_centroid = false;
 };
 
-// The one thing every round does: where splat i belongs given the current labels.
+// Where splat i belongs, given the labels of the round.
 class Judge {
  public:
   Judge(const Rows& rows, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
@@ -185,68 +168,47 @@ class Judge {
         models_(models),
         options_(options) {}
 
-  // The label splat i should have; its own when it is not on a border.
+  // cands: scratch.
   uint32_t operator()(uint32_t i, std::vector<Candidate>& cands) const {
     const uint32_t own = label_[i];
-    bool border = !models_[own].exists;
+    bool border = models_[own].state == Model::kFragment, unexplained = false;
     cands.clear();
     auto consider = [&](uint32_t s) {
+      if (models_[s].state == Model::kFragment) return;
+      unexplained = unexplained || models_[s].state == Model::kUnexplained;
       for (const Candidate& c : cands)
         if (c.surface == s) return;
-      if (models_[s].exists) cands.push_back({s});
+      cands.push_back({s});
     };
     consider(own);
     rows_.each(i, [&](uint32_t j) {
       border = border || label_[j] != own;
       consider(label_[j]);
     });
-    if (!border) return own;
+    if (!border || unexplained) return own;
     const Vec3d p = to_vec3d(positions_[i]);
+    const Vec3f& ni = normals_[i];
     std::size_t kept = 0;
-    for (Candidate c : cands)
-      if (measure(i, p, c)) cands[kept++] = c;
+    for (Candidate c : cands) {
+      const SurfacePrimitive& f = models_[c.surface].primitive;
+      c.signed_distance = f.signed_distance(p);
+      c.normal = f.normal_at(p);
+      if (finite(ni) && dot(c.normal, to_vec3d(ni)) < options_.min_normal_dot) continue;
+      Vec3d sum;
+      double w = 0;
+      rows_.each(i, [&](uint32_t j) {
+        if (label_[j] == c.surface) sum += to_vec3d(positions_[j]), w += 1;
+      });
+      if (w > 0) c.centroid = sum / w, c.has_centroid = true;
+      cands[kept++] = c;
+    }
     cands.resize(kept);
-    if (cands.empty()) return own;
-    return choose(own, cands);
+    return cands.empty() ? own : choose(own, cands);
   }
 
  private:
-  bool measure(uint32_t i, const Vec3d& p, Candidate& c) const {
-    const uint32_t s = c.surface;
-    Moments near;  // the surface's splats among i's neighbours
-    rows_.each(i, [&](uint32_t j) {
-      if (label_[j] == s) near.add(to_vec3d(positions_[j]) - p, normals_[j]);
-    });
-    if (near.w > 0) {
-      c.centroid = near.s / near.w;
-      c.has_centroid = true;
-    }
-    const Model& m = models_[s];
-    if (!m.local()) {
-      c.signed_distance = m.primitive.signed_distance(p);
-      c.normal = m.primitive.normal_at(p);
-    } else {
-      // A plane through the surface's splats within two hops of i (i left out; a splat reached
-      // by several paths counts that many times, which weights the fit towards i).
-      Moments ring;
-      rows_.each(i, [&](uint32_t k) {
-        if (label_[k] == s) ring.add(to_vec3d(positions_[k]) - p, normals_[k]);
-        rows_.each(k, [&](uint32_t l) {
-          if (l != i && label_[l] == s) ring.add(to_vec3d(positions_[l]) - p, normals_[l]);
-        });
-      });
-      if (ring.w < 6) return false;
-      const Plane pl = plane_of(ring);
-      c.signed_distance = -dot(pl.c, pl.n);
-      c.normal = pl.n;
-    }
-    const Vec3f& n = normals_[i];
-    return !finite(n) || dot(c.normal, to_vec3d(n)) >= options_.min_normal_dot;
-  }
-
-  // The nearest surface, except across a crease whose convexity says otherwise: at a convex
-  // crease a true splat of A lies inside B's half-space (beneath B's extension) whatever its
-  // noise, so the surface with the larger signed distance wins; at a concave one, the smaller.
+  // Nearest first (ties: the own surface, then the lower id); then each other candidate takes
+  // over where the crease between the two says so.
   uint32_t choose(uint32_t own, std::vector<Candidate>& cands) const {
     std::sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
       const double da = std::abs(a.signed_distance), db = std::abs(b.signed_distance);
@@ -258,10 +220,15 @@ class Judge {
     for (std::size_t k = 1; k < cands.size(); ++k) {
       const Candidate& a = cands[win];
       const Candidate& b = cands[k];
-      if (!a.has_centroid || !b.has_centroid) continue;
+      // Only within b's noise: where surfaces cross rather than meet, a splat of one lies on
+      // the far side of the other beyond the crossing, and only its distance tells.
+      if (!a.has_centroid || !b.has_centroid ||
+          std::abs(b.signed_distance) > models_[b.surface].tolerance)
+        continue;
       const Vec3d ab = b.centroid - a.centroid;
       const double len = norm(ab);
       if (!(len > 0)) continue;
+      // Convex: each normal points away from the other surface's splats.
       const double va = dot(a.normal, ab) / len, vb = -dot(b.normal, ab) / len;
       const double t = options_.crease_sine;
       const int convex = va < -t && vb < -t ? 1 : (va > t && vb > t ? -1 : 0);
@@ -277,6 +244,41 @@ class Judge {
   const RefineBordersOptions& options_;
 };
 
+std::vector<Model> fit_models(const NeighborGraph& graph, std::span<const Vec3f> positions,
+                              std::span<const Vec3f> normals, const Segmentation& seg,
+                              const RefineBordersOptions& options, RefineBordersInfo& info) {
+  const Rows rows{graph};
+  const SurfaceMembers groups = surface_members(seg.surface, seg.count());
+  std::vector<Model> models(seg.count());
+  tbb::parallel_for(uint32_t{0}, seg.count(), [&](uint32_t s) {
+    if (seg.sizes[s] >= options.min_surface_size)
+      models[s] = fit_model(rows, positions, normals, seg.surface, groups.of(s));
+  });
+  // Surfaces a larger neighbour explains become fragments (decided on the models as fitted, so
+  // the order of the pairs does not matter).
+  const std::vector<uint64_t> pairs = adjacent_surfaces(graph, seg.surface);
+  std::vector<uint8_t> absorbed(pairs.size());
+  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+    const uint32_t f = uint32_t(pairs[k] >> 32), s = uint32_t(pairs[k]);
+    if (models[f].state == Model::kFragment || models[s].state != Model::kPrimitive) return;
+    if (seg.sizes[s] < seg.sizes[f] || (seg.sizes[s] == seg.sizes[f] && s > f)) return;
+    absorbed[k] = explains(models[s], positions, normals, groups.of(f), options.min_normal_dot);
+  });
+  std::vector<uint8_t> fragment(seg.count(), 0);
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    if (absorbed[k]) fragment[pairs[k] >> 32] = 1;
+  for (uint32_t s = 0; s < seg.count(); ++s) {
+    if (fragment[s]) models[s] = Model{};
+    const Model& m = models[s];
+    info.fragments += m.state == Model::kFragment;
+    info.unexplained += m.state == Model::kUnexplained;
+    info.planes += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kPlane;
+    info.spheres += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kSphere;
+    info.cylinders += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kCylinder;
+  }
+  return models;
+}
+
 }  // namespace
 
 Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const Vec3f> positions,
@@ -285,58 +287,23 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
   const std::size_t n = graph.num_points();
   if (positions.size() != n || normals.size() != n || seg.surface.size() != n)
     throw std::invalid_argument("refine_surface_borders: one position, normal and id per splat");
-  for (uint32_t s : seg.surface)
-    if (s >= seg.count())
-      throw std::invalid_argument("refine_surface_borders: surface id out of range");
   RefineBordersInfo done;
   if (options.rounds == 0 || n == 0) {
+    for (uint32_t s : seg.surface)
+      if (s >= seg.count())
+        throw std::invalid_argument("refine_surface_borders: surface id out of range");
     if (info) *info = done;
     return seg;
   }
+  const std::vector<Model> models = fit_models(graph, positions, normals, seg, options, done);
+
+  // Round 1 judges every splat; later ones only the splats that changed and their neighbours (a
+  // judgement reads the labels of the splat and its neighbours, nothing else that changes).
   const Rows rows{graph};
   std::vector<uint32_t> label = std::move(seg.surface);
-
-  // Members of every surface, in index order (counting sort).
-  std::vector<uint64_t> start(seg.count() + 1, 0);
-  for (uint32_t s : label) ++start[s + 1];
-  for (std::size_t s = 0; s < seg.count(); ++s) start[s + 1] += start[s];
-  std::vector<uint32_t> members(n);
-  {
-    std::vector<uint64_t> at(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) members[at[label[i]]++] = uint32_t(i);
-  }
-  std::vector<Model> models(seg.count());
-  tbb::parallel_for(uint32_t{0}, seg.count(), [&](uint32_t s) {
-    if (seg.sizes[s] < options.min_surface_size) return;
-    models[s] = fit_model(rows, positions, normals, label,
-                          std::span(members).subspan(start[s], seg.sizes[s]));
-  });
-  // A surface that a larger neighbour's primitive explains is a fragment of it (a strip of
-  // splats with wild normals along a crease, an island of agreeing normals): it keeps no model
-  // and its splats are judged one by one.
-  const std::vector<uint64_t> pairs = adjacent_surfaces(graph, label);
-  std::vector<uint8_t> absorbed(pairs.size());
-  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
-    const uint32_t f = uint32_t(pairs[k] >> 32), s = uint32_t(pairs[k]);
-    if (!models[f].exists || !models[s].exists || models[s].local()) return;
-    if (seg.sizes[s] < seg.sizes[f] || (seg.sizes[s] == seg.sizes[f] && s > f)) return;
-    absorbed[k] =
-        explains(models[s], positions, normals, std::span(members).subspan(start[f], seg.sizes[f]),
-                 options.min_normal_dot);
-  });
-  for (std::size_t k = 0; k < pairs.size(); ++k)
-    if (absorbed[k]) models[pairs[k] >> 32] = Model{};
-  for (const Model& m : models) {
-    done.primitives += m.exists && !m.local();
-    done.local += m.exists && m.local();
-  }
-
-  // Round 1 judges every splat; later rounds only those within two hops of a change (a
-  // judgement reads the labels two hops out).
-  std::vector<uint32_t> work(n), next;
-  for (std::size_t i = 0; i < n; ++i) work[i] = uint32_t(i);
   const Judge judge(rows, positions, normals, label, models, options);
-  std::vector<uint32_t> verdict;
+  std::vector<uint32_t> work(n), verdict, changed;
+  for (std::size_t i = 0; i < n; ++i) work[i] = uint32_t(i);
   for (uint32_t round = 0; round < options.rounds && !work.empty(); ++round) {
     verdict.resize(work.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), kChunk),
@@ -345,24 +312,22 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
                         for (std::size_t k = r.begin(); k < r.end(); ++k)
                           verdict[k] = judge(work[k], cands);
                       });
-    next.clear();
-    for (std::size_t k = 0; k < work.size(); ++k) {
-      if (verdict[k] == label[work[k]]) continue;
-      label[work[k]] = verdict[k];
-      next.push_back(work[k]);
-    }
+    changed.clear();
+    for (std::size_t k = 0; k < work.size(); ++k)
+      if (verdict[k] != label[work[k]]) {
+        label[work[k]] = verdict[k];
+        changed.push_back(work[k]);
+      }
     ++done.rounds;
-    done.moved += next.size();
-    const std::size_t changed = next.size();
-    for (int hop = 0; hop < 2; ++hop) {
-      const std::size_t end = next.size();
-      for (std::size_t k = 0; k < end; ++k)
-        rows.each(next[k], [&](uint32_t j) { next.push_back(j); });
-      std::sort(next.begin(), next.end());
-      next.erase(std::unique(next.begin(), next.end()), next.end());
+    done.moved += changed.size();
+    work.clear();
+    if (changed.empty()) break;
+    for (uint32_t i : changed) {
+      work.push_back(i);
+      rows.each(i, [&](uint32_t j) { work.push_back(j); });
     }
-    if (changed == 0) next.clear();
-    work.swap(next);
+    std::sort(work.begin(), work.end());
+    work.erase(std::unique(work.begin(), work.end()), work.end());
   }
   if (info) *info = done;
   return renumber_surfaces(label, seg.count());
