@@ -152,8 +152,8 @@ TEST(GraphRefineSurfaceBorders, UnexplainedSurfaceKeepsItsBorder) {
   for (std::size_t i = 400; i < 800; ++i) {
     Vec3f& p = s.positions[i];
     p.x = 0.6f * std::sin(p.z) * std::sin(p.y / 2);
-    const Vec3f g{-1, 0.3f * std::sin(p.z) * std::cos(p.y / 2), 0.6f * std::cos(p.z) *
-                                                                      std::sin(p.y / 2)};
+    const Vec3f g{-1, 0.3f * std::sin(p.z) * std::cos(p.y / 2),
+                  0.6f * std::cos(p.z) * std::sin(p.y / 2)};
     s.normals[i] = normalized(g);
   }
   s.connect();
