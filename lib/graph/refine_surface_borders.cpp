@@ -19,8 +19,8 @@
 namespace splatkit::graph {
 namespace {
 
-constexpr std::size_t kMaxFitPoints = 16384;  // splats a surface's primitive is fitted to
-constexpr std::size_t kScaleSamples = 512;    // splats its local noise is measured on
+constexpr std::size_t kMaxFitPoints = 4096;  // splats a surface's primitive is fitted to
+constexpr std::size_t kScaleSamples = 512;   // splats its local noise is measured on
 constexpr std::size_t kChunk = 4096;
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x + v.y + v.z); }
@@ -110,26 +110,40 @@ Model fit_model(const Rows& rows, std::span<const Vec3f> positions, std::span<co
   return model;
 }
 
-// Every pair (a, b) of different surfaces joined by an edge, as a << 32 | b, ascending.
-std::vector<uint64_t> adjacent_surfaces(const NeighborGraph& graph,
-                                        std::span<const uint32_t> label) {
-  const std::size_t n = graph.num_points();
-  std::vector<std::vector<uint64_t>> parts(chunk_count(n, kChunk));
-  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    std::vector<uint64_t>& out = parts[c];
-    for (std::size_t i = begin; i < end; ++i)
-      for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
-        const uint32_t a = label[i], b = label[graph.neighbors[k]];
-        if (a != b) out.push_back(uint64_t{a} << 32 | b);
-      }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  });
+// The splats with a neighbour on another surface, and every pair (a, b) of different surfaces
+// joined by an edge (as a << 32 | b), both ascending: one pass over the edges.
+struct Borders {
+  std::vector<uint32_t> splats;
   std::vector<uint64_t> pairs;
-  for (const auto& p : parts) pairs.insert(pairs.end(), p.begin(), p.end());
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  return pairs;
+};
+
+Borders find_borders(const NeighborGraph& graph, std::span<const uint32_t> label) {
+  const std::size_t n = graph.num_points();
+  std::vector<Borders> parts(chunk_count(n, kChunk));
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    Borders& out = parts[c];
+    for (std::size_t i = begin; i < end; ++i) {
+      const uint32_t a = label[i];
+      bool border = false;
+      for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
+        const uint32_t b = label[graph.neighbors[k]];
+        if (a == b) continue;
+        border = true;
+        out.pairs.push_back(uint64_t{a} << 32 | b);
+      }
+      if (border) out.splats.push_back(uint32_t(i));
+    }
+    std::sort(out.pairs.begin(), out.pairs.end());
+    out.pairs.erase(std::unique(out.pairs.begin(), out.pairs.end()), out.pairs.end());
+  });
+  Borders all;
+  for (const Borders& p : parts) {
+    all.splats.insert(all.splats.end(), p.splats.begin(), p.splats.end());
+    all.pairs.insert(all.pairs.end(), p.pairs.begin(), p.pairs.end());
+  }
+  std::sort(all.pairs.begin(), all.pairs.end());
+  all.pairs.erase(std::unique(all.pairs.begin(), all.pairs.end()), all.pairs.end());
+  return all;
 }
 
 // Whether `by`'s primitive explains at least half of `members` (within its tolerance, normals
@@ -151,8 +165,8 @@ struct Candidate {
   uint32_t surface = 0;
   double signed_distance = 0;  // of the splat from the primitive, > 0 where its normals point
   Vec3d normal;                // the primitive's normal at the splat
-  Vec3d centroid;              // of the surface's splats among the neighbours
-  bool has_centroid = false;
+  Vec3d centroid;              // of the surface's splats among the neighbours (their sum first)
+  uint32_t count = 0;          // how many there are
 };
 
 // Where splat i belongs, given the labels of the round.
@@ -171,21 +185,27 @@ class Judge {
   // cands: scratch.
   uint32_t operator()(uint32_t i, std::vector<Candidate>& cands) const {
     const uint32_t own = label_[i];
-    bool border = models_[own].state == Model::kFragment, unexplained = false;
+    bool border = models_[own].state == Model::kFragment;
+    rows_.each(i, [&](uint32_t j) { border = border || label_[j] != own; });
+    if (!border) return own;
+    // The modelled surfaces among the splat and its neighbours, with their splats' mean
+    // position there (the splat itself left out).
     cands.clear();
-    auto consider = [&](uint32_t s) {
-      if (models_[s].state == Model::kFragment) return;
+    bool unexplained = false;
+    auto candidate = [&](uint32_t s) -> Candidate* {
+      if (models_[s].state == Model::kFragment) return nullptr;
       unexplained = unexplained || models_[s].state == Model::kUnexplained;
-      for (const Candidate& c : cands)
-        if (c.surface == s) return;
-      cands.push_back({s});
+      for (Candidate& c : cands)
+        if (c.surface == s) return &c;
+      Candidate& c = cands.emplace_back();
+      c.surface = s;
+      return &c;
     };
-    consider(own);
+    candidate(own);
     rows_.each(i, [&](uint32_t j) {
-      border = border || label_[j] != own;
-      consider(label_[j]);
+      if (Candidate* c = candidate(label_[j])) c->centroid += to_vec3d(positions_[j]), ++c->count;
     });
-    if (!border || unexplained) return own;
+    if (unexplained) return own;
     const Vec3d p = to_vec3d(positions_[i]);
     const Vec3f& ni = normals_[i];
     std::size_t kept = 0;
@@ -194,12 +214,7 @@ class Judge {
       c.signed_distance = f.signed_distance(p);
       c.normal = f.normal_at(p);
       if (finite(ni) && dot(c.normal, to_vec3d(ni)) < options_.min_normal_dot) continue;
-      Vec3d sum;
-      double w = 0;
-      rows_.each(i, [&](uint32_t j) {
-        if (label_[j] == c.surface) sum += to_vec3d(positions_[j]), w += 1;
-      });
-      if (w > 0) c.centroid = sum / w, c.has_centroid = true;
+      if (c.count > 0) c.centroid = c.centroid / double(c.count);
       cands[kept++] = c;
     }
     cands.resize(kept);
@@ -222,7 +237,7 @@ class Judge {
       const Candidate& b = cands[k];
       // Only within b's noise: where surfaces cross rather than meet, a splat of one lies on
       // the far side of the other beyond the crossing, and only its distance tells.
-      if (!a.has_centroid || !b.has_centroid ||
+      if (a.count == 0 || b.count == 0 ||
           std::abs(b.signed_distance) > models_[b.surface].tolerance)
         continue;
       const Vec3d ab = b.centroid - a.centroid;
@@ -246,7 +261,8 @@ class Judge {
 
 std::vector<Model> fit_models(const NeighborGraph& graph, std::span<const Vec3f> positions,
                               std::span<const Vec3f> normals, const Segmentation& seg,
-                              const RefineBordersOptions& options, RefineBordersInfo& info) {
+                              std::span<const uint64_t> pairs, const RefineBordersOptions& options,
+                              RefineBordersInfo& info) {
   const Rows rows{graph};
   const SurfaceMembers groups = surface_members(seg.surface, seg.count());
   std::vector<Model> models(seg.count());
@@ -256,7 +272,6 @@ std::vector<Model> fit_models(const NeighborGraph& graph, std::span<const Vec3f>
   });
   // Surfaces a larger neighbour explains become fragments (decided on the models as fitted, so
   // the order of the pairs does not matter).
-  const std::vector<uint64_t> pairs = adjacent_surfaces(graph, seg.surface);
   std::vector<uint8_t> absorbed(pairs.size());
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const uint32_t f = uint32_t(pairs[k] >> 32), s = uint32_t(pairs[k]);
@@ -288,22 +303,24 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
   if (positions.size() != n || normals.size() != n || seg.surface.size() != n)
     throw std::invalid_argument("refine_surface_borders: one position, normal and id per splat");
   RefineBordersInfo done;
+  for (uint32_t s : seg.surface)
+    if (s >= seg.count())
+      throw std::invalid_argument("refine_surface_borders: surface id out of range");
   if (options.rounds == 0 || n == 0) {
-    for (uint32_t s : seg.surface)
-      if (s >= seg.count())
-        throw std::invalid_argument("refine_surface_borders: surface id out of range");
     if (info) *info = done;
     return seg;
   }
-  const std::vector<Model> models = fit_models(graph, positions, normals, seg, options, done);
+  Borders borders = find_borders(graph, seg.surface);
+  const std::vector<Model> models =
+      fit_models(graph, positions, normals, seg, borders.pairs, options, done);
 
-  // Round 1 judges every splat; later ones only the splats that changed and their neighbours (a
-  // judgement reads the labels of the splat and its neighbours, nothing else that changes).
+  // Round 1 judges the border splats (a splat inside a fragment has no other candidate); later
+  // rounds the splats that changed and their neighbours (a judgement reads the labels of the
+  // splat and its neighbours, nothing else that changes).
   const Rows rows{graph};
   std::vector<uint32_t> label = std::move(seg.surface);
   const Judge judge(rows, positions, normals, label, models, options);
-  std::vector<uint32_t> work(n), verdict, changed;
-  for (std::size_t i = 0; i < n; ++i) work[i] = uint32_t(i);
+  std::vector<uint32_t> work = std::move(borders.splats), verdict, changed;
   for (uint32_t round = 0; round < options.rounds && !work.empty(); ++round) {
     verdict.resize(work.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), kChunk),

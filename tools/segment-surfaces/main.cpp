@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
       ->default_val(50)
       ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
   app.add_option("--report", o.paths.report, "Write the surfaces and their sizes as JSON here");
+  tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_segment_surfaces(o, progress);
   });
