@@ -146,10 +146,10 @@ Borders find_borders(const NeighborGraph& graph, std::span<const uint32_t> label
   return all;
 }
 
-// Whether `by`'s primitive explains at least half of `members` (within its tolerance, normals
+// The fraction of `members` that `by`'s primitive explains (within its tolerance, normals
 // compatible).
-bool explains(const Model& by, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-              std::span<const uint32_t> members, float min_normal_dot) {
+double explained(const Model& by, std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                 std::span<const uint32_t> members, float min_normal_dot) {
   std::size_t total = 0, near = 0;
   for (uint32_t i : spread(members, kMaxFitPoints)) {
     const Vec3d p = to_vec3d(positions[i]);
@@ -158,7 +158,7 @@ bool explains(const Model& by, std::span<const Vec3f> positions, std::span<const
     near += facing && by.primitive.distance(p) <= by.tolerance;
     ++total;
   }
-  return 2 * near >= total;
+  return double(near) / double(total);
 }
 
 struct Candidate {
@@ -259,39 +259,57 @@ class Judge {
   const RefineBordersOptions& options_;
 };
 
-std::vector<Model> fit_models(const NeighborGraph& graph, std::span<const Vec3f> positions,
-                              std::span<const Vec3f> normals, const Segmentation& seg,
-                              std::span<const uint64_t> pairs, const RefineBordersOptions& options,
-                              RefineBordersInfo& info) {
+struct Models {
+  std::vector<Model> model;    // per surface
+  std::vector<uint32_t> into;  // per surface: the surface its splats join first (itself, or the
+                               // larger neighbour that explains it)
+};
+
+Models fit_models(const NeighborGraph& graph, std::span<const Vec3f> positions,
+                  std::span<const Vec3f> normals, const Segmentation& seg,
+                  std::span<const uint64_t> pairs, const RefineBordersOptions& options,
+                  RefineBordersInfo& info) {
   const Rows rows{graph};
   const SurfaceMembers groups = surface_members(seg.surface, seg.count());
-  std::vector<Model> models(seg.count());
+  Models out{std::vector<Model>(seg.count()), std::vector<uint32_t>(seg.count())};
+  std::vector<Model>& models = out.model;
   tbb::parallel_for(uint32_t{0}, seg.count(), [&](uint32_t s) {
     if (seg.sizes[s] >= options.min_surface_size)
       models[s] = fit_model(rows, positions, normals, seg.surface, groups.of(s));
   });
-  // Surfaces a larger neighbour explains become fragments (decided on the models as fitted, so
-  // the order of the pairs does not matter).
-  std::vector<uint8_t> absorbed(pairs.size());
+  // A surface that a larger neighbour's primitive explains for at least half of its splats is
+  // a fragment of that neighbour (of the one explaining most; ties: the larger, the lower id):
+  // decided on the models as fitted, so the order of the pairs does not matter.
+  std::vector<double> fraction(pairs.size(), 0);
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const uint32_t f = uint32_t(pairs[k] >> 32), s = uint32_t(pairs[k]);
     if (models[f].state == Model::kFragment || models[s].state != Model::kPrimitive) return;
     if (seg.sizes[s] < seg.sizes[f] || (seg.sizes[s] == seg.sizes[f] && s > f)) return;
-    absorbed[k] = explains(models[s], positions, normals, groups.of(f), options.min_normal_dot);
+    fraction[k] = explained(models[s], positions, normals, groups.of(f), options.min_normal_dot);
   });
-  std::vector<uint8_t> fragment(seg.count(), 0);
-  for (std::size_t k = 0; k < pairs.size(); ++k)
-    if (absorbed[k]) fragment[pairs[k] >> 32] = 1;
+  for (uint32_t s = 0; s < seg.count(); ++s) out.into[s] = s;
+  std::vector<double> best(seg.count(), 0.5);
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const uint32_t f = uint32_t(pairs[k] >> 32), s = uint32_t(pairs[k]);
+    const uint32_t& t = out.into[f];
+    if (fraction[k] > best[f] || (fraction[k] == best[f] && t != f && seg.sizes[s] > seg.sizes[t]))
+      out.into[f] = s, best[f] = fraction[k];
+  }
+  // The absorber may be absorbed in turn (always by a larger surface, so chains end).
   for (uint32_t s = 0; s < seg.count(); ++s) {
-    if (fragment[s]) models[s] = Model{};
-    const Model& m = models[s];
+    uint32_t t = s;
+    while (out.into[t] != t) t = out.into[t];
+    out.into[s] = t;
+    if (t != s) models[s] = Model{};
+  }
+  for (const Model& m : models) {
     info.fragments += m.state == Model::kFragment;
     info.unexplained += m.state == Model::kUnexplained;
     info.planes += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kPlane;
     info.spheres += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kSphere;
     info.cylinders += m.state == Model::kPrimitive && m.primitive.kind == PrimitiveKind::kCylinder;
   }
-  return models;
+  return out;
 }
 
 }  // namespace
@@ -311,14 +329,20 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
     return seg;
   }
   Borders borders = find_borders(graph, seg.surface);
-  const std::vector<Model> models =
-      fit_models(graph, positions, normals, seg, borders.pairs, options, done);
+  const Models fitted = fit_models(graph, positions, normals, seg, borders.pairs, options, done);
+  const std::vector<Model>& models = fitted.model;
+  std::vector<uint32_t> label = std::move(seg.surface);
+  bool joined = false;
+  for (uint32_t s = 0; s < seg.count(); ++s) joined = joined || fitted.into[s] != s;
+  if (joined) {
+    for (uint32_t& s : label) s = fitted.into[s];
+    borders = find_borders(graph, label);
+  }
 
   // Round 1 judges the border splats (a splat inside a fragment has no other candidate); later
   // rounds the splats that changed and their neighbours (a judgement reads the labels of the
   // splat and its neighbours, nothing else that changes).
   const Rows rows{graph};
-  std::vector<uint32_t> label = std::move(seg.surface);
   const Judge judge(rows, positions, normals, label, models, options);
   std::vector<uint32_t> work = std::move(borders.splats), verdict, changed;
   for (uint32_t round = 0; round < options.rounds && !work.empty(); ++round) {
