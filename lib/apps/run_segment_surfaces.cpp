@@ -151,7 +151,8 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
               {"sizes", seg.sizes}};
     report["refine"] = {{"planes", refined.planes},       {"spheres", refined.spheres},
                         {"cylinders", refined.cylinders}, {"unexplained", refined.unexplained},
-                        {"fragments", refined.fragments}, {"rounds", refined.rounds},
+                        {"joined", refined.joined},       {"split", refined.split},
+                        {"passes", refined.passes},       {"rounds", refined.rounds},
                         {"moved_splats", refined.moved}};
     if (robust) {
       report["normal_noise_degrees"] = chosen.normal_noise_degrees;

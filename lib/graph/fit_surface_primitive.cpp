@@ -145,8 +145,9 @@ SurfacePrimitive fit_cylinder(std::span<const Sample> s, std::span<const double>
 
 // Iteratively reweighted: Tukey's biweight at 4.685 robust scales (1.4826 × median |r|).
 template <class Fit>
-SurfacePrimitive fit_robust(std::span<const Sample> s, Fit&& fit, int iterations) {
-  std::vector<double> w(s.size(), 1.0), r(s.size()), sorted;
+SurfacePrimitive fit_robust(std::span<const Sample> s, Fit&& fit, int iterations,
+                            std::vector<double> w) {
+  std::vector<double> r(s.size()), sorted;
   SurfacePrimitive f;
   for (int it = 0; it <= iterations; ++it) {
     const SurfacePrimitive g = fit(s, w);
@@ -164,6 +165,23 @@ SurfacePrimitive fit_robust(std::span<const Sample> s, Fit&& fit, int iterations
     }
   }
   return f;
+}
+
+// Weights 1 for the splats whose normals lie within 25° of the most common direction (the
+// candidate, among up to 32 splats spread over the set, that most normals agree with), 0 for
+// the others: a start for the plane that the majority face of a leaked surface can win from.
+std::vector<double> dominant_direction(std::span<const Sample> s) {
+  constexpr double kAgree = 0.906;  // cos 25°
+  const std::size_t step = std::max<std::size_t>(1, s.size() / 32);
+  std::size_t best = 0, best_count = 0;
+  for (std::size_t c = 0; c < s.size(); c += step) {
+    std::size_t count = 0;
+    for (const Sample& x : s) count += dot(x.n, s[c].n) >= kAgree;
+    if (count > best_count) best = c, best_count = count;
+  }
+  std::vector<double> w(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k) w[k] = dot(s[k].n, s[best].n) >= kAgree ? 1 : 0;
+  return w;
 }
 
 }  // namespace
@@ -218,11 +236,16 @@ SurfacePrimitive fit_surface_primitive(std::span<const Vec3f> positions,
     if (finite(normals[i])) s[k].n = to_vec3d(normals[i]);
   }
   constexpr int kIterations = 3;
-  SurfacePrimitive best = fit_robust(s, fit_plane, kIterations);
+  const std::vector<double> all(s.size(), 1.0);
+  // The plane from all splats, and from those facing the dominant way: a surface that leaked
+  // over a crease pulls the first between its faces (reweighting does not get out of it).
+  SurfacePrimitive best = fit_robust(s, fit_plane, kIterations, all);
+  const SurfacePrimitive majority = fit_robust(s, fit_plane, kIterations, dominant_direction(s));
+  if (majority.scale < best.scale) best = majority;
   // A curved model must do clearly better than the plane (a plane is a sphere or cylinder of
   // infinite radius, which the fits approach with large, ill-conditioned radii).
-  for (SurfacePrimitive f :
-       {fit_robust(s, fit_sphere, kIterations), fit_robust(s, fit_cylinder, kIterations)})
+  for (SurfacePrimitive f : {fit_robust(s, fit_sphere, kIterations, all),
+                             fit_robust(s, fit_cylinder, kIterations, all)})
     if (f.kind != PrimitiveKind::kNone && f.scale < 0.8 * best.scale) best = f;
   best.point += c;
   return best;

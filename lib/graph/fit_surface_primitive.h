@@ -10,8 +10,11 @@
 //   cylinder  axis: the direction the splats' normals are most orthogonal to (smallest
 //             eigenvector of Σ w n nᵀ), then an algebraic circle across it — so it needs normals
 //             good to a few degrees, which the robust fit tolerates on a minority of splats.
-// The plane wins unless a sphere or cylinder has a robust scale below 0.8 × the plane's (a plane
-// is the limit of both, which their fits approach with huge, ill-conditioned radii).
+// The plane is fitted twice, from all splats and from those whose normals lie within 25° of the
+// dominant direction, and the fit with the smaller scale kept: when two faces leaked into one
+// surface, the least-squares plane lies between them and reweighting alone stays there. The
+// plane wins unless a sphere or cylinder has a robust scale below 0.8 × the plane's (a plane is
+// the limit of both, which their fits approach with huge, ill-conditioned radii).
 // Residuals are Euclidean distances to the primitive (algebraic fits only choose it).
 #pragma once
 
@@ -35,7 +38,7 @@ struct SurfacePrimitive {
   double outward = 1;  // sphere, cylinder: +1 when the splats' normals point away from the centre
                        // or axis, -1 when towards it (a hole)
   double scale = std::numeric_limits<double>::infinity();  // robust residual scale of the fit,
-                                                            // in the positions' units
+                                                           // in the positions' units
 
   // Distance from p to the primitive, signed: > 0 on the side the normals point to. kNone:
   // +infinity.

@@ -55,11 +55,13 @@ struct RefineBordersOptions {
 
 // What the refinement saw and did.
 struct RefineBordersInfo {
-  uint32_t planes = 0, spheres = 0, cylinders = 0;  // surfaces explained by each primitive
-  uint32_t unexplained = 0;                         // surfaces with no model (left alone)
-  uint32_t fragments = 0;  // surfaces judged splat by splat (small or explained by a neighbour)
-  uint32_t rounds = 0;     // rounds run
-  uint64_t moved = 0;      // splat moves over all rounds
+  uint32_t planes = 0, spheres = 0, cylinders = 0;  // surfaces explained by each (last pass)
+  uint32_t unexplained = 0;  // surfaces of at least min_surface_size nothing explains
+  uint32_t joined = 0;       // surfaces that joined a larger neighbour explaining them
+  uint32_t split = 0;        // surfaces split into the primitives they were made of
+  uint32_t passes = 0;       // passes of fitting and judging
+  uint32_t rounds = 0;       // rounds of judging, over all passes
+  uint64_t moved = 0;        // splat moves, over all rounds
 };
 
 // graph: symmetric neighbour rows; positions, normals: #N each (NaN normals are accepted: such a

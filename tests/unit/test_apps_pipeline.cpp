@@ -164,7 +164,8 @@ TEST(AppsSegmentSurfaces, CubeHasSixFacesAndMinSizeDropsNone) {
   EXPECT_EQ(report["segments_before_min_size"], 6);
   EXPECT_EQ(report["segments_segmented"], 6);
   EXPECT_EQ(report["refine"]["planes"], 6);  // every face explained by its plane
-  EXPECT_EQ(report["refine"]["fragments"], 0);
+  EXPECT_EQ(report["refine"]["joined"], 0);
+  EXPECT_EQ(report["refine"]["split"], 0);
   EXPECT_TRUE(report["timings_s"].contains("refine"));
   EXPECT_TRUE(report["timings_s"].contains("merge"));
   o.paths.output = (c.dir / "surf.ply").string();

@@ -79,6 +79,20 @@ TEST(GraphFitSurfacePrimitive, NoisyPlaneWithAnotherFaceLeakedIn) {
   EXPECT_NEAR(f.scale, 0.01, 0.0015);  // the noise, not the leak
 }
 
+TEST(GraphFitSurfacePrimitive, TwoFacesFollowTheLargerOne) {
+  // A third of the splats from a face at 90° (two faces that leaked into one surface): the
+  // least-squares plane lies between them and reweighting alone stays there; the start from
+  // the dominant normal direction finds the larger face.
+  Samples s = tilted_plane(0.01);
+  const Vec3d n{0, -std::sin(kPi / 6), std::cos(kPi / 6)}, u{1, 0, 0}, v = cross(n, u);
+  for (int a = 0; a < 40; ++a)
+    for (int b = 1; b <= 20; ++b) s.add(Vec3d{0, 0, 0.5} + u * (a * 0.05) - n * (b * 0.05), -v);
+  const SurfacePrimitive f = fit_surface_primitive(s.positions, s.normals, s.all());
+  ASSERT_EQ(f.kind, PrimitiveKind::kPlane);
+  EXPECT_NEAR(dot(f.direction, n), 1, 1e-3);
+  EXPECT_NEAR(f.signed_distance({0, 0, 0.5}), 0, 0.003);
+}
+
 TEST(GraphFitSurfacePrimitive, SphereOutwardAndInward) {
   DeterministicRng rng(3);
   const Vec3d c{1, 2, 3};

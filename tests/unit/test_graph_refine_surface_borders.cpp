@@ -141,7 +141,21 @@ TEST(GraphRefineSurfaceBorders, FragmentsAreTakenSplatBySplat) {
   RefineBordersInfo info;
   const Segmentation seg = s.refine(s.labels(l), {}, &info);
   EXPECT_EQ(seg.surface, s.truth);
-  EXPECT_EQ(info.fragments, 3u);
+  EXPECT_EQ(info.joined, 1u);  // the island; the two small ones have no model of their own
+  EXPECT_EQ(info.planes, 2u);
+}
+
+TEST(GraphRefineSurfaceBorders, LeakedSurfaceIsSplitIntoItsFaces) {
+  // The top (20 × 20) and a smaller side (14 × 14) in one surface, as a segmentation that
+  // leaked across the crease gives them: split into two planes, then the border settles.
+  Scene s;
+  s.grid({0, 0, 0}, kX, kY, kZ, 0, 20, 0.05);
+  s.grid({0, 0, 0}, kZ * -1, kY, kX * -1, 1, 14, 0.05);
+  s.connect();
+  RefineBordersInfo info;
+  const Segmentation seg = s.refine(s.labels(std::vector<uint32_t>(s.truth.size(), 0)), {}, &info);
+  EXPECT_EQ(seg.surface, s.truth);
+  EXPECT_EQ(info.split, 1u);
   EXPECT_EQ(info.planes, 2u);
 }
 
