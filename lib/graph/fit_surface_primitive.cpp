@@ -244,8 +244,8 @@ SurfacePrimitive fit_surface_primitive(std::span<const Vec3f> positions,
   if (majority.scale < best.scale) best = majority;
   // A curved model must do clearly better than the plane (a plane is a sphere or cylinder of
   // infinite radius, which the fits approach with large, ill-conditioned radii).
-  for (SurfacePrimitive f : {fit_robust(s, fit_sphere, kIterations, all),
-                             fit_robust(s, fit_cylinder, kIterations, all)})
+  for (SurfacePrimitive f :
+       {fit_robust(s, fit_sphere, kIterations, all), fit_robust(s, fit_cylinder, kIterations, all)})
     if (f.kind != PrimitiveKind::kNone && f.scale < 0.8 * best.scale) best = f;
   best.point += c;
   return best;

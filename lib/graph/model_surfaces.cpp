@@ -226,8 +226,8 @@ std::vector<uint32_t> joins(const Input& in, const std::vector<SurfaceModel>& mo
 
 SurfaceModels model_surfaces(const NeighborGraph& graph, std::span<const Vec3f> positions,
                              std::span<const Vec3f> normals, std::vector<uint32_t>& label,
-                             uint32_t& label_count, uint32_t min_surface_size,
-                             float min_normal_dot) {
+                             uint32_t& label_count, SurfaceBorders& borders,
+                             uint32_t min_surface_size, float min_normal_dot) {
   const Input in{graph, positions, normals, min_surface_size, min_normal_dot};
   SurfaceModels out;
   std::vector<SurfaceModel>& models = out.model;
@@ -244,10 +244,12 @@ SurfaceModels model_surfaces(const NeighborGraph& graph, std::span<const Vec3f> 
     const std::span<const uint32_t> m = groups.of(s);
     out.split += splitter.split(s, std::vector<uint32_t>(m.begin(), m.end()));
   }
-  if (out.split > 0) groups = surface_members(label, label_count);
+  if (out.split > 0) {
+    groups = surface_members(label, label_count);
+    borders = surface_borders(graph, label);
+  }
 
-  out.borders = surface_borders(graph, label);
-  const std::vector<uint32_t> into = joins(in, models, groups, out.borders.pairs);
+  const std::vector<uint32_t> into = joins(in, models, groups, borders.pairs);
   for (uint32_t s = 0; s < label_count; ++s)
     if (into[s] != s) {
       models[s] = {};
@@ -255,7 +257,7 @@ SurfaceModels model_surfaces(const NeighborGraph& graph, std::span<const Vec3f> 
     }
   if (out.joined > 0) {
     for (uint32_t& s : label) s = into[s];
-    out.borders = surface_borders(graph, label);
+    borders = surface_borders(graph, label, borders.splats);  // joining makes no new border
   }
   return out;
 }

@@ -45,17 +45,18 @@ struct SurfaceModels {
                                     // more are fragments)
   uint32_t joined = 0;              // surfaces that joined a neighbour (step 3)
   uint32_t split = 0;               // surfaces split into primitives (step 2)
-  SurfaceBorders borders;           // of the labels as returned
 };
 
 // graph: symmetric neighbour rows; positions, normals: #N; label: #N values < label_count, changed
 // in place (steps 2 and 3); label_count grows by the pieces of split surfaces (new labels from
-// the old count up, in the order of each piece's lowest splat). min_normal_dot: a splat counts
-// as explained by a primitive only if n_i · (its normal there) >= this (NaN normals always do).
-// O(N) for the fits and one to three passes over the edges; no check of the sizes (the caller's).
+// the old count up, in the order of each piece's lowest splat); borders: surface_borders of
+// `label` on entry, of the changed labels on return. min_normal_dot: a splat counts as explained
+// by a primitive only if n_i · (its normal there) >= this (NaN normals always do). O(N) for the
+// fits, plus the rows of the border splats when surfaces join and a pass over every row when
+// one splits; no check of the sizes (the caller's).
 SurfaceModels model_surfaces(const NeighborGraph& graph, std::span<const Vec3f> positions,
                              std::span<const Vec3f> normals, std::vector<uint32_t>& label,
-                             uint32_t& label_count, uint32_t min_surface_size,
-                             float min_normal_dot);
+                             uint32_t& label_count, SurfaceBorders& borders,
+                             uint32_t min_surface_size, float min_normal_dot);
 
 }  // namespace splatkit::graph

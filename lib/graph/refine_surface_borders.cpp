@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <vector>
 
 #include "graph/model_surfaces.h"
 #include "graph/renumber_surfaces.h"
+#include "graph/surface_borders.h"
 
 namespace splatkit::graph {
 namespace {
@@ -127,10 +129,12 @@ class Judge {
 
 // Rounds of judging, from the border splats: each round judges its splats on the labels it
 // started with, then the next judges the splats that changed and their neighbours (a judgement
-// reads the labels of the splat and its neighbours, nothing else that changes).
-void judge_rounds(const Rows& rows, const Judge& judge, std::vector<uint32_t>& label,
-                  std::vector<uint32_t> work, uint32_t rounds, RefineBordersInfo& info) {
-  std::vector<uint32_t> verdict, changed;
+// reads the labels of the splat and its neighbours, nothing else that changes). Returns every
+// splat judged or due to be (ascending): they include every border splat of the new labels.
+std::vector<uint32_t> judge_rounds(const Rows& rows, const Judge& judge,
+                                   std::vector<uint32_t>& label, std::vector<uint32_t> work,
+                                   uint32_t rounds, RefineBordersInfo& info) {
+  std::vector<uint32_t> verdict, changed, touched = work, merged;
   for (uint32_t round = 0; round < rounds && !work.empty(); ++round) {
     verdict.resize(work.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), kChunk),
@@ -154,7 +158,12 @@ void judge_rounds(const Rows& rows, const Judge& judge, std::vector<uint32_t>& l
     }
     std::sort(work.begin(), work.end());
     work.erase(std::unique(work.begin(), work.end()), work.end());
+    merged.clear();
+    std::set_union(touched.begin(), touched.end(), work.begin(), work.end(),
+                   std::back_inserter(merged));
+    touched.swap(merged);
   }
+  return touched;
 }
 
 }  // namespace
@@ -179,14 +188,17 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
   // A pass that joined or split surfaces changed what the next one fits; one that did not
   // would only refit the same surfaces.
   SurfaceModels models;
+  SurfaceBorders borders = surface_borders(graph, label);
   for (uint32_t pass = 0; pass < kMaxPasses; ++pass) {
-    models = model_surfaces(graph, positions, normals, label, count, options.min_surface_size,
-                            options.min_normal_dot);
+    models = model_surfaces(graph, positions, normals, label, count, borders,
+                            options.min_surface_size, options.min_normal_dot);
     done.joined += models.joined;
     done.split += models.split;
     if (pass > 0 && models.joined == 0 && models.split == 0) break;
     const Judge judge(rows, positions, normals, label, models.model, options);
-    judge_rounds(rows, judge, label, std::move(models.borders.splats), options.rounds, done);
+    const std::vector<uint32_t> touched =
+        judge_rounds(rows, judge, label, borders.splats, options.rounds, done);
+    borders = surface_borders(graph, label, touched);
     ++done.passes;
   }
   for (const SurfaceModel& m : models.model) {

@@ -5,23 +5,26 @@
 #include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph {
+namespace {
 
-SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint32_t> label) {
+// splat(k) for k in [0, count): the rows to read.
+template <class Splat>
+SurfaceBorders borders_of(const NeighborGraph& graph, std::span<const uint32_t> label,
+                          std::size_t count, Splat&& splat) {
   constexpr std::size_t kChunk = 4096;
-  const std::size_t n = graph.num_points();
-  std::vector<SurfaceBorders> parts(chunk_count(n, kChunk));
-  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  std::vector<SurfaceBorders> parts(chunk_count(count, kChunk));
+  for_each_chunk(count, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
     SurfaceBorders& out = parts[c];
-    for (std::size_t i = begin; i < end; ++i) {
-      const uint32_t a = label[i];
+    for (std::size_t k = begin; k < end; ++k) {
+      const uint32_t i = splat(k), a = label[i];
       bool border = false;
-      for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
-        const uint32_t b = label[graph.neighbors[k]];
+      for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
+        const uint32_t b = label[graph.neighbors[e]];
         if (a == b) continue;
         border = true;
         out.pairs.push_back(uint64_t{a} << 32 | b);
       }
-      if (border) out.splats.push_back(uint32_t(i));
+      if (border) out.splats.push_back(i);
     }
     std::sort(out.pairs.begin(), out.pairs.end());
     out.pairs.erase(std::unique(out.pairs.begin(), out.pairs.end()), out.pairs.end());
@@ -34,6 +37,17 @@ SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint3
   std::sort(all.pairs.begin(), all.pairs.end());
   all.pairs.erase(std::unique(all.pairs.begin(), all.pairs.end()), all.pairs.end());
   return all;
+}
+
+}  // namespace
+
+SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint32_t> label) {
+  return borders_of(graph, label, graph.num_points(), [](std::size_t k) { return uint32_t(k); });
+}
+
+SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint32_t> label,
+                               std::span<const uint32_t> candidates) {
+  return borders_of(graph, label, candidates.size(), [&](std::size_t k) { return candidates[k]; });
 }
 
 }  // namespace splatkit::graph

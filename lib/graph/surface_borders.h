@@ -1,5 +1,5 @@
 // surface_borders: where the surfaces of a segmentation meet — the splats with a neighbour on
-// another surface, and the pairs of surfaces joined by an edge. One pass over the edges, in
+// another surface, and the pairs of surfaces joined by an edge. One pass over the rows, in
 // parallel chunks joined in order (the same result for any thread count).
 #pragma once
 
@@ -19,5 +19,11 @@ struct SurfaceBorders {
 
 // graph: symmetric neighbour rows; label: #N (any values). O(E).
 SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint32_t> label);
+
+// The same from the rows of `candidates` only (ascending indices that include every border
+// splat, e.g. the old border splats and every splat that changed or has a neighbour that did):
+// O(their rows).
+SurfaceBorders surface_borders(const NeighborGraph& graph, std::span<const uint32_t> label,
+                               std::span<const uint32_t> candidates);
 
 }  // namespace splatkit::graph

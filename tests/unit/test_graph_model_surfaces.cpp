@@ -8,6 +8,7 @@
 
 #include "graph/model_surfaces.h"
 #include "graph/sphere_overlap_graph.h"
+#include "graph/surface_borders.h"
 #include "splatkit/deterministic_rng.h"
 
 namespace splatkit::graph {
@@ -45,7 +46,9 @@ TEST(GraphModelSurfaces, IslandsOfOneCylinderJoinTheLargest) {
     label[i] = k < 60 ? 2 : (k < 100 ? 0 : 1);
   }
   uint32_t count = 3;
-  const SurfaceModels m = model_surfaces(c.graph, c.positions, c.normals, label, count, 50, -0.5f);
+  SurfaceBorders b = surface_borders(c.graph, label);
+  const SurfaceModels m =
+      model_surfaces(c.graph, c.positions, c.normals, label, count, b, 50, -0.5f);
   EXPECT_EQ(count, 3u);
   EXPECT_EQ(m.joined, 2u);
   EXPECT_EQ(m.split, 0u);
@@ -55,7 +58,8 @@ TEST(GraphModelSurfaces, IslandsOfOneCylinderJoinTheLargest) {
   EXPECT_NEAR(m.model[2].primitive.radius, 1, 0.002);
   EXPECT_EQ(m.model[2].primitive.outward, -1);
   EXPECT_EQ(m.model[0].state, SurfaceModel::kFragment);  // joined: no model, no splat
-  EXPECT_TRUE(m.borders.splats.empty());
+  EXPECT_TRUE(b.splats.empty());
+  EXPECT_TRUE(b.pairs.empty());
 }
 
 TEST(GraphModelSurfaces, TwoFacesInOneSurfaceSplit) {
@@ -74,7 +78,9 @@ TEST(GraphModelSurfaces, TwoFacesInOneSurfaceSplit) {
   c.connect(0.75f);
   std::vector<uint32_t> label(c.positions.size(), 0);
   uint32_t count = 1;
-  const SurfaceModels m = model_surfaces(c.graph, c.positions, c.normals, label, count, 50, -0.5f);
+  SurfaceBorders b = surface_borders(c.graph, label);
+  const SurfaceModels m =
+      model_surfaces(c.graph, c.positions, c.normals, label, count, b, 50, -0.5f);
   EXPECT_EQ(m.split, 1u);
   ASSERT_EQ(count, 2u);
   for (std::size_t i = 0; i < label.size(); ++i) EXPECT_EQ(label[i], i < 400 ? 0u : 1u) << i;
@@ -82,7 +88,7 @@ TEST(GraphModelSurfaces, TwoFacesInOneSurfaceSplit) {
     ASSERT_EQ(m.model[s].state, SurfaceModel::kPrimitive);
     EXPECT_EQ(m.model[s].primitive.kind, PrimitiveKind::kPlane);
   }
-  EXPECT_EQ(m.borders.pairs, (std::vector<uint64_t>{1, uint64_t{1} << 32}));
+  EXPECT_EQ(b.pairs, (std::vector<uint64_t>{1, uint64_t{1} << 32}));
 }
 
 TEST(GraphModelSurfaces, FreeFormStaysWholeAndSmallGetsNoModel) {
@@ -101,12 +107,14 @@ TEST(GraphModelSurfaces, FreeFormStaysWholeAndSmallGetsNoModel) {
     for (int b = 10; b < 15; ++b) label[a * 30 + b] = 1;
   const std::vector<uint32_t> before = label;
   uint32_t count = 2;
-  const SurfaceModels m = model_surfaces(c.graph, c.positions, c.normals, label, count, 50, -0.5f);
+  SurfaceBorders b = surface_borders(c.graph, label);
+  const SurfaceModels m =
+      model_surfaces(c.graph, c.positions, c.normals, label, count, b, 50, -0.5f);
   EXPECT_EQ(label, before);
   EXPECT_EQ(count, 2u);
   EXPECT_EQ(m.model[0].state, SurfaceModel::kUnexplained);
   EXPECT_EQ(m.model[1].state, SurfaceModel::kFragment);
-  EXPECT_EQ(m.borders.splats.size(), 16u + 24u);  // the patch's outer ring, the ring around it
+  EXPECT_EQ(b.splats.size(), 16u + 24u);  // the patch's outer ring, the ring around it
 }
 
 }  // namespace

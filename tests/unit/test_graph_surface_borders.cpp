@@ -21,6 +21,11 @@ TEST(GraphSurfaceBorders, PathOfThreeSurfaces) {
   EXPECT_EQ(b.splats, (std::vector<uint32_t>{1, 2, 4, 5}));
   auto pair = [](uint64_t a, uint64_t c) { return a << 32 | c; };
   EXPECT_EQ(b.pairs, (std::vector<uint64_t>{pair(3, 7), pair(3, 9), pair(7, 3), pair(9, 3)}));
+  // From candidates that include every border splat: the same.
+  const std::vector<uint32_t> candidates{0, 1, 2, 4, 5};
+  const SurfaceBorders c = surface_borders(g, std::vector<uint32_t>{7, 7, 3, 3, 3, 9}, candidates);
+  EXPECT_EQ(c.splats, b.splats);
+  EXPECT_EQ(c.pairs, b.pairs);
 }
 
 }  // namespace
