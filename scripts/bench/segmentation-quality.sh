@@ -19,13 +19,14 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
 sizes=${1:-100000 1000000} threads=${2:-2}
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
-  >/dev/null
-ninja -C "$build" -j2 splat-synth estimate-normals build-splat-graph segment-surfaces \
-  bench_segmentation_iou >/dev/null
-bin=$build/tools
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# (PCL's CMake files warn about optional io features on stderr: shown only when the build fails)
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
+  >"$work/build.log" 2>&1 || { cat "$work/build.log" >&2; exit 1; }
+ninja -C "$build" -j2 splat-synth estimate-normals build-splat-graph segment-surfaces \
+  bench_segmentation_iou >"$work/build.log" 2>&1 || { cat "$work/build.log" >&2; exit 1; }
+bin=$build/tools
 
 # json FILE KEY...: a number from segment-surfaces' report ("-" when absent).
 json() {
