@@ -185,8 +185,8 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
   const Rows rows{graph};
   std::vector<uint32_t> label = std::move(seg.surface);
   uint32_t count = seg.count();
-  // A pass that joined or split surfaces changed what the next one fits; one that did not
-  // would only refit the same surfaces.
+  // A pass that joined or split surfaces changed what the next one fits (the next fit may find
+  // more to join); after one that did not, a refit would find the same surfaces.
   SurfaceModels models;
   SurfaceBorders borders = surface_borders(graph, label);
   for (uint32_t pass = 0; pass < kMaxPasses; ++pass) {
@@ -198,8 +198,9 @@ Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const 
     const Judge judge(rows, positions, normals, label, models.model, options);
     const std::vector<uint32_t> touched =
         judge_rounds(rows, judge, label, borders.splats, options.rounds, done);
-    borders = surface_borders(graph, label, touched);
     ++done.passes;
+    if (models.joined == 0 && models.split == 0) break;
+    borders = surface_borders(graph, label, touched);
   }
   for (const SurfaceModel& m : models.model) {
     const bool primitive = m.state == SurfaceModel::kPrimitive;
