@@ -3,34 +3,33 @@
 // segment_surfaces / segment_surfaces_robust that puts the border bands of noisy scans back where
 // they belong (beyond [IvoMSc] §5.4; docs/references.md).
 //
-// A segmentation over the graph decides each splat by its normal and its hops to other splats, so
-// on a noisy scan the border between two surfaces wanders a few splats either side of the true
-// crease: with noise of 0.125 % of the bounding-box diagonal the CAD part's small patches lost
-// 5–7 % of their splats to their neighbours. Geometry decides better:
+// A segmentation over the graph decides each splat by the normals along graph paths, so on a
+// noisy scan the border between two surfaces lies a few splats off the true crease, on either
+// side (the CAD part, 100 k random splats, noise 0.125 % of the bounding-box diagonal: IoU 0.936
+// for its smallest patch). Geometry decides better. A pass:
 //
-//   1. Every surface of at least min_surface_size splats is fitted with a plane, a sphere and a
-//      cylinder (fit_surface_primitive, robust) and keeps the one that explains it: its robust
-//      residual scale is at most twice that of local planes through the surface's own splats,
-//      and 90 % of the splats lie within three scales. A surface nothing explains (a free-form
-//      surface, or two faces that leaked into one) is *unexplained*.
-//   2. A surface that an adjacent larger surface's primitive explains for at least half of its
-//      splats is a fragment of it (a strip of splats with wild normals along a crease); so are
-//      the surfaces under min_surface_size. Fragments have no model.
-//   3. Rounds: every border splat (one with a neighbour on another surface) and every splat of a
-//      fragment is judged against the modelled surfaces among itself and its neighbours, whose
-//      primitive's normal at the splat is compatible with its own (n_i · n_S >= min_normal_dot).
-//      The nearest surface wins, except where two candidates meet at a crease whose convexity is
-//      clear: at a convex crease a splat of A lies inside B's half-space whatever its noise, so
-//      the larger signed distance wins; at a concave one, the smaller (the rule that matches the
-//      true surfaces' likelihoods; nearest-only lost 2 % IoU on the CAD part). A crease is convex
-//      when each candidate's normal at its splats among the neighbours points away from the
-//      other's (mean positions, by more than crease_sine), concave when both point towards it.
-//      A splat next to an unexplained surface is left alone. All splats of a round are judged
-//      on the labels the round started with, so the result does not depend on the order or the
-//      thread count; later rounds judge only the splats within two hops of a change, and rounds
-//      stop when nothing changes (or after `rounds`; a few splats can swap back and forth).
+//   1. model_surfaces fits each surface of at least min_surface_size splats with a plane, sphere
+//      or cylinder, splits surfaces that are unions of them, joins surfaces a larger neighbour's
+//      primitive explains, and marks what no primitive explains (free-form) as unexplained;
+//      smaller surfaces are fragments, with no model.
+//   2. Rounds: every border splat (one with a neighbour on another surface, or in a fragment) is
+//      judged against the explained surfaces among itself and its neighbours whose primitive's
+//      normal at the splat is compatible with its own (n_i · n_S >= min_normal_dot). The nearest
+//      surface wins, except where two candidates meet at a crease whose convexity is clear and
+//      the other candidate is within its noise (3 robust scales): at a convex crease a splat of
+//      A lies inside B's half-space whatever its noise, so the larger signed distance wins; at a
+//      concave one, the smaller (the rule the two surfaces' likelihoods give; nearest-only lost
+//      1.7 % IoU on the CAD part). A crease is convex when each candidate's normal at the mean
+//      position of its splats among the neighbours points away from the other's (by more than
+//      crease_sine), concave when both point towards it; surfaces that cross are neither. A
+//      splat next to an unexplained surface is left alone. All splats of a round are judged on
+//      the labels the round started with, so the result does not depend on the order or the
+//      thread count; later rounds judge only the splats that changed and their neighbours, and
+//      rounds stop when nothing changes (or after `rounds`; a few splats can swap back and
+//      forth).
+// A pass that joined or split surfaces is followed by another (at most three in all).
 //
-// Splats that no modelled surface takes keep their surface (fragments among them are for
+// Splats that no explained surface takes keep their surface (fragments among them are for
 // merge_small_surfaces). The result is renumbered in the order of each surface's lowest splat.
 #pragma once
 
@@ -67,7 +66,7 @@ struct RefineBordersInfo {
 // graph: symmetric neighbour rows; positions, normals: #N each (NaN normals are accepted: such a
 // splat is judged by position alone); segmentation: #N ids < count(). Throws
 // std::invalid_argument on size mismatch or an id out of range. Deterministic for any thread
-// count. Time: the fits are O(N) (each primitive on at most 16,384 of its surface's splats), a
+// count. Time: the fits are O(N) (each primitive on at most 4096 of its surface's splats), a
 // round O(rows of the judged splats).
 Segmentation refine_surface_borders(const NeighborGraph& graph, std::span<const Vec3f> positions,
                                     std::span<const Vec3f> normals, Segmentation segmentation,
