@@ -121,10 +121,10 @@ class Splitter {
   // Splits surface s (its members, its unexplained model) if it is a union of explained
   // pieces; else leaves everything as it was. Returns whether it split.
   bool split(uint32_t s, const std::vector<uint32_t>& members, int depth = 0) {
-    const SurfaceModel& m = models_[s];
-    if (depth >= kMaxSplitDepth || m.primitive.kind == PrimitiveKind::kNone) return false;
+    const SurfaceModel whole = models_[s];  // a copy: models_ grows below
+    if (depth >= kMaxSplitDepth || whole.primitive.kind == PrimitiveKind::kNone) return false;
     std::vector<uint32_t> held, rest;
-    for (uint32_t i : members) (in_.explains(m, i) ? held : rest).push_back(i);
+    for (uint32_t i : members) (in_.explains(whole, i) ? held : rest).push_back(i);
     if (2 * held.size() < members.size() || rest.size() < in_.min_surface_size) return false;
     const uint32_t count_before = count_;
     const std::size_t models_before = models_.size();
@@ -140,7 +140,6 @@ class Splitter {
         break;
       }
     }
-    const SurfaceModel whole = models_[s];
     if (ok) {
       models_[s] = fit_model(in_, label_, held);
       ok = models_[s].state == SurfaceModel::kPrimitive;
