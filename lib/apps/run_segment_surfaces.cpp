@@ -5,6 +5,8 @@
 
 #include "apps/robust_provenance.h"
 #include "graph/drop_small_surfaces.h"
+#include "graph/merge_small_surfaces.h"
+#include "graph/refine_surface_borders.h"
 #include "graph/segment_surfaces.h"
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
@@ -79,6 +81,7 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   if (o.method != "robust" && o.method != "components")
     throw_usage("--method must be robust or components, got '" + o.method + "'");
   if (o.min_size == 0) throw_usage("--min-size must be >= 1");
+  if (o.merge_below == 0) throw_usage("--merge-below must be >= 1");
   const std::optional<float>& core = o.robust.core_threshold;
   if (core && !(*core >= -1 && *core <= 1)) throw_usage("--core must be a number in [-1, 1]");
   if (o.robust.min_core_size == 0) throw_usage("--min-core must be >= 1");
@@ -93,19 +96,34 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   graph::RobustSegmentOptions robust_options = o.robust;
   robust_options.sharp_threshold = chunks.graph.sharp_threshold;
   graph::RobustSegmentInfo chosen;
-  uint32_t segments_before = 0;
-  const Segmentation seg = stage.phase("segment", "segmenting the surfaces", [&] {
+  const graph::DecodedGraph& g = chunks.graph;
+  Segmentation seg = stage.phase("segment", "segmenting the surfaces", [&] {
     progress(0.0, "segmenting");
-    const graph::DecodedGraph& g = chunks.graph;
-    Segmentation all = robust ? graph::segment_surfaces_robust(
-                                    g.graph, g.edge_flags, graph::kEdgeSharp, doc.cloud.positions,
-                                    doc.cloud.normals, robust_options, &chosen)
-                              : graph::segment_surfaces(g.graph, g.edge_flags, graph::kEdgeSharp);
-    segments_before = all.count();
-    return graph::drop_small_surfaces(std::move(all), o.min_size);
+    return robust ? graph::segment_surfaces_robust(g.graph, g.edge_flags, graph::kEdgeSharp,
+                                                   doc.cloud.positions, doc.cloud.normals,
+                                                   robust_options, &chosen)
+                  : graph::segment_surfaces(g.graph, g.edge_flags, graph::kEdgeSharp);
   });
-
-  nlohmann::json prov_options = {{"min_size", o.min_size}, {"method", o.method}};
+  const uint32_t segments_segmented = seg.count();
+  graph::RefineBordersInfo refined;
+  seg = stage.phase("refine", "refining the borders", [&] {
+    progress(0.0, "refining the borders");
+    graph::RefineBordersOptions ro;
+    ro.rounds = o.refine_rounds;
+    ro.min_surface_size = o.merge_below;
+    return graph::refine_surface_borders(g.graph, doc.cloud.positions, doc.cloud.normals,
+                                         std::move(seg), ro, &refined);
+  });
+  uint32_t segments_before = 0;
+  seg = stage.phase("merge", "merging the fragments", [&] {
+    Segmentation merged = graph::merge_small_surfaces(g.graph, std::move(seg), o.merge_below);
+    segments_before = merged.count();
+    return graph::drop_small_surfaces(std::move(merged), o.min_size);
+  });
+  nlohmann::json prov_options = {{"min_size", o.min_size},
+                                 {"method", o.method},
+                                 {"refine_rounds", o.refine_rounds},
+                                 {"merge_below", o.merge_below}};
   if (robust) put_robust_options(prov_options, o.robust);
   stage.stamp(doc, prov_options, /*keep_chunks=*/true);
   const uint64_t n = doc.cloud.size();
@@ -127,9 +145,15 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
     for (uint32_t id : seg.surface) unassigned += id == graph::kNoSurface;
     report = {{"splats", n},
               {"segments", seg.count()},
+              {"segments_segmented", segments_segmented},
               {"segments_before_min_size", segments_before},
               {"unassigned_splats", unassigned},
               {"sizes", seg.sizes}};
+    report["refine"] = {{"planes", refined.planes},       {"spheres", refined.spheres},
+                        {"cylinders", refined.cylinders}, {"unexplained", refined.unexplained},
+                        {"joined", refined.joined},       {"split", refined.split},
+                        {"passes", refined.passes},       {"rounds", refined.rounds},
+                        {"moved_splats", refined.moved}};
     if (robust) {
       report["normal_noise_degrees"] = chosen.normal_noise_degrees;
       report["core_threshold"] = chosen.core_threshold;

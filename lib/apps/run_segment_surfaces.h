@@ -1,6 +1,8 @@
 // segment-surfaces' work, callable without the command line: read a .splk from build-splat-graph
 // (GRPH, CLAS and CLIP chunks), split the splats into smooth surfaces (graph/segment_surfaces.h,
-// graph/segment_surfaces_robust.h), drop the small ones (graph/drop_small_surfaces.h) and write
+// graph/segment_surfaces_robust.h), move the border splats to the surface whose fitted geometry
+// explains them (graph/refine_surface_borders.h), merge the fragments into their neighbours
+// (graph/merge_small_surfaces.h), drop the small surfaces (graph/drop_small_surfaces.h) and write
 // .splk with a SURF chunk, or a binary PLY with surface_id and class per vertex; optionally a
 // JSON report.
 #pragma once
@@ -21,6 +23,9 @@ struct SegmentSurfacesOptions {
   std::string method = "robust";       // robust | components
   graph::RobustSegmentOptions robust;  // core_threshold, min_core_size; the sharp threshold is
                                        // the graph's own
+  uint32_t refine_rounds = 8;          // refine_surface_borders' rounds (0: no refinement)
+  uint32_t merge_below = 50;           // surfaces with fewer splats are fragments: refined splat
+                                       // by splat, the rest merged by shared edges (1: none)
 };
 
 // Throws Error(kUsage) for bad options or paths (before reading), Error(kBadInput) for input that

@@ -53,6 +53,15 @@ cmp -s "$WORK/t1.splk" "$WORK/t3.splk" && pass || fail "build-splat-graph to std
 "$BIN/segment-surfaces" - "$WORK/u1.splk" -q <"$WORK/t1.splk" && pass || fail "segment-surfaces t1"
 "$BIN/segment-surfaces" - "$WORK/u2.splk" -q <"$WORK/t2.splk" && pass || fail "segment-surfaces t2"
 cmp -s "$WORK/u1.splk" "$WORK/u2.splk" && pass || fail "segment-surfaces outputs differ"
+# segment-surfaces itself (refinement included) on one and two threads, on a noisy cloud of
+# several parallel chunks.
+expect_exit 0 "$BIN/splat-synth" -q cad "$WORK/noisy.ply" -n 20000 --random --noise 0.00125
+expect_exit 0 "$BIN/estimate-normals" -q "$WORK/noisy.ply" "$WORK/noisy-n.ply" --method robust
+expect_exit 0 "$BIN/build-splat-graph" "$WORK/noisy-n.ply" "$WORK/noisy.splk" -q
+for t in 1 2; do
+  expect_exit 0 "$BIN/segment-surfaces" "$WORK/noisy.splk" "$WORK/v$t.splk" -q --threads $t
+done
+cmp -s "$WORK/v1.splk" "$WORK/v2.splk" && pass || fail "segment-surfaces --threads 1 and 2 differ"
 
 # --min-size: small surfaces lose their id; the report lists the kept ones.
 expect_exit 0 "$BIN/segment-surfaces" "$WORK/cad-g.splk" "$WORK/m.splk" -q --min-size 1000 \

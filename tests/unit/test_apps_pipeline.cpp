@@ -162,9 +162,19 @@ TEST(AppsSegmentSurfaces, CubeHasSixFacesAndMinSizeDropsNone) {
   EXPECT_EQ(report["segments"], 6);
   EXPECT_EQ(report["unassigned_splats"], 0);
   EXPECT_EQ(report["segments_before_min_size"], 6);
+  EXPECT_EQ(report["segments_segmented"], 6);
+  EXPECT_EQ(report["refine"]["planes"], 6);  // every face explained by its plane
+  EXPECT_EQ(report["refine"]["joined"], 0);
+  EXPECT_EQ(report["refine"]["split"], 0);
+  EXPECT_TRUE(report["timings_s"].contains("refine"));
+  EXPECT_TRUE(report["timings_s"].contains("merge"));
   o.paths.output = (c.dir / "surf.ply").string();
   o.min_size = doc.cloud.size();  // larger than any face: no surface left
   EXPECT_EQ(run_segment_surfaces(o).extra, "0 surfaces");
+  o.min_size = 1;
+  o.merge_below = 0;
+  expect_stage_error([&] { run_segment_surfaces(o); }, ErrorKind::kUsage,
+                     "--merge-below must be >= 1");
 }
 
 TEST(AppsSegmentSurfaces, RejectsDuplicateAndCorruptGraphChunks) {

@@ -10,22 +10,31 @@ int main(int argc, char** argv) {
       "that build-splat-graph stored in IN (GRPH and CLAS chunks). --method robust (default): "
       "surfaces grow from core splats (every continuous neighbour's normal within the core "
       "angle: half the sharp angle when the normals are noisy) so noisy creases do not merge "
-      "faces; on clean normals it gives the components. --method "
-      "components: the connected components of the continuous edges. Ids "
-      "are numbered in the order of each surface's lowest splat index, so they are the same on "
-      "every run. OUT .splk ('-' = stdout) adds the SURF chunk; OUT .ply writes a binary PLY "
-      "with the extra vertex properties surface_id (uint32) and class (uint8: 0 smooth, 1 edge, "
-      "2 intersection). --min-size N: surfaces with fewer than N splats get no id "
-      "(surface_id 4294967295 = 0xFFFFFFFF) and the remaining ones are numbered again 0.. in "
-      "the same order; they are not merged into a neighbour.",
+      "faces; on clean normals it gives the components. --method components: the connected "
+      "components of the continuous edges. Then (either method) the borders are refined: each "
+      "surface of at least --merge-below splats is fitted with a plane, sphere or cylinder, and "
+      "for --refine-rounds rounds every splat on a border between surfaces, and every splat of "
+      "a fragment (a surface under --merge-below splats, or one a larger neighbour's fit "
+      "explains), joins the adjacent surface whose fit is nearest (across a convex crease the "
+      "one it lies outside of, across a concave one the one it lies inside of) and whose "
+      "normal is within 120 degrees of its own; a surface no primitive explains (free-form) "
+      "keeps its border. Fragments left over join the neighbour they share the most graph "
+      "edges with. Ids are numbered in the order of each surface's lowest splat index and do "
+      "not depend on the thread count. OUT .splk ('-' = stdout) adds the SURF chunk; OUT .ply "
+      "writes a binary PLY with the extra vertex properties surface_id (uint32) and class "
+      "(uint8: 0 smooth, 1 edge, 2 intersection). --min-size N, applied last: surfaces with "
+      "fewer than N splats get no id (surface_id 4294967295 = 0xFFFFFFFF) and the remaining "
+      "ones are numbered again 0.. in the same order.",
       "  $ segment-surfaces part-graph.splk part-surf.splk --report surfaces.json\n"
-      "  $ segment-surfaces part-graph.splk part-surf.ply --min-size 50\n");
+      "  $ segment-surfaces part-graph.splk part-surf.ply --min-size 50\n"
+      "  $ segment-surfaces part-graph.splk part-surf.splk --refine-rounds 0 --merge-below 1  "
+      "# segmentation only\n");
   splatkit::apps::SegmentSurfacesOptions o;
   auto& app = tool.app();
   tool.add_in_out(o.paths, "Input .splk from build-splat-graph ('-' = stdin)",
                   "Output .splk or .ply ('-' = .splk on stdout)");
   app.add_option("--min-size", o.min_size,
-                 "Surfaces with fewer splats get id 0xFFFFFFFF (no surface); not merged")
+                 "Surfaces with fewer splats (after merging) get id 0xFFFFFFFF (no surface)")
       ->default_val(1)
       ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
   app.add_option("--method", o.method,
@@ -33,7 +42,18 @@ int main(int argc, char** argv) {
       ->default_val("robust")
       ->check(CLI::IsMember({"robust", "components"}));
   splatkit::tools::add_robust_options(app, o.robust);
+  app.add_option("--refine-rounds", o.refine_rounds,
+                 "Rounds of moving border and fragment splats to the best-fitting adjacent "
+                 "surface (0: no refinement)")
+      ->default_val(8)
+      ->check(CLI::Range(uint32_t{0}, uint32_t{1000}));
+  app.add_option("--merge-below", o.merge_below,
+                 "Surfaces with fewer splats are fragments: their splats join the best-fitting "
+                 "neighbour, the rest merge into the neighbour sharing the most edges (1: none)")
+      ->default_val(50)
+      ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
   app.add_option("--report", o.paths.report, "Write the surfaces and their sizes as JSON here");
+  tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_segment_surfaces(o, progress);
   });
