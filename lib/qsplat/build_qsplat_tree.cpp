@@ -1,0 +1,175 @@
+#include "qsplat/build_qsplat_tree.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "qsplat/enclose_spheres.h"
+
+namespace splatkit::qsplat {
+
+namespace {
+
+struct Point {
+  Vec3f p;
+  uint32_t leaf;
+};
+
+// Puts the leaf of rank m - b along the longest axis of [b, e)'s bounding box at m, the smaller
+// ones before it (ties broken by leaf index, so the order is the same on every run).
+void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
+  Vec3f lo = pts[b].p, hi = pts[b].p;
+  for (uint32_t i = b + 1; i < e; ++i)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], pts[i].p[k]);
+      hi[k] = std::max(hi[k], pts[i].p[k]);
+    }
+  const Vec3f ext = hi - lo;
+  const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+  std::nth_element(pts.begin() + b, pts.begin() + m, pts.begin() + e,
+                   [&](const Point& p, const Point& q) {
+                     return p.p[axis] < q.p[axis] || (p.p[axis] == q.p[axis] && p.leaf < q.leaf);
+                   });
+}
+
+// The child ranges of node [b, e): cuts[0] = b < cuts[1] < ... < cuts[count] = e. Two cuts along
+// the longest axis, the second within each half, at ranks that make every child but the last a
+// complete subtree of C = 4^k leaves (the largest power of 4 below the node's count): nodes then
+// have 4 children nearly everywhere, which keeps the file near 4/3 nodes per leaf.
+int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, std::array<uint32_t, 5>& cuts) {
+  const uint32_t n = e - b;
+  if (n <= 1) return 0;
+  if (n <= 4) {
+    for (uint32_t i = 0; i <= n; ++i) cuts[i] = b + i;
+    return static_cast<int>(n);
+  }
+  uint32_t cap = 4;
+  while (static_cast<uint64_t>(cap) * 4 < n) cap *= 4;
+  const uint32_t children = (n + cap - 1) / cap;  // 2..4
+  if (children == 2) {
+    split_at(pts, b, e, b + cap);
+    cuts = {b, b + cap, e, 0, 0};
+    return 2;
+  }
+  const uint32_t half = b + 2 * cap;
+  split_at(pts, b, e, half);
+  split_at(pts, b, half, b + cap);
+  if (children == 3) {
+    cuts = {b, b + cap, half, e, 0};
+    return 3;
+  }
+  split_at(pts, half, e, half + cap);
+  cuts = {b, b + cap, half, half + cap, e};
+  return 4;
+}
+
+double angle(const Vec3f& a, const Vec3f& b) {
+  return std::acos(std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0));
+}
+
+}  // namespace
+
+QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
+  QSplatTree t;
+  const auto n = static_cast<uint32_t>(leaves.size());
+  std::vector<Point> pts(n);
+  for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
+  std::vector<uint32_t> rb{0}, re{n};
+  t.level_begin = {0, 1};
+  t.first_child = {0};
+  t.child_count = {0};
+  for (std::size_t l = 0;; ++l) {
+    const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
+    std::vector<std::array<uint32_t, 5>> cuts(le - lb);
+    std::vector<uint8_t> count(le - lb);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
+      for (uint32_t i = r.begin(); i < r.end(); ++i)
+        count[i - lb] = static_cast<uint8_t>(child_cuts(pts, rb[i], re[i], cuts[i - lb]));
+    });
+    uint32_t next = le;
+    for (uint32_t i = lb; i < le; ++i) {
+      const int c = count[i - lb];
+      t.first_child[i] = c > 0 ? next : 0;
+      t.child_count[i] = static_cast<uint8_t>(c);
+      for (int k = 0; k < c; ++k) {
+        rb.push_back(cuts[i - lb][k]);
+        re.push_back(cuts[i - lb][k + 1]);
+      }
+      next += static_cast<uint32_t>(c);
+    }
+    if (next == le) break;
+    t.first_child.resize(next, 0);
+    t.child_count.resize(next, 0);
+    t.level_begin.push_back(next);
+  }
+  const std::size_t m = t.first_child.size();
+  t.leaf.assign(m, kNoLeaf);
+  for (std::size_t i = 0; i < m; ++i)
+    if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf;
+
+  t.spheres.resize(m);
+  t.normal_codes.resize(m);
+  t.cones.resize(m);
+  const bool color = !leaves.colors.empty();
+  if (color) t.colors.resize(m);
+  std::vector<Sphere> centroid(m);
+  std::vector<Vec3f> normal(m);
+  std::vector<float> cone(m);
+  std::vector<std::array<uint8_t, 3>> rgb(color ? m : 0);
+  for (std::size_t l = t.levels(); l-- > 0;) {
+    tbb::parallel_for(
+        tbb::blocked_range<uint32_t>(t.level_begin[l], t.level_begin[l + 1], 1024),
+        [&](const auto& r) {
+          for (uint32_t i = r.begin(); i < r.end(); ++i) {
+            const int c = t.child_count[i];
+            if (c == 0) {
+              const uint32_t f = t.leaf[i];
+              t.spheres[i] = centroid[i] = {leaves.positions[f], leaves.radii[f]};
+              normal[i] = leaves.normals[f];
+              cone[i] = 0;
+              if (color) rgb[i] = leaves.colors[f];
+            } else {
+              const uint32_t f = t.first_child[i];
+              t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
+              centroid[i] = enclose_spheres(&centroid[f], c, true);
+              Vec3f sum{0, 0, 0};
+              for (int k = 0; k < c; ++k) sum += normal[f + k];
+              normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
+              if (color) {
+                std::array<int, 3> acc{0, 0, 0};
+                for (int k = 0; k < c; ++k)
+                  for (int j = 0; j < 3; ++j) acc[j] += rgb[f + k][j];
+                for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
+              }
+            }
+            t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
+            if (c > 0) {
+              const Vec3f& dn = decode_normal(t.normal_codes[i]);
+              double theta = 0;
+              const uint32_t f = t.first_child[i];
+              for (int k = 0; k < c; ++k)
+                theta =
+                    std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
+              cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
+            }
+            t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
+            if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+          }
+        });
+  }
+  double sum = 0, sum_centroid = 0;
+  std::size_t interior = 0;
+  for (std::size_t i = 0; i < m; ++i)
+    if (t.child_count[i] > 0) {
+      sum += t.spheres[i].radius;
+      sum_centroid += centroid[i].radius;
+      ++interior;
+    }
+  t.mean_interior_radius = interior ? sum / interior : 0;
+  t.mean_interior_radius_centroid = interior ? sum_centroid / interior : 0;
+  return t;
+}
+
+}  // namespace splatkit::qsplat
