@@ -141,8 +141,11 @@ int encode_normal(const Vec3f& n) {
   const Vec3f m = normalized(n);
   const int u0 = warp_index(m[(axis + 1) % 3]), v0 = warp_index(m[(axis + 2) % 3]);
   const std::array<Vec3f, kNormalCodes>& t = normal_table();
+  // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
   int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
   float best_dot = -2.0f;
+  const float fu0 = unwarp(static_cast<unsigned>(u0)), fv0 = unwarp(static_cast<unsigned>(v0));
+  if (fu0 * fu0 + fv0 * fv0 <= 1.0f) best_dot = dot(t[best], m);
   for (int du = -1; du <= 1; ++du)
     for (int dv = -1; dv <= 1; ++dv) {
       const int u = u0 + du, v = v0 + dv;

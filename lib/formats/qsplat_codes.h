@@ -25,8 +25,8 @@ inline constexpr int kSphereCells = 7621;
 inline constexpr int kNormalSteps = 52;
 inline constexpr int kNormalCodes = 6 * kNormalSteps * kNormalSteps;  // 16224 of the 16384
 // Largest angle (radians) between a unit normal and its decoded code (measured over a dense
-// sampling of the sphere: test_formats_qsplat_codes.cpp).
-inline constexpr double kNormalMaxError = 0.032;
+// sampling of the sphere gives 0.034: test_formats_qsplat_codes.cpp).
+inline constexpr double kNormalMaxError = 0.036;
 
 struct Sphere {
   Vec3f centre;
