@@ -71,6 +71,8 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
               {"tree_bytes_per_leaf", static_cast<double>(file.tree_bytes) / n},
               {"sphere_rule", o.centroid_rule ? "centroid" : "tight"},
               {"mean_interior_radius", tree.mean_interior_radius},
+              {"leaf_radius_growth_mean", file.leaf_growth_mean},
+              {"leaf_radius_growth_max", file.leaf_growth_max},
               {"mean_interior_radius_centroid_rule", tree.mean_interior_radius_centroid}};
   }
   OutputFile* outputs[] = {&out};

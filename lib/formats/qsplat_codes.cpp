@@ -95,34 +95,32 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const int first = std::clamp(static_cast<int>(std::floor(radius / pr * kN)), 1, kN);
   for (int size = first; size <= kN; ++size) {
-    int lo[3];
+    // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
+    // ones that can contain it.
+    const double slack = static_cast<double>(size) / kN - radius / pr;
+    if (slack < 0) continue;
+    int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
-      // Cell centre (size + 2x)/13 − 1 closest to rel[k]: x between floor(t) and floor(t) + 1.
-      const double tk = ((rel[k] + 1.0) * kN - size) * 0.5;
-      const int floor_t = static_cast<int>(std::floor(std::clamp(tk, -1.0, double{kN})));
-      lo[k] = std::min(std::max(floor_t, 0), std::max(kN - size - 1, 0));
+      lo[k] = std::max(0, static_cast<int>(std::ceil(((rel[k] - slack + 1) * kN - size) / 2)));
+      hi[k] =
+          std::min(kN - size, static_cast<int>(std::floor(((rel[k] + slack + 1) * kN - size) / 2)));
     }
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
-    for (int combo = 0; combo < 8; ++combo) {
-      int g[3];
-      bool inside = true;
-      for (int k = 0; k < 3; ++k) {
-        g[k] = lo[k] + ((combo >> (2 - k)) & 1);
-        inside = inside && g[k] >= 0 && g[k] <= kN - size;
-      }
-      if (!inside) continue;
-      const int s = t.index[size - 1 + kN * (g[0] + kN * (g[1] + kN * g[2]))];
-      if (s < 0) continue;
-      const Sphere d = decode_sphere(t.cells[s], parent);
-      const double dist = distance(d.centre, centre);
-      if (dist + radius > d.radius) continue;                // must contain the true sphere
-      if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
-      if (dist < best_d) {
-        best_d = dist;
-        best = s;
-      }
-    }
+    for (int x = lo[0]; x <= hi[0]; ++x)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
+          if (s < 0) continue;
+          const Sphere d = decode_sphere(t.cells[s], parent);
+          const double dist = distance(d.centre, centre);
+          if (dist + radius > d.radius) continue;                // must contain the true sphere
+          if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
+          if (dist < best_d) {
+            best_d = dist;
+            best = s;
+          }
+        }
     if (best >= 0) return best;
   }
   return -1;

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "splatkit/error.h"
@@ -78,7 +80,10 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   put32(f + 8, static_cast<uint32_t>(length));
   put32(f + 12, static_cast<uint32_t>(e.leaves));
   put32(f + 16, color ? 1 : 0);
-  const Sphere& root = t.spheres[0];
+  Sphere root = t.spheres[0];
+  const double grown = root.radius * (1 + kInteriorMargin);
+  root.radius = static_cast<float>(grown);
+  if (root.radius < grown) root.radius = std::nextafter(root.radius, 2 * root.radius);
   put_float(f + 20, root.centre.x);
   put_float(f + 24, root.centre.y);
   put_float(f + 28, root.centre.z);
@@ -106,7 +111,8 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
               const uint32_t j = first + static_cast<uint32_t>(k);
               const Sphere& s = t.spheres[j];
               const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
-              const int code = encode_sphere(decoded[i], centre, s.radius);
+              const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
+              const int code = encode_sphere(decoded[i], centre, need);
               if (code < 0)
                 throw Error(ErrorKind::kInternal, "QSplat node " + std::to_string(j) +
                                                       " lies outside its decoded parent");
@@ -120,6 +126,14 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
           }
         });
   }
+  double sum = 0;
+  for (std::size_t i = 0; i < m; ++i)
+    if (t.child_count[i] == 0) {
+      const double g = double{decoded[i].radius} / t.spheres[i].radius;
+      sum += g;
+      e.leaf_growth_max = std::max(e.leaf_growth_max, g);
+    }
+  e.leaf_growth_mean = e.leaves ? sum / static_cast<double>(e.leaves) : 0;
   return e;
 }
 

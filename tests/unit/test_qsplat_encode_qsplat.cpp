@@ -59,20 +59,24 @@ TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
     // fragment header: magic, length 68, 5 leaves, options 0 (no colour)
     'Q', 'S', 'p', 'l', 'a', 't', '1', '1', 0x00, 0x00, 0x00, 0x44,
     0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x00,
-    // root centre (2, 0, 0), radius 2.4, 2 children
+    // root centre (2, 0, 0), radius 2.4 grown by kInteriorMargin (3.0, rounded up: 0x40400001),
+    // 2 children
     0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
-    0x40, 0x19, 0x99, 0x9A, 0x00, 0x00, 0x00, 0x02,
+    0x40, 0x40, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02,
     // byte 40: root group; offset 12 -> byte 52 (A's group)
     0x00, 0x00, 0x00, 0x0C,
-    // A: S = 7589 (size 11, cell (0, 1, 1): X = -2/13, R = 11/13; tangent to the root on the
-    // left like A itself), no grandchildren, 4 children: 7589 << 3 | 3 = 0xED2B.
+    // A must hold (1.5, 0, 0) r 1.9 * 1.25: S = 7589 (size 11, cell (0, 1, 1): centre 2 - 3 * 2/13,
+    // radius 3 * 11/13), no grandchildren, 4 children: 7589 << 3 | 3 = 0xED2B.
     // Normal +Z: A = 4, U = V = 26: Q = 12194, << 2 | cone 0 = 0xBE88.
     0xED, 0x2B, 0xBE, 0x88,
-    // B: S = 7607 (size 11, cell (2, 1, 1)), a leaf: 7607 << 3 = 0xEDB8
-    0xED, 0xB8, 0xBE, 0x88,
-    // byte 52: A's group, no offset (its members are leaves): 4 leaves, S = 4051, 3688, 3325, 7607
-    0x7E, 0x98, 0xBE, 0x88, 0x73, 0x40, 0xBE, 0x88, 0x67, 0xE8, 0xBE, 0x88,
-    0xED, 0xB8, 0xBE, 0x88,
+    // B, a leaf (4, 0, 0) r 0.4: S = 4414 (size 3, cell (9, 5, 5): centre 2 + 3 * 8/13, radius
+    // 3 * 3/13): 4414 << 3 = 0x89F0
+    0x89, 0xF0, 0xBE, 0x88,
+    // byte 52: A's group, no offset (its members are leaves): 4 leaves of size 3 inside A's
+    // decoded sphere, cells (x, 5, 5) for x = 6, 4, 1 and 9: S = 4051, 3809, 3446, 4414, i.e.
+    // leaves 2, 1, 0, 3 (the order the rank split left them in)
+    0x7E, 0x98, 0xBE, 0x88, 0x77, 0x08, 0xBE, 0x88, 0x6B, 0xB0, 0xBE, 0x88,
+    0x89, 0xF0, 0xBE, 0x88,
     // byte 68: the end (68 is a multiple of 4: no padding)
   };
   // clang-format on
