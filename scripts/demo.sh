@@ -76,4 +76,10 @@ for splat in circle ellipse; do  # a close-up: no background through the surface
 done
 "$bin/splat-view" -q "$samples/cad.ply" -o "$out/images/cad.exr" --width 800 --height 600
 echo "  out/images/cad.exr (colour + Z, N, A channels)"
+# QSplat: the kitten's splats as a .qs hierarchy, drawn by the QSplat traversal at 1, 4 and 16 px.
+"$bin/build-qsplat" -q "$out/normals/kitten.splk" "$out/images/kitten.qs"
+echo "  out/images/kitten.qs ($(stat -c %s "$out/images/kitten.qs") bytes)"
+for px in 1 4 16; do
+  render "kitten-qsplat-${px}px" "$out/images/kitten.qs" --qsplat-threshold "$px"
+done
 echo "demo: results in $out"

@@ -6,8 +6,8 @@
 
 namespace splatkit::render {
 
-// Bounds: the first root's sphere grown to hold every root; mean_radius and max_radius: those of
-// the decoded leaves (they set the default blending epsilon). Throws Error(kBadInput) naming
+// Bounds, mean_radius and max_radius: those of the decoded leaves (the bounds frame the model as
+// the plain render frames its splats; the radii set the default blending epsilon). Throws Error(kBadInput) naming
 // `name` when the model has no leaves.
 RenderScene make_qsplat_scene(QSplatModel&& model, const std::string& name);
 

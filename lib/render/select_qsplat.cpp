@@ -55,13 +55,10 @@ struct Traversal {
   // below the start go to `deferred` (in order) instead of being visited.
   void visit(uint32_t i, Draws& out, LodStats& st, std::vector<uint32_t>* deferred, int depth,
              int split) const {
-    std::vector<uint32_t> stack{i};
-    std::vector<int> depths{depth};
+    std::vector<std::pair<uint32_t, int>> stack{{i, depth}};
     while (!stack.empty()) {
-      const uint32_t n = stack.back();
-      const int d = depths.back();
+      const auto [n, d] = stack.back();
       stack.pop_back();
-      depths.pop_back();
       ++st.visited;
       float z = 0;
       const int cls = m.child_count[n] && d == 0 ? 2 : classify(n, z);  // roots have no cone
@@ -84,22 +81,19 @@ struct Traversal {
         for (int k = 0; k < kids; ++k) deferred->push_back(m.first_child[n] + k);
         continue;
       }
-      for (int k = kids; k-- > 0;) {
-        stack.push_back(m.first_child[n] + static_cast<uint32_t>(k));
-        depths.push_back(d + 1);
-      }
+      for (int k = kids; k-- > 0;)
+        stack.push_back({m.first_child[n] + static_cast<uint32_t>(k), d + 1});
     }
   }
 };
 
 const std::array<Vec3f, 65536>& linear_palette() {
   static const std::array<Vec3f, 65536> p = [] {
+    float five[32], six[64];  // each channel's 8-bit expansion, made linear once
+    for (int v = 0; v < 32; ++v) five[v] = srgb_to_linear(((v << 3) | (v >> 2)) / 255.0f);
+    for (int v = 0; v < 64; ++v) six[v] = srgb_to_linear(((v << 2) | (v >> 4)) / 255.0f);
     std::array<Vec3f, 65536> t{};
-    for (uint32_t w = 0; w < 65536; ++w) {
-      const auto c = qsplat::decode_rgb565(static_cast<uint16_t>(w));
-      t[w] = {srgb_to_linear(c[0] / 255.0f), srgb_to_linear(c[1] / 255.0f),
-              srgb_to_linear(c[2] / 255.0f)};
-    }
+    for (uint32_t w = 0; w < 65536; ++w) t[w] = {five[w >> 11], six[(w >> 5) & 63u], five[w & 31u]};
     return t;
   }();
   return p;
