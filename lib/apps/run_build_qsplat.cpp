@@ -41,7 +41,7 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
                           " usable points; a QSplat file needs at least 5 (the original viewer "
                           "cannot read a tree of 4 leaves or fewer)");
   const qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
-    return qsplat::build_qsplat_tree(leaves, o.centroid_rule);
+    return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
   });
   const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
   stage.stamp(doc, options);
@@ -73,7 +73,9 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
               {"mean_interior_radius", tree.mean_interior_radius},
               {"leaf_radius_growth_mean", file.leaf_growth_mean},
               {"leaf_radius_growth_max", file.leaf_growth_max},
-              {"mean_interior_radius_centroid_rule", tree.mean_interior_radius_centroid}};
+              {"mean_interior_radius_centroid_rule", tree.mean_interior_radius_centroid},
+              {"tight_over_centroid_radius",
+               tree.mean_interior_radius / tree.mean_interior_radius_centroid}};
   }
   OutputFile* outputs[] = {&out};
   stage.commit(outputs, std::move(report));

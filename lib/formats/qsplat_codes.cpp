@@ -43,9 +43,19 @@ const SphereTables& sphere_tables() {
   return t;
 }
 
-float unwarp(unsigned k) {
+float unwarp_exact(unsigned k) {
   const float t = (static_cast<float>(k) + 0.5f) * (2.0f / static_cast<float>(kNormalSteps)) - 1.0f;
   return std::min(std::max(static_cast<float>(std::tan(t * M_PI * 0.25f)), -1.0f), 1.0f);
+}
+
+// The decoded value of step k of a stored component (the original's UNWARP), tabulated.
+float unwarp(unsigned k) {
+  static const std::array<float, kNormalSteps> t = [] {
+    std::array<float, kNormalSteps> a{};
+    for (unsigned i = 0; i < kNormalSteps; ++i) a[i] = unwarp_exact(i);
+    return a;
+  }();
+  return t[k];
 }
 
 std::array<Vec3f, kNormalCodes> make_normal_table() {
@@ -113,13 +123,17 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
           const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
           if (s < 0) continue;
           const Sphere d = decode_sphere(t.cells[s], parent);
-          const double dist = distance(d.centre, centre);
+          const double room = d.radius - radius;
+          const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+                       dz = d.centre.z - centre[2];
+          const double dist2 = dx * dx + dy * dy + dz * dz;
+          if (room < 0 || dist2 > room * room * (1 + 1e-9)) continue;  // clearly too far
+          const double dist = std::sqrt(dist2);
+          if (dist >= best_d) continue;
           if (dist + radius > d.radius) continue;                // must contain the true sphere
           if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
-          if (dist < best_d) {
-            best_d = dist;
-            best = s;
-          }
+          best_d = dist;
+          best = s;
         }
     if (best >= 0) return best;
   }

@@ -17,28 +17,41 @@ struct Point {
   uint32_t leaf;
 };
 
-// Puts the leaf of rank m - b along the longest axis of [b, e)'s bounding box at m, the smaller
-// ones before it (ties broken by leaf index, so the order is the same on every run).
-void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
-  Vec3f lo = pts[b].p, hi = pts[b].p;
-  for (uint32_t i = b + 1; i < e; ++i)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], pts[i].p[k]);
-      hi[k] = std::max(hi[k], pts[i].p[k]);
-    }
-  const Vec3f ext = hi - lo;
-  const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+struct Box {
+  Vec3f lo, hi;
+};
+
+template <int A>
+void nth_along(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
+  auto key = [](const Point& p) { return A == 0 ? p.p.x : (A == 1 ? p.p.y : p.p.z); };
   std::nth_element(pts.begin() + b, pts.begin() + m, pts.begin() + e,
                    [&](const Point& p, const Point& q) {
-                     return p.p[axis] < q.p[axis] || (p.p[axis] == q.p[axis] && p.leaf < q.leaf);
+                     const float kp = key(p), kq = key(q);
+                     return kp < kq || (kp == kq && p.leaf < q.leaf);
                    });
 }
 
-// The child ranges of node [b, e): cuts[0] = b < cuts[1] < ... < cuts[count] = e. Two cuts along
-// the longest axis, the second within each half, at ranks that make every child but the last a
-// complete subtree of C = 4^k leaves (the largest power of 4 below the node's count): nodes then
-// have 4 children nearly everywhere, which keeps the file near 4/3 nodes per leaf.
-int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, std::array<uint32_t, 5>& cuts) {
+// Puts the leaf of rank m - b along the longest axis of the cell `box` at m, the smaller ones
+// before it (ties broken by leaf index), and cuts the cell there into `left` and `right`. Cells
+// (kd-tree style) stand in for the leaves' bounding boxes: no pass over the leaves to find them.
+void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
+              Box& left, Box& right) {
+  const Vec3f ext = box.hi - box.lo;
+  const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+  if (axis == 0) nth_along<0>(pts, b, e, m);
+  if (axis == 1) nth_along<1>(pts, b, e, m);
+  if (axis == 2) nth_along<2>(pts, b, e, m);
+  left = right = box;
+  left.hi[axis] = right.lo[axis] = pts[m].p[axis];
+}
+
+// The child ranges of node [b, e) with cell `box`: cuts[0] = b < cuts[1] < ... < cuts[count] = e
+// and the children's cells. Two cuts along the cell's longest axis, the second within each half,
+// at ranks that make every child but the last a complete subtree of C = 4^k leaves (the largest
+// power of 4 below the node's count): nodes then have 4 children nearly everywhere, which keeps
+// the file near 4/3 nodes per leaf.
+int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, const Box& box,
+               std::array<uint32_t, 5>& cuts, std::array<Box, 4>& boxes) {
   const uint32_t n = e - b;
   if (n <= 1) return 0;
   if (n <= 4) {
@@ -49,18 +62,20 @@ int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, std::array<uint3
   while (static_cast<uint64_t>(cap) * 4 < n) cap *= 4;
   const uint32_t children = (n + cap - 1) / cap;  // 2..4
   if (children == 2) {
-    split_at(pts, b, e, b + cap);
+    split_at(pts, b, e, b + cap, box, boxes[0], boxes[1]);
     cuts = {b, b + cap, e, 0, 0};
     return 2;
   }
   const uint32_t half = b + 2 * cap;
-  split_at(pts, b, e, half);
-  split_at(pts, b, half, b + cap);
+  Box lo, hi;
+  split_at(pts, b, e, half, box, lo, hi);
+  split_at(pts, b, half, b + cap, lo, boxes[0], boxes[1]);
   if (children == 3) {
+    boxes[2] = hi;
     cuts = {b, b + cap, half, e, 0};
     return 3;
   }
-  split_at(pts, half, e, half + cap);
+  split_at(pts, half, e, half + cap, hi, boxes[2], boxes[3]);
   cuts = {b, b + cap, half, half + cap, e};
   return 4;
 }
@@ -71,24 +86,35 @@ double angle(const Vec3f& a, const Vec3f& b) {
 
 }  // namespace
 
-QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
+QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
+                             bool measure_centroid_rule) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
   std::vector<Point> pts(n);
   for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
   std::vector<uint32_t> rb{0}, re{n};
+  Box root{pts[0].p, pts[0].p};
+  for (const Point& q : pts)
+    for (int k = 0; k < 3; ++k) {
+      root.lo[k] = std::min(root.lo[k], q.p[k]);
+      root.hi[k] = std::max(root.hi[k], q.p[k]);
+    }
+  std::vector<Box> box{root};  // the cells of the current level's nodes
   t.level_begin = {0, 1};
   t.first_child = {0};
   t.child_count = {0};
   for (std::size_t l = 0;; ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
     std::vector<std::array<uint32_t, 5>> cuts(le - lb);
+    std::vector<std::array<Box, 4>> boxes(le - lb);
     std::vector<uint8_t> count(le - lb);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
       for (uint32_t i = r.begin(); i < r.end(); ++i)
-        count[i - lb] = static_cast<uint8_t>(child_cuts(pts, rb[i], re[i], cuts[i - lb]));
+        count[i - lb] = static_cast<uint8_t>(
+            child_cuts(pts, rb[i], re[i], box[i - lb], cuts[i - lb], boxes[i - lb]));
     });
     uint32_t next = le;
+    std::vector<Box> next_box;
     for (uint32_t i = lb; i < le; ++i) {
       const int c = count[i - lb];
       t.first_child[i] = c > 0 ? next : 0;
@@ -96,9 +122,11 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
       for (int k = 0; k < c; ++k) {
         rb.push_back(cuts[i - lb][k]);
         re.push_back(cuts[i - lb][k + 1]);
+        next_box.push_back(re.back() - rb.back() > 4 ? boxes[i - lb][k] : Box{});
       }
       next += static_cast<uint32_t>(c);
     }
+    box = std::move(next_box);
     if (next == le) break;
     t.first_child.resize(next, 0);
     t.child_count.resize(next, 0);
@@ -114,7 +142,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
   t.cones.resize(m);
   const bool color = !leaves.colors.empty();
   if (color) t.colors.resize(m);
-  std::vector<Sphere> centroid(m);
+  std::vector<Sphere> centroid(measure_centroid_rule ? m : 0);
   std::vector<Vec3f> normal(m);
   std::vector<float> cone(m);
   std::vector<std::array<uint8_t, 3>> rgb(color ? m : 0);
@@ -126,14 +154,15 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
             const int c = t.child_count[i];
             if (c == 0) {
               const uint32_t f = t.leaf[i];
-              t.spheres[i] = centroid[i] = {leaves.positions[f], leaves.radii[f]};
+              t.spheres[i] = {leaves.positions[f], leaves.radii[f]};
+              if (measure_centroid_rule) centroid[i] = t.spheres[i];
               normal[i] = leaves.normals[f];
               cone[i] = 0;
               if (color) rgb[i] = leaves.colors[f];
             } else {
               const uint32_t f = t.first_child[i];
               t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
-              centroid[i] = enclose_spheres(&centroid[f], c, true);
+              if (measure_centroid_rule) centroid[i] = enclose_spheres(&centroid[f], c, true);
               Vec3f sum{0, 0, 0};
               for (int k = 0; k < c; ++k) sum += normal[f + k];
               normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
@@ -164,7 +193,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule) {
   for (std::size_t i = 0; i < m; ++i)
     if (t.child_count[i] > 0) {
       sum += t.spheres[i].radius;
-      sum_centroid += centroid[i].radius;
+      if (measure_centroid_rule) sum_centroid += centroid[i].radius;
       ++interior;
     }
   t.mean_interior_radius = interior ? sum / interior : 0;

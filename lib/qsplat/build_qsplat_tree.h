@@ -1,7 +1,8 @@
 // The QSplat bounding-sphere hierarchy over a set of leaves [Rusinkiewicz00], breadth first.
 //
-// Split: a range of more than 4 leaves is cut by rank along the longest axis of its centres'
-// bounding box, and each half of more than C leaves again along its own longest axis, giving 2–4
+// Split: a range of more than 4 leaves is cut by rank along the longest axis of its cell (the
+// kd-tree cell the cuts above it leave; the root's is the centres' bounding box), and each half
+// of more than C leaves again along the longest axis of its own cell, giving 2–4
 // children, each but the last a complete subtree of C = 4^k leaves (the original also cuts at
 // ranks, choosing among them by volume; these ranks keep nodes at 4 children nearly everywhere,
 // about 4/3 nodes per leaf). A range of 2–4 leaves becomes one node over those leaves. Interior
@@ -39,6 +40,9 @@ struct QSplatTree {
 };
 
 // Precondition: leaves.size() >= 2. `centroid_rule`: the original's spheres instead of tight ones.
-QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule = false);
+// `measure_centroid_rule`: also compute mean_interior_radius_centroid (costs a second sphere per
+// node).
+QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule = false,
+                             bool measure_centroid_rule = true);
 
 }  // namespace splatkit::qsplat

@@ -54,20 +54,29 @@ Sphere enclose_spheres(const Sphere* s, int count, bool centroid_rule) {
     hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
   }
   consider({(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2});
+  // The pair whose spheres reach farthest apart supports the minimal sphere when two do.
+  int pi = 0, pj = 1;
+  double widest = -1;
   for (int i = 0; i < count; ++i)
     for (int j = i + 1; j < count; ++j) {
-      const D3 a = d3(s[i].centre), b = d3(s[j].centre);
-      const double d = dist(a, b), ra = s[i].radius, rb = s[j].radius;
-      if (d + rb <= ra) {
-        consider(a);
-      } else if (d + ra <= rb) {
-        consider(b);
-      } else {
-        // The pair's sphere spans from a's far side to b's far side along the line a -> b.
-        const double R = (d + ra + rb) / 2, t = (R - ra) / d;
-        consider({a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t});
+      const double w = dist(d3(s[i].centre), d3(s[j].centre)) + s[i].radius + s[j].radius;
+      if (w > widest) {
+        widest = w;
+        pi = i;
+        pj = j;
       }
     }
+  const D3 a = d3(s[pi].centre), b = d3(s[pj].centre);
+  const double d = dist(a, b), ra = s[pi].radius, rb = s[pj].radius;
+  if (d + rb <= ra) {
+    consider(a);
+  } else if (d + ra <= rb) {
+    consider(b);
+  } else {
+    // The pair's sphere spans from a's far side to b's far side along the line a -> b.
+    const double R = (d + ra + rb) / 2, t = (R - ra) / d;
+    consider({a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t});
+  }
   return best;
 }
 

@@ -79,20 +79,26 @@ QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
                               (cloud.has_normals() ? "radii" : "normals") +
                               " (and no faces); run estimate-normals first");
   QSplatLeaves out;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
+  const std::size_t n = cloud.size();
+  out.positions.reserve(n);
+  out.normals.reserve(n);
+  out.radii.reserve(n);
+  out.source.reserve(n);
+  if (cloud.has_colors()) out.colors.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
     const float r = cloud.radii[i];
     const Vec3f& nv = cloud.normals[i];
-    const std::string where = "splat " + std::to_string(i) + ": ";
     if (r == 0) {
       ++out.dropped_zero_radius;
       continue;
     }
     if (!(std::isfinite(r) && r > 0))
-      throw_bad_input(name, where + "radius " + std::to_string(r) + " is not a positive number");
+      throw_bad_input(name, "splat " + std::to_string(i) + ": radius " + std::to_string(r) +
+                                " is not a positive number");
     const float len2 = squared_norm(nv);
     if (!(std::isfinite(len2) && len2 > 0))
-      throw_bad_input(name, where + "normal is zero or not finite");
-    add_leaf(out, cloud, i, normalized(nv), r);
+      throw_bad_input(name, "splat " + std::to_string(i) + ": normal is zero or not finite");
+    add_leaf(out, cloud, i, len2 == 1.0f ? nv : normalized(nv), r);
   }
   return out;
 }
