@@ -30,7 +30,7 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   if (output != "-" && !std::string_view(output).ends_with(".qs"))
     throw_usage("OUT must end in .qs or be '-': " + output);
   Stage stage("build-qsplat", o.paths);
-  LoadedCloud doc = stage.read({}, progress);
+  LoadedCloud doc = stage.read(o.read, progress);
   qsplat::QSplatLeaves leaves = stage.phase("leaves", "collecting the leaves", [&] {
     return qsplat::make_qsplat_leaves(doc.cloud, stage.input_name());
   });

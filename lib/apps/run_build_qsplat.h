@@ -5,12 +5,14 @@
 
 #include "apps/stage.h"
 #include "apps/stage_types.h"
+#include "formats/read_cloud.h"
 #include "splatkit/progress.h"
 
 namespace splatkit::apps {
 
 struct BuildQSplatOptions {
   StagePaths paths;            // OUT: .qs or "-"
+  ReadOptions read;            // read.columns: text input's column layout
   bool no_color = false;       // drop the colours (4-byte nodes)
   bool centroid_rule = false;  // the original's node spheres (centroid + farthest) instead of tight
 };

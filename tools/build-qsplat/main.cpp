@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--report", o.paths.report,
                  "Write the counts (leaves, dropped points, nodes, levels, bytes per leaf, mean "
                  "node radius against the centroid rule) and timings as JSON");
+  tool.add_columns_option(o.read.columns);
   tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_build_qsplat(o, progress);
