@@ -86,7 +86,7 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
         << " bytes (" << static_cast<double>(file.bytes.size()) / static_cast<double>(file.leaves)
         << " per leaf)";
   if (dropped > 0) extra << ", " << dropped << " points dropped";
-  return {file.leaves, "leaves", extra.str()};
+  return {file.leaves, "points", extra.str()};  // the points kept, one leaf each
 }
 
 }  // namespace splatkit::apps
