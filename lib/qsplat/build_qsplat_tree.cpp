@@ -45,26 +45,34 @@ void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const
   left.hi[axis] = right.lo[axis] = pts[m].p[axis];
 }
 
-// The child ranges of node [b, e) with cell `box`: cuts[0] = b < cuts[1] < ... < cuts[count] = e
-// and the children's cells. Two cuts along the cell's longest axis, the second within each half,
-// at ranks that make every child but the last a complete subtree of C = 4^k leaves (the largest
-// power of 4 below the node's count): nodes then have 4 children nearly everywhere, which keeps
-// the file near 4/3 nodes per leaf.
-int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, const Box& box,
-               std::array<uint32_t, 5>& cuts, std::array<Box, 4>& boxes) {
-  const uint32_t n = e - b;
+// How many leaves each child of a node of n leaves gets: none for a leaf (n = 1), n single
+// leaves for n <= 4, else C = 4^k (the largest power of 4 below n) for every child but the last,
+// which gets the rest. Returns the number of children. Complete subtrees of 4^k leaves keep
+// nodes at 4 children nearly everywhere, hence near 4/3 nodes per leaf.
+int child_sizes(uint32_t n, uint32_t sizes[4]) {
   if (n <= 1) return 0;
   if (n <= 4) {
-    for (uint32_t i = 0; i <= n; ++i) cuts[i] = b + i;
+    for (uint32_t i = 0; i < n; ++i) sizes[i] = 1;
     return static_cast<int>(n);
   }
   uint32_t cap = 4;
   while (static_cast<uint64_t>(cap) * 4 < n) cap *= 4;
-  const uint32_t children = (n + cap - 1) / cap;  // 2..4
+  const auto children = static_cast<int>((n + cap - 1) / cap);  // 2..4
+  for (int k = 0; k + 1 < children; ++k) sizes[k] = cap;
+  sizes[children - 1] = n - static_cast<uint32_t>(children - 1) * cap;
+  return children;
+}
+
+// Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
+// consecutive ranges: two cuts along the cell's longest axis, the second within each half; the
+// children's cells go to `boxes`.
+void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e, const Box& box, Box boxes[4]) {
+  uint32_t sizes[4];
+  const int children = child_sizes(e - b, sizes);
+  const uint32_t cap = sizes[0];
   if (children == 2) {
     split_at(pts, b, e, b + cap, box, boxes[0], boxes[1]);
-    cuts = {b, b + cap, e, 0, 0};
-    return 2;
+    return;
   }
   const uint32_t half = b + 2 * cap;
   Box lo, hi;
@@ -72,12 +80,9 @@ int child_cuts(std::vector<Point>& pts, uint32_t b, uint32_t e, const Box& box,
   split_at(pts, b, half, b + cap, lo, boxes[0], boxes[1]);
   if (children == 3) {
     boxes[2] = hi;
-    cuts = {b, b + cap, half, e, 0};
-    return 3;
+    return;
   }
   split_at(pts, half, e, half + cap, hi, boxes[2], boxes[3]);
-  cuts = {b, b + cap, half, half + cap, e};
-  return 4;
 }
 
 double angle(const Vec3f& a, const Vec3f& b) {
@@ -92,42 +97,62 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   const auto n = static_cast<uint32_t>(leaves.size());
   std::vector<Point> pts(n);
   for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
-  std::vector<uint32_t> rb{0}, re{n};
+  std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
   Box root{pts[0].p, pts[0].p};
   for (const Point& q : pts)
     for (int k = 0; k < 3; ++k) {
       root.lo[k] = std::min(root.lo[k], q.p[k]);
       root.hi[k] = std::max(root.hi[k], q.p[k]);
     }
-  std::vector<Box> box{root};  // the cells of the current level's nodes
+  // Cells of the current level's nodes of more than 4 leaves (the only ones cut further), by
+  // their rank among those.
+  std::vector<Box> box{root};
+  std::vector<uint32_t> big{0};  // the current level's node -> index in `box` (or unused)
   t.level_begin = {0, 1};
   t.first_child = {0};
   t.child_count = {0};
   for (std::size_t l = 0;; ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
-    std::vector<std::array<uint32_t, 5>> cuts(le - lb);
-    std::vector<std::array<Box, 4>> boxes(le - lb);
-    std::vector<uint8_t> count(le - lb);
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i)
-        count[i - lb] = static_cast<uint8_t>(
-            child_cuts(pts, rb[i], re[i], box[i - lb], cuts[i - lb], boxes[i - lb]));
-    });
-    uint32_t next = le;
-    std::vector<Box> next_box;
+    // The shape of the next level follows from the counts alone: place it first, then cut the
+    // leaves in parallel, each node writing its children's cells in place.
+    uint32_t next = le, next_big = 0;
     for (uint32_t i = lb; i < le; ++i) {
-      const int c = count[i - lb];
+      uint32_t sizes[4];
+      const int c = child_sizes(size[i], sizes);
       t.first_child[i] = c > 0 ? next : 0;
       t.child_count[i] = static_cast<uint8_t>(c);
-      for (int k = 0; k < c; ++k) {
-        rb.push_back(cuts[i - lb][k]);
-        re.push_back(cuts[i - lb][k + 1]);
-        next_box.push_back(re.back() - rb.back() > 4 ? boxes[i - lb][k] : Box{});
-      }
       next += static_cast<uint32_t>(c);
     }
-    box = std::move(next_box);
     if (next == le) break;
+    rb.resize(next);
+    size.resize(next);
+    std::vector<uint32_t> child_big(next - le, 0);
+    for (uint32_t i = lb; i < le; ++i) {
+      uint32_t sizes[4];
+      const int c = child_sizes(size[i], sizes);
+      uint32_t at = rb[i];
+      for (int k = 0; k < c; ++k) {
+        const uint32_t j = t.first_child[i] + static_cast<uint32_t>(k);
+        rb[j] = at;
+        size[j] = sizes[k];
+        at += sizes[k];
+        if (sizes[k] > 4) child_big[j - le] = next_big++;
+      }
+    }
+    std::vector<Box> next_box(next_big);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
+      for (uint32_t i = r.begin(); i < r.end(); ++i) {
+        if (size[i] <= 4) continue;
+        Box boxes[4];
+        cut_node(pts, rb[i], rb[i] + size[i], box[big[i - lb]], boxes);
+        for (int k = 0; k < t.child_count[i]; ++k) {
+          const uint32_t j = t.first_child[i] + static_cast<uint32_t>(k);
+          if (size[j] > 4) next_box[child_big[j - le]] = boxes[k];
+        }
+      }
+    });
+    box = std::move(next_box);
+    big = std::move(child_big);
     t.first_child.resize(next, 0);
     t.child_count.resize(next, 0);
     t.level_begin.push_back(next);
