@@ -31,9 +31,8 @@ void nth_along(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
                    });
 }
 
-// Puts the leaf of rank m - b along the longest axis of the cell `box` at m, the smaller ones
-// before it (ties broken by leaf index), and cuts the cell there into `left` and `right`. Cells
-// (kd-tree style) stand in for the leaves' bounding boxes: no pass over the leaves to find them.
+// Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it
+// (ties broken by leaf index), and cuts the box there into `left` and `right`.
 void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
               Box& left, Box& right) {
   const Vec3f ext = box.hi - box.lo;
@@ -47,8 +46,10 @@ void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const
 
 // How many leaves each child of a node of n leaves gets: none for a leaf (n = 1), n single
 // leaves for n <= 4, else C = 4^k (the largest power of 4 below n) for every child but the last,
-// which gets the rest. Returns the number of children. Complete subtrees of 4^k leaves keep
-// nodes at 4 children nearly everywhere, hence near 4/3 nodes per leaf.
+// which gets the rest; a rest below C/2 is shared evenly with the child before it, so that no
+// child is much smaller than its siblings (a lone leaf under a large node would get a decoded
+// sphere of at least 1/13 of that node's). Returns the number of children. Complete subtrees of
+// 4^k leaves keep nodes at 4 children nearly everywhere, hence near 4/3 nodes per leaf.
 int child_sizes(uint32_t n, uint32_t sizes[4]) {
   if (n <= 1) return 0;
   if (n <= 4) {
@@ -60,29 +61,40 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
   const auto children = static_cast<int>((n + cap - 1) / cap);  // 2..4
   for (int k = 0; k + 1 < children; ++k) sizes[k] = cap;
   sizes[children - 1] = n - static_cast<uint32_t>(children - 1) * cap;
+  if (sizes[children - 1] < cap / 2) {
+    const uint32_t pair = sizes[children - 2] + sizes[children - 1];
+    sizes[children - 1] = pair / 2;
+    sizes[children - 2] = pair - pair / 2;
+  }
   return children;
 }
 
 // Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
-// consecutive ranges: two cuts along the cell's longest axis, the second within each half; the
-// children's cells go to `boxes`.
-void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e, const Box& box, Box boxes[4]) {
+// consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
+// each half along the longest axis of its part of that box.
+void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
+  Box box{pts[b].p, pts[b].p};
+  for (uint32_t i = b + 1; i < e; ++i)
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = std::min(box.lo[k], pts[i].p[k]);
+      box.hi[k] = std::max(box.hi[k], pts[i].p[k]);
+    }
+  Box boxes[4];
   uint32_t sizes[4];
   const int children = child_sizes(e - b, sizes);
-  const uint32_t cap = sizes[0];
   if (children == 2) {
-    split_at(pts, b, e, b + cap, box, boxes[0], boxes[1]);
+    split_at(pts, b, e, b + sizes[0], box, boxes[0], boxes[1]);
     return;
   }
-  const uint32_t half = b + 2 * cap;
+  const uint32_t half = b + sizes[0] + sizes[1];
   Box lo, hi;
   split_at(pts, b, e, half, box, lo, hi);
-  split_at(pts, b, half, b + cap, lo, boxes[0], boxes[1]);
+  split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
   if (children == 3) {
     boxes[2] = hi;
     return;
   }
-  split_at(pts, half, e, half + cap, hi, boxes[2], boxes[3]);
+  split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]);
 }
 
 double angle(const Vec3f& a, const Vec3f& b) {
@@ -98,24 +110,14 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   std::vector<Point> pts(n);
   for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
   std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
-  Box root{pts[0].p, pts[0].p};
-  for (const Point& q : pts)
-    for (int k = 0; k < 3; ++k) {
-      root.lo[k] = std::min(root.lo[k], q.p[k]);
-      root.hi[k] = std::max(root.hi[k], q.p[k]);
-    }
-  // Cells of the current level's nodes of more than 4 leaves (the only ones cut further), by
-  // their rank among those.
-  std::vector<Box> box{root};
-  std::vector<uint32_t> big{0};  // the current level's node -> index in `box` (or unused)
   t.level_begin = {0, 1};
   t.first_child = {0};
   t.child_count = {0};
   for (std::size_t l = 0;; ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
-    // The shape of the next level follows from the counts alone: place it first, then cut the
-    // leaves in parallel, each node writing its children's cells in place.
-    uint32_t next = le, next_big = 0;
+    // The shape of the next level follows from the counts alone: place it first, then order the
+    // leaves of every node in parallel.
+    uint32_t next = le;
     for (uint32_t i = lb; i < le; ++i) {
       uint32_t sizes[4];
       const int c = child_sizes(size[i], sizes);
@@ -126,7 +128,6 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
     if (next == le) break;
     rb.resize(next);
     size.resize(next);
-    std::vector<uint32_t> child_big(next - le, 0);
     for (uint32_t i = lb; i < le; ++i) {
       uint32_t sizes[4];
       const int c = child_sizes(size[i], sizes);
@@ -136,23 +137,12 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
         rb[j] = at;
         size[j] = sizes[k];
         at += sizes[k];
-        if (sizes[k] > 4) child_big[j - le] = next_big++;
       }
     }
-    std::vector<Box> next_box(next_big);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        if (size[i] <= 4) continue;
-        Box boxes[4];
-        cut_node(pts, rb[i], rb[i] + size[i], box[big[i - lb]], boxes);
-        for (int k = 0; k < t.child_count[i]; ++k) {
-          const uint32_t j = t.first_child[i] + static_cast<uint32_t>(k);
-          if (size[j] > 4) next_box[child_big[j - le]] = boxes[k];
-        }
-      }
+      for (uint32_t i = r.begin(); i < r.end(); ++i)
+        if (size[i] > 4) cut_node(pts, rb[i], rb[i] + size[i]);
     });
-    box = std::move(next_box);
-    big = std::move(child_big);
     t.first_child.resize(next, 0);
     t.child_count.resize(next, 0);
     t.level_begin.push_back(next);

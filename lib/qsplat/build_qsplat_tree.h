@@ -1,11 +1,12 @@
 // The QSplat bounding-sphere hierarchy over a set of leaves [Rusinkiewicz00], breadth first.
 //
-// Split: a range of more than 4 leaves is cut by rank along the longest axis of its cell (the
-// kd-tree cell the cuts above it leave; the root's is the centres' bounding box), and each half
-// of more than C leaves again along the longest axis of its own cell, giving 2–4
-// children, each but the last a complete subtree of C = 4^k leaves (the original also cuts at
-// ranks, choosing among them by volume; these ranks keep nodes at 4 children nearly everywhere,
-// about 4/3 nodes per leaf). A range of 2–4 leaves becomes one node over those leaves. Interior
+// Split: a range of more than 4 leaves is cut by rank along the longest axis of its centres'
+// bounding box, and each half of more than C leaves again along the longest axis of its part of
+// that box, giving 2–4
+// children, each but the last two a complete subtree of C = 4^k leaves and the last two no
+// smaller than C/2 (the original also cuts at ranks, choosing among them by volume; these ranks
+// keep nodes at 4 children nearly everywhere, about 4/3 nodes per leaf, and no leaf alone under a
+// large node). A range of 2–4 leaves becomes one node over those leaves. Interior
 // node: sphere around the child spheres (enclose_spheres.h; tight by default), normal = normalised
 // sum of the children's normals, cone = the largest angle between its decoded normal and any
 // decoded normal below it (so back-face culling with the decoded values is conservative), colour =

@@ -43,41 +43,47 @@ std::string hex(const std::vector<unsigned char>& b) {
 TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
   const QSplatLeaves leaves = line_of_five();
   const QSplatTree tree = build_qsplat_tree(leaves);
-  // Tree: 5 leaves, C = 4: the root has children A (leaves 0..3) and B (leaf 4); A has 4 leaves.
-  ASSERT_EQ(tree.size(), 7u);
+  // Tree: 5 leaves, C = 4: children of 4 and 1 leaves, the lone leaf shared out: A (leaves 0..2,
+  // the 3 smallest x) and B (leaves 3, 4).
+  ASSERT_EQ(tree.size(), 8u);
   EXPECT_EQ(tree.child_count[0], 2);
-  EXPECT_EQ(tree.child_count[1], 4);
-  EXPECT_EQ(tree.child_count[2], 0);
-  // Tight spheres: A spans x in [-0.4, 3.4] -> (1.5, 0, 0) r 1.9; root spans [-0.4, 4.4].
-  EXPECT_FLOAT_EQ(tree.spheres[1].centre.x, 1.5f);
-  EXPECT_FLOAT_EQ(tree.spheres[1].radius, 1.9f);
+  EXPECT_EQ(tree.child_count[1], 3);
+  EXPECT_EQ(tree.child_count[2], 2);
+  // Tight spheres: A spans x in [-0.4, 2.4] -> (1, 0, 0) r 1.4; B [2.6, 4.4] -> (3.5, 0, 0) r 0.9;
+  // the root spans [-0.4, 4.4].
+  EXPECT_FLOAT_EQ(tree.spheres[1].centre.x, 1.0f);
+  EXPECT_FLOAT_EQ(tree.spheres[1].radius, 1.4f);
+  EXPECT_FLOAT_EQ(tree.spheres[2].centre.x, 3.5f);
+  EXPECT_FLOAT_EQ(tree.spheres[2].radius, 0.9f);
   EXPECT_FLOAT_EQ(tree.spheres[0].centre.x, 2.0f);
   EXPECT_FLOAT_EQ(tree.spheres[0].radius, 2.4f);
   const EncodedQSplat e = encode_qsplat(tree, "");
   // clang-format off
   const std::vector<unsigned char> expected = {
-    // fragment header: magic, length 68, 5 leaves, options 0 (no colour)
-    'Q', 'S', 'p', 'l', 'a', 't', '1', '1', 0x00, 0x00, 0x00, 0x44,
+    // fragment header: magic, length 72, 5 leaves, options 0 (no colour)
+    'Q', 'S', 'p', 'l', 'a', 't', '1', '1', 0x00, 0x00, 0x00, 0x48,
     0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x00,
     // root centre (2, 0, 0), radius 2.4 grown by kInteriorMargin (3.0, rounded up: 0x40400001),
     // 2 children
     0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
     0x40, 0x40, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02,
-    // byte 40: root group; offset 12 -> byte 52 (A's group)
+    // byte 40: root group; offset 12 -> byte 52 (A's group, then B's)
     0x00, 0x00, 0x00, 0x0C,
-    // A must hold (1.5, 0, 0) r 1.9 * 1.25: S = 7589 (size 11, cell (0, 1, 1): centre 2 - 3 * 2/13,
-    // radius 3 * 11/13), no grandchildren, 4 children: 7589 << 3 | 3 = 0xED2B.
+    // A must hold (1, 0, 0) r 1.4 * 1.25: S = 7408 (size 9, cell (0, 2, 2): centre
+    // 2 - 3 * 4/13, radius 3 * 9/13), no grandchildren, 3 children: 7408 << 3 | 2 = 0xE782.
     // Normal +Z: A = 4, U = V = 26: Q = 12194, << 2 | cone 0 = 0xBE88.
-    0xED, 0x2B, 0xBE, 0x88,
-    // B, a leaf (4, 0, 0) r 0.4: S = 4414 (size 3, cell (9, 5, 5): centre 2 + 3 * 8/13, radius
-    // 3 * 3/13): 4414 << 3 = 0x89F0
-    0x89, 0xF0, 0xBE, 0x88,
-    // byte 52: A's group, no offset (its members are leaves): 4 leaves of size 3 inside A's
-    // decoded sphere, cells (x, 5, 5) for x = 6, 4, 1 and 9: S = 4051, 3809, 3446, 4414, i.e.
-    // leaves 2, 1, 0, 3 (the order the rank split left them in)
-    0x7E, 0x98, 0xBE, 0x88, 0x77, 0x08, 0xBE, 0x88, 0x6B, 0xB0, 0xBE, 0x88,
-    0x89, 0xF0, 0xBE, 0x88,
-    // byte 68: the end (68 is a multiple of 4: no padding)
+    0xE7, 0x82, 0xBE, 0x88,
+    // B must hold (3.5, 0, 0) r 0.9 * 1.25: S = 7607 (size 11, cell (2, 1, 1): centre
+    // 2 + 3 * 2/13, radius 3 * 11/13), 2 children: 7607 << 3 | 1 = 0xEDB9
+    0xED, 0xB9, 0xBE, 0x88,
+    // byte 52: A's group, no offset (its members are leaves): cells (8, 5, 5) and (5, 5, 5) of
+    // size 3, (1, 4, 4) of size 4: S = 4293, 3930, 4740 = leaves 2, 1, 0 (the order the rank
+    // split left them in)
+    0x86, 0x28, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x94, 0x20, 0xBE, 0x88,
+    // byte 64: B's group, no offset: cells (6, 5, 5) and (9, 5, 5) of size 3: S = 4051, 4414 =
+    // leaves 3, 4
+    0x7E, 0x98, 0xBE, 0x88, 0x89, 0xF0, 0xBE, 0x88,
+    // byte 72: the end (72 is a multiple of 4: no padding)
   };
   // clang-format on
   EXPECT_EQ(e.bytes, expected) << hex(e.bytes);
