@@ -76,4 +76,13 @@ for splat in circle ellipse; do  # a close-up: no background through the surface
 done
 "$bin/splat-view" -q "$samples/cad.ply" -o "$out/images/cad.exr" --width 800 --height 600
 echo "  out/images/cad.exr (colour + Z, N, A channels)"
+# QSplat: 400k coloured splats (two spheres) as a .qs hierarchy, drawn by the QSplat traversal at
+# 1, 4 and 16 px (--stats: nodes visited, culled, splats drawn).
+"$bin/splat-synth" -q two-spheres "$out/images/two-spheres-400k.splk" -n 400000
+"$bin/build-qsplat" -q "$out/images/two-spheres-400k.splk" "$out/images/two-spheres.qs"
+echo "  out/images/two-spheres.qs ($(stat -c %s "$out/images/two-spheres.qs") bytes)"
+for px in 1 4 16; do
+  render "two-spheres-qsplat-${px}px" "$out/images/two-spheres.qs" --qsplat-threshold "$px" \
+    --stats "$out/images/two-spheres-qsplat-${px}px.json"
+done
 echo "demo: results in $out"

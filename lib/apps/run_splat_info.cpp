@@ -8,6 +8,8 @@
 #include <ostream>
 
 #include "formats/describe_cloud.h"
+#include "formats/describe_qsplat.h"
+#include "formats/read_qsplat.h"
 #include "splatkit/error.h"
 
 namespace splatkit::apps {
@@ -17,6 +19,7 @@ namespace {
 nlohmann::json describe(const std::string& path, const ReadOptions& read) {
   try {
     InputStream in(path);
+    if (looks_like_qsplat(in.peek(6))) return describe_qsplat(read_qsplat(in), path);
     auto bytes = in.size_hint();
     const LoadedCloud doc = read_cloud(in, read);
     if (!bytes) bytes = in.offset();
@@ -47,7 +50,8 @@ void run_splat_info(const SplatInfoOptions& o, std::ostream& out, std::ostream& 
       reports.push_back(std::move(report));
     } else {
       if (printed++ > 0) out << "\n";
-      out << describe_cloud_text(report);
+      out << (report.value("format", "") == "qs" ? describe_qsplat_text(report)
+                                                 : describe_cloud_text(report));
     }
   }
   if (o.json) out << (o.files.size() == 1 ? reports[0] : reports).dump(2) << "\n";

@@ -13,8 +13,10 @@
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
+#include "formats/read_qsplat.h"
 #include "render/background_image_writer.h"
 #include "render/camera.h"
+#include "render/qsplat_scene.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
@@ -234,7 +236,7 @@ void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {
 
 nlohmann::json frame_json(const FrameStats& s, double write_s) {
   auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
-  return {{"splats_in", s.splats_in},
+  nlohmann::json j = {{"splats_in", s.splats_in},
           {"splats_drawn", s.splats_drawn},
           {"fragments", s.fragments},
           {"pixels_covered", s.pixels_covered},
@@ -251,6 +253,13 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
             {"frame", ms(s.total_s)},
             {"write", ms(write_s)}}},
           {"splats_per_second", std::round(s.splats_per_second())}};
+  if (s.lod.visited > 0)
+    j["qsplat"] = {{"nodes_visited", s.lod.visited},
+                   {"culled_frustum", s.lod.culled_frustum},
+                   {"culled_cone", s.lod.culled_cone},
+                   {"splats_selected", s.splats_in},
+                   {"splats_drawn", s.splats_drawn}};
+  return j;
 }
 
 // Distinct ids, not counting kNoSurfaceId.
@@ -292,6 +301,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   progress(0.0, "reading");
   const std::string& name = stage.input_name();
   DocumentScene document = stage.phase(nullptr, "reading " + name, [&] {
+    if (looks_like_qsplat(stage.input().peek(6)))  // a .qs hierarchy: QSplat traversal
+      return DocumentScene{make_qsplat_scene(read_qsplat(stage.input()), name), {}, "", ""};
     return scene_from_document(stage.read({}, progress), name);
   });
   apply_colors(r.color_by, document, name);

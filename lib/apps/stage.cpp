@@ -64,10 +64,13 @@ Stage::Stage(std::string tool, StagePaths paths, std::string report_option)
 }
 
 LoadedCloud Stage::read(const ReadOptions& options, const ProgressFn& progress) {
-  return phase("read", "reading " + input_name_, [&] {
-    in_ = std::make_unique<InputStream>(paths_.input);
-    return read_cloud(*in_, options, progress);
-  });
+  return phase("read", "reading " + input_name_,
+               [&] { return read_cloud(input(), options, progress); });
+}
+
+InputStream& Stage::input() {
+  if (!in_) in_ = std::make_unique<InputStream>(paths_.input);
+  return *in_;
 }
 
 void Stage::record(const std::string& key, double seconds) {

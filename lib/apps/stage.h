@@ -45,6 +45,10 @@ class Stage {
   // std::bad_alloc becomes Error(kOutOfMemory) naming IN.
   LoadedCloud read(const ReadOptions& options = {}, const ProgressFn& progress = no_progress());
 
+  // IN, opened on first use (read() reads from it): for a stage that looks at the first bytes
+  // (InputStream::peek) or reads a format other than a cloud (a QSplat .qs file).
+  InputStream& input();
+
   // Runs `work()`, timed under `key` (nullptr: not timed): a std::bad_alloc becomes
   // Error(kOutOfMemory) "out of memory while <doing>", and a bad-input error whose message lacks
   // IN's name gets it in front.

@@ -205,7 +205,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   const auto start = Clock::now();
   const Projection projection = make_projection(camera);
   FrameStats stats;
-  DrawList draws = select_splats(scene, projection);
+  DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod);
   if (!options.surface_ids) draws.surface_ids = nullptr;
   if (!options.clip) {
     draws.clip = nullptr;

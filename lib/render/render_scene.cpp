@@ -1,5 +1,7 @@
 #include "render/render_scene.h"
 
+#include "formats/read_qsplat.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +10,8 @@
 #include "splatkit/error.h"
 
 namespace splatkit::render {
+
+std::size_t RenderScene::size() const { return qsplat ? qsplat->leaves : positions.size(); }
 
 float srgb_to_linear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);

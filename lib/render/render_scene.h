@@ -4,12 +4,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "graph/clip_record.h"
 #include "render/camera.h"
 #include "splatkit/splat_cloud.h"
+
+namespace splatkit {
+struct QSplatModel;  // formats/read_qsplat.h
+}
 
 namespace splatkit::render {
 
@@ -29,8 +34,11 @@ struct RenderScene {
   std::vector<graph::ClipPlane> clip_planes;
   BoundingSphere bounds;  // encloses every disc
   float mean_radius = 0, max_radius = 0;
+  // A QSplat hierarchy (qsplat_scene.h) instead of the arrays above, which then stay empty: each
+  // frame draws the nodes its traversal selects.
+  std::shared_ptr<const QSplatModel> qsplat;
 
-  std::size_t size() const { return positions.size(); }
+  std::size_t size() const;  // splats, or a QSplat hierarchy's leaves
   bool has_clip() const { return !clip.partners.empty(); }
 };
 

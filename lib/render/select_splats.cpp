@@ -1,8 +1,12 @@
 #include "render/select_splats.h"
 
+#include "render/select_qsplat.h"
+
 namespace splatkit::render {
 
-DrawList select_splats(const RenderScene& scene, const Projection&) {
+DrawList select_splats(const RenderScene& scene, const Projection& projection,
+                       float lod_threshold_px, LodStats* stats) {
+  if (scene.qsplat) return select_qsplat(*scene.qsplat, projection, lod_threshold_px, stats);
   DrawList d;
   d.count = scene.size();
   d.positions = scene.positions.data();

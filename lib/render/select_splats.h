@@ -1,10 +1,11 @@
-// Level-of-detail selection: which splats a frame draws. For now every splat of the scene; the
-// QSplat / Sequential Point Tree issues replace this stage and may produce splats that are not in
-// the scene (interior nodes), which is why a DrawList can own its arrays.
+// Level-of-detail selection: which splats a frame draws. Every splat of a plain scene; the nodes
+// of a QSplat hierarchy that its traversal selects (select_qsplat.h), splats that are not in the
+// scene (interior nodes), which is why a DrawList can own its arrays.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "graph/clip_record.h"
@@ -31,8 +32,20 @@ struct DrawList {
   // null (circles).
   const Vec3f* axes = nullptr;
   const float* minor_radii = nullptr;
+  // The arrays above when they are not the scene's (a level-of-detail selection made them).
+  std::shared_ptr<const void> storage;
 };
 
-DrawList select_splats(const RenderScene& scene, const Projection& projection);
+// What a level-of-detail selection did (all zero for a plain scene).
+struct LodStats {
+  uint64_t visited = 0;         // hierarchy nodes looked at
+  uint64_t culled_frustum = 0;  // nodes (with everything below) outside the view frustum
+  uint64_t culled_cone = 0;     // nodes whose normal cone faces away from the eye
+};
+
+// Every splat of a plain scene; for a QSplat scene (RenderScene::qsplat) the nodes the QSplat
+// traversal selects at `lod_threshold_px` (select_qsplat.h).
+DrawList select_splats(const RenderScene& scene, const Projection& projection,
+                       float lod_threshold_px = 1, LodStats* stats = nullptr);
 
 }  // namespace splatkit::render

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
+      "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
       "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
@@ -67,6 +68,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, render::kMaxFragmentsPerPixel));
   app.add_flag("--cull-backfaces", o.render.cull_backfaces,
                "Skip splats facing away (closed, consistently oriented models only)");
+  app.add_option("--qsplat-threshold", o.render.qsplat_threshold_px,
+                 "QSplat .qs input: recurse until a node's projected size is at most PX pixels "
+                 "(1 to 50); nodes are drawn as discs of their sphere's size")
+      ->default_val(1.0f)
+      ->type_name("PX")
+      ->check(splatkit::finite_range(0.25, 50.0));
   app.add_flag("!--no-clip", o.render.clip,
                "Ignore the file's clip partners (CLIP chunk): edges as plain splats give them");
   app.add_flag("!--no-surface-ids", o.render.surface_ids,

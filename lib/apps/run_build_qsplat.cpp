@@ -1,0 +1,92 @@
+#include "apps/run_build_qsplat.h"
+
+#include <sstream>
+#include <string_view>
+
+#include "qsplat/build_qsplat_tree.h"
+#include "qsplat/encode_qsplat.h"
+#include "qsplat/make_qsplat_leaves.h"
+#include "splatkit/error.h"
+
+namespace splatkit::apps {
+
+namespace {
+
+// The comment fragment: the input's PLY comments, then this run's provenance.
+std::string comment_text(const LoadedCloud& doc) {
+  std::string text;
+  const auto it = doc.header.find("comments");
+  if (it != doc.header.end() && it->is_array())
+    for (const auto& c : *it)
+      if (c.is_string()) text += "comment " + c.get<std::string>() + "\n";
+  text += "splatkit " + doc.metadata.dump() + "\n";
+  return text;
+}
+
+}  // namespace
+
+StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& progress) {
+  const std::string& output = o.paths.output;
+  if (output != "-" && !std::string_view(output).ends_with(".qs"))
+    throw_usage("OUT must end in .qs or be '-': " + output);
+  Stage stage("build-qsplat", o.paths);
+  LoadedCloud doc = stage.read(o.read, progress);
+  qsplat::QSplatLeaves leaves = stage.phase("leaves", "collecting the leaves", [&] {
+    return qsplat::make_qsplat_leaves(doc.cloud, stage.input_name());
+  });
+  if (o.no_color) leaves.colors.clear();
+  if (leaves.size() < 5)
+    throw_unsupported(stage.input_name(),
+                      std::to_string(leaves.size()) +
+                          " usable points; a QSplat file needs at least 5 (the original viewer "
+                          "cannot read a tree of 4 leaves or fewer)");
+  const qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
+    return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
+  });
+  const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
+  stage.stamp(doc, options);
+  qsplat::EncodedQSplat file = stage.phase("quantise", "quantising the QSplat tree", [&] {
+    return qsplat::encode_qsplat(tree, comment_text(doc));
+  });
+  const Clock::time_point t0 = Clock::now();
+  OutputFile out(output);
+  out.write(file.bytes.data(), file.bytes.size());
+  stage.record("write", seconds_since(t0));
+
+  nlohmann::json report;
+  if (!o.paths.report.empty()) {
+    const double n = static_cast<double>(file.leaves);
+    report = {{"input_points", doc.cloud.size()},
+              {"input_faces", doc.cloud.face_count()},
+              {"leaves", file.leaves},
+              {"dropped_unused", leaves.dropped_unused},
+              {"dropped_zero_radius", leaves.dropped_zero_radius},
+              {"dropped_zero_normal", leaves.dropped_zero_normal},
+              {"nodes", tree.size()},
+              {"levels", tree.levels() - 1},
+              {"color", !leaves.colors.empty()},
+              {"file_bytes", file.bytes.size()},
+              {"tree_bytes", file.tree_bytes},
+              {"bytes_per_leaf", static_cast<double>(file.bytes.size()) / n},
+              {"tree_bytes_per_leaf", static_cast<double>(file.tree_bytes) / n},
+              {"sphere_rule", o.centroid_rule ? "centroid" : "tight"},
+              {"mean_interior_radius", tree.mean_interior_radius},
+              {"leaf_radius_growth_mean", file.leaf_growth_mean},
+              {"leaf_radius_growth_max", file.leaf_growth_max},
+              {"mean_interior_radius_centroid_rule", tree.mean_interior_radius_centroid},
+              {"tight_over_centroid_radius",
+               tree.mean_interior_radius / tree.mean_interior_radius_centroid}};
+  }
+  OutputFile* outputs[] = {&out};
+  stage.commit(outputs, std::move(report));
+  const uint64_t dropped =
+      leaves.dropped_unused + leaves.dropped_zero_radius + leaves.dropped_zero_normal;
+  std::ostringstream extra;
+  extra << tree.size() << " nodes, " << tree.levels() - 1 << " levels, " << file.bytes.size()
+        << " bytes (" << static_cast<double>(file.bytes.size()) / static_cast<double>(file.leaves)
+        << " per leaf)";
+  if (dropped > 0) extra << ", " << dropped << " points dropped";
+  return {file.leaves, "points", extra.str()};  // the points kept, one leaf each
+}
+
+}  // namespace splatkit::apps

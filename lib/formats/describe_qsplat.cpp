@@ -1,0 +1,55 @@
+#include "formats/describe_qsplat.h"
+
+#include <sstream>
+
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
+  nlohmann::json j;
+  j["file"] = display_name(path);
+  j["format"] = "qs";
+  j["version"] = 11;
+  j["bytes"] = m.file_bytes;
+  j["tree_fragments"] = m.tree_fragments;
+  j["comment_fragments"] = m.comment_fragments;
+  j["levels"] = m.levels;
+  j["nodes"] = m.size() - m.roots.size();  // the file's nodes (the roots live in the headers)
+  j["leaves"] = m.leaves;
+  j["interior_nodes"] = m.size() - m.roots.size() - m.leaves;
+  j["bytes_per_leaf"] = m.leaves ? static_cast<double>(m.file_bytes) / m.leaves : 0.0;
+  j["color"] = m.has_color;
+  if (!m.roots.empty()) {
+    const uint32_t r = m.roots[0];
+    j["root"] = {{"centre", {m.centres[r].x, m.centres[r].y, m.centres[r].z}},
+                 {"radius", m.radii[r]}};
+  }
+  j["comments"] = m.comments;
+  return j;
+}
+
+std::string describe_qsplat_text(const nlohmann::json& j) {
+  std::ostringstream s;
+  s << "file: " << j["file"].get<std::string>() << "\n"
+    << "format: QSplat .qs version 11 (big-endian)\n"
+    << "bytes: " << j["bytes"] << "\n"
+    << "fragments: " << j["tree_fragments"] << " tree, " << j["comment_fragments"] << " comment\n"
+    << "levels: " << j["levels"] << "\n"
+    << "nodes: " << j["nodes"] << " (" << j["interior_nodes"] << " interior)\n"
+    << "leaves: " << j["leaves"] << "\n"
+    << "bytes per leaf: " << j["bytes_per_leaf"].get<double>() << "\n"
+    << "colour: " << (j["color"].get<bool>() ? "yes (5-6-5)" : "no") << "\n";
+  if (j.contains("root"))
+    s << "root sphere: centre (" << j["root"]["centre"][0] << ", " << j["root"]["centre"][1] << ", "
+      << j["root"]["centre"][2] << "), radius " << j["root"]["radius"] << "\n";
+  const std::string c = j["comments"].get<std::string>();
+  if (!c.empty()) {
+    s << "comments:\n";
+    std::istringstream lines(c);
+    for (std::string line; std::getline(lines, line);) s << "  " << line << "\n";
+  }
+  return s.str();
+}
+
+}  // namespace splatkit

@@ -1,0 +1,185 @@
+#include "formats/qsplat_codes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace splatkit::qsplat {
+
+namespace {
+
+constexpr int kN = 13;
+
+struct SphereTables {
+  std::array<SphereCell, kSphereCells> cells{};
+  // [size − 1 + 13·(x + 13·(y + 13·z))] -> S, or -1 for a cell outside the table.
+  std::array<int16_t, kN * kN * kN * kN> index{};
+};
+
+const SphereTables& sphere_tables() {
+  static const SphereTables t = [] {
+    SphereTables s;
+    s.index.fill(-1);
+    const float one_nth = 1.0f / static_cast<float>(kN);
+    const float sqrt3 = std::sqrt(3.0f);
+    int i = 0;
+    for (int size = 1; size <= kN; ++size)
+      for (int x = 0; x < kN + 1 - size; ++x)
+        for (int y = 0; y < kN + 1 - size; ++y)
+          for (int z = 0; z < kN + 1 - size; ++z) {
+            // Float arithmetic in the original's order: the decoded values must match its viewer.
+            const float X = static_cast<float>(size + 2 * x) * one_nth - 1.0f;
+            const float Y = static_cast<float>(size + 2 * y) * one_nth - 1.0f;
+            const float Z = static_cast<float>(size + 2 * z) * one_nth - 1.0f;
+            const float R = static_cast<float>(size) * one_nth;
+            const float lim = 1.0f + sqrt3 * R;
+            if (X * X + Y * Y + Z * Z > lim * lim) continue;
+            s.cells[i] = {X, Y, Z, R};
+            s.index[size - 1 + kN * (x + kN * (y + kN * z))] = static_cast<int16_t>(i);
+            ++i;
+          }
+    return s;
+  }();
+  return t;
+}
+
+float unwarp_exact(unsigned k) {
+  const float t = (static_cast<float>(k) + 0.5f) * (2.0f / static_cast<float>(kNormalSteps)) - 1.0f;
+  return std::min(std::max(static_cast<float>(std::tan(t * M_PI * 0.25f)), -1.0f), 1.0f);
+}
+
+// The decoded value of step k of a stored component (the original's UNWARP), tabulated.
+float unwarp(unsigned k) {
+  static const std::array<float, kNormalSteps> t = [] {
+    std::array<float, kNormalSteps> a{};
+    for (unsigned i = 0; i < kNormalSteps; ++i) a[i] = unwarp_exact(i);
+    return a;
+  }();
+  return t[k];
+}
+
+std::array<Vec3f, kNormalCodes> make_normal_table() {
+  std::array<Vec3f, kNormalCodes> t{};
+  for (int a = 0; a < 6; ++a) {
+    const int axis = a / 2;  // 0: x (u = y, v = z), 1: y (u = z, v = x), 2: z (u = x, v = y)
+    const float sign = (a & 1) ? -1.0f : 1.0f;
+    for (unsigned u = 0; u < kNormalSteps; ++u)
+      for (unsigned v = 0; v < kNormalSteps; ++v) {
+        const float fu = unwarp(u), fv = unwarp(v);
+        const float rest = 1.0f - fu * fu - fv * fv;
+        Vec3f n;
+        n[(axis + 1) % 3] = fu;
+        n[(axis + 2) % 3] = fv;
+        n[axis] = sign * std::sqrt(std::max(rest, 0.0f));
+        if (rest < 0) n = normalized(n);
+        t[(a * kNormalSteps + u) * kNormalSteps + v] = n;
+      }
+  }
+  return t;
+}
+
+const std::array<Vec3f, kNormalCodes>& normal_table() {
+  static const std::array<Vec3f, kNormalCodes> t = make_normal_table();
+  return t;
+}
+
+int warp_index(float c) {
+  const float w = std::min(std::max(static_cast<float>(std::atan(c) * 4.0f / M_PI), -1.0f), 1.0f);
+  return std::min(static_cast<int>((w + 1.0f) * 0.5f * kNormalSteps), kNormalSteps - 1);
+}
+
+double distance(const Vec3f& a, const double b[3]) {
+  const double dx = double{a.x} - b[0], dy = double{a.y} - b[1], dz = double{a.z} - b[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+}  // namespace
+
+const std::array<SphereCell, kSphereCells>& sphere_cells() { return sphere_tables().cells; }
+
+int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
+  const SphereTables& t = sphere_tables();
+  const double pr = parent.radius;
+  const double pc[3] = {parent.centre.x, parent.centre.y, parent.centre.z};
+  double rel[3];
+  for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
+  const int first = std::clamp(static_cast<int>(std::floor(radius / pr * kN)), 1, kN);
+  for (int size = first; size <= kN; ++size) {
+    // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
+    // ones that can contain it.
+    const double slack = static_cast<double>(size) / kN - radius / pr;
+    if (slack < 0) continue;
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::max(0, static_cast<int>(std::ceil(((rel[k] - slack + 1) * kN - size) / 2)));
+      hi[k] =
+          std::min(kN - size, static_cast<int>(std::floor(((rel[k] + slack + 1) * kN - size) / 2)));
+    }
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int x = lo[0]; x <= hi[0]; ++x)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
+          if (s < 0) continue;
+          const Sphere d = decode_sphere(t.cells[s], parent);
+          const double room = d.radius - radius;
+          const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+                       dz = d.centre.z - centre[2];
+          const double dist2 = dx * dx + dy * dy + dz * dz;
+          if (room < 0 || dist2 > room * room * (1 + 1e-9)) continue;  // clearly too far
+          const double dist = std::sqrt(dist2);
+          if (dist >= best_d) continue;
+          if (dist + radius > d.radius) continue;                // must contain the true sphere
+          if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
+          best_d = dist;
+          best = s;
+        }
+    if (best >= 0) return best;
+  }
+  return -1;
+}
+
+int encode_normal(const Vec3f& n) {
+  const float ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+  if (!(ax + ay + az > 0))
+    return (4 * kNormalSteps + kNormalSteps / 2) * kNormalSteps + kNormalSteps / 2;
+  int axis;  // the original's choice of the dominant axis
+  if (ax > ay)
+    axis = ax > az ? 0 : 2;
+  else
+    axis = ay > az ? 1 : 2;
+  const int a = 2 * axis + (n[axis] > 0 ? 0 : 1);
+  const Vec3f m = normalized(n);
+  const int u0 = warp_index(m[(axis + 1) % 3]), v0 = warp_index(m[(axis + 2) % 3]);
+  const std::array<Vec3f, kNormalCodes>& t = normal_table();
+  // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
+  int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
+  float best_dot = -2.0f;
+  const float fu0 = unwarp(static_cast<unsigned>(u0)), fv0 = unwarp(static_cast<unsigned>(v0));
+  if (fu0 * fu0 + fv0 * fv0 <= 1.0f) best_dot = dot(t[best], m);
+  for (int du = -1; du <= 1; ++du)
+    for (int dv = -1; dv <= 1; ++dv) {
+      const int u = u0 + du, v = v0 + dv;
+      if (u < 0 || v < 0 || u >= kNormalSteps || v >= kNormalSteps) continue;
+      const float fu = unwarp(static_cast<unsigned>(u)), fv = unwarp(static_cast<unsigned>(v));
+      if (fu * fu + fv * fv > 1.0f) continue;  // not a unit normal in the original's table
+      const int q = (a * kNormalSteps + u) * kNormalSteps + v;
+      const float d = dot(t[q], m);
+      if (d > best_dot) {
+        best_dot = d;
+        best = q;
+      }
+    }
+  return best;
+}
+
+const Vec3f& decode_normal(int code) { return normal_table()[static_cast<std::size_t>(code)]; }
+
+int encode_cone(double theta) {
+  if (theta > 1.5) return 3;
+  const int c = static_cast<int>(4.0 * std::sqrt(std::sin(std::max(theta, 0.0))));
+  return std::min(c, 3);
+}
+
+}  // namespace splatkit::qsplat

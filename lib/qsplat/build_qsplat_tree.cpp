@@ -1,0 +1,232 @@
+#include "qsplat/build_qsplat_tree.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "qsplat/enclose_spheres.h"
+
+namespace splatkit::qsplat {
+
+namespace {
+
+struct Point {
+  Vec3f p;
+  uint32_t leaf;
+};
+
+struct Box {
+  Vec3f lo, hi;
+};
+
+template <int A>
+void nth_along(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
+  auto key = [](const Point& p) { return A == 0 ? p.p.x : (A == 1 ? p.p.y : p.p.z); };
+  std::nth_element(pts.begin() + b, pts.begin() + m, pts.begin() + e,
+                   [&](const Point& p, const Point& q) {
+                     const float kp = key(p), kq = key(q);
+                     return kp < kq || (kp == kq && p.leaf < q.leaf);
+                   });
+}
+
+// Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it
+// (ties broken by leaf index), and cuts the box there into `left` and `right`.
+void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
+              Box& left, Box& right) {
+  const Vec3f ext = box.hi - box.lo;
+  const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+  if (axis == 0) nth_along<0>(pts, b, e, m);
+  if (axis == 1) nth_along<1>(pts, b, e, m);
+  if (axis == 2) nth_along<2>(pts, b, e, m);
+  left = right = box;
+  left.hi[axis] = right.lo[axis] = pts[m].p[axis];
+}
+
+// How many leaves each child of a node of n leaves gets: none for a leaf (n = 1), n single
+// leaves for n <= 4, else C = 4^k (the largest power of 4 below n) for every child but the last,
+// which gets the rest; a rest below C/2 is shared evenly with the child before it, so that no
+// child is much smaller than its siblings (a lone leaf under a large node would get a decoded
+// sphere of at least 1/13 of that node's). Returns the number of children. Complete subtrees of
+// 4^k leaves keep nodes at 4 children nearly everywhere, hence near 4/3 nodes per leaf.
+int child_sizes(uint32_t n, uint32_t sizes[4]) {
+  if (n <= 1) return 0;
+  if (n <= 4) {
+    for (uint32_t i = 0; i < n; ++i) sizes[i] = 1;
+    return static_cast<int>(n);
+  }
+  uint32_t cap = 4;
+  while (static_cast<uint64_t>(cap) * 4 < n) cap *= 4;
+  const auto children = static_cast<int>((n + cap - 1) / cap);  // 2..4
+  for (int k = 0; k + 1 < children; ++k) sizes[k] = cap;
+  sizes[children - 1] = n - static_cast<uint32_t>(children - 1) * cap;
+  if (sizes[children - 1] < cap / 2) {
+    const uint32_t pair = sizes[children - 2] + sizes[children - 1];
+    sizes[children - 1] = pair / 2;
+    sizes[children - 2] = pair - pair / 2;
+  }
+  return children;
+}
+
+// Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
+// consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
+// each half along the longest axis of its part of that box.
+void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
+  Box box{pts[b].p, pts[b].p};
+  for (uint32_t i = b + 1; i < e; ++i)
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = std::min(box.lo[k], pts[i].p[k]);
+      box.hi[k] = std::max(box.hi[k], pts[i].p[k]);
+    }
+  Box boxes[4];
+  uint32_t sizes[4];
+  const int children = child_sizes(e - b, sizes);
+  if (children == 2) {
+    split_at(pts, b, e, b + sizes[0], box, boxes[0], boxes[1]);
+    return;
+  }
+  const uint32_t half = b + sizes[0] + sizes[1];
+  Box lo, hi;
+  split_at(pts, b, e, half, box, lo, hi);
+  split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
+  if (children == 3) {
+    boxes[2] = hi;
+    return;
+  }
+  split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]);
+}
+
+double angle(const Vec3f& a, const Vec3f& b) {
+  return std::acos(std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0));
+}
+
+}  // namespace
+
+QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
+                             bool measure_centroid_rule) {
+  QSplatTree t;
+  const auto n = static_cast<uint32_t>(leaves.size());
+  std::vector<Point> pts(n);
+  for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
+  std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
+  t.level_begin = {0, 1};
+  t.first_child = {0};
+  t.child_count = {0};
+  for (std::size_t l = 0;; ++l) {
+    const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
+    // The shape of the next level follows from the counts alone: place it first, then order the
+    // leaves of every node in parallel.
+    uint32_t next = le;
+    for (uint32_t i = lb; i < le; ++i) {
+      uint32_t sizes[4];
+      const int c = child_sizes(size[i], sizes);
+      t.first_child[i] = c > 0 ? next : 0;
+      t.child_count[i] = static_cast<uint8_t>(c);
+      next += static_cast<uint32_t>(c);
+    }
+    if (next == le) break;
+    rb.resize(next);
+    size.resize(next);
+    for (uint32_t i = lb; i < le; ++i) {
+      uint32_t sizes[4];
+      const int c = child_sizes(size[i], sizes);
+      uint32_t at = rb[i];
+      for (int k = 0; k < c; ++k) {
+        const uint32_t j = t.first_child[i] + static_cast<uint32_t>(k);
+        rb[j] = at;
+        size[j] = sizes[k];
+        at += sizes[k];
+      }
+    }
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
+      for (uint32_t i = r.begin(); i < r.end(); ++i)
+        if (size[i] > 4) cut_node(pts, rb[i], rb[i] + size[i]);
+    });
+    t.first_child.resize(next, 0);
+    t.child_count.resize(next, 0);
+    t.level_begin.push_back(next);
+  }
+  const std::size_t m = t.first_child.size();
+  t.leaf.assign(m, kNoLeaf);
+  for (std::size_t i = 0; i < m; ++i)
+    if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf;
+  // A leaf's attributes side by side: one cache miss per leaf below, not one per array (the
+  // leaves are visited in tree order, which is random in the input's order).
+  struct Attr {
+    Vec3f normal;
+    float radius;
+    std::array<uint8_t, 3> rgb;
+  };
+  const bool color = !leaves.colors.empty();
+  std::vector<Attr> attr(n);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
+    for (uint32_t i = r.begin(); i < r.end(); ++i)
+      attr[i] = {leaves.normals[i], leaves.radii[i],
+                 color ? leaves.colors[i] : std::array<uint8_t, 3>{0, 0, 0}};
+  });
+
+  t.spheres.resize(m);
+  t.normal_codes.resize(m);
+  t.cones.resize(m);
+  if (color) t.colors.resize(m);
+  std::vector<Sphere> centroid(measure_centroid_rule ? m : 0);
+  std::vector<Vec3f> normal(m);
+  std::vector<float> cone(m);
+  std::vector<std::array<uint8_t, 3>> rgb(color ? m : 0);
+  for (std::size_t l = t.levels(); l-- > 0;) {
+    tbb::parallel_for(
+        tbb::blocked_range<uint32_t>(t.level_begin[l], t.level_begin[l + 1], 1024),
+        [&](const auto& r) {
+          for (uint32_t i = r.begin(); i < r.end(); ++i) {
+            const int c = t.child_count[i];
+            if (c == 0) {
+              const Attr& a = attr[t.leaf[i]];
+              t.spheres[i] = {pts[rb[i]].p, a.radius};
+              if (measure_centroid_rule) centroid[i] = t.spheres[i];
+              normal[i] = a.normal;
+              cone[i] = 0;
+              if (color) rgb[i] = a.rgb;
+            } else {
+              const uint32_t f = t.first_child[i];
+              t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
+              if (measure_centroid_rule) centroid[i] = enclose_spheres(&centroid[f], c, true);
+              Vec3f sum{0, 0, 0};
+              for (int k = 0; k < c; ++k) sum += normal[f + k];
+              normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
+              if (color) {
+                std::array<int, 3> acc{0, 0, 0};
+                for (int k = 0; k < c; ++k)
+                  for (int j = 0; j < 3; ++j) acc[j] += rgb[f + k][j];
+                for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
+              }
+            }
+            t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
+            if (c > 0) {
+              const Vec3f& dn = decode_normal(t.normal_codes[i]);
+              double theta = 0;
+              const uint32_t f = t.first_child[i];
+              for (int k = 0; k < c; ++k)
+                theta =
+                    std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
+              cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
+            }
+            t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
+            if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+          }
+        });
+  }
+  double sum = 0, sum_centroid = 0;
+  std::size_t interior = 0;
+  for (std::size_t i = 0; i < m; ++i)
+    if (t.child_count[i] > 0) {
+      sum += t.spheres[i].radius;
+      if (measure_centroid_rule) sum_centroid += centroid[i].radius;
+      ++interior;
+    }
+  t.mean_interior_radius = interior ? sum / interior : 0;
+  t.mean_interior_radius_centroid = interior ? sum_centroid / interior : 0;
+  return t;
+}
+
+}  // namespace splatkit::qsplat

@@ -1,0 +1,38 @@
+// The bytes of a QSplat .qs v11 file (formats/qsplat.md) for a tree: an optional comment fragment,
+// then one tree fragment, big-endian, readable by the original QSplat viewer.
+//
+// Every child sphere is quantised against its parent's decoded sphere with the conservative
+// encode_sphere (qsplat_codes.h): the decoded sphere of every node contains the node's true
+// sphere (hence every splat below it; for interior nodes, the true sphere grown by
+// kInteriorMargin) and lies inside its decoded parent. Deterministic for any
+// thread count (groups are placed by a prefix sum, then filled in parallel).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "qsplat/build_qsplat_tree.h"
+
+namespace splatkit::qsplat {
+
+struct EncodedQSplat {
+  std::vector<unsigned char> bytes;  // the whole file
+  uint64_t tree_bytes = 0;           // the tree fragment's node groups and offsets
+  uint64_t leaves = 0;
+  // Decoded leaf radius over the leaf's true radius: mean and largest (what quantisation costs
+  // the splats drawn at leaf level).
+  double leaf_growth_mean = 0, leaf_growth_max = 0;
+};
+
+// The room an interior node's decoded sphere keeps around its true one: it must contain the true
+// sphere grown by this fraction of its radius (the root too), so that children touching the true
+// sphere (tight spheres always have two) still find small cells inside the decoded parent.
+inline constexpr double kInteriorMargin = 0.25;
+
+// `comments`: text of the comment fragment (none when empty). Throws Error(kUnsupported) when the
+// tree fragment would exceed 2^31 − 1 bytes (the format's int32 length; several fragments are
+// not written), Error(kInternal) when the tree's root has no grandchildren (fewer than 5 leaves:
+// callers refuse those first).
+EncodedQSplat encode_qsplat(const QSplatTree& tree, const std::string& comments);
+
+}  // namespace splatkit::qsplat

@@ -1,0 +1,112 @@
+#include "qsplat/make_qsplat_leaves.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "splatkit/error.h"
+
+namespace splatkit::qsplat {
+
+namespace {
+
+std::array<uint8_t, 3> to_rgb8(const std::array<uint16_t, 3>& c, int bits) {
+  std::array<uint8_t, 3> out{};
+  for (int k = 0; k < 3; ++k)
+    out[k] = static_cast<uint8_t>(bits == 16 ? (c[k] * 255 + 32767) / 65535 : c[k]);
+  return out;
+}
+
+// Radius of the smallest sphere around triangle (a, b, c): half the longest edge when the
+// triangle is right or obtuse, else the circumradius.
+double triangle_sphere_radius(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const double ab = squared_distance(a, b), bc = squared_distance(b, c),
+               ca = squared_distance(c, a);
+  const double longest = std::max({ab, bc, ca});
+  if (2 * longest >= ab + bc + ca) return 0.5 * std::sqrt(longest);
+  const Vec3f n = cross(b - a, c - a);
+  const double area2 = squared_norm(n);  // (2·area)²
+  if (!(area2 > 0)) return 0.5 * std::sqrt(longest);
+  return std::sqrt(ab * bc * ca / (4.0 * area2));
+}
+
+void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const Vec3f& n, float r) {
+  out.positions.push_back(cloud.positions[i]);
+  out.normals.push_back(n);
+  out.radii.push_back(r);
+  if (cloud.has_colors()) out.colors.push_back(to_rgb8(cloud.colors[i], cloud.color_bits));
+  out.source.push_back(static_cast<uint32_t>(i));
+}
+
+QSplatLeaves from_mesh(const SplatCloud& cloud) {
+  const std::size_t n = cloud.size();
+  std::vector<Vec3f> normal(n);
+  std::vector<double> radius(n, 0.0);
+  std::vector<uint8_t> used(n, 0);
+  for (std::size_t f = 0; f < cloud.face_count(); ++f) {
+    const uint32_t b = cloud.face_offsets[f], e = cloud.face_offsets[f + 1];
+    for (uint32_t k = b; k < e; ++k) used[cloud.face_indices[k]] = 1;
+    for (uint32_t k = b + 1; k + 1 < e; ++k) {
+      const uint32_t t[3] = {cloud.face_indices[b], cloud.face_indices[k],
+                             cloud.face_indices[k + 1]};
+      const Vec3f &p0 = cloud.positions[t[0]], &p1 = cloud.positions[t[1]],
+                  &p2 = cloud.positions[t[2]];
+      const Vec3f fn = cross(p1 - p0, p2 - p0);  // length: twice the area
+      const double r = triangle_sphere_radius(p0, p1, p2);
+      for (uint32_t v : t) {
+        normal[v] += fn;
+        radius[v] = std::max(radius[v], r);
+      }
+    }
+  }
+  QSplatLeaves out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!used[i]) {
+      ++out.dropped_unused;
+    } else if (!(radius[i] > 0)) {
+      ++out.dropped_zero_radius;
+    } else if (!(squared_norm(normal[i]) > 0)) {
+      ++out.dropped_zero_normal;
+    } else {
+      add_leaf(out, cloud, i, normalized(normal[i]), static_cast<float>(radius[i]));
+    }
+  }
+  return out;
+}
+
+QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
+  if (!cloud.has_normals() || !cloud.has_radii())
+    throw_bad_input(name, std::string("the splats have no ") +
+                              (cloud.has_normals() ? "radii" : "normals") +
+                              " (and no faces); run estimate-normals first");
+  QSplatLeaves out;
+  const std::size_t n = cloud.size();
+  out.positions.reserve(n);
+  out.normals.reserve(n);
+  out.radii.reserve(n);
+  out.source.reserve(n);
+  if (cloud.has_colors()) out.colors.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = cloud.radii[i];
+    const Vec3f& nv = cloud.normals[i];
+    if (r == 0) {
+      ++out.dropped_zero_radius;
+      continue;
+    }
+    if (!(std::isfinite(r) && r > 0))
+      throw_bad_input(name, "splat " + std::to_string(i) + ": radius " + std::to_string(r) +
+                                " is not a positive number");
+    const float len2 = squared_norm(nv);
+    if (!(std::isfinite(len2) && len2 > 0))
+      throw_bad_input(name, "splat " + std::to_string(i) + ": normal is zero or not finite");
+    add_leaf(out, cloud, i, len2 == 1.0f ? nv : normalized(nv), r);
+  }
+  return out;
+}
+
+}  // namespace
+
+QSplatLeaves make_qsplat_leaves(const SplatCloud& cloud, const std::string& name) {
+  return cloud.face_count() > 0 ? from_mesh(cloud) : from_splats(cloud, name);
+}
+
+}  // namespace splatkit::qsplat

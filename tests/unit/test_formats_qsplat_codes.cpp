@@ -1,0 +1,115 @@
+// The four .qs v11 quantisers (formats/qsplat_codes.h): the sphere table as the original builds
+// it, and every quantiser's round trip within its stated error; the sphere encoder's
+// conservative guarantee on random children.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "formats/qsplat_codes.h"
+
+namespace splatkit::qsplat {
+namespace {
+
+TEST(QSplatCodes, SphereTableHas7621CellsInTheOriginalOrder) {
+  const auto& t = sphere_cells();
+  ASSERT_EQ(t.size(), 7621u);
+  // size 1, x = 0, y = 0: the first z whose cell is inside |XYZ| <= 1 + sqrt(3)/13 is z = 4 ...
+  // rather than pin that by hand, pin the first and last cells and the count per size.
+  EXPECT_FLOAT_EQ(t[0].r, 1.0f / 13);
+  EXPECT_EQ(t[7620].x, 0.0f);
+  EXPECT_EQ(t[7620].y, 0.0f);
+  EXPECT_EQ(t[7620].z, 0.0f);
+  EXPECT_EQ(t[7620].r, 1.0f);  // the parent itself, exactly
+  for (std::size_t i = 1; i < t.size(); ++i) EXPECT_LE(t[i - 1].r, t[i].r);
+  for (const SphereCell& c : t) {
+    const float lim = 1 + std::sqrt(3.0f) * c.r;
+    EXPECT_LE(c.x * c.x + c.y * c.y + c.z * c.z, lim * lim);
+  }
+}
+
+TEST(QSplatCodes, SphereEncoderIsConservative) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1), f(0, 1);
+  const Sphere parent{{3.5f, -2.0f, 10.0f}, 2.0f};
+  int worst_size = 0;
+  for (int i = 0; i < 20000; ++i) {
+    double d[3] = {u(rng), u(rng), u(rng)};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len > 1) continue;
+    const double rho = (1 - len) * std::pow(f(rng), 3);  // the child lies inside the parent
+    const double c[3] = {parent.centre.x + parent.radius * d[0],
+                         parent.centre.y + parent.radius * d[1],
+                         parent.centre.z + parent.radius * d[2]};
+    const int s = encode_sphere(parent, c, rho * parent.radius);
+    ASSERT_GE(s, 0);
+    const Sphere q = decode_sphere(sphere_cells()[s], parent);
+    const double dx = q.centre.x - c[0], dy = q.centre.y - c[1], dz = q.centre.z - c[2];
+    EXPECT_LE(std::sqrt(dx * dx + dy * dy + dz * dz) + rho * parent.radius, double{q.radius});
+    const double px = q.centre.x - parent.centre.x, py = q.centre.y - parent.centre.y,
+                 pz = q.centre.z - parent.centre.z;
+    EXPECT_LE(std::sqrt(px * px + py * py + pz * pz) + q.radius, double{parent.radius});
+    worst_size = std::max(worst_size, static_cast<int>(std::lround(sphere_cells()[s].r * 13)));
+  }
+  EXPECT_EQ(worst_size, 13);  // a child touching the parent's surface needs the whole parent
+}
+
+TEST(QSplatCodes, SphereEncoderPicksTheSmallestCellThatFits) {
+  const Sphere parent{{0, 0, 0}, 1};
+  const double c[3] = {0, 0, 0};
+  EXPECT_EQ(encode_sphere(parent, c, 1.0), 7620);
+  const int s = encode_sphere(parent, c, 0.3);
+  EXPECT_NEAR(sphere_cells()[s].r, 5.0f / 13, 1e-6);  // 4/13 cannot hold a centred 0.3 sphere
+}
+
+TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {
+  double worst = 0;
+  const int n = 400;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < 2 * n; ++j) {
+      const double z = -1 + (i + 0.5) * 2.0 / n, phi = (j + 0.5) * M_PI / n;
+      const double s = std::sqrt(1 - z * z);
+      const Vec3f v{static_cast<float>(s * std::cos(phi)), static_cast<float>(s * std::sin(phi)),
+                    static_cast<float>(z)};
+      const int q = encode_normal(v);
+      ASSERT_GE(q, 0);
+      ASSERT_LT(q, kNormalCodes);
+      const Vec3f& d = decode_normal(q);
+      EXPECT_NEAR(norm(d), 1.0f, 1e-5f);
+      worst = std::max(worst, std::acos(std::min(1.0, static_cast<double>(dot(d, v)))));
+    }
+  EXPECT_LE(worst, kNormalMaxError);
+  RecordProperty("worst_normal_error_rad", std::to_string(worst));
+  // Axis-aligned normals stay on their axis's face.
+  EXPECT_EQ(encode_normal({0, 0, 1}) / (52 * 52), 4);
+  EXPECT_EQ(encode_normal({0, 0, -1}) / (52 * 52), 5);
+  EXPECT_EQ(encode_normal({-1, 0, 0}) / (52 * 52), 1);
+}
+
+TEST(QSplatCodes, ConeBoundsTheSineOfTheHalfWidth) {
+  EXPECT_EQ(encode_cone(0), 0);
+  EXPECT_EQ(encode_cone(1.6), 3);
+  EXPECT_EQ(encode_cone(M_PI), 3);
+  for (double t = 0; t < 1.5; t += 0.001) {
+    const int c = encode_cone(t);
+    if (c < 3) EXPECT_LT(std::sin(t), decode_cone_sine(c)) << t;
+  }
+  EXPECT_EQ(decode_cone_sine(3), 1.0f);
+}
+
+TEST(QSplatCodes, Rgb565RoundTripsWithinTruncation) {
+  for (int v = 0; v < 256; ++v) {
+    const auto d = decode_rgb565(encode_rgb565(v, v, v));
+    EXPECT_LE(std::abs(d[0] - v), 7);
+    EXPECT_LE(std::abs(d[1] - v), 3);
+    EXPECT_LE(std::abs(d[2] - v), 7);
+  }
+  EXPECT_EQ(encode_rgb565(255, 255, 255), 0xFFFF);
+  EXPECT_EQ(encode_rgb565(255, 0, 0), 0xF800);
+  const auto w = decode_rgb565(0xFFFF);
+  EXPECT_EQ(w[0], 255);
+  EXPECT_EQ(w[1], 255);
+}
+
+}  // namespace
+}  // namespace splatkit::qsplat

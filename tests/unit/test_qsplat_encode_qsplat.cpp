@@ -1,0 +1,251 @@
+// build-qsplat's tree and bytes: a hand-made model pinned byte for byte, and an independent walk
+// of written files as the original viewer walks them (offsets followed, groups decoded against
+// their parent's decoded sphere), checking one leaf per point, conservative spheres and normals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "formats/qsplat_codes.h"
+#include "formats/read_qsplat.h"
+#include "qsplat/build_qsplat_tree.h"
+#include "qsplat/encode_qsplat.h"
+#include "splatkit/synthetic_shapes.h"
+#include "tbb/global_control.h"
+
+namespace splatkit::qsplat {
+namespace {
+
+QSplatLeaves line_of_five() {
+  QSplatLeaves l;
+  for (int i = 0; i < 5; ++i) {
+    l.positions.push_back({static_cast<float>(i), 0, 0});
+    l.normals.push_back({0, 0, 1});
+    l.radii.push_back(0.4f);
+    l.source.push_back(static_cast<uint32_t>(i));
+  }
+  return l;
+}
+
+std::string hex(const std::vector<unsigned char>& b) {
+  std::string s;
+  char buf[8];
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "0x%02X,%s", b[i], (i % 12 == 11) ? "\n" : " ");
+    s += buf;
+  }
+  return s;
+}
+
+TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
+  const QSplatLeaves leaves = line_of_five();
+  const QSplatTree tree = build_qsplat_tree(leaves);
+  // Tree: 5 leaves, C = 4: children of 4 and 1 leaves, the lone leaf shared out: A (leaves 0..2,
+  // the 3 smallest x) and B (leaves 3, 4).
+  ASSERT_EQ(tree.size(), 8u);
+  EXPECT_EQ(tree.child_count[0], 2);
+  EXPECT_EQ(tree.child_count[1], 3);
+  EXPECT_EQ(tree.child_count[2], 2);
+  // Tight spheres: A spans x in [-0.4, 2.4] -> (1, 0, 0) r 1.4; B [2.6, 4.4] -> (3.5, 0, 0) r 0.9;
+  // the root spans [-0.4, 4.4].
+  EXPECT_FLOAT_EQ(tree.spheres[1].centre.x, 1.0f);
+  EXPECT_FLOAT_EQ(tree.spheres[1].radius, 1.4f);
+  EXPECT_FLOAT_EQ(tree.spheres[2].centre.x, 3.5f);
+  EXPECT_FLOAT_EQ(tree.spheres[2].radius, 0.9f);
+  EXPECT_FLOAT_EQ(tree.spheres[0].centre.x, 2.0f);
+  EXPECT_FLOAT_EQ(tree.spheres[0].radius, 2.4f);
+  const EncodedQSplat e = encode_qsplat(tree, "");
+  // clang-format off
+  const std::vector<unsigned char> expected = {
+    // fragment header: magic, length 72, 5 leaves, options 0 (no colour)
+    'Q', 'S', 'p', 'l', 'a', 't', '1', '1', 0x00, 0x00, 0x00, 0x48,
+    0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x00,
+    // root centre (2, 0, 0), radius 2.4 grown by kInteriorMargin (3.0, rounded up: 0x40400001),
+    // 2 children
+    0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x40, 0x40, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02,
+    // byte 40: root group; offset 12 -> byte 52 (A's group, then B's)
+    0x00, 0x00, 0x00, 0x0C,
+    // A must hold (1, 0, 0) r 1.4 * 1.25: S = 7408 (size 9, cell (0, 2, 2): centre
+    // 2 - 3 * 4/13, radius 3 * 9/13), no grandchildren, 3 children: 7408 << 3 | 2 = 0xE782.
+    // Normal +Z: A = 4, U = V = 26: Q = 12194, << 2 | cone 0 = 0xBE88.
+    0xE7, 0x82, 0xBE, 0x88,
+    // B must hold (3.5, 0, 0) r 0.9 * 1.25: S = 7607 (size 11, cell (2, 1, 1): centre
+    // 2 + 3 * 2/13, radius 3 * 11/13), 2 children: 7607 << 3 | 1 = 0xEDB9
+    0xED, 0xB9, 0xBE, 0x88,
+    // byte 52: A's group, no offset (its members are leaves): cells (8, 5, 5) and (5, 5, 5) of
+    // size 3, (1, 4, 4) of size 4: S = 4293, 3930, 4740 = leaves 2, 1, 0 (the order the rank
+    // split left them in)
+    0x86, 0x28, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x94, 0x20, 0xBE, 0x88,
+    // byte 64: B's group, no offset: cells (6, 5, 5) and (9, 5, 5) of size 3: S = 4051, 4414 =
+    // leaves 3, 4
+    0x7E, 0x98, 0xBE, 0x88, 0x89, 0xF0, 0xBE, 0x88,
+    // byte 72: the end (72 is a multiple of 4: no padding)
+  };
+  // clang-format on
+  EXPECT_EQ(e.bytes, expected) << hex(e.bytes);
+}
+
+// --- the original viewer's walk, written from the format only ---
+
+uint32_t be32(const unsigned char* p) {
+  return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
+}
+
+struct WalkedLeaf {
+  Sphere sphere;
+  int normal_code;
+};
+
+struct Walk {
+  std::vector<WalkedLeaf> leaves;  // depth first, children in file order
+  std::size_t nodes = 0, bad_parent = 0;
+};
+
+// Follows the offsets as the original draw_hierarchy does: a group starts with an offset when its
+// parent has grandchildren; the children of member i start where those of member i - 1 end.
+void walk_group(const unsigned char* here, int count, const Sphere& parent, bool offset,
+                std::size_t nb, Walk& w) {
+  const unsigned char* there = nullptr;
+  if (offset) {
+    there = here + be32(here);
+    here += 4;
+  }
+  for (int i = 0; i < count; ++i, here += nb) {
+    const unsigned w0 = (unsigned{here[0]} << 8) | here[1];
+    const Sphere s = decode_sphere(sphere_cells()[w0 >> 3], parent);
+    ++w.nodes;
+    const double dx = double{s.centre.x} - parent.centre.x,
+                 dy = double{s.centre.y} - parent.centre.y,
+                 dz = double{s.centre.z} - parent.centre.z;
+    if (std::sqrt(dx * dx + dy * dy + dz * dz) + s.radius > parent.radius) ++w.bad_parent;
+    const int kids = w0 & 3;
+    if (kids == 0) {
+      w.leaves.push_back({s, static_cast<int>(((unsigned{here[2]} << 8) | here[3]) >> 2)});
+      continue;
+    }
+    const bool grand = w0 & 4;
+    walk_group(there, kids + 1, s, grand, nb, w);
+    there += nb * (kids + 1) + (grand ? 4 : 0);
+  }
+}
+
+Walk walk_file(const std::vector<unsigned char>& b) {
+  std::size_t at = 0;
+  while (be32(&b[at + 16]) & 2) at += be32(&b[at + 8]);  // comment fragments
+  const unsigned char* f = &b[at];
+  float v[4];
+  for (int k = 0; k < 4; ++k) {
+    const uint32_t u = be32(f + 20 + 4 * k);
+    std::memcpy(&v[k], &u, 4);
+  }
+  Walk w;
+  walk_group(f + 40, static_cast<int>(be32(f + 36)), {{v[0], v[1], v[2]}, v[3]}, true,
+             (be32(f + 16) & 1) ? 6 : 4, w);
+  EXPECT_EQ(be32(f + 12), w.leaves.size());
+  return w;
+}
+
+// The builder's leaves in the same depth-first order.
+void leaves_depth_first(const QSplatTree& t, uint32_t i, std::vector<uint32_t>& out) {
+  if (t.child_count[i] == 0) {
+    out.push_back(t.leaf[i]);
+    return;
+  }
+  for (int k = 0; k < t.child_count[i]; ++k) leaves_depth_first(t, t.first_child[i] + k, out);
+}
+
+void check_structure(const QSplatLeaves& leaves, bool centroid_rule) {
+  const QSplatTree tree = build_qsplat_tree(leaves, centroid_rule);
+  const EncodedQSplat e = encode_qsplat(tree, "comment made by hand\n");
+  const Walk w = walk_file(e.bytes);
+  ASSERT_EQ(w.leaves.size(), leaves.size());
+  EXPECT_EQ(w.bad_parent, 0u);
+  std::vector<uint32_t> order;
+  leaves_depth_first(tree, 0, order);
+  ASSERT_EQ(order.size(), leaves.size());
+  std::vector<int> seen(leaves.size(), 0);
+  double worst_normal = 0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const uint32_t p = order[k];
+    ++seen[p];
+    const Sphere& s = w.leaves[k].sphere;
+    const Vec3f c = leaves.positions[p];
+    const double dx = double{s.centre.x} - c.x, dy = double{s.centre.y} - c.y,
+                 dz = double{s.centre.z} - c.z;
+    EXPECT_LE(std::sqrt(dx * dx + dy * dy + dz * dz) + leaves.radii[p], double{s.radius}) << p;
+    const Vec3f& n = decode_normal(w.leaves[k].normal_code);
+    worst_normal =
+        std::max(worst_normal, std::acos(std::min(1.0, double{dot(n, leaves.normals[p])})));
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  EXPECT_LE(worst_normal, kNormalMaxError);
+  // The reader agrees with the walk.
+  const QSplatModel m = parse_qsplat(e.bytes, "walk.qs");
+  EXPECT_EQ(m.leaves, leaves.size());
+  EXPECT_EQ(m.size(), w.nodes + 1);
+  EXPECT_EQ(m.comments, "comment made by hand\n");
+  EXPECT_EQ(m.has_color, !leaves.colors.empty());
+}
+
+QSplatLeaves shape_leaves(ShapeKind kind, std::size_t n, bool color) {
+  ShapeOptions o;
+  o.kind = kind;
+  o.points = n;
+  o.random = true;
+  const SplatCloud c = make_shape(o);
+  QSplatLeaves l;
+  l.positions = c.positions;
+  l.normals = c.normals;
+  l.radii = c.radii;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    l.source.push_back(static_cast<uint32_t>(i));
+    if (color) l.colors.push_back({static_cast<uint8_t>(i), static_cast<uint8_t>(i >> 3), 200});
+  }
+  return l;
+}
+
+TEST(QSplatEncode, TheOriginalWalkReachesEveryPointOnceInsideItsLeaf) {
+  check_structure(line_of_five(), false);
+  check_structure(shape_leaves(ShapeKind::kSphere, 5000, false), false);
+  check_structure(shape_leaves(ShapeKind::kTorus, 7001, true), false);
+  check_structure(shape_leaves(ShapeKind::kCadPart, 3000, false), true);
+}
+
+TEST(QSplatEncode, CoincidentPointsStillSplit) {
+  QSplatLeaves l = line_of_five();
+  for (int i = 0; i < 40; ++i) {
+    l.positions.push_back({1, 1, 1});
+    l.normals.push_back({0, 1, 0});
+    l.radii.push_back(0.01f);
+    l.source.push_back(static_cast<uint32_t>(l.source.size()));
+  }
+  check_structure(l, false);
+}
+
+TEST(QSplatEncode, TightSpheresAreSmallerThanTheCentroidRule) {
+  const QSplatTree t = build_qsplat_tree(shape_leaves(ShapeKind::kTorus, 20000, false));
+  EXPECT_LT(t.mean_interior_radius, t.mean_interior_radius_centroid);
+  RecordProperty("tight_over_centroid",
+                 std::to_string(t.mean_interior_radius / t.mean_interior_radius_centroid));
+}
+
+TEST(QSplatEncode, BytesDoNotDependOnTheThreadCount) {
+  const QSplatLeaves l = shape_leaves(ShapeKind::kCadPart, 30000, true);
+  std::vector<unsigned char> one, many;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = encode_qsplat(build_qsplat_tree(l), "x").bytes;
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    many = encode_qsplat(build_qsplat_tree(l), "x").bytes;
+  }
+  EXPECT_EQ(one, many);
+}
+
+}  // namespace
+}  // namespace splatkit::qsplat
