@@ -12,6 +12,7 @@
 
 #include "render/rasterize_tile.h"
 #include "render/select_splats.h"
+#include "render/shade_row.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
@@ -172,16 +173,19 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
     local.counters.overflowed += local.store.overflowed(p);
   }
   auto t2 = Clock::now();
+  // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
+  // that keeps the loops free of branches.
+  static_assert(kTileSize <= kMaxShadeRun);
+  Vec3f colors[kMaxShadeRun];
   for (int y = rect.y0, p = 0; y <= rect.y1; ++y) {
+    shade_row(f.shading, pr, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
     for (int x = rect.x0; x <= rect.x1; ++x, ++p) {
       const PixelSurface& s = local.gbuffer[p];
       const std::size_t out = std::size_t(y) * pr.width + x;
-      if (s.alpha == 0) {
+      if (s.alpha == 0)
         write_background(f, out);
-        continue;
-      }
-      const Vec3f view = -normalized(pr.ray(x + 0.5f, y + 0.5f));
-      write_surface(f, out, s, shade_pixel(f.shading, s.normal, view, s.albedo, s.depth));
+      else
+        write_surface(f, out, s, colors[x - rect.x0]);
     }
   }
   auto t3 = Clock::now();
