@@ -1,6 +1,7 @@
 #include "render/reconstruct_pixel.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace splatkit::render {
 
@@ -11,17 +12,30 @@ struct Fragment {
   uint32_t splat;
 };
 
-inline bool nearer(const Fragment& a, const Fragment& b) {
-  return a.depth < b.depth || (a.depth == b.depth && a.splat < b.splat);
+// (depth, splat) as one integer that orders like (depth, then splat index): the depth's bits
+// made to order as unsigned integers (sign bit set for positive floats, every bit flipped for
+// negative ones; −0 before +0, no NaNs here), the splat index below them.
+inline uint64_t sort_key(float depth, uint32_t splat) {
+  uint32_t b;
+  std::memcpy(&b, &depth, sizeof b);
+  b ^= (b >> 31) != 0 ? 0xffffffffu : 0x80000000u;
+  return uint64_t{b} << 32 | splat;
 }
 
-// Insertion sort: counts are small and often nearly sorted.
-inline void sort_front_to_back(Fragment* f, int n) {
-  for (int i = 1; i < n; ++i) {
-    Fragment x = f[i];
-    int j = i - 1;
-    for (; j >= 0 && nearer(x, f[j]); --j) f[j + 1] = f[j];
-    f[j + 1] = x;
+// Copies the fragments into `f`, sorted front to back (depth, ties by splat index), by rank:
+// fragment i goes to the slot counting the fragments nearer than it. An insertion sort
+// mispredicted about once per fragment, since the arrival order (splat order) says nothing
+// about depth; counting the n² comparisons of one integer key takes a compare and an add with
+// carry each and no branch but the loops over n. A splat adds at most one fragment to a pixel,
+// so the keys are unique and the ranks a permutation.
+inline void sort_front_to_back(const float* depths, const float* weights, const uint32_t* splats,
+                               int n, Fragment* f) {
+  uint64_t key[kMaxFragmentsPerPixel];
+  for (int i = 0; i < n; ++i) key[i] = sort_key(depths[i], splats[i]);
+  for (int i = 0; i < n; ++i) {
+    int rank = 0;
+    for (int j = 0; j < n; ++j) rank += key[j] < key[i];
+    f[rank] = {depths[i], weights[i], splats[i]};
   }
 }
 
@@ -64,8 +78,7 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
   if (count <= 0) return out;
   Fragment f[kMaxFragmentsPerPixel];
   bool joined[kMaxFragmentsPerPixel] = {};
-  for (int k = 0; k < count; ++k) f[k] = {depths[k], weights[k], splats[k]};
-  sort_front_to_back(f, count);
+  sort_front_to_back(depths, weights, splats, count, f);
   const float limit = f[0].depth + options.window;
   while (count > 1 && f[count - 1].depth > limit) --count;
   first_surface(f, count, 0, draws, rasters, options, joined);
