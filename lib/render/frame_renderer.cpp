@@ -136,6 +136,50 @@ void write_surface(const FrameContext& f, std::size_t p, const PixelSurface& s,
   if (out.planes.surface_ids) out.surface_id[p] = s.surface_id;
 }
 
+// Only the 8-bit plane, sRGB-encoded (PNG output, the usual case): the row writers below then
+// take loops without per-pixel plane tests.
+bool rgb8_only(const FrameContext& f) {
+  const FramebufferPlanes& p = f.out.planes;
+  return p.rgb8 && !p.float_color && !p.aovs && !p.surface_ids && f.shading.linear_output;
+}
+
+// Pixels (x0 + i, y), i < count, as background.
+void write_background_row(const FrameContext& f, int x0, int y, int count) {
+  const std::size_t first = std::size_t(y) * f.out.width + x0;
+  if (!rgb8_only(f)) {
+    for (int i = 0; i < count; ++i) write_background(f, first + i);
+    return;
+  }
+  uint8_t* px = f.out.rgb8.data() + 3 * first;
+  for (int i = 0; i < count; ++i, px += 3) std::memcpy(px, f.background_rgb8, 3);
+}
+
+// Pixels (x0 + i, y), i < count, from their G-buffer entries and shaded colours.
+void write_row(const FrameContext& f, int x0, int y, int count, const PixelSurface* g,
+               const Vec3f* colors) {
+  const std::size_t first = std::size_t(y) * f.out.width + x0;
+  if (!rgb8_only(f)) {
+    for (int i = 0; i < count; ++i) {
+      if (g[i].alpha == 0)
+        write_background(f, first + i);
+      else
+        write_surface(f, first + i, g[i], colors[i]);
+    }
+    return;
+  }
+  const SrgbEncoder& enc = srgb_encoder();
+  uint8_t* px = f.out.rgb8.data() + 3 * first;
+  for (int i = 0; i < count; ++i, px += 3) {
+    if (g[i].alpha == 0) {
+      std::memcpy(px, f.background_rgb8, 3);
+    } else {
+      px[0] = enc(colors[i].x);
+      px[1] = enc(colors[i].y);
+      px[2] = enc(colors[i].z);
+    }
+  }
+}
+
 void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   const int tx = static_cast<int>(t % f.bins.tiles_x), ty = static_cast<int>(t / f.bins.tiles_x);
   TileRect rect{tx * kTileSize, ty * kTileSize,
@@ -146,8 +190,7 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
   if (begin == end) {
     auto t0 = Clock::now();
-    for (int y = rect.y0; y <= rect.y1; ++y)
-      for (int x = rect.x0; x <= rect.x1; ++x) write_background(f, std::size_t(y) * pr.width + x);
+    for (int y = rect.y0; y <= rect.y1; ++y) write_background_row(f, rect.x0, y, rect.width());
     local.counters.shade_s += seconds(t0, Clock::now());
     return;
   }
@@ -177,16 +220,9 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   // that keeps the loops free of branches.
   static_assert(kTileSize <= kMaxShadeRun);
   Vec3f colors[kMaxShadeRun];
-  for (int y = rect.y0, p = 0; y <= rect.y1; ++y) {
+  for (int y = rect.y0, p = 0; y <= rect.y1; ++y, p += rect.width()) {
     shade_row(f.shading, pr, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
-    for (int x = rect.x0; x <= rect.x1; ++x, ++p) {
-      const PixelSurface& s = local.gbuffer[p];
-      const std::size_t out = std::size_t(y) * pr.width + x;
-      if (s.alpha == 0)
-        write_background(f, out);
-      else
-        write_surface(f, out, s, colors[x - rect.x0]);
-    }
+    write_row(f, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
   }
   auto t3 = Clock::now();
   local.counters.raster_s += seconds(t0, t1);
