@@ -65,6 +65,24 @@ int first_surface(const Fragment* f, int n, int first, const DrawList& draws,
   return count;
 }
 
+// Without surface ids the first surface is the run of sorted fragments from f[0] that the blend
+// rule chains, so first_surface's marks (every id equal) are a prefix; returns its length. Saves
+// the marks and the blend loop's test of each, a branch that mispredicts often.
+int first_run(const Fragment* f, int n, const SplatRaster* rasters, const BlendOptions& options) {
+  int k = 1;
+  if (options.mode == BlendMode::kZThreshold) {
+    while (k < n && f[k].depth - f[k - 1].depth < options.epsilon) ++k;
+  } else {
+    float range_end = rasters[f[0].splat].zmax;
+    for (; k < n; ++k) {
+      const SplatRaster& r = rasters[f[k].splat];
+      if (r.zmin > range_end) break;
+      range_end = std::max(range_end, r.zmax);
+    }
+  }
+  return k;
+}
+
 }  // namespace
 
 float depth_window(BlendMode mode, float epsilon, float max_radius, int capacity) {
@@ -77,20 +95,26 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
   PixelSurface out;
   if (count <= 0) return out;
   Fragment f[kMaxFragmentsPerPixel];
-  bool joined[kMaxFragmentsPerPixel] = {};
   sort_front_to_back(depths, weights, splats, count, f);
   const float limit = f[0].depth + options.window;
   while (count > 1 && f[count - 1].depth > limit) --count;
-  first_surface(f, count, 0, draws, rasters, options, joined);
   Vec3f normal{0, 0, 0}, albedo{0, 0, 0};
   float depth = 0, weight = 0;
-  for (int k = 0; k < count; ++k) {
-    if (!joined[k]) continue;
-    const float w = f[k].weight;
-    normal += rasters[f[k].splat].normal * w;
-    albedo += (draws.colors ? draws.colors[f[k].splat] : default_albedo) * w;
-    depth += f[k].depth * w;
+  auto blend = [&](const Fragment& g) {
+    const float w = g.weight;
+    normal += rasters[g.splat].normal * w;
+    albedo += (draws.colors ? draws.colors[g.splat] : default_albedo) * w;
+    depth += g.depth * w;
     weight += w;
+  };
+  if (draws.surface_ids == nullptr) {
+    const int joined = first_run(f, count, rasters, options);
+    for (int k = 0; k < joined; ++k) blend(f[k]);
+  } else {
+    bool joined[kMaxFragmentsPerPixel] = {};
+    first_surface(f, count, 0, draws, rasters, options, joined);
+    for (int k = 0; k < count; ++k)
+      if (joined[k]) blend(f[k]);
   }
   // Opaque splats: the first surface covers the pixel fully, so compositing (eq. 5.1) stops here.
   const float inv = 1.0f / weight;
