@@ -203,18 +203,9 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
-  for (int p = 0; p < pixels; ++p) {
-    const int n = local.store.count(p);
-    if (n == 0) {
-      local.gbuffer[p].alpha = 0;
-      continue;
-    }
-    local.gbuffer[p] =
-        reconstruct_pixel(local.store.depths(p), local.store.weights(p), local.store.splats(p), n,
-                          f.draws, f.bins.rasters.data(), f.blend, f.options.default_albedo);
-    ++local.counters.covered;
-    local.counters.overflowed += local.store.overflowed(p);
-  }
+  local.counters.covered +=
+      reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.data(), f.blend,
+                         f.options.default_albedo, local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
   // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
   // that keeps the loops free of branches.

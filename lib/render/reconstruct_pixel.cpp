@@ -89,9 +89,14 @@ float depth_window(BlendMode mode, float epsilon, float max_radius, int capacity
   return mode == BlendMode::kZThreshold ? capacity * epsilon : (capacity + 1) * 2.0f * max_radius;
 }
 
-PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,
-                               int count, const DrawList& draws, const SplatRaster* rasters,
-                               const BlendOptions& options, const Vec3f& default_albedo) {
+namespace {
+
+[[gnu::always_inline]] inline PixelSurface reconstruct(const float* depths, const float* weights,
+                                                       const uint32_t* splats, int count,
+                                                       const DrawList& draws,
+                                                       const SplatRaster* rasters,
+                                                       const BlendOptions& options,
+                                                       const Vec3f& default_albedo) {
   PixelSurface out;
   if (count <= 0) return out;
   Fragment f[kMaxFragmentsPerPixel];
@@ -124,6 +129,32 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
   out.alpha = 1.0f;
   out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
   return out;
+}
+
+}  // namespace
+
+PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,
+                               int count, const DrawList& draws, const SplatRaster* rasters,
+                               const BlendOptions& options, const Vec3f& default_albedo) {
+  return reconstruct(depths, weights, splats, count, draws, rasters, options, default_albedo);
+}
+
+int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& draws,
+                       const SplatRaster* rasters, const BlendOptions& options,
+                       const Vec3f& default_albedo, PixelSurface* out, uint64_t& overflowed) {
+  int covered = 0;
+  for (int p = 0; p < pixels; ++p) {
+    const int n = store.count(p);
+    if (n == 0) {
+      out[p].alpha = 0;
+      continue;
+    }
+    out[p] = reconstruct(store.depths(p), store.weights(p), store.splats(p), n, draws, rasters,
+                         options, default_albedo);
+    ++covered;
+    overflowed += store.overflowed(p);
+  }
+  return covered;
 }
 
 }  // namespace splatkit::render

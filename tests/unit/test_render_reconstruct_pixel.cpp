@@ -148,5 +148,29 @@ TEST(RenderReconstructPixel, AnyArrivalOrderGivesTheSameBits) {
   }
 }
 
+// reconstruct_pixels over a FragmentStore gives reconstruct_pixel's bits for every covered pixel,
+// alpha 0 for the empty ones, and counts covered and overflowed pixels.
+TEST(RenderReconstructPixel, TileFormIsThePixelFormPerPixel) {
+  Fixture fx;
+  const DrawList d = fx.draws();
+  const BlendOptions o{BlendMode::kZThreshold, 0.1f};
+  FragmentStore store;
+  store.reset(4, 3, o.window);
+  store.add(0, 1.0f, 0.5f, 2);
+  store.add(0, 1.05f, 0.25f, 0);
+  store.add(2, 2.0f, 1.0f, 1);
+  for (int k = 0; k < 4; ++k) store.add(3, 1.0f + 0.01f * k, 0.1f * (k + 1), k);  // overflows
+  std::vector<PixelSurface> g(4);
+  uint64_t overflowed = 0;
+  EXPECT_EQ(reconstruct_pixels(store, 4, d, fx.rasters.data(), o, {}, g.data(), overflowed), 3);
+  EXPECT_EQ(overflowed, 1u);
+  EXPECT_EQ(g[1].alpha, 0);
+  for (int p : {0, 2, 3}) {
+    const PixelSurface want = reconstruct_pixel(store.depths(p), store.weights(p), store.splats(p),
+                                                store.count(p), d, fx.rasters.data(), o, {});
+    EXPECT_EQ(std::memcmp(&g[p], &want, sizeof want), 0) << "pixel " << p;
+  }
+}
+
 }  // namespace
 }  // namespace splatkit::render
