@@ -12,6 +12,7 @@
 
 #include "render/rasterize_tile.h"
 #include "render/select_splats.h"
+#include "render/shade_row.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
@@ -135,6 +136,50 @@ void write_surface(const FrameContext& f, std::size_t p, const PixelSurface& s,
   if (out.planes.surface_ids) out.surface_id[p] = s.surface_id;
 }
 
+// Only the 8-bit plane, sRGB-encoded (PNG output, the usual case): the row writers below then
+// take loops without per-pixel plane tests.
+bool rgb8_only(const FrameContext& f) {
+  const FramebufferPlanes& p = f.out.planes;
+  return p.rgb8 && !p.float_color && !p.aovs && !p.surface_ids && f.shading.linear_output;
+}
+
+// Pixels (x0 + i, y), i < count, as background.
+void write_background_row(const FrameContext& f, int x0, int y, int count) {
+  const std::size_t first = std::size_t(y) * f.out.width + x0;
+  if (!rgb8_only(f)) {
+    for (int i = 0; i < count; ++i) write_background(f, first + i);
+    return;
+  }
+  uint8_t* px = f.out.rgb8.data() + 3 * first;
+  for (int i = 0; i < count; ++i, px += 3) std::memcpy(px, f.background_rgb8, 3);
+}
+
+// Pixels (x0 + i, y), i < count, from their G-buffer entries and shaded colours.
+void write_row(const FrameContext& f, int x0, int y, int count, const PixelSurface* g,
+               const Vec3f* colors) {
+  const std::size_t first = std::size_t(y) * f.out.width + x0;
+  if (!rgb8_only(f)) {
+    for (int i = 0; i < count; ++i) {
+      if (g[i].alpha == 0)
+        write_background(f, first + i);
+      else
+        write_surface(f, first + i, g[i], colors[i]);
+    }
+    return;
+  }
+  const SrgbEncoder& enc = srgb_encoder();
+  uint8_t* px = f.out.rgb8.data() + 3 * first;
+  for (int i = 0; i < count; ++i, px += 3) {
+    if (g[i].alpha == 0) {
+      std::memcpy(px, f.background_rgb8, 3);
+    } else {
+      px[0] = enc(colors[i].x);
+      px[1] = enc(colors[i].y);
+      px[2] = enc(colors[i].z);
+    }
+  }
+}
+
 void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   const int tx = static_cast<int>(t % f.bins.tiles_x), ty = static_cast<int>(t / f.bins.tiles_x);
   TileRect rect{tx * kTileSize, ty * kTileSize,
@@ -145,8 +190,7 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
   if (begin == end) {
     auto t0 = Clock::now();
-    for (int y = rect.y0; y <= rect.y1; ++y)
-      for (int x = rect.x0; x <= rect.x1; ++x) write_background(f, std::size_t(y) * pr.width + x);
+    for (int y = rect.y0; y <= rect.y1; ++y) write_background_row(f, rect.x0, y, rect.width());
     local.counters.shade_s += seconds(t0, Clock::now());
     return;
   }
@@ -159,30 +203,17 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
-  for (int p = 0; p < pixels; ++p) {
-    const int n = local.store.count(p);
-    if (n == 0) {
-      local.gbuffer[p].alpha = 0;
-      continue;
-    }
-    local.gbuffer[p] =
-        reconstruct_pixel(local.store.depths(p), local.store.weights(p), local.store.splats(p), n,
-                          f.draws, f.bins.rasters.data(), f.blend, f.options.default_albedo);
-    ++local.counters.covered;
-    local.counters.overflowed += local.store.overflowed(p);
-  }
+  local.counters.covered +=
+      reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.data(), f.blend,
+                         f.options.default_albedo, local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
-  for (int y = rect.y0, p = 0; y <= rect.y1; ++y) {
-    for (int x = rect.x0; x <= rect.x1; ++x, ++p) {
-      const PixelSurface& s = local.gbuffer[p];
-      const std::size_t out = std::size_t(y) * pr.width + x;
-      if (s.alpha == 0) {
-        write_background(f, out);
-        continue;
-      }
-      const Vec3f view = -normalized(pr.ray(x + 0.5f, y + 0.5f));
-      write_surface(f, out, s, shade_pixel(f.shading, s.normal, view, s.albedo, s.depth));
-    }
+  // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
+  // that keeps the loops free of branches.
+  static_assert(kTileSize <= kMaxShadeRun);
+  Vec3f colors[kMaxShadeRun];
+  for (int y = rect.y0, p = 0; y <= rect.y1; ++y, p += rect.width()) {
+    shade_row(f.shading, pr, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
+    write_row(f, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
   }
   auto t3 = Clock::now();
   local.counters.raster_s += seconds(t0, t1);

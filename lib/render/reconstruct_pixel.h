@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "render/fragment_store.h"
 #include "render/select_splats.h"
 #include "render/setup_splats.h"
 
@@ -53,5 +54,13 @@ inline constexpr int kMaxFragmentsPerPixel = 64;
 PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,
                                int count, const DrawList& draws, const SplatRaster* rasters,
                                const BlendOptions& options, const Vec3f& default_albedo);
+
+// A tile's G-buffer: out[p] = reconstruct_pixel of pixel p's fragments in `store`, p < pixels,
+// or alpha 0 (nothing else set) where a pixel has none. Returns the number of covered pixels and
+// adds the overflowed ones to `overflowed`. The same results as calling reconstruct_pixel per
+// pixel, without a call per pixel.
+int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& draws,
+                       const SplatRaster* rasters, const BlendOptions& options,
+                       const Vec3f& default_albedo, PixelSurface* out, uint64_t& overflowed);
 
 }  // namespace splatkit::render

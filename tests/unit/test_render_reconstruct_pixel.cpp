@@ -2,6 +2,8 @@
 // overlaps, the adapted method with surface ids ([IvoMSc] §5.5), the depth window.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <vector>
 
 #include "render/reconstruct_pixel.h"
@@ -104,6 +106,70 @@ TEST(RenderReconstructPixel, DefaultAlbedoWithoutColoursAndDepthWindow) {
   EXPECT_EQ(reconstruct_pixel(depth, weight, splat, 0, d, fx.rasters.data(), o, {}).alpha, 0);
   EXPECT_EQ(depth_window(BlendMode::kZThreshold, 0.1f, 1, 8), 0.8f);
   EXPECT_EQ(depth_window(BlendMode::kZRange, 0.1f, 0.5f, 8), 9.0f);
+}
+
+// The fragments' order in the A-buffer changes nothing, not even the last bit: they are sorted by
+// depth, ties by splat index, before anything is summed. Splats 4 and 2 tie at the nearest depth
+// and belong to different surfaces: the lower index, 2, comes first and names the surface.
+TEST(RenderReconstructPixel, AnyArrivalOrderGivesTheSameBits) {
+  std::vector<Vec3f> pos(6),
+      normals{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.6f, 0.8f, 0}, {0, 0.6f, 0.8f}, {0.8f, 0, 0.6f}};
+  std::vector<float> radii(6, 1.0f);
+  std::vector<Vec3f> colors{{0.1f, 0.2f, 0.3f}, {0.7f, 0.1f, 0.9f}, {0.3f, 0.3f, 0.1f},
+                            {0.5f, 0.9f, 0.2f}, {0.9f, 0.4f, 0.6f}, {0.2f, 0.8f, 0.7f}};
+  std::vector<uint32_t> ids{7, 7, 7, 7, 9, 7};
+  std::vector<SplatRaster> rasters(6);
+  for (int i = 0; i < 6; ++i) rasters[i].normal = normals[i];
+  const float depth_of[] = {1.07f, 1.05f, 1.0f, 1.13f, 1.0f, 1.0333f};
+  const float weight_of[] = {0.3f, 0.71f, 0.13f, 0.9f, 0.55f, 0.37f};
+  for (bool with_ids : {false, true}) {
+    const DrawList d{6,
+                     pos.data(),
+                     normals.data(),
+                     radii.data(),
+                     colors.data(),
+                     with_ids ? ids.data() : nullptr};
+    const BlendOptions o{BlendMode::kZThreshold, 0.05f};
+    uint32_t order[] = {0, 1, 2, 3, 4, 5};
+    PixelSurface first;
+    int permutations = 0;
+    do {
+      float depth[6], weight[6];
+      for (int k = 0; k < 6; ++k) {
+        depth[k] = depth_of[order[k]];
+        weight[k] = weight_of[order[k]];
+      }
+      const PixelSurface s = reconstruct_pixel(depth, weight, order, 6, d, rasters.data(), o, {});
+      if (permutations++ == 0) first = s;
+      ASSERT_EQ(std::memcmp(&s, &first, sizeof s), 0) << "permutation " << permutations;
+    } while (std::next_permutation(order, order + 6));
+    EXPECT_EQ(first.surface_id, with_ids ? 7u : 0u);
+    EXPECT_EQ(first.alpha, 1);
+  }
+}
+
+// reconstruct_pixels over a FragmentStore gives reconstruct_pixel's bits for every covered pixel,
+// alpha 0 for the empty ones, and counts covered and overflowed pixels.
+TEST(RenderReconstructPixel, TileFormIsThePixelFormPerPixel) {
+  Fixture fx;
+  const DrawList d = fx.draws();
+  const BlendOptions o{BlendMode::kZThreshold, 0.1f};
+  FragmentStore store;
+  store.reset(4, 3, o.window);
+  store.add(0, 1.0f, 0.5f, 2);
+  store.add(0, 1.05f, 0.25f, 0);
+  store.add(2, 2.0f, 1.0f, 1);
+  for (int k = 0; k < 4; ++k) store.add(3, 1.0f + 0.01f * k, 0.1f * (k + 1), k);  // overflows
+  std::vector<PixelSurface> g(4);
+  uint64_t overflowed = 0;
+  EXPECT_EQ(reconstruct_pixels(store, 4, d, fx.rasters.data(), o, {}, g.data(), overflowed), 3);
+  EXPECT_EQ(overflowed, 1u);
+  EXPECT_EQ(g[1].alpha, 0);
+  for (int p : {0, 2, 3}) {
+    const PixelSurface want = reconstruct_pixel(store.depths(p), store.weights(p), store.splats(p),
+                                                store.count(p), d, fx.rasters.data(), o, {});
+    EXPECT_EQ(std::memcmp(&g[p], &want, sizeof want), 0) << "pixel " << p;
+  }
 }
 
 }  // namespace

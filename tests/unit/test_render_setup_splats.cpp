@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <vector>
 
 #include "render/setup_splats.h"
+#include "simd_level_test.h"
 
 namespace splatkit::render {
 namespace {
@@ -119,6 +121,55 @@ TEST(RenderSetupSplats, DiscsBehindOrCrossingTheEyeAreNotDrawn) {
   n[2] = {0, 0, -1};
   EXPECT_EQ(setup_splats(draws, proj, {true}, 0, 4, out.data()), 0u);
 }
+
+// setup_splats' vector paths (setup_splats.cpp: the baseline loop and its AVX2 compilation) give
+// the portable path's bytes, for circles and ellipses, on discs in front of the camera, crossing
+// the near plane, behind the eye, edge-on and off screen, with and without back-face culling.
+class RenderSetupSplatsAt : public SimdLevelTest {};
+
+TEST_P(RenderSetupSplatsAt, SameBytesAsThePortablePath) {
+  Camera cam;
+  cam.eye = {0.4f, -6, 1.5f};
+  cam.width = 640;
+  cam.height = 360;
+  const Projection proj = make_projection(cam);
+  const std::size_t count = 1000;  // not a multiple of the 64-splat blocks
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<Vec3f> c(count), n(count), axes(count);
+  std::vector<float> r(count), minor(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    c[i] = Vec3f{u(rng) * 4, u(rng) * 8, u(rng) * 3};
+    n[i] = normalized(Vec3f{u(rng), u(rng), u(rng)});
+    if (i % 17 == 0) n[i] = normalized(Vec3f{0, -6, 0} - c[i]);  // facing the eye, or away
+    const Vec3f any = std::fabs(n[i].x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
+    axes[i] = normalized(cross(n[i], any));
+    r[i] = 0.01f + 0.2f * std::fabs(u(rng));
+    minor[i] = r[i] * (0.125f + 0.875f * std::fabs(u(rng)));
+  }
+  for (bool ellipses : {false, true}) {
+    DrawList draws{count, c.data(), n.data(), r.data(), nullptr, nullptr};
+    if (ellipses) {
+      draws.axes = axes.data();
+      draws.minor_radii = minor.data();
+    }
+    for (bool cull : {false, true}) {
+      std::vector<SplatRaster> want(count), got(count);
+      std::size_t drawn_want;
+      {
+        ScopedSimdLevel portable(SimdLevel::kPortable);
+        drawn_want = setup_splats(draws, proj, {cull}, 0, count, want.data());
+      }
+      EXPECT_EQ(setup_splats(draws, proj, {cull}, 0, count, got.data()), drawn_want);
+      EXPECT_GT(drawn_want, count / 10);
+      for (std::size_t i = 0; i < count; ++i)
+        ASSERT_EQ(std::memcmp(&want[i], &got[i], sizeof(SplatRaster)), 0)
+            << "splat " << i << (ellipses ? " (ellipses)" : " (circles)") << " cull " << cull;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Simd, RenderSetupSplatsAt, kEverySimdLevel, simd_level_param_name);
 
 }  // namespace
 }  // namespace splatkit::render
