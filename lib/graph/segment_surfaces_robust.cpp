@@ -2,6 +2,7 @@
 
 #include "graph/estimate_normal_noise.h"
 #include "graph/lowest_root_union_find.h"
+#include "graph/renumber_surfaces.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -153,20 +154,7 @@ Segmentation segment_surfaces_robust(const NeighborGraph& graph,
   label_the_rest(rows, label, a);
 
   // Labels are splat indices (roots); renumber in order of each surface's lowest splat.
-  Segmentation seg;
-  seg.surface.resize(n);
-  std::vector<uint32_t>& id = b;
-  std::fill(id.begin(), id.end(), kUnset);
-  for (std::size_t i = 0; i < n; ++i) {
-    uint32_t& s = id[label[i]];
-    if (s == kUnset) {
-      s = seg.count();
-      seg.sizes.push_back(0);
-    }
-    seg.surface[i] = s;
-    ++seg.sizes[s];
-  }
-  return seg;
+  return renumber_surfaces(label, static_cast<uint32_t>(n));
 }
 
 }  // namespace splatkit::graph
