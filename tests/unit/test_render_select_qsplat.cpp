@@ -74,7 +74,7 @@ TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
     if (!mask[p]) continue;
     ++pixels;
     for (int c = 0; c < 3; ++c) {
-      const double e = double{a.rgb8[3 * p + c]} - b.rgb8[3 * p + c];
+      const double e = static_cast<double>(a.rgb8[3 * p + c]) - b.rgb8[3 * p + c];
       se += e * e;
     }
   }
