@@ -49,8 +49,8 @@ std::size_t row_size(const NormalOptions& o) { return std::max(o.k, o.radius_k +
 // row left the point's cover cell open (cover_splat.h): a wider row may close it.
 bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<const uint32_t> row,
                std::span<const float> sq_dists, std::span<const Vec3f> final_normals = {}) {
-  const float mean_knn =
-      splat_radius(sq_dists.first(std::min(sq_dists.size(), o.radius_k + 1)), o.radius_k);
+  // The whole row, as the mean-kNN rule always read it: duplicates (distance 0) are skipped.
+  const float mean_knn = splat_radius(sq_dists, o.radius_k);
   if (o.radius_rule == RadiusRule::kMeanKnn) {
     cloud.radii[i] = mean_knn;
     return false;

@@ -19,22 +19,6 @@ cmp -s "$WORK/t1.qs" "$WORK/t2.qs" && pass || fail "1 and 2 threads give differe
 cmp -s "$WORK/t1.qs" "$WORK/torus.qs" && pass || fail "two runs give different .qs bytes"
 
 # A mesh with an unused vertex and a degenerate face: dropped and counted.
-cat >"$WORK/mesh.off" <<'END_OFF'
-OFF
-8 4 0
-0 0 0
-1 0 0
-0 1 0
-1 1 0
-2 0 0
-2 1 0
-9 9 9
-5 5 5
-3 0 1 2
-3 1 3 2
-3 1 4 3
-3 4 5 3
-END_OFF
 cat >"$WORK/degenerate.off" <<'END_OFF'
 OFF
 8 5 0
