@@ -83,9 +83,17 @@ const std::array<Vec3f, kNormalCodes>& normal_table() {
   return t;
 }
 
+// The original's step of a component c: k = int((w + 1) / 2 · 52) with w = atan(c) · 4/π
+// clamped to [−1, 1], i.e. the number of steps k >= 1 with c >= tan((k / 26 − 1) · π/4): counted
+// against those 51 bounds, without an atan per component.
 int warp_index(float c) {
-  const float w = std::min(std::max(static_cast<float>(std::atan(c) * 4.0f / M_PI), -1.0f), 1.0f);
-  return std::min(static_cast<int>((w + 1.0f) * 0.5f * kNormalSteps), kNormalSteps - 1);
+  static const std::array<float, kNormalSteps - 1> bounds = [] {
+    std::array<float, kNormalSteps - 1> b{};
+    for (int k = 1; k < kNormalSteps; ++k)
+      b[k - 1] = static_cast<float>(std::tan((2.0 * k / kNormalSteps - 1.0) * M_PI / 4));
+    return b;
+  }();
+  return static_cast<int>(std::upper_bound(bounds.begin(), bounds.end(), c) - bounds.begin());
 }
 
 double distance(const Vec3f& a, const double b[3]) {
