@@ -14,6 +14,8 @@ struct SphereTables {
   std::array<SphereCell, kSphereCells> cells{};
   // [size − 1 + 13·(x + 13·(y + 13·z))] -> S, or -1 for a cell outside the table.
   std::array<int16_t, kN * kN * kN * kN> index{};
+  // 1 − (|(X, Y, Z)| + R) of each cell, in double: how far inside a unit parent it lies.
+  std::array<double, kSphereCells> inside{};
 };
 
 const SphereTables& sphere_tables() {
@@ -35,6 +37,7 @@ const SphereTables& sphere_tables() {
             const float lim = 1.0f + sqrt3 * R;
             if (X * X + Y * Y + Z * Z > lim * lim) continue;
             s.cells[i] = {X, Y, Z, R};
+            s.inside[i] = 1.0 - (std::sqrt(double{X} * X + double{Y} * Y + double{Z} * Z) + R);
             s.index[size - 1 + kN * (x + kN * (y + kN * z))] = static_cast<int16_t>(i);
             ++i;
           }
@@ -112,6 +115,11 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const int first = std::clamp(static_cast<int>(std::floor(radius / pr * kN)), 1, kN);
+  // The decoded child is computed in float from the parent's float centre: its distance to the
+  // parent's centre may be off by a few units in the last place of the coordinates. A cell more
+  // than that (in parent radii) inside or outside the unit sphere needs no exact check.
+  const double far = std::max({std::fabs(pc[0]), std::fabs(pc[1]), std::fabs(pc[2])}) + pr;
+  const double unsure = 8.0 * std::ldexp(far, -23) / pr + 1e-9;
   for (int size = first; size <= kN; ++size) {
     // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
     // ones that can contain it.
@@ -129,7 +137,7 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int z = lo[2]; z <= hi[2]; ++z) {
           const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
-          if (s < 0) continue;
+          if (s < 0 || t.inside[s] < -unsure) continue;  // clearly outside the parent
           const Sphere d = decode_sphere(t.cells[s], parent);
           const double room = d.radius - radius;
           const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
@@ -138,8 +146,9 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
           if (room < 0 || dist2 > room * room * (1 + 1e-9)) continue;  // clearly too far
           const double dist = std::sqrt(dist2);
           if (dist >= best_d) continue;
-          if (dist + radius > d.radius) continue;                // must contain the true sphere
-          if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
+          if (dist + radius > d.radius) continue;  // must contain the true sphere
+          // ... and lie inside the parent
+          if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) continue;
           best_d = dist;
           best = s;
         }
