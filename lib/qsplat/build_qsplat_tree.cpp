@@ -1,6 +1,7 @@
 #include "qsplat/build_qsplat_tree.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -89,12 +90,18 @@ void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
   const uint32_t half = b + sizes[0] + sizes[1];
   Box lo, hi;
   split_at(pts, b, e, half, box, lo, hi);
-  split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
   if (children == 3) {
-    boxes[2] = hi;
+    split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
     return;
   }
-  split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]);
+  auto left = [&] { split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]); };
+  auto right = [&] { split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]); };
+  if (e - b < (1u << 16)) {
+    left();
+    right();
+  } else {  // the halves in parallel: at the top of the tree there are fewer nodes than threads
+    tbb::parallel_invoke(left, right);
+  }
 }
 
 double angle(const Vec3f& a, const Vec3f& b) {
