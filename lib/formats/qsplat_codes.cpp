@@ -86,6 +86,21 @@ const std::array<Vec3f, kNormalCodes>& normal_table() {
   return t;
 }
 
+// Whether code q's two stored components lie on or inside the unit circle (the original's table
+// holds a unit normal there; the encoder writes no other code).
+const std::array<bool, kNormalCodes>& unit_codes() {
+  static const std::array<bool, kNormalCodes> t = [] {
+    std::array<bool, kNormalCodes> u{};
+    for (int q = 0; q < kNormalCodes; ++q) {
+      const float fu = unwarp(static_cast<unsigned>(q / kNormalSteps % kNormalSteps));
+      const float fv = unwarp(static_cast<unsigned>(q % kNormalSteps));
+      u[q] = fu * fu + fv * fv <= 1.0f;
+    }
+    return u;
+  }();
+  return t;
+}
+
 // The original's step of a component c: k = int((w + 1) / 2 · 52) with w = atan(c) · 4/π
 // clamped to [−1, 1], i.e. the number of steps k >= 1 with c >= tan((k / 26 − 1) · π/4): counted
 // against those 51 bounds, without an atan per component.
@@ -170,18 +185,16 @@ int encode_normal(const Vec3f& n) {
   const Vec3f m = normalized(n);
   const int u0 = warp_index(m[(axis + 1) % 3]), v0 = warp_index(m[(axis + 2) % 3]);
   const std::array<Vec3f, kNormalCodes>& t = normal_table();
+  const std::array<bool, kNormalCodes>& unit = unit_codes();
   // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
   int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
-  float best_dot = -2.0f;
-  const float fu0 = unwarp(static_cast<unsigned>(u0)), fv0 = unwarp(static_cast<unsigned>(v0));
-  if (fu0 * fu0 + fv0 * fv0 <= 1.0f) best_dot = dot(t[best], m);
-  for (int du = -1; du <= 1; ++du)
-    for (int dv = -1; dv <= 1; ++dv) {
-      const int u = u0 + du, v = v0 + dv;
-      if (u < 0 || v < 0 || u >= kNormalSteps || v >= kNormalSteps) continue;
-      const float fu = unwarp(static_cast<unsigned>(u)), fv = unwarp(static_cast<unsigned>(v));
-      if (fu * fu + fv * fv > 1.0f) continue;  // not a unit normal in the original's table
+  float best_dot = unit[best] ? dot(t[best], m) : -2.0f;
+  const int u_lo = std::max(u0 - 1, 0), u_hi = std::min(u0 + 1, kNormalSteps - 1);
+  const int v_lo = std::max(v0 - 1, 0), v_hi = std::min(v0 + 1, kNormalSteps - 1);
+  for (int u = u_lo; u <= u_hi; ++u)
+    for (int v = v_lo; v <= v_hi; ++v) {
       const int q = (a * kNormalSteps + u) * kNormalSteps + v;
+      if (!unit[q]) continue;  // not a unit normal in the original's table
       const float d = dot(t[q], m);
       if (d > best_dot) {
         best_dot = d;
