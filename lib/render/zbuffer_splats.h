@@ -11,6 +11,7 @@
 // thread count.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstring>
@@ -87,15 +88,29 @@ inline bool zbuffer_splat(DepthKeyBuffer& b, const Projection& p, const Vec3f& c
   }
   const float r2 = rp * rp;
   bool any = false;
+  // The columns' squared offsets once, not once per row (small splats; wide ones recompute).
+  constexpr int kColumns = 32;
+  float dx2[kColumns];
+  const int columns = x1 - x0 + 1;
+  for (int i = 0; i < std::min(columns, kColumns); ++i) {
+    const float dx = static_cast<float>(x0 + i) + 0.5f - px;
+    dx2[i] = dx * dx;
+  }
   for (int y = y0; y <= y1; ++y) {
     const float dy = static_cast<float>(y) + 0.5f - py;
     const float rest = r2 - dy * dy;
     const std::size_t row = static_cast<std::size_t>(y) * b.width;
-    for (int x = x0; x <= x1; ++x) {
-      const float dx = static_cast<float>(x) + 0.5f - px;
-      if (dx * dx > rest) continue;
+    for (int i = 0; i < columns; ++i) {
+      float d2;
+      if (i < kColumns) {
+        d2 = dx2[i];
+      } else {
+        const float dx = static_cast<float>(x0 + i) + 0.5f - px;
+        d2 = dx * dx;
+      }
+      if (d2 > rest) continue;
       any = true;
-      put(row + x);
+      put(row + x0 + i);
     }
   }
   return any;

@@ -46,10 +46,11 @@ print(j['time_ms']['frame'], j['time_ms']['select'], q['nodes_visited'], q['cull
       fline=$(awk -v blend="$blend" -v px="$px" -v ms="$ms" -v sel="$sel" -v v="$visited" -v f="$frustum" \
         -v c="$cone" -v s="$selected" -v d="$drawn" 'BEGIN {
         printf "splat-view --blend %s %2d px: %.1f ms/frame (select %.1f ms), %d nodes visited, %d culled by frustum, %d by cone, %d splats drawn = %.1f M splats drawn/s\n",
-               px, ms, sel, v, f, c, d, d / ms / 1e3 }')
+               blend, px, ms, sel, v, f, c, d, d / ms / 1e3 }')
     fi
   done
   echo "$fline"
+done
 done
 "$bin/splat-synth" -q torus "$work/m1.splk" -n 1000000 --random
 for c in color no-color; do
