@@ -61,6 +61,10 @@ class SpatialIndex {
                         std::size_t max_leaf_size = kDefaultLeafSize);
 
   std::size_t size() const { return ids_.size(); }
+  // The points' original indices in tree order (leaf by leaf): a spatial order, in which points
+  // close in space are mostly close in the sequence. Callers that sweep over all points and their
+  // neighbours renumber by it to stay in cache.
+  std::span<const uint32_t> tree_order() const { return ids_; }
   // Bytes held by the index (its arrays' capacities), for memory budgets.
   std::size_t memory_bytes() const;
 
