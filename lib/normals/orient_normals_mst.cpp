@@ -45,11 +45,8 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-// The graph over tree positions: `rank` maps an original index to its tree position, and
-// `positions` and `normals` are in tree order.
-KnnGraph build_graph(const SpatialIndex& index, std::span<const uint32_t> rank,
-                     std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                     std::size_t k) {
+KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> positions,
+                     std::span<const Vec3f> normals, std::size_t k) {
   KnnGraph g;
   g.width = k - 1;
   const std::size_t n = index.size();
@@ -58,15 +55,14 @@ KnnGraph build_graph(const SpatialIndex& index, std::span<const uint32_t> rank,
   index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
                                   std::span<const uint32_t> indices, std::span<const float>) {
     for (std::size_t r = 0; r < queries.size(); ++r) {
-      const uint32_t i = rank[queries[r]];
+      const uint32_t i = queries[r];
       // Column 0 is the point itself; the rest are its neighbours.
       for (std::size_t c = 1; c < k; ++c) {
-        const uint32_t o = indices[r * k + c];
-        if (o == kNone) continue;
-        const uint32_t j = rank[o];
+        const uint32_t j = indices[r * k + c];
         const std::size_t e = i * g.width + (c - 1);
         g.neighbors[e] = j;
-        g.keys[e] = weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
+        if (j != kNone)
+          g.keys[e] = weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
       }
     }
   });
@@ -155,18 +151,15 @@ Adjacency forest_adjacency(const std::vector<std::pair<uint32_t, uint32_t>>& tre
 }
 
 // +1 / -1 per point: the sign that makes normals[i] consistent over its tree and outward at the
-// component's top-most point (ties: the smallest original index, `order` mapping tree positions
-// to original indices). Returns the number of components.
+// component's top-most point. Returns the number of components.
 std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                            std::span<const uint32_t> order, const Adjacency& adj,
-                            const std::vector<uint32_t>& root, std::vector<int8_t>& sign) {
+                            const Adjacency& adj, const std::vector<uint32_t>& root,
+                            std::vector<int8_t>& sign) {
   const std::size_t n = positions.size();
   std::vector<uint32_t> seed(n, kNone);  // per root: its component's top-most point
   for (std::size_t i = 0; i < n; ++i) {
     uint32_t& s = seed[root[i]];
-    if (s == kNone || positions[i].z > positions[s].z ||
-        (positions[i].z == positions[s].z && order[i] < order[s]))
-      s = static_cast<uint32_t>(i);
+    if (s == kNone || positions[i].z > positions[s].z) s = static_cast<uint32_t>(i);
   }
   sign.assign(n, 0);
   std::size_t components = 0;
@@ -202,23 +195,10 @@ OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f>
   OrientStats stats;
   if (n == 0) return stats;
 
-  // Everything below runs over tree positions (SpatialIndex::tree_order), where the neighbours
-  // of a point are mostly near it in memory: over original indices a shuffled cloud made the
-  // union-find and the propagation miss the cache at every step.
-  const std::span<const uint32_t> order = index.tree_order();
-  std::vector<uint32_t> rank(n);
-  std::vector<Vec3f> pos(n), nor(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-    for (std::size_t t = r.begin(); t < r.end(); ++t) {
-      rank[order[t]] = static_cast<uint32_t>(t);
-      pos[t] = positions[order[t]];
-      nor[t] = normals[order[t]];
-    }
-  });
   std::vector<uint32_t> root;
   std::vector<std::pair<uint32_t, uint32_t>> tree;
   {
-    const KnnGraph graph = build_graph(index, rank, pos, nor, std::min(k, n));
+    const KnnGraph graph = build_graph(index, positions, normals, std::min(k, n));
     tree = graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
                ? spanning_forest<uint32_t>(graph, n, root)
                : spanning_forest<uint64_t>(graph, n, root);
@@ -227,11 +207,11 @@ OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f>
   {
     const Adjacency adj = forest_adjacency(tree, n);
     tree = {};
-    stats.components = propagate_signs(pos, nor, order, adj, root, sign);
+    stats.components = propagate_signs(positions, normals, adj, root, sign);
   }
-  for (std::size_t t = 0; t < n; ++t) {
-    if (sign[t] < 0) {
-      normals[order[t]] = -normals[order[t]];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (sign[i] < 0) {
+      normals[i] = -normals[i];
       ++stats.flipped;
     }
   }

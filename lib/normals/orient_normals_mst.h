@@ -13,10 +13,9 @@
 // 45° keep a = n_i·n_j: the mirror reads the edge direction, which position noise tilts (measured:
 // the mirror everywhere turned half of the noisy CAD part inward). Weight 1 − |a|, quantised to
 // kOrientBuckets levels of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting
-// sort with ties broken by edge order (the point's place in the spatial index's tree order, then
-// neighbour rank); the minimum spanning forest comes from Kruskal with union-find; propagation
-// flips n_j when a < 0, breadth-first from each component's seed. All of it runs over the points
-// renumbered in tree order, where neighbours are close in memory. Limitation: two sides of a part thinner than the kNN reach, with
+// sort with ties broken by edge order (point index, then neighbour rank); the minimum spanning
+// forest comes from Kruskal with union-find; propagation flips n_j when a < 0, breadth-first
+// from each component's seed. Limitation: two sides of a part thinner than the kNN reach, with
 // antiparallel normals, look like one consistently flipped sheet (none in the CAD sample: its
 // thinnest place is the 60° wedge's tip, a crease).
 //
@@ -26,8 +25,8 @@
 // sheets seen from above (terrain, facades' tops) point up.
 //
 // Memory: 6 bytes per graph edge for the neighbour rows and their keys, 4 per edge for the sorted
-// order, about 20 per point for the forest and 28 for the renumbered copies: about 10 (k - 1) +
-// 48 bytes per point at peak (k = 10: 138). Time: one kNN pass (parallel), a counting sort, a near-linear union-find and a
+// order, about 20 per point for the forest: about 10 (k - 1) + 20 bytes per point at peak
+// (k = 10: 110). Time: one kNN pass (parallel), a counting sort, a near-linear union-find and a
 // breadth-first pass. Deterministic for any thread count (the kNN rows are exact; everything
 // after them is sequential).
 #pragma once
