@@ -134,7 +134,7 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
   // parent's centre may be off by a few units in the last place of the coordinates. A cell more
   // than that (in parent radii) inside or outside the unit sphere needs no exact check.
   const double far = std::max({std::fabs(pc[0]), std::fabs(pc[1]), std::fabs(pc[2])}) + pr;
-  const double unsure = 8.0 * std::ldexp(far, -23) / pr + 1e-9;
+  const double unsure = 8.0 * far * 0x1p-23 / pr + 1e-9;
   for (int size = first; size <= kN; ++size) {
     // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
     // ones that can contain it.
