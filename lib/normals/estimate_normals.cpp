@@ -164,10 +164,12 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
 }
 
 // Phase 6.
-void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
+// The last stage: it takes the index (the MST orientation releases it before its peak).
+void orient(SplatCloud& cloud, SpatialIndex&& index, const NormalOptions& o,
             NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
-    const OrientStats stats = orient_normals_mst(index, cloud.positions, cloud.normals, kOrientK);
+    const OrientStats stats =
+        orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
     report.flipped_points = stats.flipped;
     report.components = stats.components;
   } else if (o.orient == NormalOrientation::kViewpoint) {
@@ -304,6 +306,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("robust", [&] {
       RobustNormalOptions ro;
       ro.pca_k = options.k;
+      ro.stream_ids = order;  // the same random samples as over the input's numbering
       report.robust =
           robust_stats_json(robust_normals(index, cloud.positions, variation, cloud.normals, ro));
     });
@@ -336,7 +339,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   }
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, index, options, report); });
+    timed("orient", [&] { orient(cloud, std::move(index), options, report); });
   }
   timed("reorder", [&] {
     for (auto* v : {&cloud.positions, &cloud.normals, &cloud.axes}) scatter(*v, order);
