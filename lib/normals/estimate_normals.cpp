@@ -165,8 +165,7 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
 
 // Phase 6.
 // The last stage: it takes the index (the MST orientation releases it before its peak).
-void orient(SplatCloud& cloud, SpatialIndex&& index, const NormalOptions& o,
-            NormalReport& report) {
+void orient(SplatCloud& cloud, SpatialIndex&& index, const NormalOptions& o, NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
     const OrientStats stats =
         orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);

@@ -261,7 +261,8 @@ double wide_median_variation(const SpatialIndex& index, std::span<const Vec3f> p
   if (!numbers.empty()) {
     at.resize(samples);
     for (std::size_t t = 0; t < n; ++t)
-      if (numbers[t] % kWideSampleStep == 0) at[numbers[t] / kWideSampleStep] = static_cast<uint32_t>(t);
+      if (numbers[t] % kWideSampleStep == 0)
+        at[numbers[t] / kWideSampleStep] = static_cast<uint32_t>(t);
   }
   std::vector<float> wide(samples, -1.0f);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples, 64),
@@ -334,9 +335,8 @@ RobustNormalStats robust_normals(const SpatialIndex& index, std::span<const Vec3
   stats.k = std::min(stats.k, index.size());
   if (stats.k < 6 || options.candidates == 0) return stats;
   if (stats.noisy)
-    stats.wide_threshold =
-        kNoisyFactor *
-        wide_median_variation(index, positions, variation, stats.k, options.stream_ids);
+    stats.wide_threshold = kNoisyFactor * wide_median_variation(index, positions, variation,
+                                                                stats.k, options.stream_ids);
   const auto wide_threshold = static_cast<float>(stats.wide_threshold);
   stats.refined = stats.noisy ? refine_all(index, positions, variation, wide_threshold, stats.k,
                                            normals, options)

@@ -4,8 +4,8 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <functional>
 #include <cmath>
+#include <functional>
 
 #include "splatkit/error.h"
 

@@ -175,7 +175,10 @@ DrawList select_qsplat(const QSplatModel& m, const Projection& proj, float thres
   const auto& palette = linear_palette_565();
   DrawSink top{m, palette, {}};
   const LodStats total = traverse(
-      t, top, [&] { return DrawSink{m, palette, {}}; },
+      t, top,
+      [&] {
+        return DrawSink{m, palette, {}};
+      },
       [](DrawSink& to, DrawSink& part) { append(to.out, std::move(part.out)); });
   if (stats) *stats = total;
   auto all = std::make_shared<Draws>(std::move(top.out));
@@ -195,7 +198,10 @@ QSplatZBufferCounts draw_qsplat_zbuffer(const QSplatModel& m, const Projection& 
   ZBufferSink top{m, proj, buffer};
   QSplatZBufferCounts c;
   c.lod = traverse(
-      t, top, [&] { return ZBufferSink{m, proj, buffer}; },
+      t, top,
+      [&] {
+        return ZBufferSink{m, proj, buffer};
+      },
       [](ZBufferSink& to, const ZBufferSink& part) {
         to.selected += part.selected;
         to.drawn += part.drawn;

@@ -47,8 +47,8 @@ TEST(ZBufferSplat, CoversThePixelCentresInsideTheProjectedDisc) {
   // and its four edge neighbours (distance 1), not the diagonals (distance 1.41).
   const float z = 2;
   ASSERT_TRUE(zbuffer_splat(b, p, {0.05f * z, 0.05f * z, z}, 0.12f * z, 7));
-  EXPECT_EQ(covered(b, 7), (std::vector<int>{4 * 20 + 10, 5 * 20 + 9, 5 * 20 + 10, 5 * 20 + 11,
-                                             6 * 20 + 10}));
+  EXPECT_EQ(covered(b, 7),
+            (std::vector<int>{4 * 20 + 10, 5 * 20 + 9, 5 * 20 + 10, 5 * 20 + 11, 6 * 20 + 10}));
   EXPECT_FLOAT_EQ(DepthKeyBuffer::depth_of(b.keys[5 * 20 + 10]), z);
 }
 
@@ -79,9 +79,9 @@ TEST(ZBufferSplat, SplatsReachingPastTheNearPlaneOrOffTheImageAreNotDrawn) {
   const Projection p = small_projection();
   DepthKeyBuffer b;
   b.reset(p.width, p.height);
-  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, 0.15f}, 0.1f, 0));   // reaches depth 0.05 < near
-  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, -2}, 0.1f, 0));      // behind the eye
-  EXPECT_FALSE(zbuffer_splat(b, p, {5, 0, 1}, 0.1f, 0));       // 40 px right of the image
+  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, 0.15f}, 0.1f, 0));    // reaches depth 0.05 < near
+  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, -2}, 0.1f, 0));       // behind the eye
+  EXPECT_FALSE(zbuffer_splat(b, p, {5, 0, 1}, 0.1f, 0));        // 40 px right of the image
   EXPECT_FALSE(zbuffer_splat(b, p, {0, -0.62f, 1}, 0.05f, 0));  // centre row -1.2, reach 0.5 px
   for (uint64_t k : b.keys) ASSERT_EQ(k, kNoSplatKey);
   // Partly off the image: the pixels inside are drawn.
