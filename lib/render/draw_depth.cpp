@@ -59,10 +59,17 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
       for (int cx = cells.x0; cx <= cells.x1; ++cx) {
         const int x0 = cx << kDepthCellShift, x1 = std::min(x0 + kDepthCell - 1, width - 1);
         if (x0 < r.x0 || x1 > r.x1) continue;
-        const float a = depth_at(x0, y0), b = depth_at(x1, y0), c = depth_at(x0, y1),
-                    d = depth_at(x1, y1);
-        if (a < 0 || b < 0 || c < 0 || d < 0) continue;
-        pyramid.lower(cx, cy, std::max(std::max(a, b), std::max(c, d)));
+        float depth;
+        if constexpr (kDepthCellShift == 0) {
+          depth = depth_at(x0, y0);
+          if (depth < 0) continue;
+        } else {
+          const float a = depth_at(x0, y0), b = depth_at(x1, y0), c = depth_at(x0, y1),
+                      d = depth_at(x1, y1);
+          if (a < 0 || b < 0 || c < 0 || d < 0) continue;
+          depth = std::max(std::max(a, b), std::max(c, d));
+        }
+        pyramid.lower(cx, cy, depth);
         written.extend(PixelRect{cx, cy, cx, cy});
       }
     }

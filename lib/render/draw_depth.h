@@ -7,8 +7,9 @@
 // maximum over the cell is at a corner). Conservative on purpose, so that a query never hides a
 // splat the full render would show: the disc test has a 2 % margin and refuses grazing angles,
 // depths are raised by 0.1 % (float round-off of the renderer's own arithmetic is far smaller),
-// and never beyond the splat's farthest point. Cells keep the pass 16 times cheaper than
-// pixels; splats under about 2 cells across occlude nothing.
+// and never beyond the splat's farthest point. Cells of 1 pixel (kDepthCellShift 0) today:
+// larger cells make the pass cheaper, but splats under about 2 cells across then occlude
+// nothing, and distant walls of small splats stop hiding what is behind them.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +21,7 @@
 
 namespace splatkit::render {
 
-inline constexpr int kDepthCellShift = 2;
+inline constexpr int kDepthCellShift = 0;
 inline constexpr int kDepthCell = 1 << kDepthCellShift;  // pixels per cell side
 
 // The cells of a pixel rectangle.

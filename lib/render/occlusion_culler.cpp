@@ -196,7 +196,17 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves) {
     dirty[k] = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
                           cull_backfaces_, pyramid_, scratch.local());
   });
-  for (const PixelRect& r : dirty) pyramid_.update(r);
+  // One update over the union when the leaves overlap on screen, else one per leaf.
+  PixelRect all;
+  std::size_t area = 0;
+  for (const PixelRect& r : dirty) {
+    all.extend(r);
+    if (!r.empty()) area += std::size_t(r.x1 - r.x0 + 1) * (r.y1 - r.y0 + 1);
+  }
+  if (!all.empty() && area > std::size_t(all.x1 - all.x0 + 1) * (all.y1 - all.y0 + 1))
+    pyramid_.update(all);
+  else
+    for (const PixelRect& r : dirty) pyramid_.update(r);
   drawn_leaves_.insert(drawn_leaves_.end(), leaves.begin(), leaves.end());
   stats_->depth_s += seconds_since(t0);
 }
