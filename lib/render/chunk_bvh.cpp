@@ -39,9 +39,14 @@ struct Builder {
   ChunkBvh bvh;
 
   Box3 range_box(uint32_t b, uint32_t e) const {
-    Box3 box;
-    for (uint32_t i = b; i < e; ++i) box.extend(boxes[bvh.order[i]]);
-    return box;
+    if (b == e) return {};
+    Vec3f lo = boxes[bvh.order[b]].min, hi = boxes[bvh.order[b]].max;
+    for (uint32_t i = b + 1; i < e; ++i) {
+      const Box3& x = boxes[bvh.order[i]];
+      lo = {std::min(lo.x, x.min.x), std::min(lo.y, x.min.y), std::min(lo.z, x.min.z)};
+      hi = {std::max(hi.x, x.max.x), std::max(hi.y, x.max.y), std::max(hi.z, x.max.z)};
+    }
+    return {lo, hi};
   }
 
   // The split position in [b, e) (b < m < e), with the range partitioned.
@@ -103,8 +108,8 @@ struct Builder {
   }
 
   void build(uint32_t node, uint32_t b, uint32_t e) {
-    bvh.nodes[node].box = range_box(b, e);
     if (e - b <= leaf_size) {
+      bvh.nodes[node].box = range_box(b, e);
       ChunkBvhNode& n = bvh.nodes[node];
       n.leaf = true;
       n.left = b;
@@ -114,8 +119,13 @@ struct Builder {
       bvh.max_leaf = std::max(bvh.max_leaf, e - b);
       return;
     }
-    Box3 centres;
-    for (uint32_t i = b; i < e; ++i) centres.extend(scene.positions[bvh.order[i]]);
+    Vec3f lo = scene.positions[bvh.order[b]], hi = lo;
+    for (uint32_t i = b + 1; i < e; ++i) {
+      const Vec3f p = scene.positions[bvh.order[i]];
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    const Box3 centres{lo, hi};
     const Vec3f d = centres.max - centres.min;
     const int longest = d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
     uint32_t m = b;
@@ -134,6 +144,9 @@ struct Builder {
     bvh.nodes[node].right = left + 1;
     build(left, b, m);
     build(left + 1, m, e);
+    Box3 box = bvh.nodes[left].box;
+    box.extend(bvh.nodes[left + 1].box);
+    bvh.nodes[node].box = box;
   }
 };
 

@@ -51,8 +51,31 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
       if (!(l2 >= 1e-6f && u * u + v * v <= 0.98f * l2)) return -1.0f;
       return std::min(far, r.nc / l * 1.001f);
     };
-    const PixelRect cells = cells_of(PixelRect{r.x0, r.y0, r.x1, r.y1});
+    // Nothing to lower when the splat's nearest point lies beyond every depth already there
+    // (the upper levels may be stale, but stale cells only overstate).
+    if (r.zmin > pyramid.max_depth(cells_of(PixelRect{r.x0, r.y0, r.x1, r.y1}))) continue;
     PixelRect written;
+    if constexpr (kDepthCellShift == 0) {
+      for (int y = r.y0; y <= r.y1; ++y) {
+        const float dj = float(y - r.y0);
+        float l = r.l[1] * dj + r.l[2], u = r.u[1] * dj + r.u[2], v = r.v[1] * dj + r.v[2];
+        bool any = false;
+        for (int x = r.x0; x <= r.x1; ++x) {
+          const float l2 = l * l;
+          if (l2 >= 1e-6f && u * u + v * v <= 0.98f * l2) {
+            pyramid.lower(x, y, std::min(far, r.nc / l * 1.001f));
+            any = true;
+          }
+          l += r.l[0];
+          u += r.u[0];
+          v += r.v[0];
+        }
+        if (any) written.extend(PixelRect{r.x0, y, r.x1, y});
+      }
+      dirty.extend(written);
+      continue;
+    }
+    const PixelRect cells = cells_of(PixelRect{r.x0, r.y0, r.x1, r.y1});
     for (int cy = cells.y0; cy <= cells.y1; ++cy) {
       const int y0 = cy << kDepthCellShift, y1 = std::min(y0 + kDepthCell - 1, height - 1);
       if (y0 < r.y0 || y1 > r.y1) continue;
@@ -65,9 +88,9 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
           if (depth < 0) continue;
         } else {
           const float a = depth_at(x0, y0), b = depth_at(x1, y0), c = depth_at(x0, y1),
-                      d = depth_at(x1, y1);
-          if (a < 0 || b < 0 || c < 0 || d < 0) continue;
-          depth = std::max(std::max(a, b), std::max(c, d));
+                      e = depth_at(x1, y1);
+          if (a < 0 || b < 0 || c < 0 || e < 0) continue;
+          depth = std::max(std::max(a, b), std::max(c, e));
         }
         pyramid.lower(cx, cy, depth);
         written.extend(PixelRect{cx, cy, cx, cy});
