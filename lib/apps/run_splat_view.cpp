@@ -20,6 +20,7 @@
 #include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/chunk_bvh.h"
+#include "render/count_visible_splats.h"
 #include "render/occlusion_culler.h"
 #include "render/subset_scene.h"
 #include "render/qsplat_scene.h"
@@ -431,7 +432,11 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     writer.start(std::move(target), image_path(i), i + 1 < frames);
     summary.frame_seconds += stats.total_s;
     summary.occlusion.add(occlusion);
-    if (culling) per_frame_occlusion.push_back(occlusion_json(occlusion));
+    nlohmann::json oj = culling ? occlusion_json(occlusion) : nlohmann::json::object();
+    if (o.count_visible && !scene.qsplat)
+      oj["splats_visible"] = count_visible_splats(scene, make_projection(camera),
+                                                  render.cull_backfaces);
+    per_frame_occlusion.push_back(oj);
     last = stats;
   }
   std::unique_ptr<OutputFile> last_image = finish_write();  // committed after the stats
@@ -453,6 +458,9 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     j["clip_partners"] = r.render.clip ? scene.clip.partners.size() : 0;
     j["load_ms"] = std::round(summary.load_seconds * 1e6) / 1e3;
     j["occlusion"] = occlusion_mode_name(r.occlusion);
+    if (o.count_visible)
+      for (std::size_t f = 0; f < per_frame.size(); ++f)
+        per_frame[f]["occlusion"] = per_frame_occlusion[f];
     if (culling) {
       j["bvh"] = {{"split", o.bvh_split},
                   {"leaf_size", o.bvh_leaf},

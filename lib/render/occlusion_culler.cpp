@@ -100,7 +100,11 @@ struct Entry {
 }  // namespace
 
 OcclusionCuller::OcclusionCuller(const RenderScene& scene, const ChunkBvh& bvh)
-    : scene_(scene), bvh_(bvh), visible_frame_(bvh.nodes.size(), 0), tight_(bvh.nodes.size()) {
+    : scene_(scene),
+      bvh_(bvh),
+      visible_frame_(bvh.nodes.size(), 0),
+      hidden_run_(bvh.nodes.size(), 0),
+      tight_(bvh.nodes.size()) {
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
     if (!bvh.nodes[n].leaf) tight_[n] = tight_set(bvh, n);
   frame_ = 1;
@@ -280,17 +284,23 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
   std::vector<uint32_t> still_visible;
   for (uint32_t leaf : pending)
     if (!retest_due(leaf) || query_node(leaf)) still_visible.push_back(leaf);
-  draw_leaves(pending);
+  if (invisible.empty() && frontier_empty_) {
+    // The last batch: no query will read the pyramid again, so the leaves need no depth pass.
+    drawn_leaves_.insert(drawn_leaves_.end(), pending.begin(), pending.end());
+  } else {
+    draw_leaves(pending);
+  }
   for (uint32_t leaf : still_visible) mark_visible(leaf);
   pending.clear();
 
   // Multiqueries (CHC++): p_keep(i) = 0.99 − 0.7 e^(−i) for a node hidden for the last i frames;
   // C(M) = 1 + (1 − Π p_keep)·|M|; M grows while |M| / C(M) grows.
   auto p_keep = [&](uint32_t node) {
-    const uint32_t last = visible_frame_[node];
-    const float i = last == 0 ? 20.0f : std::min(20.0f, float(frame_ - 1 - last));
-    return 0.99f - 0.7f * std::exp(-i);
+    return 0.99f - 0.7f * std::exp(-std::min(20.0f, float(hidden_run_[node])));
   };
+  // Neighbours in the hierarchy (close node numbers) make tighter groups than the traversal
+  // order, which interleaves distant parts of the view at equal depth.
+  std::sort(invisible.begin(), invisible.end());
   std::vector<uint32_t> newly;
   auto found_visible = [&](uint32_t node) {
     const ChunkBvhNode& n = bvh_.nodes[node];
@@ -302,10 +312,13 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     }
   };
   auto single = [&](uint32_t node) {
-    if (query_node(node))
+    if (query_node(node)) {
+      hidden_run_[node] = 0;
       found_visible(node);
-    else
+    } else {
+      ++hidden_run_[node];
       ++stats_->culled_occlusion;
+    }
   };
   std::size_t i = 0;
   while (i < invisible.size()) {
@@ -350,9 +363,10 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
       stats_->multiquery_nodes += end - i;
       const bool all_hidden = hidden(u);
       stats_->query_s += seconds_since(t0);
-      if (all_hidden)
+      if (all_hidden) {
         stats_->culled_occlusion += end - i;
-      else
+        for (std::size_t k = i; k < end; ++k) ++hidden_run_[invisible[k]];
+      } else
         for (std::size_t k = i; k < end; ++k) single(invisible[k]);
     }
     i = end;
@@ -375,6 +389,7 @@ void OcclusionCuller::run_chc(bool plus) {
       if (!plus || (pending.empty() && invisible.empty())) {
         if (heap.empty()) break;
       } else {
+        frontier_empty_ = heap.empty();
         flush(pending, invisible, children);
         for (uint32_t c : children) heap.push({project(bvh_.nodes[c].box).near, c});
         children.clear();

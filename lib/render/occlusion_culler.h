@@ -19,7 +19,9 @@
 //   kChcPlusPlus: CHC with previously visible leaves drawn in batches, previously invisible
 //     nodes queried in batches of kBatchSize after the batch of visible leaves is drawn, grouped
 //     into multiqueries by the cost model (one test of the group's rectangle and nearest depth;
-//     if it fails, each member alone), and tight bounds.
+//     if it fails, each member alone; a batch is grouped in hierarchy order, so that a group's
+//     members lie close together), and tight bounds. A batch of previously visible leaves that
+//     no later query reads gets no depth pass.
 // Not thread safe; the depth pass of a batch runs in parallel in the caller's TBB arena.
 #pragma once
 
@@ -93,12 +95,14 @@ class OcclusionCuller {
   OcclusionStats* stats_ = nullptr;
   uint32_t frame_ = 0;
   std::vector<uint32_t> visible_frame_;    // per node: last frame it was visible (0: never)
+  std::vector<uint32_t> hidden_run_;  // per node: queries in a row that found it hidden (chc++)
   std::vector<std::vector<uint32_t>> tight_;  // per node: descendants whose boxes bound it
   std::vector<uint32_t> drawn_leaves_;
   std::vector<uint64_t> mask_;
   std::vector<uint32_t> splats_;
   DepthPassScratch scratch_;
   bool tight_bounds_ = false;
+  bool frontier_empty_ = false;  // chc++: the traversal queue is empty at this flush
 };
 
 }  // namespace splatkit::render

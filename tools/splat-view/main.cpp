@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
   app.add_option("--bvh-leaf", o.bvh_leaf, "Splats per chunk (hierarchy leaf), at most")
       ->default_val(4096)
       ->check(CLI::Range(1u, 1u << 24));
+  app.add_flag("--count-visible", o.count_visible,
+               "Diagnostic: count the splats each frame truly shows (nearest splat ids of a "
+               "z-buffer pass) into the --stats report as occlusion.splats_visible");
   app.add_option("--stats", o.stats_path, "Write a JSON report (counts, time per stage)");
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_view(o, progress).line();
