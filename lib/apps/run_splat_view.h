@@ -40,7 +40,7 @@ struct SplatViewOptions {
   // render.clip is off), not with --blend zbuffer.
   std::string occlusion = "none";
   std::string bvh_split = "median";  // median | sah (render/chunk_bvh.h)
-  uint32_t bvh_leaf = 4096;          // splats per hierarchy leaf, at most
+  uint32_t bvh_leaf = 2048;          // splats per hierarchy leaf, at most
   // Diagnostic: count the splats each frame truly shows (render/count_visible_splats.h) into
   // the report as splats_visible; costs a z-buffer pass per frame, not counted in frame times.
   bool count_visible = false;

@@ -1,5 +1,8 @@
 #include "render/chunk_bvh.h"
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -150,6 +153,53 @@ struct Builder {
   }
 };
 
+// Nodes of the median hierarchy over `n` splats (its shape depends on n alone).
+uint32_t median_nodes(uint32_t n, uint32_t leaf_size) {
+  if (n <= leaf_size) return 1;
+  return 1 + median_nodes(n / 2, leaf_size) + median_nodes(n - n / 2, leaf_size);
+}
+
+// The median hierarchy in pre-order (a node's left child right after it, its right child after
+// the left subtree), so that subtrees are built in parallel into slots known in advance.
+void build_median(Builder& bld, uint32_t node, uint32_t parent, uint32_t depth, uint32_t b,
+                  uint32_t e) {
+  ChunkBvh& bvh = bld.bvh;
+  ChunkBvhNode& n = bvh.nodes[node];
+  n.parent = parent;
+  n.depth = depth;
+  if (e - b <= bld.leaf_size) {
+    n.box = bld.range_box(b, e);
+    n.leaf = true;
+    n.left = b;
+    n.right = e;
+    std::sort(bvh.order.begin() + b, bvh.order.begin() + e);
+    return;
+  }
+  Vec3f lo = bld.scene.positions[bvh.order[b]], hi = lo;
+  for (uint32_t i = b + 1; i < e; ++i) {
+    const Vec3f p = bld.scene.positions[bvh.order[i]];
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const Vec3f d = hi - lo;
+  const int longest = d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
+  const uint32_t m = bld.median_split(b, e, longest);
+  const uint32_t left = node + 1, right = left + median_nodes(m - b, bld.leaf_size);
+  n.left = left;
+  n.right = right;
+  auto l = [&] { build_median(bld, left, node, depth + 1, b, m); };
+  auto r = [&] { build_median(bld, right, node, depth + 1, m, e); };
+  if (e - b > (1u << 16))
+    tbb::parallel_invoke(l, r);
+  else {
+    l();
+    r();
+  }
+  Box3 box = bvh.nodes[left].box;
+  box.extend(bvh.nodes[right].box);
+  bvh.nodes[node].box = box;
+}
+
 Box3 splat_box(const RenderScene& s, std::size_t i) {
   const Vec3f c = s.positions[i], n = s.normals[i];
   const float r = s.radii[i];
@@ -181,12 +231,24 @@ ChunkBvh build_chunk_bvh(const RenderScene& scene, uint32_t leaf_size, BvhSplit 
   const std::size_t n = scene.size();
   if (n >= UINT32_MAX) throw_usage("too many splats for the chunk hierarchy (2^32)");
   b.boxes.resize(n);
-  for (std::size_t i = 0; i < n; ++i) b.boxes[i] = splat_box(scene, i);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) b.boxes[i] = splat_box(scene, i);
+  });
   b.bvh.order.resize(n);
   for (std::size_t i = 0; i < n; ++i) b.bvh.order[i] = uint32_t(i);
-  b.bvh.nodes.reserve(2 * (n / std::max<uint32_t>(1, leaf_size / 2) + 1));
-  b.bvh.nodes.resize(1);
-  b.build(0, 0, uint32_t(n));
+  if (split == BvhSplit::kMedian) {
+    b.bvh.nodes.resize(median_nodes(uint32_t(n), leaf_size));
+    build_median(b, 0, UINT32_MAX, 0, 0, uint32_t(n));
+    for (const ChunkBvhNode& x : b.bvh.nodes)
+      if (x.leaf) {
+        ++b.bvh.leaf_count;
+        b.bvh.max_leaf = std::max(b.bvh.max_leaf, x.size());
+      }
+  } else {
+    b.bvh.nodes.reserve(2 * (n / std::max<uint32_t>(1, leaf_size / 2) + 1));
+    b.bvh.nodes.resize(1);
+    b.build(0, 0, uint32_t(n));
+  }
   b.bvh.build_seconds = seconds_since(t0);
   return std::move(b.bvh);
 }

@@ -39,7 +39,7 @@ struct ChunkBvhNode {
 };
 
 struct ChunkBvh {
-  std::vector<ChunkBvhNode> nodes;  // root at 0, parents before children
+  std::vector<ChunkBvhNode> nodes;  // root at 0, parents before children (median: pre-order)
   std::vector<uint32_t> order;      // #N splat indices; each leaf's range ascending
   uint32_t leaf_count = 0;
   uint32_t max_leaf = 0;
@@ -50,7 +50,8 @@ struct ChunkBvh {
 };
 
 // Builds the hierarchy of a plain scene (positions, normals, radii; QSplat scenes are not
-// supported: Error(kUsage)). leaf_size >= 1. Deterministic (independent of the thread count).
+// supported: Error(kUsage)). leaf_size >= 1. Deterministic (independent of the thread count);
+// the median hierarchy builds its large subtrees in parallel (TBB).
 ChunkBvh build_chunk_bvh(const RenderScene& scene, uint32_t leaf_size = 4096,
                          BvhSplit split = BvhSplit::kMedian);
 

@@ -9,12 +9,12 @@
 # queries) and the ratios: chc++ frames/s against frustum and none, chc++ queries against
 # hierarchical, and splats chc++ draws against the splats truly visible (distinct nearest splat
 # ids of a z-buffer pass: splat-view --count-visible).
-# usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=4096]
+# usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=2048]
 #        (build dir: $BUILD_DIR, default build-bench)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
-splats=${1:-10000000} frames=${2:-8} threads=${3:-2} blocks=${4:-8} leaf=${5:-4096}
+splats=${1:-10000000} frames=${2:-8} threads=${3:-2} blocks=${4:-8} leaf=${5:-2048}
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_TESTS=OFF \
     >/dev/null

@@ -2,6 +2,7 @@
 // contain their children and every disc of their splats, for both split rules, on a city and on
 // a scan-line sampled part with noise.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +28,10 @@ void check(const RenderScene& scene, uint32_t leaf_size, BvhSplit split) {
   uint32_t leaves = 0;
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n) {
     const ChunkBvhNode& x = bvh.nodes[n];
-    if (n > 0) EXPECT_TRUE(contains(bvh.nodes[x.parent].box, x.box)) << n;
+    if (n > 0) {
+      EXPECT_LT(x.parent, n);
+      EXPECT_TRUE(contains(bvh.nodes[x.parent].box, x.box)) << n;
+    }
     if (!x.leaf) {
       EXPECT_EQ(bvh.nodes[x.left].parent, n);
       EXPECT_EQ(bvh.nodes[x.right].parent, n);
@@ -84,6 +88,21 @@ TEST(ChunkBvh, SahIsNoWorseThanMedianOnTheCity) {
   const double median = build_chunk_bvh(scene, 128, BvhSplit::kMedian).sah_cost();
   const double sah = build_chunk_bvh(scene, 128, BvhSplit::kSah).sah_cost();
   EXPECT_LE(sah, median * 1.05);
+}
+
+TEST(ChunkBvh, SameHierarchyForAnyThreadCount) {
+  const RenderScene scene = city(300000);
+  ChunkBvh one;
+  tbb::task_arena(1).execute([&] { one = build_chunk_bvh(scene, 512); });
+  const ChunkBvh two = build_chunk_bvh(scene, 512);
+  EXPECT_EQ(one.order, two.order);
+  ASSERT_EQ(one.nodes.size(), two.nodes.size());
+  for (std::size_t n = 0; n < one.nodes.size(); ++n) {
+    EXPECT_EQ(one.nodes[n].left, two.nodes[n].left);
+    EXPECT_EQ(one.nodes[n].right, two.nodes[n].right);
+    EXPECT_EQ(one.nodes[n].box.min, two.nodes[n].box.min);
+    EXPECT_EQ(one.nodes[n].box.max, two.nodes[n].box.max);
+  }
 }
 
 }  // namespace

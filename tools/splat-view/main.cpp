@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
       ->default_val("median")
       ->check(CLI::IsMember({"median", "sah"}));
   app.add_option("--bvh-leaf", o.bvh_leaf, "Splats per chunk (hierarchy leaf), at most")
-      ->default_val(4096)
+      ->default_val(2048)
       ->check(CLI::Range(1u, 1u << 24));
   app.add_flag("--count-visible", o.count_visible,
                "Diagnostic: count the splats each frame truly shows (nearest splat ids of a "
