@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <functional>
 #include <queue>
 
 #include "splatkit/error.h"
@@ -320,6 +321,40 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
       ++stats_->culled_occlusion;
     }
   };
+  // One test of the group's rectangle and nearest depth; when it fails, each half again, down to
+  // single nodes.
+  std::function<void(const uint32_t*, std::size_t)> multiquery = [&](const uint32_t* m,
+                                                                     std::size_t count) {
+    if (count == 1) return single(m[0]);
+    const auto t0 = Clock::now();
+    Query u;
+    u.near = INFINITY;
+    auto add = [&](uint32_t node) {
+      const Query q = project(bvh_.nodes[node].box);
+      if (!q.in_frustum) return;
+      u.in_frustum = true;
+      u.rect.extend(q.rect);
+      u.near = std::min(u.near, q.near);
+    };
+    for (std::size_t k = 0; k < count; ++k) {
+      if (tight_bounds_ && !tight_[m[k]].empty())
+        for (uint32_t d : tight_[m[k]]) add(d);
+      else
+        add(m[k]);
+    }
+    ++stats_->queries;
+    ++stats_->multiqueries;
+    stats_->multiquery_nodes += count;
+    const bool all_hidden = hidden(u);
+    stats_->query_s += seconds_since(t0);
+    if (all_hidden) {
+      stats_->culled_occlusion += count;
+      for (std::size_t k = 0; k < count; ++k) ++hidden_run_[m[k]];
+      return;
+    }
+    multiquery(m, count / 2);
+    multiquery(m + count / 2, count - count / 2);
+  };
   std::size_t i = 0;
   while (i < invisible.size()) {
     std::size_t end = i + 1;
@@ -334,41 +369,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
       keep = k2;
       ++end;
     }
-    if (end - i == 1) {
-      single(invisible[i]);
-    } else {
-      const auto t0 = Clock::now();
-      Query u;
-      u.near = INFINITY;
-      for (std::size_t k = i; k < end; ++k) {
-        const uint32_t node = invisible[k];
-        if (tight_bounds_ && !tight_[node].empty()) {
-          for (uint32_t d : tight_[node]) {
-            const Query q = project(bvh_.nodes[d].box);
-            if (!q.in_frustum) continue;
-            u.in_frustum = true;
-            u.rect.extend(q.rect);
-            u.near = std::min(u.near, q.near);
-          }
-        } else {
-          const Query q = project(bvh_.nodes[node].box);
-          if (!q.in_frustum) continue;
-          u.in_frustum = true;
-          u.rect.extend(q.rect);
-          u.near = std::min(u.near, q.near);
-        }
-      }
-      ++stats_->queries;
-      ++stats_->multiqueries;
-      stats_->multiquery_nodes += end - i;
-      const bool all_hidden = hidden(u);
-      stats_->query_s += seconds_since(t0);
-      if (all_hidden) {
-        stats_->culled_occlusion += end - i;
-        for (std::size_t k = i; k < end; ++k) ++hidden_run_[invisible[k]];
-      } else
-        for (std::size_t k = i; k < end; ++k) single(invisible[k]);
-    }
+    multiquery(invisible.data() + i, end - i);
     i = end;
   }
   invisible.clear();

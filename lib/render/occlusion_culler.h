@@ -19,7 +19,8 @@
 //   kChcPlusPlus: CHC with previously visible leaves drawn in batches, previously invisible
 //     nodes queried in batches of kBatchSize after the batch of visible leaves is drawn, grouped
 //     into multiqueries by the cost model (one test of the group's rectangle and nearest depth;
-//     if it fails, each member alone; a batch is grouped in hierarchy order, so that a group's
+//     if it fails, each half of the group again, down to single nodes, where the GPU method
+//     queries each member alone; a batch is grouped in hierarchy order, so that a group's
 //     members lie close together), and tight bounds. A batch of previously visible leaves that
 //     no later query reads gets no depth pass.
 // Not thread safe; the depth pass of a batch runs in parallel in the caller's TBB arena.
