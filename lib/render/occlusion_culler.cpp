@@ -251,32 +251,6 @@ void OcclusionCuller::run_frustum() {
   }
 }
 
-void OcclusionCuller::run_hierarchical() {
-  std::priority_queue<Entry> heap;
-  heap.push({0, 0});
-  while (!heap.empty()) {
-    const uint32_t node = heap.top().node;
-    heap.pop();
-    ++stats_->nodes_traversed;
-    const ChunkBvhNode& n = bvh_.nodes[node];
-    const Query q = project(n.box);
-    if (!q.in_frustum) {
-      ++stats_->culled_frustum;
-      continue;
-    }
-    if (!query_node(node)) {
-      ++stats_->culled_occlusion;
-      continue;
-    }
-    if (n.leaf) {
-      draw_leaf(node);
-      mark_visible(node);
-    } else {
-      for (uint32_t c : {n.left, n.right}) heap.push({project(bvh_.nodes[c].box).near, c});
-    }
-  }
-}
-
 // Previously visible leaves in `pending` (those due re-queried first, against the pyramid
 // without them), then the previously invisible nodes in `invisible` by multiqueries; nodes found
 // visible: leaves drawn, interior nodes' children into `children`.
@@ -360,7 +334,10 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     std::size_t end = i + 1;
     float keep = p_keep(invisible[i]);
     double value = 1.0 / (1.0 + (1.0 - keep));
-    while (end < invisible.size()) {
+    // Only nodes a query found hidden before join a group: for a node without that history the
+    // model's p_keep (0.29) makes any group look worth it, and most such groups fail.
+    while (end < invisible.size() && hidden_run_[invisible[i]] > 0 &&
+           hidden_run_[invisible[end]] > 0) {
       const float k2 = keep * p_keep(invisible[end]);
       const double m = double(end + 1 - i);
       const double v = m / (1.0 + (1.0 - k2) * m);
@@ -377,7 +354,8 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
 
-void OcclusionCuller::run_chc(bool plus) {
+// Hierarchical (coherent false): every node queried, as CHC treats a node it has no history for.
+void OcclusionCuller::run_chc(bool coherent, bool plus) {
   tight_bounds_ = plus;
   std::priority_queue<Entry> heap;
   heap.push({0, 0});
@@ -405,7 +383,7 @@ void OcclusionCuller::run_chc(bool plus) {
       ++stats_->culled_frustum;
       continue;
     }
-    if (was_visible(node)) {
+    if (coherent && was_visible(node)) {
       if (!n.leaf) {
         push_children(n);
       } else if (plus) {
@@ -479,13 +457,13 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
       run_frustum();
       break;
     case OcclusionMode::kHierarchical:
-      run_hierarchical();
+      run_chc(false, false);
       break;
     case OcclusionMode::kChc:
-      run_chc(false);
+      run_chc(true, false);
       break;
     case OcclusionMode::kChcPlusPlus:
-      run_chc(true);
+      run_chc(true, true);
       break;
   }
   collect();

@@ -81,8 +81,7 @@ class OcclusionCuller {
   bool was_visible(uint32_t node) const;
   bool retest_due(uint32_t node) const;
   void run_frustum();
-  void run_hierarchical();
-  void run_chc(bool plus);
+  void run_chc(bool coherent, bool plus);
   void flush(std::vector<uint32_t>& pending, std::vector<uint32_t>& invisible,
              std::vector<uint32_t>& queue_out);
   void collect();

@@ -11,6 +11,14 @@ expect_exit 0 "$Y" -q city "$WORK/city.splk" -n 150000 --blocks 4 --walkthrough 
 python3 -c "import json,sys; p=json.load(open(sys.argv[1])); assert len(p)==5 and 'eye' in p[0]" \
   "$WORK/walk.json" && pass || fail "walkthrough path is not 5 cameras"
 
+# The city: same seed, same bytes; another seed, another city; bad sizes refused.
+expect_exit 0 "$Y" -q city "$WORK/city2.splk" -n 150000 --blocks 4
+cmp -s "$WORK/city.splk" "$WORK/city2.splk" && pass || fail "city: same seed gave other bytes"
+expect_exit 0 "$Y" -q city "$WORK/city3.splk" -n 150000 --blocks 4 --seed 2
+cmp -s "$WORK/city.splk" "$WORK/city3.splk" && fail "city: seed 2 gave the same bytes" || pass
+expect_exit 1 "$Y" city "$WORK/x.splk" --blocks 1
+expect_stderr "--blocks must be in 2..64"
+
 for mode in none frustum hierarchical chc chc++; do
   mkdir -p "$WORK/$mode"
   expect_exit 0 "$V" -q "$WORK/city.splk" -o "$WORK/$mode/f_%02d.png" --path "$WORK/walk.json" \
