@@ -191,10 +191,9 @@ Resolved resolve(const SplatViewOptions& o) {
     const auto begin = std::sregex_iterator(o.output.begin(), o.output.end(), frame_pattern());
     if (std::distance(begin, std::sregex_iterator()) != 1 ||
         std::count(o.output.begin(), o.output.end(), '%') != 1)
-      throw_usage(
-          "--turntable and --path need an output name with one frame number field such as %04d, "
-          "got '" +
-          o.output + "'");
+      throw_usage(std::string(o.turntable > 0 ? "--turntable" : "--path") +
+                  " needs an output name with one frame number field such as %04d, got '" +
+                  o.output + "'");
   }
   check_output_format(o.turntable > 0 || !o.path.empty() ? frame_path(o.output, 0) : o.output);
   return r;
