@@ -31,8 +31,8 @@ Vec3f vec3(const nlohmann::json& e, const char* key, const std::string& name, st
 }  // namespace
 
 std::vector<render::Camera> read_camera_path(const std::string& text, const std::string& name,
-                                             const Vec3f& default_up, float default_fov,
-                                             int width, int height) {
+                                             const Vec3f& default_up, float default_fov, int width,
+                                             int height) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text);
@@ -49,8 +49,8 @@ std::vector<render::Camera> read_camera_path(const std::string& text, const std:
     for (const auto& item : e.items())
       if (item.key() != "eye" && item.key() != "target" && item.key() != "up" &&
           item.key() != "fov")
-        throw_bad_input(name, where + ": unknown key \"" + item.key() +
-                                  "\" (eye, target, up, fov)");
+        throw_bad_input(name,
+                        where + ": unknown key \"" + item.key() + "\" (eye, target, up, fov)");
     if (!e.contains("eye") || !e.contains("target"))
       throw_bad_input(name, where + ": needs \"eye\" and \"target\"");
     render::Camera c;

@@ -16,7 +16,7 @@ namespace splatkit::apps {
 // malformed vector, a non-finite number, eye == target, an up parallel to the view, a fov
 // outside (0, 180), or an empty array. The cameras get `width` × `height`.
 std::vector<render::Camera> read_camera_path(const std::string& text, const std::string& name,
-                                             const Vec3f& default_up, float default_fov,
-                                             int width, int height);
+                                             const Vec3f& default_up, float default_fov, int width,
+                                             int height);
 
 }  // namespace splatkit::apps

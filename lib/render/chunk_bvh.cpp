@@ -218,8 +218,7 @@ double ChunkBvh::sah_cost() const {
   if (nodes.empty()) return 0;
   const double root = std::max(1e-30f, nodes[0].box.area());
   double cost = 0;
-  for (const ChunkBvhNode& n : nodes)
-    cost += n.box.area() / root * (n.leaf ? 1.0 + n.size() : 1.0);
+  for (const ChunkBvhNode& n : nodes) cost += n.box.area() / root * (n.leaf ? 1.0 + n.size() : 1.0);
   return cost;
 }
 

@@ -52,9 +52,9 @@ void DepthPyramid::update(PixelRect r) {
       for (int x = r.x0; x <= r.x1; ++x) {
         const int bx0 = 2 * x, bx1 = std::min(2 * x + 1, pw - 1);
         // Non-negative float bits order like the floats.
-        here[std::size_t(y) * w + x] =
-            std::max(std::max(below[std::size_t(by0) * pw + bx0], below[std::size_t(by0) * pw + bx1]),
-                     std::max(below[std::size_t(by1) * pw + bx0], below[std::size_t(by1) * pw + bx1]));
+        here[std::size_t(y) * w + x] = std::max(
+            std::max(below[std::size_t(by0) * pw + bx0], below[std::size_t(by0) * pw + bx1]),
+            std::max(below[std::size_t(by1) * pw + bx0], below[std::size_t(by1) * pw + bx1]));
       }
     }
   }

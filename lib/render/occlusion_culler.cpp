@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <queue>
 
 #include "splatkit/error.h"
@@ -434,9 +434,9 @@ void OcclusionCuller::collect() {
       splats_.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
 }
 
-const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
-                                                   OcclusionMode mode, float margin,
-                                                   bool cull_backfaces, OcclusionStats& stats) {
+const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection, OcclusionMode mode,
+                                                   float margin, bool cull_backfaces,
+                                                   OcclusionStats& stats) {
   const auto t0 = Clock::now();
   const double query0 = stats.query_s, depth0 = stats.depth_s;
   ++frame_;

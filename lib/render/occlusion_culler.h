@@ -74,8 +74,8 @@ class OcclusionCuller {
   };
   Query project(const Box3& box) const;
   bool hidden(const Query& q) const;
-  bool query_node(uint32_t node);  // counts one query; true when visible
-  void draw_leaf(uint32_t leaf);   // at once, into the pyramid
+  bool query_node(uint32_t node);                         // counts one query; true when visible
+  void draw_leaf(uint32_t leaf);                          // at once, into the pyramid
   void draw_leaves(const std::vector<uint32_t>& leaves);  // in parallel
   void mark_visible(uint32_t node);                       // this frame, pulled up
   bool was_visible(uint32_t node) const;
@@ -94,8 +94,8 @@ class OcclusionCuller {
   DepthPyramid pyramid_;
   OcclusionStats* stats_ = nullptr;
   uint32_t frame_ = 0;
-  std::vector<uint32_t> visible_frame_;    // per node: last frame it was visible (0: never)
-  std::vector<uint32_t> hidden_run_;  // per node: queries in a row that found it hidden (chc++)
+  std::vector<uint32_t> visible_frame_;  // per node: last frame it was visible (0: never)
+  std::vector<uint32_t> hidden_run_;     // per node: queries in a row that found it hidden (chc++)
   std::vector<std::vector<uint32_t>> tight_;  // per node: descendants whose boxes bound it
   std::vector<uint32_t> drawn_leaves_;
   std::vector<uint64_t> mask_;

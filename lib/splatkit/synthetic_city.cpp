@@ -8,8 +8,8 @@ namespace splatkit {
 
 namespace {
 
-constexpr float kPitch = 32;      // block pitch, metres (building footprint + street)
-constexpr float kStorey = 3.5f;   // floor-to-floor height
+constexpr float kPitch = 32;     // block pitch, metres (building footprint + street)
+constexpr float kStorey = 3.5f;  // floor-to-floor height
 constexpr float kEyeHeight = 1.7f;
 
 struct Building {
@@ -35,8 +35,8 @@ std::vector<Building> buildings(const CityOptions& o) {
       const float wx = 16 + 6 * u01(rng), wy = 16 + 6 * u01(rng);
       const int storeys = 3 + int(12 * u01(rng));
       const auto c = [&] { return uint16_t(110 + int(120 * u01(rng))); };
-      out.push_back({cx - wx / 2, cy - wy / 2, cx + wx / 2, cy + wy / 2, storeys * kStorey,
-                     {c(), c(), c()}});
+      out.push_back(
+          {cx - wx / 2, cy - wy / 2, cx + wx / 2, cy + wy / 2, storeys * kStorey, {c(), c(), c()}});
     }
   return out;
 }
@@ -47,22 +47,25 @@ std::vector<Rect> rects(const CityOptions& o) {
   for (const Building& b : buildings(o)) {
     const float dx = b.x1 - b.x0, dy = b.y1 - b.y0, hz = b.height;
     const auto c = b.color;
-    out.push_back({{b.x0, b.y0, 0}, {dx, 0, 0}, {0, 0, hz}, {0, -1, 0}, c});  // south
-    out.push_back({{b.x1, b.y1, 0}, {-dx, 0, 0}, {0, 0, hz}, {0, 1, 0}, c});  // north
+    out.push_back({{b.x0, b.y0, 0}, {dx, 0, 0}, {0, 0, hz}, {0, -1, 0}, c});   // south
+    out.push_back({{b.x1, b.y1, 0}, {-dx, 0, 0}, {0, 0, hz}, {0, 1, 0}, c});   // north
     out.push_back({{b.x0, b.y1, 0}, {0, -dy, 0}, {0, 0, hz}, {-1, 0, 0}, c});  // west
-    out.push_back({{b.x1, b.y0, 0}, {0, dy, 0}, {0, 0, hz}, {1, 0, 0}, c});  // east
+    out.push_back({{b.x1, b.y0, 0}, {0, dy, 0}, {0, 0, hz}, {1, 0, 0}, c});    // east
     const std::array<uint16_t, 3> roof{90, 80, 75}, floor{200, 190, 170};
     out.push_back({{b.x0, b.y0, hz}, {dx, 0, 0}, {0, dy, 0}, {0, 0, 1}, roof});
     // Floor slabs inside, a little in from the walls.
     for (float z = kStorey; z < hz - 0.5f * kStorey; z += kStorey)
-      out.push_back({{b.x0 + 0.3f, b.y0 + 0.3f, z}, {dx - 0.6f, 0, 0}, {0, dy - 0.6f, 0}, {0, 0, 1},
-                     floor});
+      out.push_back(
+          {{b.x0 + 0.3f, b.y0 + 0.3f, z}, {dx - 0.6f, 0, 0}, {0, dy - 0.6f, 0}, {0, 0, 1}, floor});
   }
   const float h = half_extent(o.blocks);
   for (int j = 0; j < o.blocks; ++j)
     for (int i = 0; i < o.blocks; ++i)
-      out.push_back({{-h + i * kPitch, -h + j * kPitch, 0}, {kPitch, 0, 0}, {0, kPitch, 0},
-                     {0, 0, 1}, {128, 128, 132}});
+      out.push_back({{-h + i * kPitch, -h + j * kPitch, 0},
+                     {kPitch, 0, 0},
+                     {0, kPitch, 0},
+                     {0, 0, 1},
+                     {128, 128, 132}});
   return out;
 }
 
@@ -76,7 +79,8 @@ SplatCloud make_city(const CityOptions& o) {
   SplatCloud cloud;
   for (const Rect& r : all) {
     const float la = norm(r.a), lb = norm(r.b);
-    const int na = std::max(1, int(std::lround(la / h))), nb = std::max(1, int(std::lround(lb / h)));
+    const int na = std::max(1, int(std::lround(la / h))),
+              nb = std::max(1, int(std::lround(lb / h)));
     const float da = la / na, db = lb / nb;
     // Half the cell's diagonal, a little more: every point of the cell is within a disc.
     const float radius = 0.5f * std::sqrt(da * da + db * db) * 1.05f;

@@ -68,8 +68,8 @@ uint64_t expect_identical(const RenderScene& scene, const std::vector<Camera>& c
       for (std::size_t i = 0; i < img.rgb8.size(); ++i) differ += img.rgb8[i] != full[f].rgb8[i];
       EXPECT_EQ(differ, 0u) << occlusion_mode_name(mode) << " frame " << f;
       EXPECT_EQ(img.depth.size(), full[f].depth.size());
-      EXPECT_EQ(0, std::memcmp(img.depth.data(), full[f].depth.data(),
-                               img.depth.size() * sizeof(float)))
+      EXPECT_EQ(
+          0, std::memcmp(img.depth.data(), full[f].depth.data(), img.depth.size() * sizeof(float)))
           << occlusion_mode_name(mode) << " frame " << f;
     }
   }
@@ -101,8 +101,8 @@ TEST(OcclusionCuller, ScanLinesWithNoiseIsByteIdentical) {
   const RenderScene scene = make_render_scene(make_shape(o), "cad");
   std::vector<Camera> cameras;
   for (int k = 0; k < 4; ++k) {
-    Camera c = orbit_camera(scene.bounds, 30.0f + 40 * k, 20, std::nullopt, {0, 0, 1}, 40, 200,
-                            150);
+    Camera c =
+        orbit_camera(scene.bounds, 30.0f + 40 * k, 20, std::nullopt, {0, 0, 1}, 40, 200, 150);
     cameras.push_back(c);
   }
   RenderOptions options;
@@ -172,14 +172,14 @@ TEST(OcclusionCuller, WallHidesTheBoxesBehindIt) {
   }
   for (int c : own_leaves) ASSERT_GT(c, 10);
   RenderOptions options;
-  for (OcclusionMode mode : {OcclusionMode::kHierarchical, OcclusionMode::kChc,
-                             OcclusionMode::kChcPlusPlus}) {
+  for (OcclusionMode mode :
+       {OcclusionMode::kHierarchical, OcclusionMode::kChc, OcclusionMode::kChcPlusPlus}) {
     OcclusionCuller culler(scene, bvh);
     for (float y : {-1.0f, 0.0f, 1.0f, 0.5f, -0.5f, 0.0f, 0.0f, 1.0f}) {
       const Camera cam = camera_at({-12, y, 2}, {0, y, 2}, 320, 180);
       OcclusionStats stats;
-      const auto& draw = culler.cull(make_projection(cam), mode, margin_of(scene, options), false,
-                                     stats);
+      const auto& draw =
+          culler.cull(make_projection(cam), mode, margin_of(scene, options), false, stats);
       const std::set<uint32_t> drawn(draw.begin(), draw.end());
       for (std::size_t b = 0; b < boxes.size(); ++b) {
         const Range& r = boxes[b];
