@@ -37,14 +37,15 @@ nlohmann::json describe(const ShapeOptions& o, const SplatCloud& cloud, bool col
 nlohmann::json walkthrough_json(const std::vector<CityCamera>& cameras) {
   nlohmann::json path = nlohmann::json::array();
   for (const CityCamera& c : cameras)
-    path.push_back({{"eye", {c.eye.x, c.eye.y, c.eye.z}},
-                    {"target", {c.target.x, c.target.y, c.target.z}}});
+    path.push_back(
+        {{"eye", {c.eye.x, c.eye.y, c.eye.z}}, {"target", {c.target.x, c.target.y, c.target.z}}});
   return path;
 }
 
 StageSummary run_city(const SplatSynthOptions& o) {
   if (o.city_blocks < 2 || o.city_blocks > 64) throw_usage("--blocks must be in 2..64");
-  if (o.walk_frames < 2 || o.walk_frames > 100000) throw_usage("--walk-frames must be in 2..100000");
+  if (o.walk_frames < 2 || o.walk_frames > 100000)
+    throw_usage("--walk-frames must be in 2..100000");
   if (o.sample.points == 0) throw_usage("--points must be at least 1");
   if (o.write.ascii && o.write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
   Stage stage("splat-synth", {"", o.output, ""});
@@ -61,8 +62,11 @@ StageSummary run_city(const SplatSynthOptions& o) {
   nlohmann::json m;
   m["tool"] = "splat-synth";
   m["version"] = kVersion;
-  m["options"] = {{"shape", "city"},   {"points", o.sample.points}, {"blocks", o.city_blocks},
-                  {"seed", o.sample.seed}, {"colors", !o.no_color}};
+  m["options"] = {{"shape", "city"},
+                  {"points", o.sample.points},
+                  {"blocks", o.city_blocks},
+                  {"seed", o.sample.seed},
+                  {"colors", !o.no_color}};
   m["counts"] = {{"points", doc.cloud.size()}, {"faces", 0}};
   m["history"] = nlohmann::json::array();
   doc.metadata = m;

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <numbers>
 #include <regex>
+#include <sstream>
 #include <vector>
 
 #include "apps/parse_triple.h"
@@ -22,13 +22,13 @@
 #include "render/chunk_bvh.h"
 #include "render/count_visible_splats.h"
 #include "render/occlusion_culler.h"
-#include "render/subset_scene.h"
 #include "render/qsplat_scene.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
 #include "render/setup_splats.h"
 #include "render/splat_palette.h"
+#include "render/subset_scene.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
@@ -284,17 +284,18 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
 
 nlohmann::json occlusion_json(const OcclusionStats& s) {
   auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
-  return {{"nodes_traversed", s.nodes_traversed},
-          {"queries", s.queries},
-          {"multiqueries", s.multiqueries},
-          {"queries_per_multiquery",
-           s.multiqueries ? std::round(100.0 * s.multiquery_nodes / s.multiqueries) / 100 : 0.0},
-          {"nodes_culled_frustum", s.culled_frustum},
-          {"nodes_culled_occlusion", s.culled_occlusion},
-          {"leaves_drawn", s.leaves_drawn},
-          {"splats_drawn", s.splats_drawn},
-          {"time_ms",
-           {{"traversal", ms(s.traversal_s)}, {"queries", ms(s.query_s)}, {"depth", ms(s.depth_s)}}}};
+  return {
+      {"nodes_traversed", s.nodes_traversed},
+      {"queries", s.queries},
+      {"multiqueries", s.multiqueries},
+      {"queries_per_multiquery",
+       s.multiqueries ? std::round(100.0 * s.multiquery_nodes / s.multiqueries) / 100 : 0.0},
+      {"nodes_culled_frustum", s.culled_frustum},
+      {"nodes_culled_occlusion", s.culled_occlusion},
+      {"leaves_drawn", s.leaves_drawn},
+      {"splats_drawn", s.splats_drawn},
+      {"time_ms",
+       {{"traversal", ms(s.traversal_s)}, {"queries", ms(s.query_s)}, {"depth", ms(s.depth_s)}}}};
 }
 
 std::string read_text_file(const std::string& path) {
@@ -341,8 +342,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   auto image_path = [&](int i) { return numbered ? frame_path(o.output, i) : o.output; };
   Stage stage("splat-view", {o.input, image_path(0), o.stats_path}, "--stats");
   for (int i = 0; i < frames; ++i)  // the other frames of a turntable or a path; the path file
-    if ((i > 0 && (same_file(o.input, image_path(i)) ||
-                   same_file(o.stats_path, image_path(i), 1, 1))) ||
+    if ((i > 0 &&
+         (same_file(o.input, image_path(i)) || same_file(o.stats_path, image_path(i), 1, 1))) ||
         (!o.path.empty() && same_file(o.path, image_path(i))))
       throw_usage("frame " + image_path(i) + " would overwrite an input or the stats");
 
@@ -403,10 +404,10 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   for (int i = 0; i < frames; ++i) {
     progress(double(i) / frames, "rendering");
     const Camera camera =
-        !path.empty() ? path[i]
-                      : turned_camera(base, r.up,
-                                      2.0f * std::numbers::pi_v<float> * static_cast<float>(i) /
-                                          frames);
+        !path.empty()
+            ? path[i]
+            : turned_camera(base, r.up,
+                            2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
     Framebuffer target = std::move(frame);
     FrameStats stats;
     OcclusionStats occlusion;
@@ -414,8 +415,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
       stats = stage.phase(nullptr, "rendering", [&] {
         if (!culling) return renderer.render(scene, camera, render, target);
         const auto c0 = Clock::now();
-        const std::vector<uint32_t>& draw = culler->cull(
-            make_projection(camera), r.occlusion, margin, render.cull_backfaces, occlusion);
+        const std::vector<uint32_t>& draw = culler->cull(make_projection(camera), r.occlusion,
+                                                         margin, render.cull_backfaces, occlusion);
         subset_scene(scene, draw, subset);
         const double cull_s = seconds_since(c0);
         FrameStats f = renderer.render(subset, camera, render, target);
@@ -433,8 +434,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     summary.occlusion.add(occlusion);
     nlohmann::json oj = culling ? occlusion_json(occlusion) : nlohmann::json::object();
     if (o.count_visible && !scene.qsplat)
-      oj["splats_visible"] = count_visible_splats(scene, make_projection(camera),
-                                                  render.cull_backfaces);
+      oj["splats_visible"] =
+          count_visible_splats(scene, make_projection(camera), render.cull_backfaces);
     per_frame_occlusion.push_back(oj);
     last = stats;
   }

@@ -54,7 +54,7 @@ struct SplatViewSummary {
   uint64_t splats = 0;       // per frame
   double frame_seconds = 0;  // sum over frames, rendering only
   double load_seconds = 0, write_seconds = 0;
-  double bvh_seconds = 0;           // building the chunk hierarchy (occlusion culling)
+  double bvh_seconds = 0;            // building the chunk hierarchy (occlusion culling)
   render::OcclusionStats occlusion;  // summed over frames
   StageSummary line() const;  // for the command line's summary
 };
