@@ -1,0 +1,154 @@
+#include "spt/encode_spt.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "formats/spt_codes.h"
+#include "splatkit/crc32c.h"
+
+namespace splatkit::spt {
+
+namespace {
+
+struct NodeView {
+  const SptTree& tree;
+  const SptInput& in;
+  std::size_t n;
+  Vec3f centre(std::size_t i) const { return i < n ? in.positions[i] : tree.interiors[i - n].centre; }
+  Vec3f normal(std::size_t i) const { return i < n ? in.normals[i] : tree.interiors[i - n].normal; }
+  float radius(std::size_t i) const { return i < n ? in.radii[i] : tree.interiors[i - n].radius; }
+  std::array<uint8_t, 3> color(std::size_t i) const {
+    const Vec3f c = i < n ? in.leaf(i).color : tree.interiors[i - n].color;
+    auto q = [](float v) { return static_cast<uint8_t>(std::clamp(std::round(v), 0.0f, 255.0f)); };
+    return {q(c.x), q(c.y), q(c.z)};
+  }
+};
+
+}  // namespace
+
+EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOptions& o,
+                      bool keep_map) {
+  const std::size_t n = in.size(), total = tree.size();
+  const NodeView v{tree, in, n};
+  SptHeader h;
+  h.flags = (o.full ? kSptFlagFull : 0u) | (in.colors.empty() ? 0u : kSptFlagColor);
+  h.entry_bytes = o.full ? kSptFullEntryBytes : kSptCompactEntryBytes;
+  h.depth = tree.depth;
+  h.input_points = n;
+  h.origin = o.origin;
+  h.epsilon = o.epsilon;
+  h.color_weight = o.color_weight;
+
+  // Quantisation frame and scales.
+  Vec3f lo = v.centre(0), hi = lo;
+  float r_lo = INFINITY, r_hi = 0;
+  for (std::size_t i = 0; i < total; ++i) {
+    const Vec3f c = v.centre(i);
+    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+  }
+  for (const SptDisc& d : tree.interiors)
+    if (d.error > 0) {
+      r_lo = std::min(r_lo, d.error / o.epsilon);
+      r_hi = std::max(r_hi, d.error / o.epsilon);
+    }
+  if (!(r_lo <= r_hi)) r_lo = r_hi = 1;
+  h.r_lo = r_lo;
+  h.r_hi = r_hi;
+  h.box_min = lo;
+  h.step = {(hi.x - lo.x) / 65535.0f, (hi.y - lo.y) / 65535.0f, (hi.z - lo.z) / 65535.0f};
+  // The decoded centre is within half a step per axis: the disc grows by that much.
+  const float slack =
+      o.full ? 0.0f : 0.5f * norm(h.step) * 1.0001f;
+  float d_lo = INFINITY, d_hi = 0;
+  for (std::size_t i = 0; i < total; ++i) {
+    const float d = 2 * v.radius(i);
+    if (d > 0) {
+      d_lo = std::min(d_lo, d + 2 * slack);
+      d_hi = std::max(d_hi, d + 2 * slack);
+    }
+  }
+  if (!(d_lo <= d_hi)) d_lo = d_hi = 1;
+  h.d_lo = d_lo;
+  h.d_hi = d_hi * 1.000001f;
+
+  // r_min per node, as stored (a code, or the float itself).
+  auto r_min_of = [&](std::size_t i) { return i < n ? 0.0f : tree.interiors[i - n].error / o.epsilon; };
+  std::vector<uint16_t> code;
+  if (!o.full) {
+    code.resize(total);
+    tbb::parallel_for(std::size_t{0}, total, [&](std::size_t i) { code[i] = encode_r(r_min_of(i), r_lo, r_hi); });
+  }
+  auto rmin_key = [&](std::size_t i) -> float { return o.full ? r_min_of(i) : code[i]; };
+  auto rmax_key = [&](std::size_t i) -> float {
+    const uint32_t p = tree.parent[i];
+    if (p == kNoParent) return o.full ? INFINITY : kRInfinity;
+    return rmin_key(p);
+  };
+
+  // Non-empty intervals, sorted by r_max descending, ties by node number.
+  std::vector<uint32_t> order;
+  order.reserve(total);
+  for (std::size_t i = 0; i < total; ++i)
+    if (rmax_key(i) > rmin_key(i)) order.push_back(static_cast<uint32_t>(i));
+  if (o.full) {
+    tbb::parallel_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      const float ka = rmax_key(a), kb = rmax_key(b);
+      return ka != kb ? ka > kb : a < b;
+    });
+  } else {  // counting sort on the 16-bit r_max code (stable: node order within a code)
+    std::vector<uint32_t> count(65537, 0);
+    for (uint32_t i : order) ++count[65535 - static_cast<uint32_t>(rmax_key(i)) + 1];
+    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+    std::vector<uint32_t> sorted(order.size());
+    for (uint32_t i : order) sorted[count[65535 - static_cast<uint32_t>(rmax_key(i))]++] = i;
+    order.swap(sorted);
+  }
+
+  EncodedSpt out;
+  out.entries = order.size();
+  out.dropped_empty = total - order.size();
+  h.entries = order.size();
+  out.bytes.assign(kSptHeaderBytes + order.size() * h.entry_bytes, 0);
+  unsigned char* base = out.bytes.data() + kSptHeaderBytes;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
+    for (std::size_t k = r.begin(); k < r.end(); ++k) {
+      const uint32_t i = order[k];
+      unsigned char* e = base + k * h.entry_bytes;
+      const Vec3f c = v.centre(i), nn = v.normal(i);
+      const std::array<uint8_t, 3> col = in.colors.empty() ? std::array<uint8_t, 3>{0, 0, 0} : v.color(i);
+      if (o.full) {
+        const float f[9] = {c.x, c.y, c.z, nn.x, nn.y, nn.z, 2 * v.radius(i), rmin_key(i), rmax_key(i)};
+        for (int j = 0; j < 9; ++j) put_f32(e + 4 * j, f[j]);
+        e[36] = col[0];
+        e[37] = col[1];
+        e[38] = col[2];
+      } else {
+        put_u16(e, encode_position(c.x, lo.x, h.step.x));
+        put_u16(e + 2, encode_position(c.y, lo.y, h.step.y));
+        put_u16(e + 4, encode_position(c.z, lo.z, h.step.z));
+        put_u16(e + 6, encode_normal(nn));
+        const float d = v.radius(i) > 0 ? 2 * v.radius(i) + 2 * slack : 0.0f;
+        put_u16(e + 8, encode_diameter(d, h.d_lo, h.d_hi));
+        put_u16(e + 10, static_cast<uint16_t>(rmin_key(i)));
+        put_u16(e + 12, static_cast<uint16_t>(rmax_key(i)));
+        put_u16(e + 14, encode_rgb565(col));
+      }
+    }
+  });
+  write_spt_header(h, out.bytes.data());
+  uint32_t crc = crc32c(0, out.bytes.data(), 124);
+  crc = crc32c(crc, base, out.bytes.size() - kSptHeaderBytes);
+  h.checksum = crc;
+  write_spt_header(h, out.bytes.data());
+  if (keep_map) {
+    out.entry_of_node.assign(total, kNoParent);
+    for (std::size_t k = 0; k < order.size(); ++k) out.entry_of_node[order[k]] = static_cast<uint32_t>(k);
+  }
+  return out;
+}
+
+}  // namespace splatkit::spt
