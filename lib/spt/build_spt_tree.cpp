@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <utility>
 
 namespace splatkit::spt {
@@ -24,37 +25,50 @@ uint64_t spread(uint64_t v) {
   return v;
 }
 
-std::vector<Keyed> sorted_by_morton(const SptInput& in) {
-  const std::size_t n = in.size();
-  Vec3f lo = in.positions[0], hi = in.positions[0];
-  for (const Vec3f& p : in.positions) {
+// Morton codes of splats keys[b, e) over the bounding cube of their own centres.
+void assign_codes(const SptInput& in, std::span<Keyed> keys) {
+  Vec3f lo = in.positions[keys[0].second], hi = lo;
+  for (const Keyed& k : keys) {
+    const Vec3f& p = in.positions[k.second];
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
   const double extent = std::max({double(hi.x) - lo.x, double(hi.y) - lo.y, double(hi.z) - lo.z});
   const double scale = extent > 0 ? 2097151.0 / extent : 0.0;
-  std::vector<Keyed> keys(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 1 << 14), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const Vec3f& p = in.positions[i];
+      const Vec3f& p = in.positions[keys[i].second];
       auto q = [&](float v, float l) {
         return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
       };
-      keys[i] = {spread(q(p.x, lo.x)) << 2 | spread(q(p.y, lo.y)) << 1 | spread(q(p.z, lo.z)),
-                 static_cast<uint32_t>(i)};
+      keys[i].first = spread(q(p.x, lo.x)) << 2 | spread(q(p.y, lo.y)) << 1 | spread(q(p.z, lo.z));
     }
   });
+}
+
+std::vector<Keyed> sorted_by_morton(const SptInput& in) {
+  std::vector<Keyed> keys(in.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) keys[i].second = static_cast<uint32_t>(i);
+  assign_codes(in, keys);
   tbb::parallel_sort(keys.begin(), keys.end());
   return keys;
 }
 
 // The child ranges of the sorted range [b, e) (size >= 2), appended to `cuts` as boundaries
 // b = cuts[0] < cuts[1] < ... < cuts.back() = e: at the first octree digit where the codes differ,
-// or one splat each when every code is equal.
-void split_range(const std::vector<Keyed>& keys, std::size_t b, std::size_t e,
+// or one splat each when every code is equal. A range of more than 8 splats with one code (a
+// cluster far smaller than the cube's cells, beside a far outlier) gets codes over its own
+// bounding cube first, sorted again in place; only coincident centres stay one code.
+void split_range(const SptInput& in, std::vector<Keyed>& keys, std::size_t b, std::size_t e,
                  std::vector<std::size_t>& cuts) {
   cuts.clear();
-  const uint64_t x = keys[b].first ^ keys[e - 1].first;
+  uint64_t x = keys[b].first ^ keys[e - 1].first;
+  if (x == 0 && e - b > 8) {
+    const std::span<Keyed> range(keys.data() + b, e - b);
+    assign_codes(in, range);
+    std::sort(range.begin(), range.end());
+    x = keys[b].first ^ keys[e - 1].first;
+  }
   if (x == 0) {
     for (std::size_t i = b; i <= e; ++i) cuts.push_back(i);
     return;
@@ -87,7 +101,7 @@ struct Subtree {
 
 struct Builder {
   const SptInput& in;
-  const std::vector<Keyed>& keys;
+  std::vector<Keyed>& keys;
   float color_weight;
   bool has_color;
   std::vector<uint32_t>& parent;  // leaves' parents (local numbers inside a subtree, for now)
@@ -100,7 +114,7 @@ struct Builder {
       const uint32_t s = keys[b].second;
       return {uint64_t{s} << 1, in.leaf(s)};
     }
-    split_range(keys, b, e, cuts);
+    split_range(in, keys, b, e, cuts);
     const std::vector<std::size_t> mine = cuts;
     std::vector<SptDisc> discs;
     std::vector<uint64_t> refs;
@@ -149,7 +163,7 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   SptTree tree;
   std::vector<uint32_t>& parent = tree.parent;
   parent.assign(n, kNoParent);
-  const std::vector<Keyed> keys = sorted_by_morton(in);
+  std::vector<Keyed> keys = sorted_by_morton(in);
   const Builder builder{in, keys, color_weight, !in.colors.empty(), parent};
 
   // The top: ranges above the grain split sequentially; the rest become subtrees.
@@ -164,7 +178,7 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
       range_depth.push_back(depth);
       return {false, static_cast<uint32_t>(ranges.size() - 1)};
     }
-    split_range(keys, b, e, cuts);
+    split_range(in, keys, b, e, cuts);
     const std::vector<std::size_t> mine = cuts;
     const uint32_t id = static_cast<uint32_t>(top.size());
     top.emplace_back();

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "formats/spt_codes.h"
 #include "splatkit/crc32c.h"
@@ -50,10 +51,12 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
     lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
     hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
   }
+  // r = e_g / epsilon, kept finite (a far outlier can push it past the float range).
+  auto r_of = [&](float error) { return std::min(error / o.epsilon, std::numeric_limits<float>::max()); };
   for (const SptDisc& d : tree.interiors)
     if (d.error > 0) {
-      r_lo = std::min(r_lo, d.error / o.epsilon);
-      r_hi = std::max(r_hi, d.error / o.epsilon);
+      r_lo = std::min(r_lo, r_of(d.error));
+      r_hi = std::max(r_hi, r_of(d.error));
     }
   if (!(r_lo <= r_hi)) r_lo = r_hi = 1;
   h.r_lo = r_lo;
@@ -62,7 +65,7 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   h.step = {(hi.x - lo.x) / 65535.0f, (hi.y - lo.y) / 65535.0f, (hi.z - lo.z) / 65535.0f};
   // The decoded centre is within half a step per axis: the disc grows by that much.
   const float slack =
-      o.full ? 0.0f : 0.5f * norm(h.step) * 1.0001f;
+      o.full ? 0.0f : static_cast<float>(0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
   float d_lo = INFINITY, d_hi = 0;
   for (std::size_t i = 0; i < total; ++i) {
     const float d = 2 * v.radius(i);
@@ -76,7 +79,7 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   h.d_hi = d_hi * 1.000001f;
 
   // r_min per node, as stored (a code, or the float itself).
-  auto r_min_of = [&](std::size_t i) { return i < n ? 0.0f : tree.interiors[i - n].error / o.epsilon; };
+  auto r_min_of = [&](std::size_t i) { return i < n ? 0.0f : r_of(tree.interiors[i - n].error); };
   std::vector<uint16_t> code;
   if (!o.full) {
     code.resize(total);

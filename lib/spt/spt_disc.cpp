@@ -14,6 +14,9 @@ void plane_basis(const Vec3f& n, Vec3f& a, Vec3f& b) {
   b = cross(n, a);
 }
 
+// |v| without overflow for coordinates beyond 1e19 (a far outlier).
+float length(const Vec3f& v) { return static_cast<float>(std::hypot(double(v.x), double(v.y), double(v.z))); }
+
 float root_of_rest(float x) { return std::sqrt(std::max(0.0f, 1.0f - x * x)); }
 
 }  // namespace
@@ -62,12 +65,12 @@ SptDisc fit_spt_disc(std::span<const SptDisc> children, float color_weight, bool
   SptDisc p;
   p.centre = {static_cast<float>(cx / total), static_cast<float>(cy / total),
               static_cast<float>(cz / total)};
-  const float len = norm(nsum);
+  const float len = length(nsum);
   p.normal = len > 1e-6f ? nsum * (1 / len) : children[largest].normal;
   for (const SptDisc& c : children) {
     const Vec3f v = c.centre - p.centre;
     const Vec3f t = v - p.normal * dot(v, p.normal);
-    p.radius = std::max(p.radius, norm(t) + c.radius);
+    p.radius = std::max(p.radius, length(t) + c.radius);
   }
   float color_error = 0;
   if (has_color) {
@@ -80,8 +83,7 @@ SptDisc fit_spt_disc(std::span<const SptDisc> children, float color_weight, bool
     color_error = color_weight * 2 * p.radius * p.color_deviation;
   }
   const DiscErrors e = disc_errors(p, children);
-  p.error = std::sqrt(e.perpendicular * e.perpendicular + e.tangential * e.tangential +
-                      color_error * color_error);
+  p.error = std::hypot(e.perpendicular, e.tangential, color_error);  // no overflow when far apart
   for (const SptDisc& c : children) p.error = std::max(p.error, c.error);
   return p;
 }
