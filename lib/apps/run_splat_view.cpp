@@ -14,9 +14,11 @@
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
 #include "formats/read_qsplat.h"
+#include "formats/read_spt.h"
 #include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/qsplat_scene.h"
+#include "render/spt_scene.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
@@ -259,6 +261,16 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
                    {"culled_cone", s.lod.culled_cone},
                    {"splats_selected", s.splats_in},
                    {"splats_drawn", s.splats_drawn}};
+  if (s.lod.spt_prefix > 0) {
+    const double prefix = static_cast<double>(s.lod.spt_prefix);
+    j["spt"] = {{"prefix", s.lod.spt_prefix},
+                {"culled_in_prefix", s.lod.spt_culled},
+                {"culled_fraction", static_cast<double>(s.lod.spt_culled) / prefix},
+                {"splats_selected", s.splats_in},
+                {"splats_drawn", s.splats_drawn},
+                {"select_ms", std::round(s.select_s * 1e6) / 1e3},
+                {"selected_per_second", s.select_s > 0 ? std::round(s.splats_in / s.select_s) : 0.0}};
+  }
   return j;
 }
 
@@ -303,6 +315,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   DocumentScene document = stage.phase(nullptr, "reading " + name, [&] {
     if (looks_like_qsplat(stage.input().peek(6)))  // a .qs hierarchy: QSplat traversal
       return DocumentScene{make_qsplat_scene(read_qsplat(stage.input()), name), {}, "", ""};
+    if (spt::looks_like_spt(stage.input().peek(8)))  // an .spt list: a prefix at the screen error
+      return DocumentScene{make_spt_scene(read_spt(stage.input()), name), {}, "", ""};
     return scene_from_document(stage.read({}, progress), name);
   });
   apply_colors(r.color_by, document, name);

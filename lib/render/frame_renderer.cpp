@@ -222,6 +222,8 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
 }
 
 void check_options(const RenderOptions& o) {
+  if (!(o.spt_error_px > 0) || !std::isfinite(o.spt_error_px))
+    throw_usage("--spt-error must be a positive number of pixels");
   if (o.max_fragments < 1 || o.max_fragments > kMaxFragmentsPerPixel)
     throw_usage("--max-fragments must be in 1.." + std::to_string(kMaxFragmentsPerPixel));
   if (o.blend == BlendMode::kZThreshold && !(std::isfinite(o.epsilon)))
@@ -236,7 +238,8 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   const auto start = Clock::now();
   const Projection projection = make_projection(camera);
   FrameStats stats;
-  DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod);
+  DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
+                                 options.spt_error_px);
   if (!options.surface_ids) draws.surface_ids = nullptr;
   if (!options.clip) {
     draws.clip = nullptr;

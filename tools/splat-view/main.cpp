@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
       "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
+      "$ splat-view scan.spt -o far.png --spt-error 2 --stats s.json  # Sequential Point Tree\n"
       "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
@@ -74,6 +75,13 @@ int main(int argc, char** argv) {
       ->default_val(1.0f)
       ->type_name("PX")
       ->check(splatkit::finite_range(0.25, 50.0));
+  app.add_option("--spt-error", o.render.spt_error_px,
+                 "Sequential Point Tree .spt input (build-spt): the allowed screen error in "
+                 "pixels; an entry is drawn where its error over its distance is within it, as "
+                 "a disc of its diameter (0.1 to 50)")
+      ->default_val(1.0f)
+      ->type_name("PX")
+      ->check(splatkit::finite_range(0.1, 50.0));
   app.add_flag("!--no-clip", o.render.clip,
                "Ignore the file's clip partners (CLIP chunk): edges as plain splats give them");
   app.add_flag("!--no-surface-ids", o.render.surface_ids,
