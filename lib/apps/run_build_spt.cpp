@@ -26,6 +26,9 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");
   check_splats(cloud, stage.input_name());
+  cloud.extras = {};  // not part of an .spt: the memory goes to the tree
+  cloud.axes = {};
+  cloud.minor_radii = {};
   for (Vec3f& n : cloud.normals) n = normalized(n);
   const spt::SptInput input{cloud.positions, cloud.normals, cloud.radii, cloud.colors,
                             cloud.color_bits};

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <tuple>
 #include <utility>
 
 namespace splatkit::spt {
@@ -89,14 +90,11 @@ void split_range(const SptInput& in, std::vector<Keyed>& keys, std::size_t b, st
   cuts.push_back(e);
 }
 
-// A subtree over a sorted range, built sequentially with local interior numbers.
+// A subtree over a sorted range, built sequentially; its interiors take the numbers from `next`
+// on, in post-order (counted beforehand, so every subtree writes straight into the tree).
 struct Subtree {
-  std::vector<SptDisc> interiors;
-  std::vector<uint32_t> interior_parent;  // local numbers; the root's is kNoParent
-  uint32_t root = 0;                      // splat number when leaf_root, else local interior
-  bool leaf_root = false;
+  uint32_t next = 0;
   uint32_t depth = 0;
-  SptDisc root_disc;
 };
 
 struct Builder {
@@ -104,37 +102,71 @@ struct Builder {
   std::vector<Keyed>& keys;
   float color_weight;
   bool has_color;
-  std::vector<uint32_t>& parent;  // leaves' parents (local numbers inside a subtree, for now)
+  SptTree& tree;
 
-  // Builds [b, e) into `t`; returns (node ref, disc) with ref = splat | local interior << 1 tag.
-  std::pair<uint64_t, SptDisc> build(Subtree& t, std::size_t b, std::size_t e, uint32_t depth,
+  // Interior nodes over [b, e), splitting exactly as build will: a cluster that split_range
+  // re-codes is put back as it was afterwards, so that build re-codes it the same way.
+  uint32_t count(std::size_t b, std::size_t e, std::vector<std::size_t>& cuts) const {
+    if (e - b == 1) return 0;
+    std::vector<Keyed> saved;
+    if (e - b > 8 && keys[b].first == keys[e - 1].first)
+      saved.assign(keys.begin() + static_cast<std::ptrdiff_t>(b), keys.begin() + static_cast<std::ptrdiff_t>(e));
+    split_range(in, keys, b, e, cuts);
+    const std::vector<std::size_t> mine = cuts;
+    uint32_t sum = 1;
+    for (std::size_t k = 0; k + 1 < mine.size(); ++k) sum += count(mine[k], mine[k + 1], cuts);
+    if (!saved.empty()) std::copy(saved.begin(), saved.end(), keys.begin() + static_cast<std::ptrdiff_t>(b));
+    return sum;
+  }
+
+  // Builds [b, e) into the tree; returns (node number, disc).
+  std::pair<uint32_t, SptDisc> build(Subtree& t, std::size_t b, std::size_t e, uint32_t depth,
                                      std::vector<std::size_t>& cuts) const {
     if (e - b == 1) {
       t.depth = std::max(t.depth, depth);
       const uint32_t s = keys[b].second;
-      return {uint64_t{s} << 1, in.leaf(s)};
+      return {s, in.leaf(s)};
     }
+    if (e - b <= 32) prefetch(b, e);
     split_range(in, keys, b, e, cuts);
+    const std::size_t kids = cuts.size() - 1;
+    if (kids <= 8) {  // the usual case, without allocating
+      std::array<std::size_t, 9> mine;
+      std::copy(cuts.begin(), cuts.end(), mine.begin());
+      std::array<SptDisc, 8> discs;
+      std::array<uint32_t, 8> ids;
+      for (std::size_t k = 0; k < kids; ++k)
+        std::tie(ids[k], discs[k]) = build(t, mine[k], mine[k + 1], depth + 1, cuts);
+      return attach(t, std::span(ids.data(), kids), std::span(discs.data(), kids));
+    }
     const std::vector<std::size_t> mine = cuts;
-    std::vector<SptDisc> discs;
-    std::vector<uint64_t> refs;
-    discs.reserve(mine.size() - 1);
-    refs.reserve(mine.size() - 1);
-    for (std::size_t k = 0; k + 1 < mine.size(); ++k) {
-      auto [ref, disc] = build(t, mine[k], mine[k + 1], depth + 1, cuts);
-      refs.push_back(ref);
-      discs.push_back(disc);
+    std::vector<SptDisc> discs(kids);
+    std::vector<uint32_t> ids(kids);
+    for (std::size_t k = 0; k < kids; ++k)
+      std::tie(ids[k], discs[k]) = build(t, mine[k], mine[k + 1], depth + 1, cuts);
+    return attach(t, ids, discs);
+  }
+
+  // The splats of a small range are scattered in memory (input order): ask for all of them at
+  // once instead of missing the cache one leaf at a time.
+  void prefetch(std::size_t b, std::size_t e) const {
+    for (std::size_t i = b; i < e; ++i) {
+      const uint32_t s = keys[i].second;
+      __builtin_prefetch(&in.positions[s]);
+      __builtin_prefetch(&in.normals[s]);
+      __builtin_prefetch(&in.radii[s]);
+      if (has_color) __builtin_prefetch(&in.colors[s]);
     }
-    const uint32_t id = static_cast<uint32_t>(t.interiors.size());
-    t.interiors.push_back(fit_spt_disc(discs, color_weight, has_color));
-    t.interior_parent.push_back(kNoParent);
-    for (uint64_t ref : refs) {
-      if (ref & 1)
-        t.interior_parent[ref >> 1] = id;
-      else
-        parent[ref >> 1] = id;
-    }
-    return {uint64_t{id} << 1 | 1, t.interiors.back()};
+  }
+
+  // The next interior node of `t` over children `ids` with discs `discs`.
+  std::pair<uint32_t, SptDisc> attach(Subtree& t, std::span<const uint32_t> ids,
+                                      std::span<const SptDisc> discs) const {
+    const uint32_t id = t.next++;
+    SptDisc& d = tree.interiors[id - in.size()];
+    d = fit_spt_disc(discs, color_weight, has_color);
+    for (uint32_t c : ids) tree.parent[c] = id;
+    return {id, d};
   }
 };
 
@@ -164,7 +196,7 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   std::vector<uint32_t>& parent = tree.parent;
   parent.assign(n, kNoParent);
   std::vector<Keyed> keys = sorted_by_morton(in);
-  const Builder builder{in, keys, color_weight, !in.colors.empty(), parent};
+  const Builder builder{in, keys, color_weight, !in.colors.empty(), tree};
 
   // The top: ranges above the grain split sequentially; the rest become subtrees.
   constexpr std::size_t kGrain = 4096;
@@ -190,37 +222,24 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   };
   split_top(split_top, 0, n, 0);
 
-  std::vector<Subtree> subtrees(ranges.size());
+  // Numbers: the subtrees' interiors in order, then the top nodes in post-order.
+  std::vector<uint32_t> offset(ranges.size() + 1, static_cast<uint32_t>(n));
   tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
     std::vector<std::size_t> local_cuts;
-    Subtree& t = subtrees[k];
-    auto [ref, disc] = builder.build(t, ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
-    t.root = static_cast<uint32_t>(ref >> 1);
-    t.leaf_root = (ref & 1) == 0;
-    t.root_disc = disc;
+    offset[k + 1] = builder.count(ranges[k].first, ranges[k].second, local_cuts);
   });
-
-  // Global numbers: the subtrees' interiors in order, then the top nodes in post-order.
-  std::vector<uint32_t> offset(subtrees.size() + 1, static_cast<uint32_t>(n));
-  for (std::size_t k = 0; k < subtrees.size(); ++k)
-    offset[k + 1] = offset[k] + static_cast<uint32_t>(subtrees[k].interiors.size());
-  const std::size_t interiors_below = offset.back() - n;
-  tree.interiors.resize(interiors_below);
-  parent.resize(offset.back(), kNoParent);
-  tbb::parallel_for(std::size_t{0}, subtrees.size(), [&](std::size_t k) {
-    Subtree& t = subtrees[k];
-    for (std::size_t i = ranges[k].first; i < ranges[k].second && !t.leaf_root; ++i)
-      parent[keys[i].second] += offset[k];
-    for (std::size_t j = 0; j < t.interiors.size(); ++j) {
-      tree.interiors[offset[k] - n + j] = t.interiors[j];
-      if (t.interior_parent[j] != kNoParent) parent[offset[k] + j] = t.interior_parent[j] + offset[k];
-    }
-    t.interiors = {};
-    t.interior_parent = {};
+  for (std::size_t k = 0; k < ranges.size(); ++k) offset[k + 1] += offset[k];
+  tree.interiors.resize(offset.back() - n + top.size());
+  parent.resize(offset.back() + top.size(), kNoParent);
+  std::vector<Subtree> subtrees(ranges.size());
+  std::vector<std::pair<uint32_t, SptDisc>> roots(ranges.size());
+  tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
+    std::vector<std::size_t> local_cuts;
+    subtrees[k].next = offset[k];
+    roots[k] = builder.build(subtrees[k], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
   });
   for (const Subtree& t : subtrees) tree.depth = std::max(tree.depth, t.depth);
-  auto global = [&](std::size_t k) { return subtrees[k].leaf_root ? subtrees[k].root : offset[k] + subtrees[k].root; };
-
+  uint32_t next_top = offset.back();
   auto finish_top = [&](auto&& self, uint32_t id) -> std::pair<uint32_t, SptDisc> {
     std::vector<uint32_t> ids;
     std::vector<SptDisc> discs;
@@ -230,15 +249,14 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
         ids.push_back(g);
         discs.push_back(d);
       } else {
-        ids.push_back(global(index));
-        discs.push_back(subtrees[index].root_disc);
+        ids.push_back(roots[index].first);
+        discs.push_back(roots[index].second);
       }
     }
-    const uint32_t g = static_cast<uint32_t>(n + tree.interiors.size());
-    tree.interiors.push_back(fit_spt_disc(discs, color_weight, !in.colors.empty()));
-    parent.push_back(kNoParent);
+    const uint32_t g = next_top++;
+    tree.interiors[g - n] = fit_spt_disc(discs, color_weight, !in.colors.empty());
     for (uint32_t c : ids) parent[c] = g;
-    return {g, tree.interiors.back()};
+    return {g, tree.interiors[g - n]};
   };
   if (!top.empty()) finish_top(finish_top, 0);
   return tree;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "formats/spt_codes.h"
 #include "splatkit/crc32c.h"
@@ -92,35 +93,43 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
     return rmin_key(p);
   };
 
-  // Non-empty intervals, sorted by r_max descending, ties by node number.
-  std::vector<uint32_t> order;
-  order.reserve(total);
-  for (std::size_t i = 0; i < total; ++i)
-    if (rmax_key(i) > rmin_key(i)) order.push_back(static_cast<uint32_t>(i));
+  // Non-empty intervals, sorted by r_max descending, ties by node number: dest[i] is node i's
+  // place in the list (kNoParent when left out). Entries are then encoded in node order and
+  // scattered to their places (the node data is read in order, which is what keeps this fast).
+  std::vector<uint32_t> dest(total, kNoParent);
+  std::size_t kept = 0;
   if (o.full) {
+    std::vector<uint32_t> order;
+    for (std::size_t i = 0; i < total; ++i)
+      if (rmax_key(i) > rmin_key(i)) order.push_back(static_cast<uint32_t>(i));
     tbb::parallel_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
       const float ka = rmax_key(a), kb = rmax_key(b);
       return ka != kb ? ka > kb : a < b;
     });
+    for (std::size_t k = 0; k < order.size(); ++k) dest[order[k]] = static_cast<uint32_t>(k);
+    kept = order.size();
   } else {  // counting sort on the 16-bit r_max code (stable: node order within a code)
-    std::vector<uint32_t> count(65537, 0);
-    for (uint32_t i : order) ++count[65535 - static_cast<uint32_t>(rmax_key(i)) + 1];
-    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
-    std::vector<uint32_t> sorted(order.size());
-    for (uint32_t i : order) sorted[count[65535 - static_cast<uint32_t>(rmax_key(i))]++] = i;
-    order.swap(sorted);
+    std::vector<uint32_t> next(65536, 0);
+    auto bucket = [&](std::size_t i) { return 65535u - static_cast<uint32_t>(rmax_key(i)); };
+    for (std::size_t i = 0; i < total; ++i)
+      if (rmax_key(i) > rmin_key(i)) ++next[bucket(i)];
+    uint32_t sum = 0;
+    for (uint32_t& c : next) sum += std::exchange(c, sum);
+    for (std::size_t i = 0; i < total; ++i)
+      if (rmax_key(i) > rmin_key(i)) dest[i] = next[bucket(i)]++;
+    kept = sum;
   }
 
   EncodedSpt out;
-  out.entries = order.size();
-  out.dropped_empty = total - order.size();
-  h.entries = order.size();
-  out.bytes.assign(kSptHeaderBytes + order.size() * h.entry_bytes, 0);
+  out.entries = kept;
+  out.dropped_empty = total - kept;
+  h.entries = kept;
+  out.bytes.resize(kSptHeaderBytes + kept * h.entry_bytes);
   unsigned char* base = out.bytes.data() + kSptHeaderBytes;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
-    for (std::size_t k = r.begin(); k < r.end(); ++k) {
-      const uint32_t i = order[k];
-      unsigned char* e = base + k * h.entry_bytes;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, total, 1 << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      if (dest[i] == kNoParent) continue;
+      unsigned char* e = base + std::size_t{dest[i]} * h.entry_bytes;
       const Vec3f c = v.centre(i), nn = v.normal(i);
       const std::array<uint8_t, 3> col = in.colors.empty() ? std::array<uint8_t, 3>{0, 0, 0} : v.color(i);
       if (o.full) {
@@ -129,6 +138,7 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
         e[36] = col[0];
         e[37] = col[1];
         e[38] = col[2];
+        e[39] = 0;
       } else {
         put_u16(e, encode_position(c.x, lo.x, h.step.x));
         put_u16(e + 2, encode_position(c.y, lo.y, h.step.y));
@@ -148,8 +158,7 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   h.checksum = crc;
   write_spt_header(h, out.bytes.data());
   if (keep_map) {
-    out.entry_of_node.assign(total, kNoParent);
-    for (std::size_t k = 0; k < order.size(); ++k) out.entry_of_node[order[k]] = static_cast<uint32_t>(k);
+    out.entry_of_node = std::move(dest);
   }
   return out;
 }
