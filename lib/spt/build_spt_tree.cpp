@@ -177,6 +177,14 @@ struct TopNode {
 
 }  // namespace
 
+std::vector<uint32_t> morton_order(std::span<const Vec3f> positions) {
+  const SptInput in{positions, {}, {}, {}, 8};
+  const std::vector<Keyed> keys = sorted_by_morton(in);
+  std::vector<uint32_t> order(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
+  return order;
+}
+
 SptDisc SptInput::leaf(std::size_t i) const {
   SptDisc d;
   d.centre = positions[i];

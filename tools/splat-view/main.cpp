@@ -6,7 +6,9 @@
 
 int main(int argc, char** argv) {
   splatkit::Tool tool(
-      "splat-view", "Render a splat file (positions, normals, radii, optional colours) to an image",
+      "splat-view",
+      "Render a splat file (positions, normals, radii, optional colours) to an image; QSplat .qs "
+      "and Sequential Point Tree .spt files are drawn by level of detail",
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
       "$ splat-view scan.ply -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
