@@ -18,13 +18,31 @@ void put_f64(unsigned char* p, double v) { put_u64(p, std::bit_cast<uint64_t>(v)
 double get_f64(const unsigned char* p) { return std::bit_cast<double>(get_u64(p)); }
 
 // Position on a log scale of `steps` codes from lo (code 0) to hi (code steps − 1), as a real.
+// The scale's constant is kept from one call to the next (the writer encodes millions of values
+// on one scale).
 double log_position(double v, double lo, double hi, int steps) {
   if (!(hi > lo)) return 0;
-  return std::log(v / lo) / std::log(hi / lo) * (steps - 1);
+  thread_local double last_lo = 0, last_hi = 0, last_factor = 0;
+  thread_local int last_steps = 0;
+  if (lo != last_lo || hi != last_hi || steps != last_steps) {
+    last_lo = lo;
+    last_hi = hi;
+    last_steps = steps;
+    last_factor = (steps - 1) / std::log(hi / lo);
+  }
+  return std::log(v / lo) * last_factor;
 }
 double log_value(double pos, double lo, double hi, int steps) {
   if (!(hi > lo)) return lo;
-  return lo * std::exp(pos / (steps - 1) * std::log(hi / lo));
+  thread_local double last_lo = 0, last_hi = 0, last_factor = 0;
+  thread_local int last_steps = 0;
+  if (lo != last_lo || hi != last_hi || steps != last_steps) {
+    last_lo = lo;
+    last_hi = hi;
+    last_steps = steps;
+    last_factor = std::log(hi / lo) / (steps - 1);
+  }
+  return lo * std::exp(pos * last_factor);
 }
 
 }  // namespace
@@ -79,7 +97,7 @@ SptHeader read_spt_header(const unsigned char* in) {
 
 uint16_t encode_position(float p, float lo, float step) {
   if (!(step > 0)) return 0;
-  const float q = std::round((p - lo) / step);
+  const float q = std::floor((p - lo) / step + 0.5f);
   return static_cast<uint16_t>(std::clamp(q, 0.0f, 65535.0f));
 }
 float decode_position(uint16_t q, float lo, float step) { return lo + static_cast<float>(q) * step; }
@@ -93,7 +111,7 @@ uint16_t encode_normal(const Vec3f& n) {
     u = uu;
   }
   auto q = [](float x) {
-    return static_cast<uint16_t>(std::clamp(std::round((x * 0.5f + 0.5f) * 255.0f), 0.0f, 255.0f));
+    return static_cast<uint16_t>(std::clamp(std::floor((x * 0.5f + 0.5f) * 255.0f + 0.5f), 0.0f, 255.0f));
   };
   return static_cast<uint16_t>(q(u) | q(v) << 8);
 }
@@ -112,7 +130,7 @@ Vec3f decode_normal(uint16_t code) {
 uint16_t encode_r(float r, float lo, float hi) {
   if (std::isinf(r)) return kRInfinity;
   if (!(r > 0)) return 0;
-  const double pos = std::round(log_position(std::clamp(r, lo, hi), lo, hi, 65534));
+  const double pos = std::floor(log_position(std::clamp(r, lo, hi), lo, hi, 65534) + 0.5);
   return static_cast<uint16_t>(1 + std::clamp(pos, 0.0, 65533.0));
 }
 float decode_r(uint16_t code, float lo, float hi) {

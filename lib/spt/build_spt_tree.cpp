@@ -51,7 +51,8 @@ std::vector<Keyed> sorted_by_morton(const SptInput& in) {
   std::vector<Keyed> keys(in.size());
   for (std::size_t i = 0; i < keys.size(); ++i) keys[i].second = static_cast<uint32_t>(i);
   assign_codes(in, keys);
-  tbb::parallel_sort(keys.begin(), keys.end());
+  if (!std::is_sorted(keys.begin(), keys.end()))  // the caller may have sorted the splats already
+    tbb::parallel_sort(keys.begin(), keys.end());
   return keys;
 }
 

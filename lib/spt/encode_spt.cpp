@@ -24,7 +24,7 @@ struct NodeView {
   float radius(std::size_t i) const { return i < n ? in.radii[i] : tree.interiors[i - n].radius; }
   std::array<uint8_t, 3> color(std::size_t i) const {
     const Vec3f c = i < n ? in.leaf(i).color : tree.interiors[i - n].color;
-    auto q = [](float v) { return static_cast<uint8_t>(std::clamp(std::round(v), 0.0f, 255.0f)); };
+    auto q = [](float v) { return static_cast<uint8_t>(std::clamp(std::floor(v + 0.5f), 0.0f, 255.0f)); };
     return {q(c.x), q(c.y), q(c.z)};
   }
 };
