@@ -6,10 +6,10 @@
 #include <sstream>
 #include <string_view>
 
-#include "spt/build_spt_tree.h"
-#include "spt/encode_spt.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
+#include "spt/build_spt_tree.h"
+#include "spt/encode_spt.h"
 
 namespace splatkit::apps {
 
@@ -56,9 +56,8 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   const spt::SptInput input{cloud.positions, cloud.normals, cloud.radii, cloud.colors,
                             cloud.color_bits};
   progress(0.3, "building the tree");
-  const spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
-    return spt::build_spt_tree(input, o.color_weight);
-  });
+  const spt::SptTree tree = stage.phase("tree", "building the point tree",
+                                        [&] { return spt::build_spt_tree(input, o.color_weight); });
   const nlohmann::json options = {{"epsilon", o.epsilon},
                                   {"color_weight", o.color_weight},
                                   {"precision", o.full ? "full" : "compact"}};

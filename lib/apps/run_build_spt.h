@@ -11,11 +11,11 @@
 namespace splatkit::apps {
 
 struct BuildSptOptions {
-  StagePaths paths;           // OUT: .spt or "-"
-  ReadOptions read;           // read.columns: text input's column layout
-  float epsilon = 1e-3f;      // screen error (radians) the stored r values are stated for, > 0
-  float color_weight = 1;     // L: weight of the colour deviation in the error, >= 0
-  bool full = false;          // --precision full: 40-byte float entries
+  StagePaths paths;        // OUT: .spt or "-"
+  ReadOptions read;        // read.columns: text input's column layout
+  float epsilon = 1e-3f;   // screen error (radians) the stored r values are stated for, > 0
+  float color_weight = 1;  // L: weight of the colour deviation in the error, >= 0
+  bool full = false;       // --precision full: 40-byte float entries
 };
 
 // Throws Error(kUsage) for bad paths or options (before reading), Error(kBadInput) for splats

@@ -9,8 +9,8 @@
 
 #include "formats/describe_cloud.h"
 #include "formats/describe_qsplat.h"
-#include "formats/read_qsplat.h"
 #include "formats/describe_spt.h"
+#include "formats/read_qsplat.h"
 #include "formats/read_spt.h"
 #include "splatkit/error.h"
 

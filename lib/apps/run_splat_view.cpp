@@ -18,12 +18,12 @@
 #include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/qsplat_scene.h"
-#include "render/spt_scene.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
 #include "render/setup_splats.h"
 #include "render/splat_palette.h"
+#include "render/spt_scene.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
@@ -263,13 +263,14 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
                    {"splats_drawn", s.splats_drawn}};
   if (s.lod.spt_prefix > 0) {
     const double prefix = static_cast<double>(s.lod.spt_prefix);
-    j["spt"] = {{"prefix", s.lod.spt_prefix},
-                {"culled_in_prefix", s.lod.spt_culled},
-                {"culled_fraction", static_cast<double>(s.lod.spt_culled) / prefix},
-                {"splats_selected", s.splats_in},
-                {"splats_drawn", s.splats_drawn},
-                {"select_ms", std::round(s.select_s * 1e6) / 1e3},
-                {"selected_per_second", s.select_s > 0 ? std::round(s.splats_in / s.select_s) : 0.0}};
+    j["spt"] = {
+        {"prefix", s.lod.spt_prefix},
+        {"culled_in_prefix", s.lod.spt_culled},
+        {"culled_fraction", static_cast<double>(s.lod.spt_culled) / prefix},
+        {"splats_selected", s.splats_in},
+        {"splats_drawn", s.splats_drawn},
+        {"select_ms", std::round(s.select_s * 1e6) / 1e3},
+        {"selected_per_second", s.select_s > 0 ? std::round(s.splats_in / s.select_s) : 0.0}};
   }
   return j;
 }

@@ -27,22 +27,26 @@ void check_header(std::span<const unsigned char> b, const SptHeader& h, const st
                                 " is newer than this reader (it reads versions up to " +
                                 std::to_string(kSptVersion) + ")");
   if (h.flags & ~kSptKnownFlags)
-    throw_unsupported(name, "byte 12: unknown flag bits " + std::to_string(h.flags & ~kSptKnownFlags));
+    throw_unsupported(name,
+                      "byte 12: unknown flag bits " + std::to_string(h.flags & ~kSptKnownFlags));
   const uint32_t want = h.full() ? kSptFullEntryBytes : kSptCompactEntryBytes;
   if (h.entry_bytes != want)
-    fail(name, 16, "entry size " + std::to_string(h.entry_bytes) + " (the flags say " +
-                       std::to_string(want) + ")");
+    fail(name, 16,
+         "entry size " + std::to_string(h.entry_bytes) + " (the flags say " + std::to_string(want) +
+             ")");
   for (int i = 112; i < 124; ++i)
     if (b[i] != 0) fail(name, static_cast<uint64_t>(i), "reserved header byte is not zero");
   const uint64_t left = b.size() - kSptHeaderBytes;
   if (h.entries > left / h.entry_bytes)
-    fail(name, 24, std::to_string(h.entries) + " entries need more than the " +
-                       std::to_string(left) + " bytes after the header (truncated file?)");
+    fail(name, 24,
+         std::to_string(h.entries) + " entries need more than the " + std::to_string(left) +
+             " bytes after the header (truncated file?)");
   if (h.entries * h.entry_bytes != left)
     fail(name, kSptHeaderBytes + h.entries * h.entry_bytes,
          std::to_string(left - h.entries * h.entry_bytes) + " bytes after the last entry");
   for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(h.origin[i])) fail(name, 40 + 8 * static_cast<uint64_t>(i), "origin is not finite");
+    if (!std::isfinite(h.origin[i]))
+      fail(name, 40 + 8 * static_cast<uint64_t>(i), "origin is not finite");
   if (!finite3(h.box_min)) fail(name, 64, "quantisation frame is not finite");
   if (!finite3(h.step) || h.step.x < 0 || h.step.y < 0 || h.step.z < 0)
     fail(name, 76, "quantisation step is negative or not finite");
@@ -91,10 +95,12 @@ SptModel parse_spt(std::span<const unsigned char> b, const std::string& name) {
       x.color = {e[36], e[37], e[38]};
       if (!finite3(x.position)) fail(name, at, "position is not finite");
       const float len = norm(x.normal);
-      if (!std::isfinite(len) || std::fabs(len - 1) > 1e-3f) fail(name, at + 12, "normal is not unit");
+      if (!std::isfinite(len) || std::fabs(len - 1) > 1e-3f)
+        fail(name, at + 12, "normal is not unit");
       if (!(x.diameter >= 0) || !std::isfinite(x.diameter))
         fail(name, at + 24, "diameter is negative or not finite");
-      if (!(x.r_min >= 0) || !std::isfinite(x.r_min)) fail(name, at + 28, "r_min is negative or not finite");
+      if (!(x.r_min >= 0) || !std::isfinite(x.r_min))
+        fail(name, at + 28, "r_min is negative or not finite");
       if (!(x.r_max >= x.r_min)) fail(name, at + 32, "r_max is below r_min");
     } else {
       for (int k = 0; k < 3; ++k) {

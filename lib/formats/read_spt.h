@@ -24,12 +24,12 @@ namespace splatkit {
 struct SptModel {
   spt::SptHeader header;
   uint64_t file_bytes = 0;
-  uint64_t leaves = 0;                          // entries with r_min = 0
-  std::vector<Vec3f> positions;                 // #E disc centres, local frame
-  std::vector<Vec3f> normals;                   // #E unit
-  std::vector<float> diameters;                 // #E
-  std::vector<float> r_min, r_max;              // #E, r_max descending (may be infinity)
-  std::vector<std::array<uint8_t, 3>> colors;   // #E sRGB 8-bit, or empty
+  uint64_t leaves = 0;                         // entries with r_min = 0
+  std::vector<Vec3f> positions;                // #E disc centres, local frame
+  std::vector<Vec3f> normals;                  // #E unit
+  std::vector<float> diameters;                // #E
+  std::vector<float> r_min, r_max;             // #E, r_max descending (may be infinity)
+  std::vector<std::array<uint8_t, 3>> colors;  // #E sRGB 8-bit, or empty
   std::size_t size() const { return positions.size(); }
 };
 

@@ -100,7 +100,9 @@ uint16_t encode_position(float p, float lo, float step) {
   const float q = std::floor((p - lo) / step + 0.5f);
   return static_cast<uint16_t>(std::clamp(q, 0.0f, 65535.0f));
 }
-float decode_position(uint16_t q, float lo, float step) { return lo + static_cast<float>(q) * step; }
+float decode_position(uint16_t q, float lo, float step) {
+  return lo + static_cast<float>(q) * step;
+}
 
 uint16_t encode_normal(const Vec3f& n) {
   const float s = std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
@@ -111,7 +113,8 @@ uint16_t encode_normal(const Vec3f& n) {
     u = uu;
   }
   auto q = [](float x) {
-    return static_cast<uint16_t>(std::clamp(std::floor((x * 0.5f + 0.5f) * 255.0f + 0.5f), 0.0f, 255.0f));
+    return static_cast<uint16_t>(
+        std::clamp(std::floor((x * 0.5f + 0.5f) * 255.0f + 0.5f), 0.0f, 255.0f));
   };
   return static_cast<uint16_t>(q(u) | q(v) << 8);
 }

@@ -40,17 +40,17 @@ struct SptHeader {
   uint32_t version = kSptVersion;
   uint32_t flags = 0;
   uint32_t entry_bytes = kSptCompactEntryBytes;
-  uint32_t depth = 0;             // levels of the builder's tree below the root
+  uint32_t depth = 0;  // levels of the builder's tree below the root
   uint64_t entries = 0;
-  uint64_t input_points = 0;      // the leaves of the tree
+  uint64_t input_points = 0;              // the leaves of the tree
   std::array<double, 3> origin{0, 0, 0};  // added to the local frame gives the file's frame
-  Vec3f box_min{0, 0, 0};         // quantisation frame (local)
-  Vec3f step{0, 0, 0};            // >= 0
-  float r_lo = 1, r_hi = 1;       // log scale of r codes, 0 < r_lo <= r_hi
-  float d_lo = 1, d_hi = 1;       // log scale of diameter codes, 0 < d_lo <= d_hi
-  float epsilon = 0;              // the build's screen error (radians): r = e_g / epsilon
-  float color_weight = 0;         // the build's colour weight L
-  uint32_t checksum = 0;          // CRC-32C of header bytes 0..123, then the entries
+  Vec3f box_min{0, 0, 0};                 // quantisation frame (local)
+  Vec3f step{0, 0, 0};                    // >= 0
+  float r_lo = 1, r_hi = 1;               // log scale of r codes, 0 < r_lo <= r_hi
+  float d_lo = 1, d_hi = 1;               // log scale of diameter codes, 0 < d_lo <= d_hi
+  float epsilon = 0;                      // the build's screen error (radians): r = e_g / epsilon
+  float color_weight = 0;                 // the build's colour weight L
+  uint32_t checksum = 0;                  // CRC-32C of header bytes 0..123, then the entries
   bool full() const { return (flags & kSptFlagFull) != 0; }
   bool has_color() const { return (flags & kSptFlagColor) != 0; }
 };

@@ -79,9 +79,10 @@ void split_range(const SptInput& in, std::vector<Keyed>& keys, std::size_t b, st
   cuts.push_back(b);
   std::size_t from = b;
   for (uint64_t digit = ((keys[b].first >> shift) & 7) + 1; digit < 8; ++digit) {
-    const auto it = std::partition_point(keys.begin() + static_cast<std::ptrdiff_t>(from),
-                                         keys.begin() + static_cast<std::ptrdiff_t>(e),
-                                         [&](const Keyed& k) { return ((k.first >> shift) & 7) < digit; });
+    const auto it =
+        std::partition_point(keys.begin() + static_cast<std::ptrdiff_t>(from),
+                             keys.begin() + static_cast<std::ptrdiff_t>(e),
+                             [&](const Keyed& k) { return ((k.first >> shift) & 7) < digit; });
     const std::size_t at = static_cast<std::size_t>(it - keys.begin());
     if (at > from && at < e) {
       cuts.push_back(at);
@@ -111,12 +112,14 @@ struct Builder {
     if (e - b == 1) return 0;
     std::vector<Keyed> saved;
     if (e - b > 8 && keys[b].first == keys[e - 1].first)
-      saved.assign(keys.begin() + static_cast<std::ptrdiff_t>(b), keys.begin() + static_cast<std::ptrdiff_t>(e));
+      saved.assign(keys.begin() + static_cast<std::ptrdiff_t>(b),
+                   keys.begin() + static_cast<std::ptrdiff_t>(e));
     split_range(in, keys, b, e, cuts);
     const std::vector<std::size_t> mine = cuts;
     uint32_t sum = 1;
     for (std::size_t k = 0; k + 1 < mine.size(); ++k) sum += count(mine[k], mine[k + 1], cuts);
-    if (!saved.empty()) std::copy(saved.begin(), saved.end(), keys.begin() + static_cast<std::ptrdiff_t>(b));
+    if (!saved.empty())
+      std::copy(saved.begin(), saved.end(), keys.begin() + static_cast<std::ptrdiff_t>(b));
     return sum;
   }
 
@@ -213,7 +216,8 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   std::vector<std::pair<std::size_t, std::size_t>> ranges;
   std::vector<uint32_t> range_depth;
   std::vector<std::size_t> cuts;
-  auto split_top = [&](auto&& self, std::size_t b, std::size_t e, uint32_t depth) -> std::pair<bool, uint32_t> {
+  auto split_top = [&](auto&& self, std::size_t b, std::size_t e,
+                       uint32_t depth) -> std::pair<bool, uint32_t> {
     if (e - b <= kGrain) {
       ranges.push_back({b, e});
       range_depth.push_back(depth);
@@ -245,7 +249,8 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
     std::vector<std::size_t> local_cuts;
     subtrees[k].next = offset[k];
-    roots[k] = builder.build(subtrees[k], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
+    roots[k] =
+        builder.build(subtrees[k], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
   });
   for (const Subtree& t : subtrees) tree.depth = std::max(tree.depth, t.depth);
   uint32_t next_top = offset.back();

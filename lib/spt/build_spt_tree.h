@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
-#include "spt/spt_disc.h"
 #include "splatkit/vec3.h"
+#include "spt/spt_disc.h"
 
 namespace splatkit::spt {
 

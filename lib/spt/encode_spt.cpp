@@ -19,12 +19,16 @@ struct NodeView {
   const SptTree& tree;
   const SptInput& in;
   std::size_t n;
-  Vec3f centre(std::size_t i) const { return i < n ? in.positions[i] : tree.interiors[i - n].centre; }
+  Vec3f centre(std::size_t i) const {
+    return i < n ? in.positions[i] : tree.interiors[i - n].centre;
+  }
   Vec3f normal(std::size_t i) const { return i < n ? in.normals[i] : tree.interiors[i - n].normal; }
   float radius(std::size_t i) const { return i < n ? in.radii[i] : tree.interiors[i - n].radius; }
   std::array<uint8_t, 3> color(std::size_t i) const {
     const Vec3f c = i < n ? in.leaf(i).color : tree.interiors[i - n].color;
-    auto q = [](float v) { return static_cast<uint8_t>(std::clamp(std::floor(v + 0.5f), 0.0f, 255.0f)); };
+    auto q = [](float v) {
+      return static_cast<uint8_t>(std::clamp(std::floor(v + 0.5f), 0.0f, 255.0f));
+    };
     return {q(c.x), q(c.y), q(c.z)};
   }
 };
@@ -53,7 +57,9 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
     hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
   }
   // r = e_g / epsilon, kept finite (a far outlier can push it past the float range).
-  auto r_of = [&](float error) { return std::min(error / o.epsilon, std::numeric_limits<float>::max()); };
+  auto r_of = [&](float error) {
+    return std::min(error / o.epsilon, std::numeric_limits<float>::max());
+  };
   for (const SptDisc& d : tree.interiors)
     if (d.error > 0) {
       r_lo = std::min(r_lo, r_of(d.error));
@@ -66,7 +72,9 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   h.step = {(hi.x - lo.x) / 65535.0f, (hi.y - lo.y) / 65535.0f, (hi.z - lo.z) / 65535.0f};
   // The decoded centre is within half a step per axis: the disc grows by that much.
   const float slack =
-      o.full ? 0.0f : static_cast<float>(0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
+      o.full ? 0.0f
+             : static_cast<float>(
+                   0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
   float d_lo = INFINITY, d_hi = 0;
   for (std::size_t i = 0; i < total; ++i) {
     const float d = 2 * v.radius(i);
@@ -84,7 +92,8 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   std::vector<uint16_t> code;
   if (!o.full) {
     code.resize(total);
-    tbb::parallel_for(std::size_t{0}, total, [&](std::size_t i) { code[i] = encode_r(r_min_of(i), r_lo, r_hi); });
+    tbb::parallel_for(std::size_t{0}, total,
+                      [&](std::size_t i) { code[i] = encode_r(r_min_of(i), r_lo, r_hi); });
   }
   auto rmin_key = [&](std::size_t i) -> float { return o.full ? r_min_of(i) : code[i]; };
   auto rmax_key = [&](std::size_t i) -> float {
@@ -131,9 +140,11 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
       if (dest[i] == kNoParent) continue;
       unsigned char* e = base + std::size_t{dest[i]} * h.entry_bytes;
       const Vec3f c = v.centre(i), nn = v.normal(i);
-      const std::array<uint8_t, 3> col = in.colors.empty() ? std::array<uint8_t, 3>{0, 0, 0} : v.color(i);
+      const std::array<uint8_t, 3> col =
+          in.colors.empty() ? std::array<uint8_t, 3>{0, 0, 0} : v.color(i);
       if (o.full) {
-        const float f[9] = {c.x, c.y, c.z, nn.x, nn.y, nn.z, 2 * v.radius(i), rmin_key(i), rmax_key(i)};
+        const float f[9] = {c.x,         c.y,        c.z, nn.x, nn.y, nn.z, 2 * v.radius(i),
+                            rmin_key(i), rmax_key(i)};
         for (int j = 0; j < 9; ++j) put_f32(e + 4 * j, f[j]);
         e[36] = col[0];
         e[37] = col[1];

@@ -16,16 +16,16 @@
 namespace splatkit::spt {
 
 struct EncodeSptOptions {
-  float epsilon = 1e-3f;     // screen error (radians) the r values are stated for, > 0
-  float color_weight = 1;    // stored in the header (the tree already used it)
-  bool full = false;         // 40-byte float entries instead of 16-byte codes
+  float epsilon = 1e-3f;   // screen error (radians) the r values are stated for, > 0
+  float color_weight = 1;  // stored in the header (the tree already used it)
+  bool full = false;       // 40-byte float entries instead of 16-byte codes
   std::array<double, 3> origin{0, 0, 0};
 };
 
 struct EncodedSpt {
   std::vector<unsigned char> bytes;
   uint64_t entries = 0;
-  uint64_t dropped_empty = 0;          // nodes left out (empty interval)
+  uint64_t dropped_empty = 0;           // nodes left out (empty interval)
   std::vector<uint32_t> entry_of_node;  // #nodes: entry index, or kNoParent when left out
                                         // (filled only when asked for, for tests)
 };

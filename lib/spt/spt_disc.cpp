@@ -15,7 +15,9 @@ void plane_basis(const Vec3f& n, Vec3f& a, Vec3f& b) {
 }
 
 // |v| without overflow for coordinates beyond 1e19 (a far outlier).
-float length(const Vec3f& v) { return static_cast<float>(std::hypot(double(v.x), double(v.y), double(v.z))); }
+float length(const Vec3f& v) {
+  return static_cast<float>(std::hypot(double(v.x), double(v.y), double(v.z)));
+}
 
 float root_of_rest(float x) { return std::sqrt(std::max(0.0f, 1.0f - x * x)); }
 
@@ -34,7 +36,7 @@ DiscErrors disc_errors(const SptDisc& p, std::span<const SptDisc> children) {
   Vec3f a, b;
   plane_basis(p.normal, a, b);
   constexpr float kHalf = 0.70710678f;
-  const Vec3f dirs[8] = {a, (a + b) * kHalf, b, (b - a) * kHalf,
+  const Vec3f dirs[8] = {a,  (a + b) * kHalf,  b,  (b - a) * kHalf,
                          -a, (a + b) * -kHalf, -b, (a - b) * kHalf};
   for (const Vec3f& u : dirs) {
     float h = -INFINITY;

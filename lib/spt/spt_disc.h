@@ -10,9 +10,9 @@ namespace splatkit::spt {
 
 struct SptDisc {
   Vec3f centre{0, 0, 0};
-  Vec3f normal{0, 0, 1};     // unit
-  float radius = 0;          // scene units
-  Vec3f color{0, 0, 0};      // 8-bit RGB as floats in [0, 255], or zero without colour
+  Vec3f normal{0, 0, 1};      // unit
+  float radius = 0;           // scene units
+  Vec3f color{0, 0, 0};       // 8-bit RGB as floats in [0, 255], or zero without colour
   float color_deviation = 0;  // bound on |color − any leaf colour below|, max channel, in [0, 1]
   float error = 0;            // geometric error e_g, made monotone (>= every child's); leaves 0
 };

@@ -10,11 +10,11 @@
 
 #include "formats/read_spt.h"
 #include "formats/spt_codes.h"
-#include "spt/build_spt_tree.h"
-#include "spt/encode_spt.h"
 #include "splatkit/crc32c.h"
 #include "splatkit/error.h"
 #include "splatkit/synthetic_shapes.h"
+#include "spt/build_spt_tree.h"
+#include "spt/encode_spt.h"
 
 namespace splatkit::spt {
 namespace {

@@ -58,10 +58,14 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 SplatCloud cloud_of(int which) {
   switch (which) {
-    case 0: return testing::sample_shape(testing::Shape::kSphere, 20000);
-    case 1: return testing::sample_shape(testing::Shape::kTorus, 30000);
-    case 2: return two_spheres();
-    default: return real_scan();
+    case 0:
+      return testing::sample_shape(testing::Shape::kSphere, 20000);
+    case 1:
+      return testing::sample_shape(testing::Shape::kTorus, 30000);
+    case 2:
+      return two_spheres();
+    default:
+      return real_scan();
   }
 }
 
@@ -94,10 +98,10 @@ TEST_P(RenderSpt, MatchesThePlainSplatRenderAtOnePixel) {
   const FrameStats s = renderer.render(sp, cam, options, b);
 
   const auto [pixels, holes, psnr] = testing::compare_inside_mask(a, b, cam.width, cam.height);
-  std::printf("%s: mask %d px, holes %d, PSNR %.2f dB, prefix %llu, culled %llu, drawn %llu of %zu\n",
-              k.name, pixels, holes, psnr, (unsigned long long)s.lod.spt_prefix,
-              (unsigned long long)s.lod.spt_culled, (unsigned long long)s.splats_in,
-              sp.spt->size());
+  std::printf(
+      "%s: mask %d px, holes %d, PSNR %.2f dB, prefix %llu, culled %llu, drawn %llu of %zu\n",
+      k.name, pixels, holes, psnr, (unsigned long long)s.lod.spt_prefix,
+      (unsigned long long)s.lod.spt_culled, (unsigned long long)s.splats_in, sp.spt->size());
   EXPECT_GT(pixels, 2000);
   EXPECT_EQ(holes, 0);
   EXPECT_GE(psnr, 30.0);
@@ -105,15 +109,12 @@ TEST_P(RenderSpt, MatchesThePlainSplatRenderAtOnePixel) {
   EXPECT_GT(s.lod.spt_culled, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, RenderSpt,
-                         ::testing::Values(Case{"sphere_mid", 0, 3.0f, false},
-                                           Case{"sphere_far_full", 0, 6.0f, true},
-                                           Case{"torus_mid", 1, 3.5f, false},
-                                           Case{"two_spheres_colour", 2, 4.0f, false},
-                                           Case{"cad_scan", 3, 6.0f, false}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return std::string(info.param.name);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, RenderSpt,
+    ::testing::Values(Case{"sphere_mid", 0, 3.0f, false}, Case{"sphere_far_full", 0, 6.0f, true},
+                      Case{"torus_mid", 1, 3.5f, false}, Case{"two_spheres_colour", 2, 4.0f, false},
+                      Case{"cad_scan", 3, 6.0f, false}),
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 TEST(RenderSpt, DrawnCountFallsWithTheSquareOfTheDistance) {
   ShapeOptions o;
@@ -127,9 +128,9 @@ TEST(RenderSpt, DrawnCountFallsWithTheSquareOfTheDistance) {
   const float distances[3] = {30, 60, 120};
   for (int i = 0; i < 3; ++i) {
     LodStats st;
-    count[i] = select_spt(*sp.spt, sp.bounds, make_projection(camera_at(distances[i], 800, 640)),
-                          1, &st)
-                   .count;
+    count[i] =
+        select_spt(*sp.spt, sp.bounds, make_projection(camera_at(distances[i], 800, 640)), 1, &st)
+            .count;
     EXPECT_EQ(st.spt_prefix - st.spt_culled, count[i]);
   }
   std::printf("drawn at 30, 60, 120: %zu %zu %zu\n", count[0], count[1], count[2]);

@@ -154,7 +154,8 @@ struct MaskComparison {
   int pixels = 0, holes = 0;
   double psnr = 0;
 };
-inline MaskComparison compare_inside_mask(const Framebuffer& a, const Framebuffer& b, int w, int h) {
+inline MaskComparison compare_inside_mask(const Framebuffer& a, const Framebuffer& b, int w,
+                                          int h) {
   MaskComparison c;
   std::vector<uint8_t> mask(a.alpha.size());
   for (std::size_t p = 0; p < mask.size(); ++p) mask[p] = a.alpha[p] > 0;

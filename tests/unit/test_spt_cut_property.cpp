@@ -13,9 +13,9 @@
 
 #include "formats/read_cloud.h"
 #include "formats/read_spt.h"
+#include "splatkit/synthetic_shapes.h"
 #include "spt/build_spt_tree.h"
 #include "spt/encode_spt.h"
-#include "splatkit/synthetic_shapes.h"
 
 namespace splatkit::spt {
 namespace {
@@ -47,7 +47,8 @@ void check_cut(const SplatCloud& cloud, bool full, uint64_t seed) {
   // Random distances: log-uniform over the stored range and beyond, plus every 97th stored r_min
   // exactly (the boundaries, where a hole or a double cover would show).
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(std::log(m.header.r_lo) - 1, std::log(m.header.r_hi) + 1);
+  std::uniform_real_distribution<double> u(std::log(m.header.r_lo) - 1,
+                                           std::log(m.header.r_hi) + 1);
   std::vector<float> distances = {0.0f};
   for (int k = 0; k < 100; ++k) distances.push_back(static_cast<float>(std::exp(u(rng))));
   for (std::size_t e = 0; e < m.size(); e += 97) distances.push_back(m.r_min[e]);
@@ -55,7 +56,8 @@ void check_cut(const SplatCloud& cloud, bool full, uint64_t seed) {
   // The intervals are not all trivial: some distance draws interior entries.
   std::size_t interior_drawn = 0;
   const float mid = std::sqrt(m.header.r_lo * m.header.r_hi);
-  for (std::size_t e = 0; e < m.size(); ++e) interior_drawn += m.r_min[e] > 0 && m.r_min[e] <= mid && mid < m.r_max[e];
+  for (std::size_t e = 0; e < m.size(); ++e)
+    interior_drawn += m.r_min[e] > 0 && m.r_min[e] <= mid && mid < m.r_max[e];
   EXPECT_GT(interior_drawn, 0u);
 }
 

@@ -19,7 +19,8 @@ SptDisc disc(Vec3f c, Vec3f n, float r) {
 }
 
 TEST(SptDisc, CoplanarChildrenHaveNoPerpendicularError) {
-  const std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0, 1}, 1), disc({1.5f, 0, 0}, {0, 0, 1}, 1),
+  const std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0, 1}, 1),
+                                     disc({1.5f, 0, 0}, {0, 0, 1}, 1),
                                      disc({0.7f, 1.2f, 0}, {0, 0, 1}, 0.5f)};
   const SptDisc p = fit_spt_disc(kids, 0, false);
   EXPECT_NEAR(p.normal.z, 1.0f, 1e-6f);
@@ -31,8 +32,8 @@ TEST(SptDisc, ChildTiltedByAKnownAngle) {
   // Two unit discs at the origin, normals z and z tilted by θ about x: the parent's normal is
   // their bisector, each child leans θ/2 from it, d_i = sin(θ/2), so e_p = 2·sin(θ/2).
   for (float theta : {0.1f, 0.5f, 1.0f}) {
-    const std::vector<SptDisc> kids = {
-        disc({0, 0, 0}, {0, 0, 1}, 1), disc({0, 0, 0}, {0, -std::sin(theta), std::cos(theta)}, 1)};
+    const std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0, 1}, 1),
+                                       disc({0, 0, 0}, {0, -std::sin(theta), std::cos(theta)}, 1)};
     const SptDisc p = fit_spt_disc(kids, 0, false);
     EXPECT_NEAR(std::acos(dot(p.normal, kids[0].normal)), theta / 2, 1e-4f);
     const DiscErrors e = disc_errors(p, kids);
@@ -47,7 +48,8 @@ TEST(SptDisc, ChildTiltedByAKnownAngle) {
 
 TEST(SptDisc, OffsetChildAddsItsDistanceToThePerpendicularError) {
   // Parallel discs 0.3 apart along the normal: e_p = 0.3 exactly.
-  const std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0, 1}, 1), disc({0, 0, 0.3f}, {0, 0, 1}, 1)};
+  const std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0, 1}, 1),
+                                     disc({0, 0, 0.3f}, {0, 0, 1}, 1)};
   EXPECT_NEAR(disc_errors(fit_spt_disc(kids, 0, false), kids).perpendicular, 0.3f, 1e-6f);
 }
 
@@ -68,7 +70,8 @@ TEST(SptDisc, ChildrenLeavingPartOfTheParentDiscEmpty) {
 }
 
 TEST(SptDisc, ParentCoversItsChildrenAndItsErrorIsMonotone) {
-  std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0.2f, 1}, 0.4f), disc({1, 0.3f, 0.1f}, {0.1f, 0, 1}, 0.6f),
+  std::vector<SptDisc> kids = {disc({0, 0, 0}, {0, 0.2f, 1}, 0.4f),
+                               disc({1, 0.3f, 0.1f}, {0.1f, 0, 1}, 0.6f),
                                disc({0.2f, 1, -0.1f}, {0, 0, 1}, 0.3f)};
   kids[1].error = 5;  // a child with a large error: the parent keeps at least that
   const SptDisc p = fit_spt_disc(kids, 0, false);

@@ -7,7 +7,8 @@
 int main(int argc, char** argv) {
   splatkit::Tool tool(
       "build-spt",
-      "Build a Sequential Point Tree [Dachsbacher03] and write it as an .spt file (formats/spt.md): "
+      "Build a Sequential Point Tree [Dachsbacher03] and write it as an .spt file "
+      "(formats/spt.md): "
       "an octree of discs fitted to their children, each with its geometric error (perpendicular, "
       "tangential and colour terms) turned into a distance interval [r_min, r_max), the list "
       "sorted by r_max descending so that a renderer draws a prefix. IN is splats with normals "
