@@ -85,6 +85,14 @@ for px in 1 4 16; do
   render "two-spheres-qsplat-${px}px" "$out/images/two-spheres.qs" --qsplat-threshold "$px" \
     --stats "$out/images/two-spheres-qsplat-${px}px.json"
 done
+# Sequential Point Tree: the CAD sample as an .spt list, drawn at three distances at a 1 px
+# error (--stats: the prefix, the entries culled in it, the splats drawn; fewer as it recedes).
+"$bin/build-spt" -q "$samples/cad.ply" "$out/images/cad.spt" --report "$out/images/cad-spt.json"
+echo "  out/images/cad.spt ($(stat -c %s "$out/images/cad.spt") bytes)"
+for d in 5 20 80; do
+  render "cad-spt-$d" "$out/images/cad.spt" --view "30,25,$d" --spt-error 1 \
+    --stats "$out/images/cad-spt-$d.json"
+done
 echo "== 5. occlusion culling: a city walkthrough (out/city/) =="
 # 2 M splats of buildings (walls, floor slabs, roofs) and 6 street-level cameras, rendered with
 # every splat and with CHC++ occlusion culling over the chunk hierarchy: the same images.

@@ -9,7 +9,9 @@
 
 #include "formats/describe_cloud.h"
 #include "formats/describe_qsplat.h"
+#include "formats/describe_spt.h"
 #include "formats/read_qsplat.h"
+#include "formats/read_spt.h"
 #include "splatkit/error.h"
 
 namespace splatkit::apps {
@@ -20,6 +22,7 @@ nlohmann::json describe(const std::string& path, const ReadOptions& read) {
   try {
     InputStream in(path);
     if (looks_like_qsplat(in.peek(6))) return describe_qsplat(read_qsplat(in), path);
+    if (spt::looks_like_spt(in.peek(8))) return describe_spt(read_spt(in), path);
     auto bytes = in.size_hint();
     const LoadedCloud doc = read_cloud(in, read);
     if (!bytes) bytes = in.offset();
@@ -50,8 +53,10 @@ void run_splat_info(const SplatInfoOptions& o, std::ostream& out, std::ostream& 
       reports.push_back(std::move(report));
     } else {
       if (printed++ > 0) out << "\n";
-      out << (report.value("format", "") == "qs" ? describe_qsplat_text(report)
-                                                 : describe_cloud_text(report));
+      const std::string format = report.value("format", "");
+      out << (format == "qs"    ? describe_qsplat_text(report)
+              : format == "spt" ? describe_spt_text(report)
+                                : describe_cloud_text(report));
     }
   }
   if (o.json) out << (o.files.size() == 1 ? reports[0] : reports).dump(2) << "\n";

@@ -17,6 +17,7 @@
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
 #include "formats/read_qsplat.h"
+#include "formats/read_spt.h"
 #include "render/background_image_writer.h"
 #include "render/camera.h"
 #include "render/chunk_bvh.h"
@@ -28,6 +29,7 @@
 #include "render/scene_from_document.h"
 #include "render/setup_splats.h"
 #include "render/splat_palette.h"
+#include "render/spt_scene.h"
 #include "render/subset_scene.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
@@ -279,6 +281,17 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
                    {"culled_cone", s.lod.culled_cone},
                    {"splats_selected", s.splats_in},
                    {"splats_drawn", s.splats_drawn}};
+  if (s.lod.spt_prefix > 0) {
+    const double prefix = static_cast<double>(s.lod.spt_prefix);
+    j["spt"] = {
+        {"prefix", s.lod.spt_prefix},
+        {"culled_in_prefix", s.lod.spt_culled},
+        {"culled_fraction", static_cast<double>(s.lod.spt_culled) / prefix},
+        {"splats_selected", s.splats_in},
+        {"splats_drawn", s.splats_drawn},
+        {"select_ms", std::round(s.select_s * 1e6) / 1e3},
+        {"selected_per_second", s.select_s > 0 ? std::round(s.splats_in / s.select_s) : 0.0}};
+  }
   return j;
 }
 
@@ -354,6 +367,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   DocumentScene document = stage.phase(nullptr, "reading " + name, [&] {
     if (looks_like_qsplat(stage.input().peek(6)))  // a .qs hierarchy: QSplat traversal
       return DocumentScene{make_qsplat_scene(read_qsplat(stage.input()), name), {}, "", ""};
+    if (spt::looks_like_spt(stage.input().peek(8)))  // an .spt list: a prefix at the screen error
+      return DocumentScene{make_spt_scene(read_spt(stage.input()), name), {}, "", ""};
     return scene_from_document(stage.read({}, progress), name);
   });
   apply_colors(r.color_by, document, name);
@@ -367,8 +382,9 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   // Occlusion culling: the chunk hierarchy once, then per frame the splats to draw as a scene of
   // their own (subset_scene.h) rendered like the whole one.
   const bool culling = r.occlusion != OcclusionMode::kNone;
-  if (culling && scene.qsplat)
-    throw_usage("--occlusion needs a plain splat file; " + name + " is a QSplat hierarchy");
+  if (culling && (scene.qsplat || scene.spt))
+    throw_usage("--occlusion needs a plain splat file; " + name +
+                (scene.qsplat ? " is a QSplat hierarchy" : " is a Sequential Point Tree"));
   if (culling && render.clip && scene.has_clip())
     throw_usage("--occlusion does not cull scenes with clip partners (" + name +
                 "); give --no-clip or --occlusion none");
@@ -433,7 +449,7 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     summary.frame_seconds += stats.total_s;
     summary.occlusion.add(occlusion);
     nlohmann::json oj = culling ? occlusion_json(occlusion) : nlohmann::json::object();
-    if (o.count_visible && !scene.qsplat)
+    if (o.count_visible && !scene.qsplat && !scene.spt)
       oj["splats_visible"] =
           count_visible_splats(scene, make_projection(camera), render.cull_backfaces);
     per_frame_occlusion.push_back(oj);

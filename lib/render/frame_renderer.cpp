@@ -257,6 +257,8 @@ void resolve_zbuffer(const FrameContext& f, const DepthKeyBuffer& b, Surface sur
 }
 
 void check_options(const RenderOptions& o) {
+  if (!(o.spt_error_px > 0) || !std::isfinite(o.spt_error_px))
+    throw_usage("--spt-error must be a positive number of pixels");
   if (o.max_fragments < 1 || o.max_fragments > kMaxFragmentsPerPixel)
     throw_usage("--max-fragments must be in 1.." + std::to_string(kMaxFragmentsPerPixel));
   if (o.blend == BlendMode::kZThreshold && !(std::isfinite(o.epsilon)))
@@ -272,7 +274,8 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   const Projection projection = make_projection(camera);
   if (options.blend == BlendMode::kZBuffer) return render_zbuffer(scene, projection, options, out);
   FrameStats stats;
-  DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod);
+  DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
+                                 options.spt_error_px);
   if (!options.surface_ids) draws.surface_ids = nullptr;
   if (!options.clip) {
     draws.clip = nullptr;
@@ -350,7 +353,8 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
     stats.splats_drawn = c.drawn;
     stats.select_s = seconds(cleared, Clock::now());
   } else {
-    draws = select_splats(scene, projection);
+    draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
+                          options.spt_error_px);
     stats.splats_in = draws.count;
     const bool cull = options.cull_backfaces;
     stats.splats_drawn = tbb::parallel_reduce(

@@ -40,6 +40,7 @@ struct RenderOptions {
   Vec3f default_albedo{0.6f, 0.6f, 0.6f};       // linear, for clouds without colours
   FramebufferPlanes planes;
   float qsplat_threshold_px = 1;  // QSplat scenes: recurse until a node projects this small
+  float spt_error_px = 1;         // SPT scenes: the allowed screen error of an entry, pixels
 };
 
 struct FrameStats {
@@ -48,7 +49,7 @@ struct FrameStats {
   uint64_t pixels_covered = 0, pixels_overflowed = 0;
   uint64_t splats_hidden = 0;  // (splat, tile) pairs skipped as hidden behind the tile's surface
   uint64_t fragments_clipped = 0;  // discarded in a clip area (clip_record.h) before the A-buffer
-  LodStats lod;                    // QSplat scenes: the traversal's counts
+  LodStats lod;                    // QSplat and SPT scenes: the selection's counts
   // Wall-clock seconds per stage. The tile pass runs rasterise, reconstruct and shade per tile;
   // its wall time is split between them in proportion to their summed thread time.
   double select_s = 0, setup_s = 0, binning_s = 0, raster_s = 0, reconstruct_s = 0, shade_s = 0;

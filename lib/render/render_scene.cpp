@@ -1,6 +1,7 @@
 #include "render/render_scene.h"
 
 #include "formats/read_qsplat.h"
+#include "formats/read_spt.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +12,9 @@
 
 namespace splatkit::render {
 
-std::size_t RenderScene::size() const { return qsplat ? qsplat->leaves : positions.size(); }
+std::size_t RenderScene::size() const {
+  return qsplat ? qsplat->leaves : spt ? spt->leaves : positions.size();
+}
 
 float srgb_to_linear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);

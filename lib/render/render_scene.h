@@ -14,6 +14,7 @@
 
 namespace splatkit {
 struct QSplatModel;  // formats/read_qsplat.h
+struct SptModel;     // formats/read_spt.h
 }
 
 namespace splatkit::render {
@@ -37,8 +38,11 @@ struct RenderScene {
   // A QSplat hierarchy (qsplat_scene.h) instead of the arrays above, which then stay empty: each
   // frame draws the nodes its traversal selects.
   std::shared_ptr<const QSplatModel> qsplat;
+  // A Sequential Point Tree's list (spt_scene.h) instead, likewise: each frame draws the entries
+  // select_spt.h selects.
+  std::shared_ptr<const SptModel> spt;
 
-  std::size_t size() const;  // splats, or a QSplat hierarchy's leaves
+  std::size_t size() const;  // splats, or a QSplat hierarchy's or an SPT list's leaves
   bool has_clip() const { return !clip.partners.empty(); }
 };
 

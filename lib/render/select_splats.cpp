@@ -1,12 +1,14 @@
 #include "render/select_splats.h"
 
 #include "render/select_qsplat.h"
+#include "render/select_spt.h"
 
 namespace splatkit::render {
 
 DrawList select_splats(const RenderScene& scene, const Projection& projection,
-                       float lod_threshold_px, LodStats* stats) {
+                       float lod_threshold_px, LodStats* stats, float spt_error_px) {
   if (scene.qsplat) return select_qsplat(*scene.qsplat, projection, lod_threshold_px, stats);
+  if (scene.spt) return select_spt(*scene.spt, scene.bounds, projection, spt_error_px, stats);
   DrawList d;
   d.count = scene.size();
   d.positions = scene.positions.data();

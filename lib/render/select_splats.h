@@ -41,11 +41,17 @@ struct LodStats {
   uint64_t visited = 0;         // hierarchy nodes looked at
   uint64_t culled_frustum = 0;  // nodes (with everything below) outside the view frustum
   uint64_t culled_cone = 0;     // nodes whose normal cone faces away from the eye
+  // Sequential Point Trees (select_spt.h): the prefix of the list with r_max above the model's
+  // nearest distance, and the entries of that prefix whose own distance is outside [r_min, r_max).
+  uint64_t spt_prefix = 0;
+  uint64_t spt_culled = 0;
 };
 
 // Every splat of a plain scene; for a QSplat scene (RenderScene::qsplat) the nodes the QSplat
-// traversal selects at `lod_threshold_px` (select_qsplat.h).
+// traversal selects at `lod_threshold_px` (select_qsplat.h); for an SPT scene (RenderScene::spt)
+// the entries of the list whose error is within `spt_error_px` pixels (select_spt.h).
 DrawList select_splats(const RenderScene& scene, const Projection& projection,
-                       float lod_threshold_px = 1, LodStats* stats = nullptr);
+                       float lod_threshold_px = 1, LodStats* stats = nullptr,
+                       float spt_error_px = 1);
 
 }  // namespace splatkit::render

@@ -45,7 +45,7 @@ run_example() {  # run_example SOURCE COMMAND
 
 count=0
 for tool in splat-info splat-convert splat-synth estimate-normals build-splat-graph \
-            segment-surfaces build-qsplat splat-view; do
+            segment-surfaces build-qsplat build-spt splat-view; do
   # The examples: lines "$ command  # comment" in the help footer (commands span one line).
   while IFS= read -r cmd; do
     run_example "$tool --help" "$cmd"
@@ -67,7 +67,7 @@ for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply 
          spheres.ply torus.xyz scan.splk part-graph.splk parts.ply graph.json part-surf.ply \
          surfaces.json bunny.png top.png part.exr turn_0000.png turn_0035.png stats.json \
          surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json part-top.png \
-         inventory.json bunny.qs scan.qs qs.json far.png; do
+         inventory.json bunny.qs scan.qs qs.json far.png scan.spt spt.json s.json; do
   [ -s "$f" ] && pass || fail "no $f after the examples"
 done
 expect_eq "inventory.json describes every scan" \

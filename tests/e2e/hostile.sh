@@ -231,4 +231,19 @@ for f in nan-normal.ply zero-normal.ply; do
   hostile 2 "$f.*normal" -- "$BIN/splat-view" "$IN/$f" -o "$OUT/x.png"
 done
 
+# .spt: a header claiming 2^40 entries (rejected before any allocation), build-spt's options
+# and its input named as its output.
+spt=$SRC/tests/fuzz/corpus/spt/sphere30.spt
+cp "$spt" "$IN/huge.spt"
+printf '\x00\x00\x00\x00\x00\x01' | dd of="$IN/huge.spt" bs=1 seek=24 conv=notrunc status=none
+hostile 2 "huge.spt: byte 24: .*truncated" -- "$BIN/splat-info" "$IN/huge.spt"
+hostile 2 "huge.spt: byte 24" -- "$BIN/splat-view" "$IN/huge.spt" -o "$OUT/x.png"
+hostile 1 "epsilon" -- "$BIN/build-spt" "$IN/splats.splk" "$OUT/x.spt" --epsilon 0
+hostile 1 "epsilon" -- "$BIN/build-spt" "$IN/splats.splk" "$OUT/x.spt" --epsilon nan
+hostile 1 "color-weight" -- "$BIN/build-spt" "$IN/splats.splk" "$OUT/x.spt" --color-weight -1
+hostile 1 "\\.spt" -- "$BIN/build-spt" "$IN/splats.splk" "$OUT/x.ply"
+hostile 1 "input|same|OUT" -- "$BIN/build-spt" "$IN/huge.spt" "$IN/huge.spt"
+hostile 2 "estimate-normals" -- "$BIN/build-spt" "$IN/kitten.xyz" "$OUT/x.spt"
+hostile 0 "" -- "$BIN/build-spt" -q "$IN/splats.splk" "$OUT/x.spt"
+
 finish

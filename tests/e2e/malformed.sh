@@ -66,4 +66,18 @@ printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 10
 head -c 24 /dev/zero >> $W/short.pcd
 check 2 "binary data truncated: 12000 bytes expected, 24 left" $W/short.pcd
 
+# .spt: truncated entries, a damaged byte (checksum), a newer version (exit 3), unknown flags.
+spt=$SRC/tests/fuzz/corpus/spt/sphere30.spt
+head -c 500 "$spt" > $W/trunc.spt
+check 2 "byte 24: [0-9]+ entries need more than the 372 bytes after the header \\(truncated file\\?\\)" $W/trunc.spt
+cp "$spt" $W/flip.spt
+printf '\x55' | dd of=$W/flip.spt bs=1 seek=300 conv=notrunc status=none
+check 2 "byte 124: checksum mismatch" $W/flip.spt
+cp "$spt" $W/version.spt
+printf '\x09' | dd of=$W/version.spt bs=1 seek=8 conv=notrunc status=none
+check 3 "byte 8: .spt version 9 is newer than this reader" $W/version.spt
+cp "$spt" $W/flags.spt
+printf '\x10' | dd of=$W/flags.spt bs=1 seek=12 conv=notrunc status=none
+check 3 "byte 12: unknown flag bits 16" $W/flags.spt
+
 finish

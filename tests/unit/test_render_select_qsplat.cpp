@@ -65,23 +65,7 @@ TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
   if (k.zbuffer) options.blend = BlendMode::kZBuffer;
   const FrameStats s = renderer.render(qs, cam, options, b);
 
-  const int w = cam.width, h = cam.height;
-  std::vector<uint8_t> mask(a.alpha.size());
-  for (std::size_t p = 0; p < mask.size(); ++p) mask[p] = a.alpha[p] > 0;
-  const auto eroded = testing::morph(mask, w, h, false);
-  int holes = 0, pixels = 0;
-  double se = 0;
-  for (std::size_t p = 0; p < mask.size(); ++p) {
-    holes += eroded[p] && !(b.alpha[p] > 0);
-    if (!mask[p]) continue;
-    ++pixels;
-    for (int c = 0; c < 3; ++c) {
-      const double e = static_cast<double>(a.rgb8[3 * p + c]) - b.rgb8[3 * p + c];
-      se += e * e;
-    }
-  }
-  const double mse = se / (3.0 * std::max(1, pixels));
-  const double psnr = mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : 99.0;
+  const auto [pixels, holes, psnr] = testing::compare_inside_mask(a, b, cam.width, cam.height);
   std::printf(
       "%s: mask %d px, holes %d, PSNR %.2f dB, visited %llu, frustum %llu, cone %llu, "
       "selected %llu of %zu\n",

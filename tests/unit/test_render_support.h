@@ -147,6 +147,34 @@ inline std::vector<uint8_t> morph(const std::vector<uint8_t>& m, int w, int h, b
   return out;
 }
 
+// A level-of-detail render `b` against the plain splat render `a` of the same cloud (same camera,
+// rgb8 and alpha planes): pixels of a's mask, holes (pixels of the eroded mask b leaves empty) and
+// the PSNR (dB) of the 8-bit colours inside the mask.
+struct MaskComparison {
+  int pixels = 0, holes = 0;
+  double psnr = 0;
+};
+inline MaskComparison compare_inside_mask(const Framebuffer& a, const Framebuffer& b, int w,
+                                          int h) {
+  MaskComparison c;
+  std::vector<uint8_t> mask(a.alpha.size());
+  for (std::size_t p = 0; p < mask.size(); ++p) mask[p] = a.alpha[p] > 0;
+  const auto eroded = morph(mask, w, h, false);
+  double se = 0;
+  for (std::size_t p = 0; p < mask.size(); ++p) {
+    c.holes += eroded[p] && !(b.alpha[p] > 0);
+    if (!mask[p]) continue;
+    ++c.pixels;
+    for (int k = 0; k < 3; ++k) {
+      const double e = static_cast<double>(a.rgb8[3 * p + k]) - b.rgb8[3 * p + k];
+      se += e * e;
+    }
+  }
+  const double mse = se / (3.0 * std::max(1, c.pixels));
+  c.psnr = mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : 99.0;
+  return c;
+}
+
 struct Comparison {
   int holes = 0;    // reference pixels (mask eroded by 1 px) the splats leave uncovered
   int outside = 0;  // splat pixels farther than 1 px from the reference mask

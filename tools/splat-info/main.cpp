@@ -8,7 +8,8 @@ int main(int argc, char** argv) {
   splatkit::Tool tool(
       "splat-info",
       "Describe point-cloud and splat files: format, point and face counts, "
-      "attributes with ranges, bounding box, format header, .splk chunks and metadata. A file "
+      "attributes with ranges, bounding box, format header, .splk chunks and metadata; QSplat "
+      ".qs and Sequential Point Tree .spt files: their levels, entries and quantisation. A file "
       "that cannot be read is reported on stderr and the others are still described (exit "
       "code of the first failure).",
       "  $ splat-info scan.ply\n"

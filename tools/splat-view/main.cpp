@@ -6,13 +6,16 @@
 
 int main(int argc, char** argv) {
   splatkit::Tool tool(
-      "splat-view", "Render a splat file (positions, normals, radii, optional colours) to an image",
+      "splat-view",
+      "Render a splat file (positions, normals, radii, optional colours) to an image; QSplat .qs "
+      "and Sequential Point Tree .spt files are drawn by level of detail",
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
       "$ splat-view scan.ply -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
       "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
+      "$ splat-view scan.spt -o far.png --spt-error 2 --stats s.json  # Sequential Point Tree\n"
       "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n"
       "$ splat-view city.splk -o 'walk_%04d.png' --path city.path.json --occlusion chc++\n");
   tool.add_threads_option();
@@ -77,6 +80,13 @@ int main(int argc, char** argv) {
       ->default_val(1.0f)
       ->type_name("PX")
       ->check(splatkit::finite_range(0.25, 50.0));
+  app.add_option("--spt-error", o.render.spt_error_px,
+                 "Sequential Point Tree .spt input (build-spt): the allowed screen error in "
+                 "pixels; an entry is drawn where its error over its distance is within it, as "
+                 "a disc of its diameter (0.1 to 50)")
+      ->default_val(1.0f)
+      ->type_name("PX")
+      ->check(splatkit::finite_range(0.1, 50.0));
   app.add_flag("!--no-clip", o.render.clip,
                "Ignore the file's clip partners (CLIP chunk): edges as plain splats give them");
   app.add_flag("!--no-surface-ids", o.render.surface_ids,

@@ -1,0 +1,24 @@
+// Which entries of a Sequential Point Tree's list [Dachsbacher03] a frame draws.
+//
+// The list is sorted by r_max descending. With the allowed screen error e (pixels) and the focal
+// length f (pixels), an entry stored for the build's error ε_b is drawn at view distance r iff
+// r_min ≤ r·k < r_max, k = (e / f) / ε_b (its error e_g = r_min·ε_b is then at most e pixels on
+// screen). The prefix of entries with r_max > k·(distance from the eye to the model's bounding
+// sphere) is found by binary search; every entry after it fails the test anyway. Each entry of
+// the prefix is then tested at its own distance to the eye and drawn as a disc of its diameter,
+// so its size on screen is d/r. Nothing else is culled here (the rasteriser drops what lies
+// outside the view). Deterministic: the DrawList keeps the list order for any thread count.
+#pragma once
+
+#include "formats/read_spt.h"
+#include "render/camera.h"
+#include "render/select_splats.h"
+
+namespace splatkit::render {
+
+// `bounds`: a sphere around every entry (spt_scene.h). `stats` (optional) gets spt_prefix and
+// spt_culled.
+DrawList select_spt(const SptModel& model, const BoundingSphere& bounds,
+                    const Projection& projection, float error_px, LodStats* stats = nullptr);
+
+}  // namespace splatkit::render

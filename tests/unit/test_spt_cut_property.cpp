@@ -1,0 +1,126 @@
+// The cut property of a Sequential Point Tree's list after quantisation (spt/encode_spt.h read back
+// with formats/read_spt.h): for any view distance r, every root-to-leaf path of the tree has
+// exactly one entry with r_min <= r < r_max (no hole, no double cover), on real and synthetic
+// clouds, compact and full precision.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "formats/read_cloud.h"
+#include "formats/read_spt.h"
+#include "splatkit/synthetic_shapes.h"
+#include "spt/build_spt_tree.h"
+#include "spt/encode_spt.h"
+
+namespace splatkit::spt {
+namespace {
+
+// Checks every leaf's path at `distances`; returns the number of (leaf, distance) failures.
+std::size_t cut_failures(const SptTree& tree, const EncodedSpt& file, const SptModel& m,
+                         std::size_t n, const std::vector<float>& distances) {
+  std::size_t failures = 0;
+  for (std::size_t leaf = 0; leaf < n; ++leaf)
+    for (float r : distances) {
+      int covered = 0;
+      for (uint32_t i = static_cast<uint32_t>(leaf); i != kNoParent; i = tree.parent[i]) {
+        const uint32_t e = file.entry_of_node[i];
+        if (e != kNoParent && m.r_min[e] <= r && r < m.r_max[e]) ++covered;
+      }
+      failures += covered != 1;
+    }
+  return failures;
+}
+
+void check_cut(const SplatCloud& cloud, bool full, uint64_t seed) {
+  const SptInput in{cloud.positions, cloud.normals, cloud.radii, cloud.colors, cloud.color_bits};
+  const SptTree tree = build_spt_tree(in, 1.0f);
+  EncodeSptOptions o;
+  o.full = full;
+  const EncodedSpt file = encode_spt(tree, in, o, true);
+  const SptModel m = parse_spt(file.bytes, "t.spt");
+  ASSERT_EQ(m.size(), file.entries);
+  // Random distances: log-uniform over the stored range and beyond, plus every 97th stored r_min
+  // exactly (the boundaries, where a hole or a double cover would show).
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(std::log(m.header.r_lo) - 1,
+                                           std::log(m.header.r_hi) + 1);
+  std::vector<float> distances = {0.0f};
+  for (int k = 0; k < 100; ++k) distances.push_back(static_cast<float>(std::exp(u(rng))));
+  for (std::size_t e = 0; e < m.size(); e += 97) distances.push_back(m.r_min[e]);
+  EXPECT_EQ(cut_failures(tree, file, m, cloud.size(), distances), 0u);
+  // The intervals are not all trivial: some distance draws interior entries.
+  std::size_t interior_drawn = 0;
+  const float mid = std::sqrt(m.header.r_lo * m.header.r_hi);
+  for (std::size_t e = 0; e < m.size(); ++e)
+    interior_drawn += m.r_min[e] > 0 && m.r_min[e] <= mid && mid < m.r_max[e];
+  EXPECT_GT(interior_drawn, 0u);
+}
+
+TEST(SptCutProperty, HoldsOnARealScanAfterQuantisation) {
+  const std::string path = std::string(SPLATKIT_SOURCE_DIR) + "/data-samples/cad.ply";
+  LoadedCloud doc = read_cloud(path);
+  for (Vec3f& n : doc.cloud.normals) n = normalized(n);
+  check_cut(doc.cloud, false, 1);
+  check_cut(doc.cloud, true, 2);
+}
+
+TEST(SptCutProperty, HoldsOnRandomAndScanLineSamplingWithNoise) {
+  ShapeOptions s;
+  s.kind = ShapeKind::kTwoSpheres;
+  s.points = 6000;
+  s.random = true;
+  s.noise = 0.002;
+  check_cut(make_shape(s), false, 3);
+  s.kind = ShapeKind::kTorus;
+  s.scan_lines = 8;
+  s.seed = 7;
+  check_cut(make_shape(s), false, 4);
+}
+
+TEST(SptCutProperty, HoldsWithDuplicatesAndLargeCoordinates) {
+  ShapeOptions s;
+  s.kind = ShapeKind::kCube;
+  s.points = 3000;
+  s.random = true;
+  SplatCloud c = make_shape(s);
+  for (std::size_t i = 0; i < 500; ++i) {  // exact duplicates, and a far outlier
+    c.positions.push_back(c.positions[i]);
+    c.normals.push_back(c.normals[i]);
+    c.radii.push_back(c.radii[i]);
+    c.colors.push_back(c.colors[i]);
+  }
+  c.positions.push_back({5e3f, -4e3f, 2e3f});
+  c.normals.push_back({0, 0, 1});
+  c.radii.push_back(0.01f);
+  c.colors.push_back({0, 0, 0});
+  c.extras.clear();
+  check_cut(c, false, 5);
+}
+
+TEST(SptCutProperty, SameBytesForAnyThreadCountAndSortedByRMax) {
+  ShapeOptions s;
+  s.kind = ShapeKind::kSphere;
+  s.points = 20000;
+  s.random = true;
+  const SplatCloud c = make_shape(s);
+  const SptInput in{c.positions, c.normals, c.radii, c.colors, c.color_bits};
+  SptTree a, b;
+  tbb::task_arena(1).execute([&] { a = build_spt_tree(in, 1.0f); });
+  tbb::task_arena(2).execute([&] { b = build_spt_tree(in, 1.0f); });
+  EXPECT_EQ(a.parent, b.parent);
+  const EncodedSpt fa = encode_spt(a, in, {}), fb = encode_spt(b, in, {});
+  EXPECT_EQ(fa.bytes, fb.bytes);
+  const SptModel m = parse_spt(fa.bytes, "t.spt");
+  for (std::size_t e = 1; e < m.size(); ++e) ASSERT_GE(m.r_max[e - 1], m.r_max[e]);
+  EXPECT_EQ(m.leaves, c.size());  // leaves have r_min = 0 and a parent with an error
+  EXPECT_TRUE(std::isinf(m.r_max[0]));
+  EXPECT_LT(static_cast<double>(m.size()), 2.0 * static_cast<double>(c.size()));
+}
+
+}  // namespace
+}  // namespace splatkit::spt
