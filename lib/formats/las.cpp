@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/laz.h"
 #include "splatkit/error.h"
 #include "splatkit/position_builder.h"
 
@@ -48,6 +49,7 @@ struct LasHeader {
   double min[3] = {}, max[3] = {};
   uint64_t evlr_start = 0;
   uint32_t evlr_count = 0;
+  bool compressed = false;  // LAZ: bit 7 of the point format byte
 };
 
 // Fixed-width text field: up to the first NUL, trailing spaces dropped, bytes outside printable
@@ -72,11 +74,10 @@ std::size_t min_header_size(int minor) {
 }
 
 void check_format(const InputStream& in, const LasHeader& h, unsigned raw_format) {
-  if (raw_format & 0xC0)
-    throw_unsupported(in.path(), "LAZ (compressed LAS, point format byte " +
-                                     std::to_string(raw_format) +
-                                     ") is not supported; decompress it first, e.g. 'laszip -i "
-                                     "in.laz -o out.las' or 'pdal translate in.laz out.las'");
+  if (raw_format & 0x40)
+    throw_unsupported(in.path(), "LAS point format byte " + std::to_string(raw_format) +
+                                     " has bit 6 set (an old LAStools compression mark); only "
+                                     "LASzip's bit 7 is supported");
   const int f = h.format;
   if (f > 10) throw_bad_input(in.path(), "unknown LAS point data format " + std::to_string(f));
   if (f == 4 || f == 5 || f == 9 || f == 10)
@@ -121,6 +122,7 @@ LasHeader read_header(InputStream& in) {
   h.vlr_count = u32(b + 100);
   const unsigned raw_format = b[104];
   h.format = static_cast<int>(raw_format & 0x3F);
+  h.compressed = (raw_format & 0x80) != 0;
   h.record_length = u16(b + 105);
   const uint32_t legacy_count = u32(b + 107);
   for (int k = 0; k < 3; ++k) {
@@ -157,6 +159,12 @@ LasHeader read_header(InputStream& in) {
       throw_bad_input(in.path(), "offset to point data " + std::to_string(h.point_offset) +
                                      " is past the end of the file (" + std::to_string(*size) +
                                      " bytes)");
+  }
+  if (auto size = in.size_hint(); size && !h.compressed) {
+    if (h.point_offset > *size)
+      throw_bad_input(in.path(), "offset to point data " + std::to_string(h.point_offset) +
+                                     " is past the end of the file (" + std::to_string(*size) +
+                                     " bytes)");
     const uint64_t left = *size - h.point_offset;
     if (h.count > left / h.record_length)
       throw_bad_input(in.path(), "header says " + std::to_string(h.count) + " points of " +
@@ -167,7 +175,9 @@ LasHeader read_header(InputStream& in) {
 }
 
 // VLRs sit between the header and the point data; each must end before the point data starts.
-void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names) {
+// The LASzip VLR's payload is kept in `laszip` (LAZ files).
+void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names,
+               std::vector<unsigned char>& laszip, bool& has_laszip) {
   for (uint32_t k = 0; k < h.vlr_count; ++k) {
     unsigned char v[kVlrHeaderSize];
     if (in.offset() + kVlrHeaderSize > h.point_offset)
@@ -178,7 +188,14 @@ void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names) {
     if (in.offset() + length > h.point_offset)
       throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " + std::to_string(h.vlr_count) +
                                      " extends past the offset to point data");
-    in.skip(length, "VLR");
+    const std::string user = fixed_string(v + 2, 16);
+    if (user == "laszip encoded" && u16(v + 18) == 22204 && !has_laszip) {
+      laszip.resize(length);
+      in.read(laszip.data(), length, "LASzip VLR");
+      has_laszip = true;
+    } else {
+      in.skip(length, "VLR");
+    }
     if (names.size() < 64)
       names.push_back(fixed_string(v + 2, 16) + "/" + std::to_string(u16(v + 18)));
   }
@@ -228,6 +245,12 @@ class PointDecoder {
     }
     add_extras(c, h.format, reserve, slot_);
   }
+
+  // Decodes n consecutive records (record_length bytes each), the first being point `first`.
+  void add_records(const unsigned char* records, std::size_t n, uint64_t first) {
+    for (std::size_t i = 0; i < n; ++i) decode(records + i * h_.record_length, first + i);
+  }
+  void finish() { positions_.finish(); }
 
   void run() {
     std::vector<unsigned char> block;
@@ -349,10 +372,31 @@ LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
   LoadedCloud doc;
   const LasHeader h = read_header(in);
   nlohmann::json vlr_names = nlohmann::json::array();
-  read_vlrs(in, h, vlr_names);
-  PointDecoder(in, h, doc.cloud).run();
-  read_tail(in, h);
+  std::vector<unsigned char> laszip;
+  bool has_laszip = false;
+  read_vlrs(in, h, vlr_names, laszip, has_laszip);
+  if (h.compressed) {
+    LazPointsInfo info;
+    info.format = h.format;
+    info.record_length = h.record_length;
+    info.count = h.count;
+    info.point_offset = h.point_offset;
+    info.laszip_vlr = laszip;
+    info.has_laszip_vlr = has_laszip;
+    check_laz_vlr(in.path(), info);
+    PointDecoder decoder(in, h, doc.cloud);
+    uint64_t done = 0;
+    read_laz_points(in, info, [&](const unsigned char* records, std::size_t n) {
+      decoder.add_records(records, n, done);
+      done += n;
+    });
+    decoder.finish();
+  } else {
+    PointDecoder(in, h, doc.cloud).run();
+    read_tail(in, h);
+  }
   doc.header = header_json(h, std::move(vlr_names));
+  if (h.compressed) doc.header["compressed"] = "laszip";
   return doc;
 }
 
