@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include "formats/laz.h"
@@ -252,22 +254,6 @@ class PointDecoder {
   }
   void finish() { positions_.finish(); }
 
-  void run() {
-    std::vector<unsigned char> block;
-    for (uint64_t done = 0; done < h_.count;) {
-      const std::size_t n =
-          static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h_.count - done));
-      block.resize(n * h_.record_length);
-      const std::size_t got = in_.read_some(block.data(), block.size());
-      if (got != block.size())
-        in_.fail("unexpected end of file in point record " +
-                 std::to_string(done + got / h_.record_length) + " of " + std::to_string(h_.count));
-      for (std::size_t i = 0; i < n; ++i) decode(block.data() + i * h_.record_length, done + i);
-      done += n;
-    }
-    positions_.finish();
-  }
-
  private:
   bool has_rgb() const {
     return h_.format == 2 || h_.format == 3 || h_.format == 7 || h_.format == 8;
@@ -368,15 +354,19 @@ nlohmann::json header_json(const LasHeader& h, nlohmann::json vlr_names) {
 
 }  // namespace
 
-LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
-  LoadedCloud doc;
-  const LasHeader h = read_header(in);
-  nlohmann::json vlr_names = nlohmann::json::array();
+namespace {
+
+// Reads the header and VLRs, then passes every point record (decompressed for LAZ) to `sink` in
+// file order; `on_header` runs first.
+void read_records(InputStream& in, const std::function<void(const LasHeader&)>& on_header,
+                  const std::function<void(const unsigned char*, std::size_t)>& sink,
+                  nlohmann::json& vlr_names, LasHeader& h) {
+  h = read_header(in);
   std::vector<unsigned char> laszip;
   bool has_laszip = false;
   read_vlrs(in, h, vlr_names, laszip, has_laszip);
+  LazPointsInfo info;
   if (h.compressed) {
-    LazPointsInfo info;
     info.format = h.format;
     info.record_length = h.record_length;
     info.count = h.count;
@@ -384,20 +374,59 @@ LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
     info.laszip_vlr = laszip;
     info.has_laszip_vlr = has_laszip;
     check_laz_vlr(in.path(), info);
-    PointDecoder decoder(in, h, doc.cloud);
-    uint64_t done = 0;
-    read_laz_points(in, info, [&](const unsigned char* records, std::size_t n) {
-      decoder.add_records(records, n, done);
-      done += n;
-    });
-    decoder.finish();
-  } else {
-    PointDecoder(in, h, doc.cloud).run();
-    read_tail(in, h);
   }
+  on_header(h);
+  if (h.compressed) {
+    read_laz_points(in, info, sink);
+    return;
+  }
+  std::vector<unsigned char> block;
+  for (uint64_t done = 0; done < h.count;) {
+    const std::size_t n = static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h.count - done));
+    block.resize(n * h.record_length);
+    const std::size_t got = in.read_some(block.data(), block.size());
+    if (got != block.size())
+      in.fail("unexpected end of file in point record " +
+              std::to_string(done + got / h.record_length) + " of " + std::to_string(h.count));
+    sink(block.data(), n);
+    done += n;
+  }
+  read_tail(in, h);
+}
+
+}  // namespace
+
+LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
+  (void)options;
+  LoadedCloud doc;
+  LasHeader h;
+  nlohmann::json vlr_names = nlohmann::json::array();
+  std::unique_ptr<PointDecoder> decoder;
+  uint64_t done = 0;
+  read_records(
+      in, [&](const LasHeader& header) { decoder = std::make_unique<PointDecoder>(in, header, doc.cloud); },
+      [&](const unsigned char* records, std::size_t n) {
+        decoder->add_records(records, n, done);
+        done += n;
+      },
+      vlr_names, h);
+  decoder->finish();
   doc.header = header_json(h, std::move(vlr_names));
   if (h.compressed) doc.header["compressed"] = "laszip";
   return doc;
+}
+
+LasRecordsInfo read_las_records(InputStream& in,
+                                const std::function<void(const unsigned char*, std::size_t)>& sink,
+                                const std::function<void(const LasRecordsInfo&)>& on_info) {
+  LasHeader h;
+  nlohmann::json vlr_names = nlohmann::json::array();
+  auto info = [](const LasHeader& x) {
+    return LasRecordsInfo{x.format, x.record_length, x.count, x.compressed};
+  };
+  read_records(
+      in, [&](const LasHeader& x) { if (on_info) on_info(info(x)); }, sink, vlr_names, h);
+  return info(h);
 }
 
 }  // namespace splatkit

@@ -271,11 +271,13 @@ class ArithmeticEncoder {
     write_short(sym >> 16);
   }
 
-  // Emits the final bytes, then three zero bytes as LASzip does: a decoder looks ahead up to three
-  // bytes past the last one, and some (laz-perf) fail at the end of the file instead of reading 0.
+  // Emits the final bytes, then zero bytes up to exactly what a decoder reads: it looks ahead
+  // 4 bytes, and decoders that read chunks one after the other (laz-perf) need the next chunk to
+  // start where the last one's decoder stopped.
   void done() {
     const uint32_t init_base = base_;
-    if (length_ > 2 * kMinLength) {
+    const bool one_byte = length_ > 2 * kMinLength;
+    if (one_byte) {
       base_ += kMinLength;
       length_ = kMinLength >> 1;
     } else {
@@ -284,7 +286,7 @@ class ArithmeticEncoder {
     }
     if (init_base > base_) propagate_carry();
     renormalize();
-    out_.insert(out_.end(), 3, 0);
+    out_.insert(out_.end(), one_byte ? 3 : 2, 0);
   }
 
  private:
