@@ -185,8 +185,13 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
     tbb::parallel_for(begin, end, [&](std::size_t i) {
       const Chunk& c = chunks[i];
       try {
-        laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
-                          records.data() + (c.first_point - base) * rl);
+        const std::size_t used = laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes),
+                                                   vlr.items, c.points,
+                                                   records.data() + (c.first_point - base) * rl);
+        if (c.bytes - used > 1)
+          errors[i - begin] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
+                              " bytes are left after its " + std::to_string(c.points) +
+                              " points (the point count or the chunk table is wrong)";
       } catch (const laz::LazDataError& e) {
         errors[i - begin] = e.what();
       }

@@ -4,9 +4,9 @@
 // the integer compressor that codes a corrector against a prediction. Decoder and encoder give
 // bit-exact LASzip streams. Spec: formats/laz.md.
 //
-// Safe for untrusted input: the decoder reads from a byte range; past its end it reads zeros for a
-// few bytes (a valid stream's decoder looks ahead at most 3 bytes past the encoder's last byte)
-// and then throws LazTruncated.
+// Safe for untrusted input: the decoder reads from a byte range and throws LazDataError when it
+// needs a byte past its end. Encoders (LASzip, laz-perf, this one) end a stream with the zero
+// bytes that the decoder's 4-byte look-ahead reads, so a valid stream never needs more.
 #pragma once
 
 #include <cstddef>
@@ -192,13 +192,9 @@ class ArithmeticDecoder {
   const unsigned char* position() const { return p_; }
 
  private:
-  static constexpr int kSlack = 4;  // zero bytes allowed past the end (see the header comment)
-
   unsigned char get_byte() {
     if (p_ < end_) return *p_++;
-    if (++overrun_ > kSlack)
-      throw LazDataError("compressed data ends before the points it should hold");
-    return 0;
+    throw LazDataError("compressed data ends before the points it should hold");
   }
   void renormalize() {
     do {
@@ -208,7 +204,6 @@ class ArithmeticDecoder {
 
   const unsigned char* p_;
   const unsigned char* end_;
-  int overrun_ = 0;
   uint32_t value_ = 0, length_ = kMaxLength;
 };
 

@@ -637,7 +637,7 @@ std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector
   std::memcpy(out, bytes.data(), rl);
   coders.init(out);
   ArithmeticDecoder dec(bytes.data() + rl, bytes.data() + bytes.size());
-  if (count > 1) dec.init();
+  dec.init();
   for (uint64_t i = 1; i < count; ++i) coders.decode(dec, out + i * rl);
   return static_cast<std::size_t>(dec.position() - bytes.data());
 }

@@ -64,7 +64,8 @@ std::vector<Item> items_for_format(int format, uint16_t record_length);
 
 // Decodes `count` (>= 1) records of `items` from one chunk's bytes into `out`
 // (count * record_length bytes, record_length = sum of item sizes). Returns the bytes the decoder
-// consumed. Supports exactly the version-2 items that items_for_format gives.
+// consumed (a valid chunk leaves at most 1 byte: LASzip pads with 3 zero bytes where the decoder
+// reads 2 or 3). Supports exactly the version-2 items that items_for_format gives.
 std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector<Item>& items,
                          uint64_t count, unsigned char* out);
 

@@ -4,7 +4,10 @@
 //     extra bytes per record, written uncompressed and as LAZ (chunks of CHUNK points) by
 //     splatkit's writer;
 //   laz_records dump IN OUT.bin
-//     the records of a LAS/LAZ file as splatkit decodes them (LAZ decompressed), concatenated.
+//     the records of a LAS/LAZ file as splatkit decodes them (LAZ decompressed), concatenated;
+//   laz_records cut IN.laz OUT.laz K NBYTES
+//     a copy of a LAZ file written by `make` whose chunk K lost its last NBYTES bytes, with a chunk
+//     table that agrees (a truncated chunk the table cannot reveal).
 // The records exercise every field and every branch of the LASzip models: coordinate jumps up to
 // the full 32-bit range, return-number contexts, flag changes, classification flags, scan-angle
 // wrap-around, several interleaved GPS time sequences with 64-bit jumps, grey and coloured RGB.
@@ -17,6 +20,7 @@
 
 #include "formats/las.h"
 #include "formats/las_writer.h"
+#include "formats/laz_chunk.h"
 #include "splatkit/error.h"
 #include "splatkit/input_stream.h"
 #include "splatkit/output_file.h"
@@ -151,15 +155,54 @@ int dump(int argc, char** argv) {
   return 0;
 }
 
+uint64_t get64(const std::vector<unsigned char>& d, std::size_t at) {
+  uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = v << 8 | d[at + static_cast<std::size_t>(i)];
+  return v;
+}
+
+int cut(int argc, char** argv) {
+  if (argc != 6) return 1;
+  std::vector<unsigned char> d;
+  {
+    splatkit::InputStream in(argv[2]);
+    unsigned char buf[65536];
+    for (std::size_t got; (got = in.read_some(buf, sizeof buf)) > 0;) d.insert(d.end(), buf, buf + got);
+  }
+  const std::size_t k = std::stoul(argv[4]), nbytes = std::stoul(argv[5]);
+  const std::size_t point_offset = d[96] | d[97] << 8 | d[98] << 16 | static_cast<std::size_t>(d[99]) << 24;
+  const std::size_t table = get64(d, point_offset);
+  const uint32_t n = d[table + 4] | d[table + 5] << 8 | d[table + 6] << 16 | static_cast<uint32_t>(d[table + 7]) << 24;
+  std::vector<splatkit::laz::ChunkEntry> chunks = splatkit::laz::decode_chunk_table(
+      std::span(d).subspan(table + 8), n, false);
+  if (k >= n || chunks[k].bytes <= nbytes) return 1;
+  std::size_t end = point_offset + 8;
+  for (std::size_t i = 0; i <= k; ++i) end += chunks[i].bytes;
+  std::vector<unsigned char> out(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(end - nbytes));
+  out.insert(out.end(), d.begin() + static_cast<std::ptrdiff_t>(end), d.begin() + static_cast<std::ptrdiff_t>(table));
+  chunks[k].bytes -= nbytes;
+  const uint64_t new_table = out.size();
+  for (int i = 0; i < 8; ++i) out[point_offset + static_cast<std::size_t>(i)] = static_cast<unsigned char>(new_table >> (8 * i));
+  splatkit::laz::encode_chunk_table(chunks, false, out);
+  splatkit::OutputFile o(argv[3]);
+  o.write(out.data(), out.size());
+  o.commit();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
     const std::string mode = argc > 1 ? argv[1] : "";
-    const int rc = mode == "make" ? make(argc, argv) : mode == "dump" ? dump(argc, argv) : 1;
+    const int rc = mode == "make"   ? make(argc, argv)
+                   : mode == "dump" ? dump(argc, argv)
+                   : mode == "cut"  ? cut(argc, argv)
+                                    : 1;
     if (rc == 1)
       std::fprintf(stderr, "usage: laz_records make FORMAT COUNT CHUNK SEED EXTRA OUT.las OUT.laz\n"
-                           "       laz_records dump IN OUT.bin\n");
+                           "       laz_records dump IN OUT.bin\n"
+                           "       laz_records cut IN.laz OUT.laz K NBYTES\n");
     return rc;
   } catch (const splatkit::Error& e) {
     std::fprintf(stderr, "laz_records: %s\n", e.what());

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--format", o.format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk", "las", "laz"}));
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
+  tool.add_threads_option();  // LAZ chunks are decoded in parallel
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_convert(o, progress);
   });
