@@ -3,7 +3,7 @@
 //     random but scan-like point records of LAS point data format FORMAT (0-3) with EXTRA_BYTES
 //     extra bytes per record, written uncompressed and as LAZ (chunks of CHUNK points) by
 //     splatkit's writer;
-//   laz_records dump IN OUT.bin
+//   laz_records dump IN OUT.bin [THREADS]
 //     the records of a LAS/LAZ file as splatkit decodes them (LAZ decompressed), concatenated;
 //   laz_records cut IN.laz OUT.laz K NBYTES
 //     a copy of a LAZ file written by `make` whose chunk K lost its last NBYTES bytes, with a chunk
@@ -14,9 +14,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <tbb/global_control.h>
 
 #include "formats/las.h"
 #include "formats/las_writer.h"
@@ -117,7 +120,7 @@ std::vector<unsigned char> make_records(int format, uint64_t count, unsigned see
       at += 6;
     }
     for (int e = 0; e < extra; ++e)
-      r[at + e] = static_cast<unsigned char>(chance(0.5) ? r[at + e - (i ? rl : 0)] + uni(-2, 2) : uni(0, 255));
+      r[at + e] = static_cast<unsigned char>(chance(0.5) && i > 0 ? (r - rl)[at + e] + uni(-2, 2) : uni(0, 255));
   }
   layout.scale[0] = layout.scale[1] = layout.scale[2] = 0.01;
   return out;
@@ -142,7 +145,12 @@ int make(int argc, char** argv) {
 }
 
 int dump(int argc, char** argv) {
-  if (argc != 4) return 1;
+  if (argc != 4 && argc != 5) return 1;
+  // Optional worker thread count (the chunks are decoded in parallel), for the bench.
+  const int threads = argc == 5 ? std::stoi(argv[4]) : 0;
+  std::optional<tbb::global_control> limit;
+  if (threads > 0)
+    limit.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   splatkit::InputStream in(argv[2]);
   splatkit::OutputFile out(argv[3]);
   std::size_t rl = 0;
@@ -201,7 +209,7 @@ int main(int argc, char** argv) {
                                     : 1;
     if (rc == 1)
       std::fprintf(stderr, "usage: laz_records make FORMAT COUNT CHUNK SEED EXTRA OUT.las OUT.laz\n"
-                           "       laz_records dump IN OUT.bin\n"
+                           "       laz_records dump IN OUT.bin [THREADS]\n"
                            "       laz_records cut IN.laz OUT.laz K NBYTES\n");
     return rc;
   } catch (const splatkit::Error& e) {
