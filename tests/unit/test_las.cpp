@@ -333,7 +333,7 @@ TEST(Las, Errors) {
   expect_error(with([](LasSpec& s) { s.minor = 4, s.header_size = 235; }), bad,
                "header size 235 is smaller than the 375 bytes of a LAS 1.4 header");
   // The LAZ bit without a LASzip VLR (LAZ itself: tests/e2e/laz.sh); bit 6, an old mark.
-  expect_error(with([](LasSpec& s) { s.format_byte = 0x83; }), bad,
+  expect_error(with([](LasSpec& s) { s.format_byte = 0x80; }), bad,
                "compressed LAS (LAZ) without the LASzip VLR");
   expect_error(with([](LasSpec& s) { s.format_byte = 0x40; }), unsupported, "has bit 6 set");
   for (int f : {4, 5, 9, 10})
