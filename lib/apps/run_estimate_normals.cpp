@@ -58,6 +58,7 @@ nlohmann::json provenance_options(const NormalOptions& o) {
   nlohmann::json j = {{"k", o.k},
                       {"radius_k", o.radius_k},
                       {"radius_scale", o.radius_scale},
+                      {"max_radius_ratio", o.max_radius_ratio},
                       {"radius", o.radius_rule == RadiusRule::kCover ? "cover" : "mean-knn"},
                       {"splat", o.ellipses ? "ellipse" : "circle"},
                       {"fit_centres", o.fit_centres},

@@ -64,6 +64,10 @@ int main(int argc, char** argv) {
   app.add_option("--viewpoint", o.viewpoint,
                  "Scanner position x,y,z in file coordinates (implies --orient viewpoint; "
                  "default: the input's own scanner position)");
+  app.add_option("--max-radius-ratio", o.normals.max_radius_ratio,
+                 "No splat radius above this many times the median radius of its 8 nearest "
+                 "neighbours (no blobs at density jumps or stray points); 0 = no bound")
+      ->default_val(splatkit::kDefaultMaxRadiusRatio);
   app.add_flag("--keep-duplicates", o.normals.keep_duplicates, "Do not merge exact duplicates");
   app.add_option("--outliers", o.outliers,
                  "Remove outliers first, as PCL's filters do: sor[:K,SIGMA] drops points whose "
