@@ -1,7 +1,6 @@
-// The entropy coder of LASzip (Isenburg, "LASzip: lossless compression of LiDAR data",
-// Photogrammetric Engineering & Remote Sensing 79(2), 2013): Amir Said's FastAC range coder
-// (32-bit interval, adaptive models with periodic updates), the adaptive bit and symbol models, and
-// the integer compressor that codes a corrector against a prediction. Decoder and encoder give
+// The entropy coder of LASzip ([Isenburg13], docs/references.md): Said's FastAC range coder
+// ([Said04]; 32-bit interval, adaptive models with periodic updates), the adaptive bit and symbol
+// models, and the integer compressor that codes a corrector against a prediction. Decoder and encoder give
 // bit-exact LASzip streams. Spec: formats/laz.md.
 //
 // Safe for untrusted input: the decoder reads from a byte range and throws LazDataError when it

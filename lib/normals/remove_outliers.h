@@ -1,7 +1,6 @@
 // remove_outliers: the two classic outlier filters of point-cloud tools, with PCL's semantics
-// (Rusu et al., "Towards 3D point cloud based object maps for household environments", Robotics
-// and Autonomous Systems 56(11), 2008, docs/references.md; PCL's StatisticalOutlierRemoval and
-// RadiusOutlierRemoval, CloudCompare's SOR and ROR tools):
+// ([Rusu08], docs/references.md; PCL's StatisticalOutlierRemoval and RadiusOutlierRemoval,
+// CloudCompare's SOR and ROR tools):
 //
 //  - statistical (sor): d_i = mean distance from point i to its K nearest other points (in double,
 //    stored as float); mean m and sample standard deviation s of all d_i (double sums in index
