@@ -90,13 +90,13 @@ void parse_view(const std::string& text, Resolved& r) {
 }
 
 void parse_blend(const std::string& text, RenderOptions& r) {
-  if (text == "zrange") {
-    r.blend = BlendMode::kZRange;
+  if (text == "zrange" || text == "zbuffer") {
+    r.blend = text == "zrange" ? BlendMode::kZRange : BlendMode::kZBuffer;
     return;
   }
   const std::string prefix = "zthreshold";
   if (text.rfind(prefix, 0) != 0)
-    throw_usage("--blend must be zthreshold[=EPS] or zrange, got '" + text + "'");
+    throw_usage("--blend must be zthreshold[=EPS], zrange or zbuffer, got '" + text + "'");
   r.blend = BlendMode::kZThreshold;
   if (text.size() == prefix.size()) return;
   std::size_t used = 0;
@@ -202,7 +202,9 @@ Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingS
   return orbit_camera(bounds, az, el, r.view_distance, r.up, o.fov_y_deg, o.width, o.height);
 }
 
-const char* blend_name(BlendMode m) { return m == BlendMode::kZRange ? "zrange" : "zthreshold"; }
+const char* blend_name(BlendMode m) {
+  return m == BlendMode::kZRange ? "zrange" : m == BlendMode::kZBuffer ? "zbuffer" : "zthreshold";
+}
 
 // Replaces the scene's colours by the false colours of `by`, or says which tool makes the data.
 void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {

@@ -18,11 +18,11 @@ constexpr uint32_t kNone = SpatialIndex::kNone;
 constexpr float kParallel = 0.70710678f;  // cos 45°
 
 // The kNN graph as fixed-length rows (k - 1 neighbours per point, kNone where the cloud is
-// smaller) with one quantised weight per entry.
+// smaller). Weights are not stored: the sort computes them as it goes (twice), which keeps 2 bytes
+// per edge off the peak.
 struct KnnGraph {
   std::size_t width = 0;  // neighbours per row
   std::vector<uint32_t> neighbors;
-  std::vector<uint16_t> keys;
 };
 
 // The agreement of a pair's signs: positive when consistently oriented, its magnitude the
@@ -45,40 +45,70 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> positions,
-                     std::span<const Vec3f> normals, std::size_t k) {
+KnnGraph build_graph(const SpatialIndex& index, std::size_t k) {
   KnnGraph g;
   g.width = k - 1;
   const std::size_t n = index.size();
   g.neighbors.assign(n * g.width, kNone);
-  g.keys.assign(n * g.width, 0);
   index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
                                   std::span<const uint32_t> indices, std::span<const float>) {
     for (std::size_t r = 0; r < queries.size(); ++r) {
-      const uint32_t i = queries[r];
       // Column 0 is the point itself; the rest are its neighbours.
-      for (std::size_t c = 1; c < k; ++c) {
-        const uint32_t j = indices[r * k + c];
-        const std::size_t e = i * g.width + (c - 1);
-        g.neighbors[e] = j;
-        if (j != kNone)
-          g.keys[e] = weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
-      }
+      std::copy_n(indices.data() + r * k + 1, g.width, g.neighbors.data() + queries[r] * g.width);
     }
   });
   return g;
 }
 
-// Edge ids sorted by key, ties by id (a stable counting sort).
+// Edge ids sorted by key, ties by id (a stable counting sort, in parallel over fixed chunks of
+// rows: each chunk counts its keys and writes after the earlier chunks' share of every bucket, so
+// the order is the serial one for any thread count). Left out: slots without a neighbour, and an
+// edge i -> j whose reverse j -> i is in the earlier row j (j < i): the two have the same key
+// (the agreement is symmetric), so Kruskal meets the earlier one first and would always reject
+// this one; in a kNN graph most edges come in such pairs.
 template <typename Id>
-std::vector<Id> sort_edges(const KnnGraph& g) {
-  std::vector<std::size_t> start(kOrientBuckets + 1, 0);
-  for (std::size_t e = 0; e < g.keys.size(); ++e)
-    if (g.neighbors[e] != kNone) ++start[g.keys[e] + 1];
-  for (std::size_t b = 0; b < kOrientBuckets; ++b) start[b + 1] += start[b];
-  std::vector<Id> order(start[kOrientBuckets]);
-  for (std::size_t e = 0; e < g.keys.size(); ++e)
-    if (g.neighbors[e] != kNone) order[start[g.keys[e]]++] = static_cast<Id>(e);
+std::vector<Id> sort_edges(const KnnGraph& g, std::span<const Vec3f> positions,
+                           std::span<const Vec3f> normals) {
+  const std::size_t w = g.width;
+  if (w == 0) return {};  // a cloud of one point
+  const std::size_t n = g.neighbors.size() / w;
+  const uint32_t* nb = g.neighbors.data();
+  auto kept = [&](std::size_t i, uint32_t j) {
+    if (j == kNone) return false;
+    if (j > i) return true;
+    const uint32_t* row = nb + std::size_t{j} * w;
+    return std::find(row, row + w, static_cast<uint32_t>(i)) == row + w;
+  };
+  auto key = [&](std::size_t i, uint32_t j) {
+    return weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
+  };
+  constexpr std::size_t kRows = 1 << 15;
+  const std::size_t chunks = (n + kRows - 1) / kRows;
+  std::vector<uint64_t> start(chunks * kOrientBuckets, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t* count = start.data() + c * kOrientBuckets;
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      for (std::size_t s = 0; s < w; ++s) {
+        const uint32_t j = nb[i * w + s];
+        if (kept(i, j)) ++count[key(i, j)];
+      }
+  });
+  uint64_t at = 0;
+  for (std::size_t b = 0; b < kOrientBuckets; ++b)
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const uint64_t count = start[c * kOrientBuckets + b];
+      start[c * kOrientBuckets + b] = at;
+      at += count;
+    }
+  std::vector<Id> order(at);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t* next = start.data() + c * kOrientBuckets;
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      for (std::size_t s = 0; s < w; ++s) {
+        const uint32_t j = nb[i * w + s];
+        if (kept(i, j)) order[next[key(i, j)]++] = static_cast<Id>(i * w + s);
+      }
+  });
   return order;
 }
 
@@ -112,13 +142,16 @@ class UnionFind {
 // Kruskal over the sorted edges: the minimum spanning forest as (i, j) pairs, plus each point's
 // component root.
 template <typename Id>
-std::vector<std::pair<uint32_t, uint32_t>> spanning_forest(const KnnGraph& g, std::size_t n,
+std::vector<std::pair<uint32_t, uint32_t>> spanning_forest(const KnnGraph& g,
+                                                           std::span<const Vec3f> positions,
+                                                           std::span<const Vec3f> normals,
                                                            std::vector<uint32_t>& root) {
+  const std::size_t n = positions.size();
   std::vector<std::pair<uint32_t, uint32_t>> tree;
-  tree.reserve(n > 0 ? n - 1 : 0);
   UnionFind sets(n);
   {
-    const std::vector<Id> order = sort_edges<Id>(g);
+    const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
+    tree.reserve(n > 0 ? n - 1 : 0);
     for (const Id e : order) {
       const auto i = static_cast<uint32_t>(e / g.width);
       const uint32_t j = g.neighbors[e];
@@ -198,10 +231,10 @@ OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f>
   std::vector<uint32_t> root;
   std::vector<std::pair<uint32_t, uint32_t>> tree;
   {
-    const KnnGraph graph = build_graph(index, positions, normals, std::min(k, n));
+    const KnnGraph graph = build_graph(index, std::min(k, n));
     tree = graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
-               ? spanning_forest<uint32_t>(graph, n, root)
-               : spanning_forest<uint64_t>(graph, n, root);
+               ? spanning_forest<uint32_t>(graph, positions, normals, root)
+               : spanning_forest<uint64_t>(graph, positions, normals, root);
   }
   std::vector<int8_t> sign;
   {
