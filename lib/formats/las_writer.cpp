@@ -42,7 +42,8 @@ void put_text(unsigned char* p, std::size_t n, const std::string& s) {
 }  // namespace
 
 void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const unsigned char* records,
-                       uint64_t count, bool compressed, uint32_t chunk_size) {
+                       uint64_t count, bool compressed, uint32_t chunk_size,
+                       bool variable_chunks) {
   if (count > 0xFFFFFFFFu)
     throw_unsupported(out.path(), "LAS 1.2 holds at most 4294967295 points, the cloud has " +
                                       std::to_string(count));
@@ -50,7 +51,7 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const un
   std::vector<unsigned char> vlr;
   if (compressed) {
     laz::LaszipVlr v;
-    v.chunk_size = chunk_size;
+    v.chunk_size = variable_chunks ? laz::kVariableChunkSize : chunk_size;
     v.items = laz::items_for_format(layout.format, layout.record_length);
     const std::vector<unsigned char> payload = laz::laszip_vlr_payload(v);
     vlr.assign(kVlrHeaderSize, 0);
@@ -99,14 +100,14 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const un
   // Chunks are compressed in memory first: the chunk table's offset comes before them.
   std::vector<unsigned char> data(8);
   std::vector<laz::ChunkEntry> table;
-  for (uint64_t first = 0; first < count; first += chunk_size) {
-    const uint64_t n = std::min<uint64_t>(chunk_size, count - first);
+  for (uint64_t first = 0, n = 0; first < count; first += n) {
+    n = std::min<uint64_t>(chunk_size + (variable_chunks ? table.size() : 0), count - first);
     const std::size_t before = data.size();
     laz::encode_chunk(records + first * rl, n, laz::items_for_format(layout.format, layout.record_length), data);
     table.push_back({n, data.size() - before});
   }
   put64(data.data(), kHeaderSize + vlr.size() + data.size());
-  laz::encode_chunk_table(table, false, data);
+  laz::encode_chunk_table(table, variable_chunks, data);
   out.write(data.data(), data.size());
 }
 

@@ -20,9 +20,12 @@ struct LasRecordsLayout {
 // Writes `count` LAS records (record_length bytes each, as in an uncompressed file) as a LAS 1.2
 // file, or, when `compressed`, as LAZ with chunks of `chunk_size` points. The header's bounds
 // and returns-by-number counts are computed from the records. Throws Error(kUnsupported) for more
-// than 2^32 - 1 points.
+// than 2^32 - 1 points. variable_chunks: the LASzip VLR says "variable" and the chunk table
+// stores each chunk's point count (chunks then hold chunk_size, chunk_size + 1, chunk_size + 2,
+// ... points, to exercise it).
 void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const unsigned char* records,
-                       uint64_t count, bool compressed, uint32_t chunk_size = 50000);
+                       uint64_t count, bool compressed, uint32_t chunk_size = 50000,
+                       bool variable_chunks = false);
 
 // Writes a cloud as LAS/LAZ: point data format 0-3 by what the cloud has (RGB: 2/3, gps_time: 1/3);
 // the LAS extras the LAS reader makes (intensity, return numbers, classification, scan_angle,

@@ -1,6 +1,7 @@
 # LAZ (LASzip) reading and writing, point data formats 0-3.
 #  1. Random scan-like records of every format (with and without extra bytes, one chunk and many,
-#     a last chunk of one point) written as LAS and as LAZ by splatkit's writer: splatkit's decoder
+#     a last chunk of one point, fixed and variable chunk sizes) written as LAS and as LAZ by
+#     splatkit's writer: splatkit's decoder
 #     and laz-perf (LASzip compiled to WebAssembly, npm "laz-perf", run under node; the oracle,
 #     skipped with a message when node or laz-perf is missing) must both give back every byte of
 #     every record.
@@ -33,7 +34,7 @@ lazperf_dump() { NODE_PATH=$SPLATKIT_LAZ_PERF_DIR node "$SRC/tests/laz/lazperf_d
 
 # ---- 1. records, every format ------------------------------------------------------------------
 for spec in "0 20000 6000 0" "0 1 50000 0" "1 15001 5000 3" "2 9000 50000 0" "2 12001 4000 7" \
-            "3 25000 7000 0" "3 10001 5000 2" "1 2 1 0"; do
+            "3 25000 7000 0" "3 10001 5000 2" "1 2 1 0" "1 20000 v3000 0" "3 9000 v100 1"; do
   read -r fmt n chunk extra <<<"$spec"
   tag="format $fmt, $n points, chunks of $chunk, $extra extra bytes"
   "$R" make "$fmt" "$n" "$chunk" "$((n + fmt))" "$extra" r.las r.laz || { fail "make: $tag"; continue; }

@@ -1,8 +1,8 @@
 // Test helper for the LAZ tests (tests/e2e/laz.sh):
 //   laz_records make FORMAT COUNT CHUNK SEED EXTRA_BYTES OUT.las OUT.laz
 //     random but scan-like point records of LAS point data format FORMAT (0-3) with EXTRA_BYTES
-//     extra bytes per record, written uncompressed and as LAZ (chunks of CHUNK points) by
-//     splatkit's writer;
+//     extra bytes per record, written uncompressed and as LAZ (chunks of CHUNK points; "vN":
+//     variable chunks of N, N + 1, ... points) by splatkit's writer;
 //   laz_records dump IN OUT.bin [THREADS]
 //     the records of a LAS/LAZ file as splatkit decodes them (LAZ decompressed), concatenated;
 //   laz_records cut IN.laz OUT.laz K NBYTES
@@ -130,7 +130,9 @@ int make(int argc, char** argv) {
   if (argc != 9) return 1;
   const int format = std::stoi(argv[2]);
   const uint64_t count = std::stoull(argv[3]);
-  const auto chunk = static_cast<uint32_t>(std::stoul(argv[4]));
+  // CHUNK "v5000": variable-size chunks (5000, 5001, 5002, ... points, counts in the table).
+  const bool variable = argv[4][0] == 'v';
+  const auto chunk = static_cast<uint32_t>(std::stoul(argv[4] + (variable ? 1 : 0)));
   const auto seed = static_cast<unsigned>(std::stoul(argv[5]));
   const int extra = std::stoi(argv[6]);
   if (format < 0 || format > 3 || extra < 0 || extra > 64 || chunk == 0) return 1;
@@ -138,7 +140,7 @@ int make(int argc, char** argv) {
   const std::vector<unsigned char> records = make_records(format, count, seed, extra, layout);
   for (int compressed = 0; compressed < 2; ++compressed) {
     splatkit::OutputFile out(argv[7 + compressed]);
-    splatkit::write_las_records(out, layout, records.data(), count, compressed != 0, chunk);
+    splatkit::write_las_records(out, layout, records.data(), count, compressed != 0, chunk, variable);
     out.commit();
   }
   return 0;
