@@ -12,7 +12,7 @@ mkdir -p "$out/formats" "$out/normals" "$out/images"
 shopt -s nullglob
 
 echo "== 1. every sample -> .splk, with splat-info reports (out/formats/) =="
-for f in "$samples"/*.{ply,xyz,off,las,pcd}; do
+for f in "$samples"/*.{ply,xyz,off,las,laz,pcd}; do
   name=$(basename "$f")
   "$bin/splat-convert" -q "$f" "$out/formats/$name.splk"
   "$bin/splat-info" "$out/formats/$name.splk" > "$out/formats/$name.info.txt"
@@ -29,6 +29,10 @@ for method in pca robust; do
   "$bin/estimate-normals" "$samples/cad.ply" "$out/normals/cad-$method.splk" --method "$method" \
     --report "$out/normals/cad-$method.report.json"
 done
+# LAZ (LASzip-compressed LAS): a scan-line sample, decoded by splatkit, through normals and radii
+# to an image (section 4).
+"$bin/estimate-normals" "$samples/cad-scan.laz" "$out/normals/cad-scan-laz.splk" \
+  --report "$out/normals/cad-scan-laz.report.json"
 # A pipeline: normals straight into the renderer's input, through a pipe.
 "$bin/estimate-normals" -q "$samples/torus-las12.las" - | "$bin/splat-info" - > "$out/normals/torus-las12.info.txt"
 # Scan lines 4x denser along than across: circles, and ellipses fitted to the same cells.
@@ -58,6 +62,7 @@ render sphere "$samples/sphere.ply"
 render torus "$samples/torus.ply"
 render two-spheres "$samples/two-spheres.ply"
 render cad-true-normals "$samples/cad.ply"
+render cad-scan-laz "$out/normals/cad-scan-laz.splk"
 render cad-pca "$out/normals/cad-pca.splk"
 render cad-robust "$out/normals/cad-robust.splk"
 render kitten "$out/normals/kitten.splk"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the synthetic files in data-samples/ with the built splat-synth (byte-identical on
-# every run: fixed seeds, deterministic sampling). The PCD variant is converted by PCL's own
-# pcl_ply2pcd (package pcl-tools) when it is installed, the LAS variants by
+# every run: fixed seeds, deterministic sampling; the LAZ files by the built splat-convert). The
+# PCD variant is converted by PCL's own pcl_ply2pcd (package pcl-tools) when it is installed, the LAS variants by
 # scripts/make-las-samples.py (python3). With --cgal it also fetches the two real
 # samples (kitten.xyz, nefertiti.off) from Debian's libcgal-demo package (downloaded into a temp
 # dir, not installed). Provenance of every file: data-samples/README.md.
@@ -55,8 +55,12 @@ synth torus torus-big-endian.ply -n 1000 --seed=2 --no-color --big-endian
 synth cad cad-noisy.xyz -n 1000 --seed=3 --noise 0.002 --no-color
 synth sphere sphere-random.off -n 1000 --seed=4 --random --no-color
 
+# A scan-line LAZ (point format 0, two LASzip chunks of 50000 points) for the LAZ demo and tests.
+synth cad cad-scan.ply -n 60000 --seed=7 --scan-lines 4 --no-color
+"$bin/splat-convert" -q "$tmp/cad-scan.ply" "$tmp/cad-scan.laz"
+
 made=(sphere.ply torus.ply cad.ply two-spheres.ply cube.ply torus-ascii.ply torus-big-endian.ply
-  cad-noisy.xyz sphere-random.off)
+  cad-noisy.xyz sphere-random.off cad-scan.laz)
 
 if command -v pcl_ply2pcd > /dev/null; then
   synth cad cad-pcl.ply -n 1000 --seed=5 --no-color
@@ -71,6 +75,9 @@ fi
 if command -v python3 > /dev/null; then
   python3 "$top/scripts/make-las-samples.py" "$tmp"
   made+=(torus-las12.las cad-utm-las14.las)
+  # LAZ: the LAS torus compressed by splatkit's LASzip writer (point format 3, one chunk).
+  "$bin/splat-convert" -q "$tmp/torus-las12.las" "$tmp/torus-las12.laz"
+  made+=(torus-las12.laz)
 else
   echo "make-samples: python3 not found; kept the old LAS samples" >&2
 fi

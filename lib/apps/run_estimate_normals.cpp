@@ -1,5 +1,7 @@
 #include "apps/run_estimate_normals.h"
 
+#include <charconv>
+#include <cmath>
 #include <string_view>
 
 #include "apps/parse_triple.h"
@@ -56,6 +58,7 @@ nlohmann::json provenance_options(const NormalOptions& o) {
   nlohmann::json j = {{"k", o.k},
                       {"radius_k", o.radius_k},
                       {"radius_scale", o.radius_scale},
+                      {"max_radius_ratio", o.max_radius_ratio},
                       {"radius", o.radius_rule == RadiusRule::kCover ? "cover" : "mean-knn"},
                       {"splat", o.ellipses ? "ellipse" : "circle"},
                       {"fit_centres", o.fit_centres},
@@ -66,28 +69,87 @@ nlohmann::json provenance_options(const NormalOptions& o) {
   return j;
 }
 
+// One number of --outliers' parameter list.
+template <typename T>
+T outlier_number(std::string_view text, const std::string& option) {
+  T v{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size())
+    throw_usage("--outliers " + option + ": '" + std::string(text) + "' is not a number");
+  return v;
+}
+
 }  // namespace
+
+std::optional<OutlierOptions> parse_outliers(const std::string& text) {
+  if (text.empty() || text == "none") return std::nullopt;
+  const std::size_t colon = text.find(':');
+  const std::string rule = text.substr(0, colon);
+  OutlierOptions o;
+  if (rule == "sor") o.rule = OutlierRule::kStatistical;
+  else if (rule == "radius") o.rule = OutlierRule::kRadius;
+  else throw_usage("--outliers must be none, sor[:K,SIGMA] or radius[:R,N], got '" + text + "'");
+  if (colon == std::string::npos) return o;
+  const std::string args = text.substr(colon + 1);
+  const std::size_t comma = args.find(',');
+  if (comma == std::string::npos)
+    throw_usage("--outliers " + text + ": give both parameters, e.g. sor:16,2 or radius:0.05,4");
+  const std::string_view a(args.data(), comma), b(args.data() + comma + 1, args.size() - comma - 1);
+  if (o.rule == OutlierRule::kStatistical) {
+    o.k = outlier_number<std::size_t>(a, text);
+    o.sigma = outlier_number<double>(b, text);
+    if (o.k < 1 || o.k > 1024 || !std::isfinite(o.sigma))
+      throw_usage("--outliers " + text + ": K must be 1..1024 and SIGMA finite");
+  } else {
+    o.radius = outlier_number<double>(a, text);
+    o.min_neighbors = outlier_number<std::size_t>(b, text);
+    if (!(o.radius > 0) || !std::isfinite(o.radius) || o.min_neighbors > 1024)
+      throw_usage("--outliers " + text + ": R must be positive and finite, N at most 1024");
+  }
+  return o;
+}
 
 StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const ProgressFn& progress) {
   WriteOptions write;
   write.format = output_format(o.paths.output, o.format);
   const NormalOptions options = normal_options(o);
+  const std::optional<OutlierOptions> outliers = parse_outliers(o.outliers);
+  if (!o.outliers_out.empty()) {
+    if (!outliers) throw_usage("--outliers-out needs --outliers sor or radius");
+    if (o.outliers_out == o.paths.input || o.outliers_out == o.paths.output)
+      throw_usage("--outliers-out must differ from IN and OUT: " + o.outliers_out);
+    writable_format(o.outliers_out, {});
+  }
   Stage stage("estimate-normals", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
+  // Outliers go first, on the cloud as read (duplicates included), as PCL's filters see it.
+  OutlierResult removed;
+  if (outliers) {
+    removed = stage.phase(nullptr, "removing outliers",
+                          [&] { return find_outliers(doc.cloud.positions, *outliers); });
+    LoadedCloud aside;
+    aside.cloud = split_cloud(doc.cloud, removed.outlier);
+    aside.format = doc.format;
+    if (!o.outliers_out.empty()) write_cloud(aside, o.outliers_out);
+  }
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
     return estimate_normals(doc.cloud, options, progress);
   });
-  stage.stamp(doc, provenance_options(options));
+  nlohmann::json stamp = provenance_options(options);
+  if (outliers) stamp["outliers"] = o.outliers;
+  stage.stamp(doc, stamp);
   nlohmann::json report;
   if (!o.paths.report.empty()) {
     report = result.to_json();
+    if (outliers) report["outliers"] = removed.to_json(*outliers);
     const uint64_t rss = peak_rss_bytes();
     report["peak_rss_bytes_per_point"] =
         result.input_points > 0 ? static_cast<double>(rss) / result.input_points : 0.0;
   }
   stage.write(doc, write, std::move(report));
   return {doc.cloud.size(), "points",
-          std::to_string(result.duplicates_merged) + " duplicates merged, " +
+          (outliers ? std::to_string(removed.removed) + " outliers removed, " : std::string()) +
+              std::to_string(result.duplicates_merged) + " duplicates merged, " +
               std::to_string(result.degenerate_points) + " degenerate"};
 }
 

@@ -7,7 +7,10 @@
 
 #include "apps/stage.h"
 #include "apps/stage_types.h"
+#include <optional>
+
 #include "normals/estimate_normals.h"
+#include "normals/remove_outliers.h"
 #include "splatkit/progress.h"
 
 namespace splatkit::apps {
@@ -24,7 +27,14 @@ struct EstimateNormalsOptions {
   std::string orient;     // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
   std::string viewpoint;  // "x,y,z" in file coordinates, or empty
   std::string format;     // ply | splk, or empty: OUT's extension
+  // --outliers: "" or "none", "sor[:K,SIGMA]" or "radius[:R,N]" (normals/remove_outliers.h);
+  // the points removed before anything else, written to `outliers_out` when it is not empty.
+  std::string outliers;
+  std::string outliers_out;
 };
+
+// Parses --outliers (nullopt for "" and "none"); throws Error(kUsage) naming the option.
+std::optional<OutlierOptions> parse_outliers(const std::string& text);
 
 // Throws Error(kUsage) for bad or conflicting options and unusable paths (before reading),
 // Error(kBadInput) / Error(kUnsupported) for the input, Error(kOutput) when writing fails,

@@ -12,7 +12,9 @@ FileFormat format_option(const std::string& format) {
   if (format == "xyz") return FileFormat::kXyz;
   if (format == "off") return FileFormat::kOff;
   if (format == "splk") return FileFormat::kSplk;
-  throw_usage("--format must be ply, xyz, off or splk, got '" + format + "'");
+  if (format == "las") return FileFormat::kLas;
+  if (format == "laz") return FileFormat::kLaz;
+  throw_usage("--format must be ply, xyz, off, splk, las or laz, got '" + format + "'");
 }
 
 }  // namespace

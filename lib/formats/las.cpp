@@ -7,8 +7,11 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <functional>
+#include <memory>
 #include <vector>
 
+#include "formats/laz.h"
 #include "splatkit/error.h"
 #include "splatkit/position_builder.h"
 
@@ -48,6 +51,7 @@ struct LasHeader {
   double min[3] = {}, max[3] = {};
   uint64_t evlr_start = 0;
   uint32_t evlr_count = 0;
+  bool compressed = false;  // LAZ: bit 7 of the point format byte
 };
 
 // Fixed-width text field: up to the first NUL, trailing spaces dropped, bytes outside printable
@@ -72,11 +76,10 @@ std::size_t min_header_size(int minor) {
 }
 
 void check_format(const InputStream& in, const LasHeader& h, unsigned raw_format) {
-  if (raw_format & 0xC0)
-    throw_unsupported(in.path(), "LAZ (compressed LAS, point format byte " +
-                                     std::to_string(raw_format) +
-                                     ") is not supported; decompress it first, e.g. 'laszip -i "
-                                     "in.laz -o out.las' or 'pdal translate in.laz out.las'");
+  if (raw_format & 0x40)
+    throw_unsupported(in.path(), "LAS point format byte " + std::to_string(raw_format) +
+                                     " has bit 6 set (an old LAStools compression mark); only "
+                                     "LASzip's bit 7 is supported");
   const int f = h.format;
   if (f > 10) throw_bad_input(in.path(), "unknown LAS point data format " + std::to_string(f));
   if (f == 4 || f == 5 || f == 9 || f == 10)
@@ -121,6 +124,7 @@ LasHeader read_header(InputStream& in) {
   h.vlr_count = u32(b + 100);
   const unsigned raw_format = b[104];
   h.format = static_cast<int>(raw_format & 0x3F);
+  h.compressed = (raw_format & 0x80) != 0;
   h.record_length = u16(b + 105);
   const uint32_t legacy_count = u32(b + 107);
   for (int k = 0; k < 3; ++k) {
@@ -157,6 +161,12 @@ LasHeader read_header(InputStream& in) {
       throw_bad_input(in.path(), "offset to point data " + std::to_string(h.point_offset) +
                                      " is past the end of the file (" + std::to_string(*size) +
                                      " bytes)");
+  }
+  if (auto size = in.size_hint(); size && !h.compressed) {
+    if (h.point_offset > *size)
+      throw_bad_input(in.path(), "offset to point data " + std::to_string(h.point_offset) +
+                                     " is past the end of the file (" + std::to_string(*size) +
+                                     " bytes)");
     const uint64_t left = *size - h.point_offset;
     if (h.count > left / h.record_length)
       throw_bad_input(in.path(), "header says " + std::to_string(h.count) + " points of " +
@@ -167,7 +177,9 @@ LasHeader read_header(InputStream& in) {
 }
 
 // VLRs sit between the header and the point data; each must end before the point data starts.
-void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names) {
+// The LASzip VLR's payload is kept in `laszip` (LAZ files).
+void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names,
+               std::vector<unsigned char>& laszip, bool& has_laszip) {
   for (uint32_t k = 0; k < h.vlr_count; ++k) {
     unsigned char v[kVlrHeaderSize];
     if (in.offset() + kVlrHeaderSize > h.point_offset)
@@ -178,7 +190,14 @@ void read_vlrs(InputStream& in, const LasHeader& h, nlohmann::json& names) {
     if (in.offset() + length > h.point_offset)
       throw_bad_input(in.path(), "VLR " + std::to_string(k) + " of " + std::to_string(h.vlr_count) +
                                      " extends past the offset to point data");
-    in.skip(length, "VLR");
+    const std::string user = fixed_string(v + 2, 16);
+    if (user == "laszip encoded" && u16(v + 18) == 22204 && !has_laszip) {
+      laszip.resize(length);
+      in.read(laszip.data(), length, "LASzip VLR");
+      has_laszip = true;
+    } else {
+      in.skip(length, "VLR");
+    }
     if (names.size() < 64)
       names.push_back(fixed_string(v + 2, 16) + "/" + std::to_string(u16(v + 18)));
   }
@@ -229,21 +248,11 @@ class PointDecoder {
     add_extras(c, h.format, reserve, slot_);
   }
 
-  void run() {
-    std::vector<unsigned char> block;
-    for (uint64_t done = 0; done < h_.count;) {
-      const std::size_t n =
-          static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h_.count - done));
-      block.resize(n * h_.record_length);
-      const std::size_t got = in_.read_some(block.data(), block.size());
-      if (got != block.size())
-        in_.fail("unexpected end of file in point record " +
-                 std::to_string(done + got / h_.record_length) + " of " + std::to_string(h_.count));
-      for (std::size_t i = 0; i < n; ++i) decode(block.data() + i * h_.record_length, done + i);
-      done += n;
-    }
-    positions_.finish();
+  // Decodes n consecutive records (record_length bytes each), the first being point `first`.
+  void add_records(const unsigned char* records, std::size_t n, uint64_t first) {
+    for (std::size_t i = 0; i < n; ++i) decode(records + i * h_.record_length, first + i);
   }
+  void finish() { positions_.finish(); }
 
  private:
   bool has_rgb() const {
@@ -345,15 +354,79 @@ nlohmann::json header_json(const LasHeader& h, nlohmann::json vlr_names) {
 
 }  // namespace
 
-LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
-  LoadedCloud doc;
-  const LasHeader h = read_header(in);
-  nlohmann::json vlr_names = nlohmann::json::array();
-  read_vlrs(in, h, vlr_names);
-  PointDecoder(in, h, doc.cloud).run();
+namespace {
+
+// Reads the header and VLRs, then passes every point record (decompressed for LAZ) to `sink` in
+// file order; `on_header` runs first.
+void read_records(InputStream& in, const std::function<void(const LasHeader&)>& on_header,
+                  const std::function<void(const unsigned char*, std::size_t)>& sink,
+                  nlohmann::json& vlr_names, LasHeader& h) {
+  h = read_header(in);
+  std::vector<unsigned char> laszip;
+  bool has_laszip = false;
+  read_vlrs(in, h, vlr_names, laszip, has_laszip);
+  LazPointsInfo info;
+  if (h.compressed) {
+    info.format = h.format;
+    info.record_length = h.record_length;
+    info.count = h.count;
+    info.point_offset = h.point_offset;
+    info.laszip_vlr = laszip;
+    info.has_laszip_vlr = has_laszip;
+    check_laz_vlr(in.path(), info);
+  }
+  on_header(h);
+  if (h.compressed) {
+    read_laz_points(in, info, sink);
+    return;
+  }
+  std::vector<unsigned char> block;
+  for (uint64_t done = 0; done < h.count;) {
+    const std::size_t n = static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h.count - done));
+    block.resize(n * h.record_length);
+    const std::size_t got = in.read_some(block.data(), block.size());
+    if (got != block.size())
+      in.fail("unexpected end of file in point record " +
+              std::to_string(done + got / h.record_length) + " of " + std::to_string(h.count));
+    sink(block.data(), n);
+    done += n;
+  }
   read_tail(in, h);
+}
+
+}  // namespace
+
+LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
+  (void)options;
+  LoadedCloud doc;
+  LasHeader h;
+  nlohmann::json vlr_names = nlohmann::json::array();
+  std::unique_ptr<PointDecoder> decoder;
+  uint64_t done = 0;
+  read_records(
+      in, [&](const LasHeader& header) { decoder = std::make_unique<PointDecoder>(in, header, doc.cloud); },
+      [&](const unsigned char* records, std::size_t n) {
+        decoder->add_records(records, n, done);
+        done += n;
+      },
+      vlr_names, h);
+  decoder->finish();
   doc.header = header_json(h, std::move(vlr_names));
+  if (h.compressed) doc.header["compressed"] = "laszip";
   return doc;
+}
+
+LasRecordsInfo read_las_records(InputStream& in,
+                                const std::function<void(const unsigned char*, std::size_t)>& sink,
+                                const std::function<void(const LasRecordsInfo&)>& on_info) {
+  LasHeader h;
+  nlohmann::json vlr_names = nlohmann::json::array();
+  auto info = [](const LasHeader& x) {
+    return LasRecordsInfo{x.format, x.record_length, x.count, x.compressed};
+  };
+  read_records(
+      in, [&](const LasHeader& x) { if (on_info) on_info(info(x)); }, sink, vlr_names, h);
+  return info(h);
 }
 
 }  // namespace splatkit

@@ -151,9 +151,8 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options, const Progre
       doc = read_splk(in, options);
       break;
     case FileFormat::kLaz:
-      throw_unsupported(in.path(),
-                        "LAZ (compressed LAS) is not supported; decompress it first, e.g. "
-                        "'laszip -i in.laz -o out.las' or 'pdal translate in.laz out.las'");
+      doc = read_las(in, options);
+      break;
     case FileFormat::kPcd:
 #ifdef SPLATKIT_WITH_PCL
       doc = read_pcd(in, options);

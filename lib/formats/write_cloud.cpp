@@ -1,5 +1,6 @@
 #include "formats/write_cloud.h"
 
+#include "formats/las_writer.h"
 #include "formats/off.h"
 #include "formats/ply.h"
 #include "formats/splk.h"
@@ -14,16 +15,17 @@ FileFormat output_format_for(const std::string& path) {
   if (ext == "ply") return FileFormat::kPly;
   if (ext == "xyz" || ext == "txt" || ext == "pts" || ext == "csv") return FileFormat::kXyz;
   if (ext == "off") return FileFormat::kOff;
-  if (ext == "las" || ext == "laz") return FileFormat::kLas;
+  if (ext == "las") return FileFormat::kLas;
+  if (ext == "laz") return FileFormat::kLaz;
   if (ext == "pcd") return FileFormat::kPcd;
   return FileFormat::kSplk;
 }
 
 FileFormat writable_format(const std::string& path, const WriteOptions& options) {
   FileFormat f = options.format == FileFormat::kUnknown ? output_format_for(path) : options.format;
-  if (f == FileFormat::kLas || f == FileFormat::kLaz || f == FileFormat::kPcd)
+  if (f == FileFormat::kPcd)
     throw_unsupported(path, std::string("writing ") + std::string(format_name(f)) +
-                                " is not supported; write .ply, .splk, .xyz or .off");
+                                " is not supported; write .ply, .splk, .xyz, .off, .las or .laz");
   return f;
 }
 
@@ -48,6 +50,10 @@ void write_cloud(const LoadedCloud& doc, OutputFile& out, const WriteOptions& op
       break;
     case FileFormat::kOff:
       write_off(doc.cloud, out);
+      break;
+    case FileFormat::kLas:
+    case FileFormat::kLaz:
+      write_las(doc, out, f == FileFormat::kLaz);
       break;
     default:
       write_splk(doc, out);

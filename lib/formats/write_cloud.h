@@ -1,4 +1,4 @@
-// Writing a SplatCloud: binary PLY, ASCII PLY, XYZ text, OFF, or .splk.
+// Writing a SplatCloud: binary PLY, ASCII PLY, XYZ text, OFF, LAS/LAZ, or .splk.
 #pragma once
 
 #include <string>
@@ -18,11 +18,11 @@ struct WriteOptions {
 // Format for an output path: by extension; "-" and unknown extensions give .splk.
 FileFormat output_format_for(const std::string& path);
 // The format write_cloud writes `path` in with `options`; throws Error(kUnsupported) for one it
-// cannot write (LAS, PCD). For checking an output before the work.
+// cannot write (PCD). For checking an output before the work.
 FileFormat writable_format(const std::string& path, const WriteOptions& options);
 
 // Writes `doc` (its cloud; for .splk also its metadata and carried chunks) through an atomic
-// OutputFile and commits it. Throws Error(kOutput) or Error(kUnsupported) (e.g. LAS output).
+// OutputFile and commits it. Throws Error(kOutput) or Error(kUnsupported) (e.g. PCD output).
 void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOptions& options = {});
 // The same into `out` without committing it (format from options.format, else out's path), so
 // that a caller can finish other outputs before it commits this one.

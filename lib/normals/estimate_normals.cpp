@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "normals/cover_splat.h"
+#include "normals/bound_radii.h"
 #include "normals/fill_isolated_radii.h"
 #include "normals/fit_splat_centres.h"
 #include "normals/merge_duplicates.h"
@@ -34,6 +35,8 @@ constexpr std::size_t kPrefetchRows = 4;
 void check_options(const NormalOptions& o) {
   if (o.k < 3) throw_usage("-k must be at least 3 (a plane needs 3 points)");
   if (o.radius_k < 1) throw_usage("--radius-k must be at least 1");
+  if (o.max_radius_ratio != 0 && !(o.max_radius_ratio >= 1 && std::isfinite(o.max_radius_ratio)))
+    throw_usage("--max-radius-ratio must be 0 (no bound) or a finite number >= 1");
   if (!std::isfinite(o.radius_scale) || !(o.radius_scale > 0))
     throw_usage("--radius-scale must be a finite number > 0");
   if (o.ellipses && o.radius_rule != RadiusRule::kCover)
@@ -202,6 +205,8 @@ nlohmann::json NormalReport::to_json() const {
           {"degenerate_points", degenerate_points},
           {"unresolved_points", unresolved_points},
           {"isolated_points", isolated_points},
+          {"bounded_radii", bounded_radii},
+          {"radii_over_bound", radii_over_bound},
           {"refitted_points", refitted_points},
           {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
@@ -329,6 +334,15 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
         cloud.axes[i] = tangent_axis(cloud.normals[i]);
       }
 
+  if (options.max_radius_ratio > 0 && n > 1) {
+    progress(0.81, "bound radii");
+    timed("bound_radii", [&] {
+      const BoundRadiiResult b =
+          bound_radii(index, cloud.radii, cloud.minor_radii, options.max_radius_ratio);
+      report.bounded_radii = b.capped;
+      report.radii_over_bound = b.over;
+    });
+  }
   if (options.fit_centres && n > 0) {
     progress(0.82, "centres");
     timed("fit_centres", [&] {

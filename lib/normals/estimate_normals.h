@@ -48,6 +48,7 @@ enum class NormalOrientation { kMst, kViewpoint, kNone };
 enum class RadiusRule { kCover, kMeanKnn };
 
 inline constexpr float kCoverCapScale = 2.0f;
+inline constexpr float kDefaultMaxRadiusRatio = 5.0f;
 
 struct NormalOptions {
   std::size_t k = 16;         // points per PCA neighbourhood, the point itself included (>= 3)
@@ -67,6 +68,10 @@ struct NormalOptions {
   // no value here, the cloud's own viewpoint is used; neither present is an Error(kUsage).
   std::optional<std::array<double, 3>> viewpoint;
   bool keep_duplicates = false;
+  // No radius above max_radius_ratio × the median radius of its 8 nearest neighbours
+  // (bound_radii.h); 0 = no bound. Default measured on clouds whose density varies 100x
+  // (tests/unit/test_normals_bound_radii.cpp).
+  float max_radius_ratio = kDefaultMaxRadiusRatio;
 };
 
 struct NormalReport {
@@ -76,6 +81,8 @@ struct NormalReport {
   std::size_t degenerate_points = 0;  // k-neighbourhood degenerate, normal taken from a wider one
   std::size_t unresolved_points = 0;  // degenerate up to the widest neighbourhood: fallback normal
   std::size_t isolated_points = 0;    // no neighbour at a finite distance: the median radius
+  std::size_t bounded_radii = 0;      // radii lowered to max_radius_ratio × their neighbours'
+  std::size_t radii_over_bound = 0;   // still above it after bound_radii's last pass (0 normally)
   std::size_t refitted_points = 0;    // cover rule: splats fitted again from a wider row (open
                                       // cell) or after their normal changed
   double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by

@@ -14,6 +14,8 @@ cd "$EX" || exit 1
 cp "$S/torus.ply" scan.ply
 cp "$S/cube.ply" big.ply
 cp "$S/torus-las12.las" scan.las
+cp "$S/torus-las12.laz" scan.laz
+cp "$S/cad-scan.laz" survey.laz
 cp "$S/sphere.ply" "$S/torus-big-endian.ply" scans/
 cp "$S/cad-noisy.xyz" part.xyz
 cp "$S/kitten.xyz" points.xyz  # x y z nx ny nz

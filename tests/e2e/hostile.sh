@@ -144,6 +144,18 @@ i = chunks.index(grph)
 write("dup-grph.splk", chunks[:i + 1] + [grph] + chunks[i + 1:])
 write("bad-clip.splk", [[t, f, p[:-1] if t == b"CLIP" else p] for t, f, p in chunks])
 PY
+# LAZ (formats/laz.md): a 4000-point LAZ cut short, its chunk table's count forged, its point
+# count inflated (the full set of LAZ cases: tests/e2e/laz.sh).
+"$BIN/splat-convert" -q "$IN/torus.splk" "$WORK/torus.laz"
+python3 - "$WORK/torus.laz" "$IN" <<'PY'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+off = struct.unpack_from("<I", d, 96)[0]
+table = struct.unpack_from("<Q", d, off)[0]
+open(f"{sys.argv[2]}/laz-cut.laz", "wb").write(d[:len(d) // 2])
+b = bytearray(d); struct.pack_into("<I", b, table + 4, 0x7FFFFFFF); open(f"{sys.argv[2]}/laz-table.laz", "wb").write(b)
+b = bytearray(d); struct.pack_into("<I", b, 107, 4000000000); open(f"{sys.argv[2]}/laz-count.laz", "wb").write(b)
+PY
 cp -a "$IN" "$WORK/in.orig"
 
 # ---- 1. crashes and hangs ------------------------------------------------------------------------
@@ -165,6 +177,9 @@ for f in many-props.ply many-elements.ply many-columns.xyz many-names.csv; do
   hostile $code "" -- "$BIN/splat-info" "$IN/$f"
 done
 hostile 2 "many-chunks.splk.*chunks" -- "$BIN/splat-info" "$IN/many-chunks.splk"
+hostile 2 "laz-cut.laz: LAZ chunk table offset" -- "$BIN/splat-info" "$IN/laz-cut.laz"
+hostile 2 "laz-table.laz: LAZ chunk table lists" -- "$BIN/estimate-normals" "$IN/laz-table.laz" "$OUT/l.splk"
+hostile 2 "laz-count.laz: header says 4000000000 points" -- "$BIN/splat-convert" "$IN/laz-count.laz" "$OUT/l.ply"
 
 # ---- 2. data loss --------------------------------------------------------------------------------
 hostile 1 "report|input" -- "$BIN/estimate-normals" "$IN/torus.ply" "$OUT/n.ply" --report "$IN/torus.ply"

@@ -19,7 +19,7 @@ expect_exit 1 "$T" torus "$WORK/x.ply" --ascii --big-endian
 
 # Output failures: exit 4, unsupported output formats: exit 3.
 expect_exit 4 "$T" -q cube "$WORK/no/such/dir/cube.ply"
-expect_exit 3 "$T" -q cube "$WORK/cube.las"
+expect_exit 3 "$T" -q cube "$WORK/cube.pcd"
 
 # Same seed, same bytes; another seed, other bytes.
 "$T" -q cad "$WORK/a.ply" -n 3000 --seed 9 --noise 0.001

@@ -45,9 +45,9 @@ TEST(AppsSplatConvert, RoundTripThroughEveryWritableFormat) {
   EXPECT_EQ(back.cloud.normals, original.cloud.normals);
   EXPECT_EQ(back.cloud.radii, original.cloud.radii);
   // An output format it cannot write is refused before the input is even opened.
-  o.paths = {temp_path("convert", "missing.ply"), temp_path("convert", "t.las"), ""};
+  o.paths = {temp_path("convert", "missing.ply"), temp_path("convert", "t.pcd"), ""};
   expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUnsupported,
-                     "writing las is not supported");
+                     "writing pcd is not supported");
 }
 
 TEST(AppsEstimateNormals, SphereGetsRadialNormalsAndAReport) {

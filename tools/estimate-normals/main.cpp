@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
       "  $ estimate-normals scan.las out.ply --orient viewpoint --viewpoint 0,0,1.8\n"
       "  $ estimate-normals part.xyz part.splk --method robust -k 24 --report part.json\n"
       "  $ estimate-normals scan.las scan.splk --splat ellipse\n"
+      "  $ estimate-normals scan.laz scan.splk --outliers sor --outliers-out stray.ply\n"
       "  $ estimate-normals big.ply - --orient none --threads 2 | splat-info -\n");
   splatkit::apps::EstimateNormalsOptions o;
   auto& app = tool.app();
@@ -63,7 +64,20 @@ int main(int argc, char** argv) {
   app.add_option("--viewpoint", o.viewpoint,
                  "Scanner position x,y,z in file coordinates (implies --orient viewpoint; "
                  "default: the input's own scanner position)");
+  app.add_option("--max-radius-ratio", o.normals.max_radius_ratio,
+                 "No splat radius above this many times the median radius of its 8 nearest "
+                 "neighbours (no blobs at density jumps or stray points); 0 = no bound")
+      ->default_val(splatkit::kDefaultMaxRadiusRatio);
   app.add_flag("--keep-duplicates", o.normals.keep_duplicates, "Do not merge exact duplicates");
+  app.add_option("--outliers", o.outliers,
+                 "Remove outliers first, as PCL's filters do: sor[:K,SIGMA] drops points whose "
+                 "mean distance to their K nearest neighbours is more than SIGMA standard "
+                 "deviations above the cloud's mean (default sor:8,1); radius[:R,N] drops points "
+                 "with fewer than N neighbours within R (default: R = 2x the median mean distance "
+                 "to the 8 nearest, N = 6); none (default)")
+      ->default_str("none");
+  app.add_option("--outliers-out", o.outliers_out,
+                 "Write the removed outliers here (any writable format, by extension)");
   app.add_option("--format", o.format, "Output format, overriding OUT's extension")
       ->check(CLI::IsMember({"ply", "splk"}));
   tool.add_columns_option(o.read.columns);

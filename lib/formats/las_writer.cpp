@@ -1,0 +1,187 @@
+#include "formats/las_writer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "formats/laz_chunk.h"
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+namespace {
+
+constexpr std::size_t kHeaderSize = 227, kVlrHeaderSize = 54;
+constexpr uint16_t kFormatSize[4] = {20, 28, 26, 34};
+
+void put16(unsigned char* p, uint32_t v) {
+  p[0] = static_cast<unsigned char>(v);
+  p[1] = static_cast<unsigned char>(v >> 8);
+}
+void put32(unsigned char* p, uint32_t v) {
+  put16(p, v & 0xFFFF);
+  put16(p + 2, v >> 16);
+}
+void put64(unsigned char* p, uint64_t v) {
+  put32(p, static_cast<uint32_t>(v));
+  put32(p + 4, static_cast<uint32_t>(v >> 32));
+}
+void putf64(unsigned char* p, double v) { put64(p, std::bit_cast<uint64_t>(v)); }
+int32_t get_i32(const unsigned char* p) {
+  return static_cast<int32_t>(static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+                              static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24);
+}
+void put_text(unsigned char* p, std::size_t n, const std::string& s) {
+  std::memcpy(p, s.data(), std::min(n, s.size()));
+}
+
+}  // namespace
+
+void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const unsigned char* records,
+                       uint64_t count, bool compressed, uint32_t chunk_size,
+                       bool variable_chunks) {
+  if (count > 0xFFFFFFFFu)
+    throw_unsupported(out.path(), "LAS 1.2 holds at most 4294967295 points, the cloud has " +
+                                      std::to_string(count));
+  const std::size_t rl = layout.record_length;
+  std::vector<unsigned char> vlr;
+  if (compressed) {
+    laz::LaszipVlr v;
+    v.chunk_size = variable_chunks ? laz::kVariableChunkSize : chunk_size;
+    v.items = laz::items_for_format(layout.format, layout.record_length);
+    const std::vector<unsigned char> payload = laz::laszip_vlr_payload(v);
+    vlr.assign(kVlrHeaderSize, 0);
+    put_text(&vlr[2], 16, laz::kLaszipUserId);
+    put16(&vlr[18], laz::kLaszipRecordId);
+    put16(&vlr[20], static_cast<uint32_t>(payload.size()));
+    put_text(&vlr[22], 32, "by splatkit");
+    vlr.insert(vlr.end(), payload.begin(), payload.end());
+  }
+  unsigned char h[kHeaderSize] = {};
+  std::memcpy(h, "LASF", 4);
+  h[24] = 1;
+  h[25] = 2;
+  put_text(h + 26, 32, "splatkit");
+  put_text(h + 58, 32, layout.generating_software);
+  put16(h + 94, kHeaderSize);
+  put32(h + 96, static_cast<uint32_t>(kHeaderSize + vlr.size()));
+  put32(h + 100, compressed ? 1 : 0);
+  h[104] = static_cast<unsigned char>(layout.format | (compressed ? 0x80 : 0));
+  put16(h + 105, layout.record_length);
+  put32(h + 107, static_cast<uint32_t>(count));
+  uint32_t by_return[5] = {};
+  int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+  for (uint64_t i = 0; i < count; ++i) {
+    const unsigned char* r = records + i * rl;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], get_i32(r + 4 * k));
+      hi[k] = std::max(hi[k], get_i32(r + 4 * k));
+    }
+    const int ret = r[14] & 7;
+    if (ret >= 1 && ret <= 5) ++by_return[ret - 1];
+  }
+  for (int k = 0; k < 5; ++k) put32(h + 111 + 4 * k, by_return[k]);
+  for (int k = 0; k < 3; ++k) {
+    putf64(h + 131 + 8 * k, layout.scale[k]);
+    putf64(h + 155 + 8 * k, layout.offset[k]);
+    putf64(h + 179 + 16 * k, count ? hi[k] * layout.scale[k] + layout.offset[k] : 0);
+    putf64(h + 187 + 16 * k, count ? lo[k] * layout.scale[k] + layout.offset[k] : 0);
+  }
+  out.write(h, kHeaderSize);
+  out.write(vlr.data(), vlr.size());
+  if (!compressed) {
+    out.write(records, count * rl);
+    return;
+  }
+  // Chunks are compressed in memory first: the chunk table's offset comes before them.
+  std::vector<unsigned char> data(8);
+  std::vector<laz::ChunkEntry> table;
+  for (uint64_t first = 0, n = 0; first < count; first += n) {
+    n = std::min<uint64_t>(chunk_size + (variable_chunks ? table.size() : 0), count - first);
+    const std::size_t before = data.size();
+    laz::encode_chunk(records + first * rl, n, laz::items_for_format(layout.format, layout.record_length), data);
+    table.push_back({n, data.size() - before});
+  }
+  put64(data.data(), kHeaderSize + vlr.size() + data.size());
+  laz::encode_chunk_table(table, variable_chunks, data);
+  out.write(data.data(), data.size());
+}
+
+void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
+  const SplatCloud& c = doc.cloud;
+  auto extra = [&](const char* name) { return c.find_extra(name); };
+  const ExtraAttribute* gps = extra("gps_time");
+  LasRecordsLayout layout;
+  layout.format = (c.has_colors() ? 2 : 0) + (gps ? 1 : 0);
+  if (layout.format == 2 && gps) layout.format = 3;
+  layout.record_length = kFormatSize[layout.format];
+  // Scale and offset: the source's when it was LAS, so that LAS -> LAZ keeps every integer.
+  bool from_las = false;
+  if (doc.header.contains("scale") && doc.header.contains("offset") &&
+      doc.header["scale"].is_array() && doc.header["scale"].size() == 3 &&
+      doc.header["offset"].is_array() && doc.header["offset"].size() == 3 &&
+      (doc.format == "las" || doc.format == "laz")) {
+    from_las = true;
+    for (int k = 0; k < 3; ++k) {
+      layout.scale[k] = doc.header["scale"][k].get<double>();
+      layout.offset[k] = doc.header["offset"][k].get<double>();
+    }
+  }
+  if (!from_las) {
+    double extent = 0;
+    for (const Vec3f& p : c.positions)
+      extent = std::max({extent, std::abs(double{p.x}), std::abs(double{p.y}), std::abs(double{p.z})});
+    double scale = 0.001;
+    while (extent / scale > 2.0e9) scale *= 10;
+    for (int k = 0; k < 3; ++k) {
+      layout.scale[k] = scale;
+      layout.offset[k] = c.origin[k];
+    }
+  }
+  const std::size_t rl = layout.record_length;
+  std::vector<unsigned char> records(c.size() * rl, 0);
+  auto value = [&](const ExtraAttribute* e, std::size_t i, double lo, double hi) {
+    if (!e) return 0.0;
+    const double v = e->values[i];
+    return std::isfinite(v) ? std::clamp(std::round(v), lo, hi) : 0.0;
+  };
+  const ExtraAttribute *intensity = extra("intensity"), *ret = extra("return_number"),
+                       *rets = extra("number_of_returns"), *cls = extra("classification"),
+                       *angle = extra("scan_angle"), *user = extra("user_data"),
+                       *source = extra("point_source_id");
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    unsigned char* r = records.data() + i * rl;
+    const Vec3f& p = c.positions[i];
+    const double xyz[3] = {c.origin[0] + p.x, c.origin[1] + p.y, c.origin[2] + p.z};
+    for (int k = 0; k < 3; ++k) {
+      const double q = std::round((xyz[k] - layout.offset[k]) / layout.scale[k]);
+      if (!(q >= INT32_MIN && q <= INT32_MAX))
+        throw_unsupported(out.path(), "point " + std::to_string(i) + " does not fit LAS's 32-bit "
+                                      "coordinates with scale " + std::to_string(layout.scale[k]));
+      put32(r + 4 * k, static_cast<uint32_t>(static_cast<int32_t>(q)));
+    }
+    put16(r + 12, static_cast<uint32_t>(value(intensity, i, 0, 65535)));
+    r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7)) |
+                                       static_cast<int>(value(rets, i, 0, 7)) << 3);
+    r[15] = static_cast<unsigned char>(value(cls, i, 0, 31));
+    r[16] = static_cast<unsigned char>(static_cast<int8_t>(value(angle, i, -128, 127)));
+    r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
+    put16(r + 18, static_cast<uint32_t>(value(source, i, 0, 65535)));
+    std::size_t at = 20;
+    if (gps) {
+      putf64(r + at, gps->values[i]);
+      at += 8;
+    }
+    if (c.has_colors()) {
+      const int mul = c.color_bits == 8 ? 257 : 1;
+      for (int k = 0; k < 3; ++k) put16(r + at + 2 * k, static_cast<uint32_t>(c.colors[i][k] * mul));
+    }
+  }
+  write_las_records(out, layout, records.data(), c.size(), compressed);
+}
+
+}  // namespace splatkit

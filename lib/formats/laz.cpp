@@ -1,0 +1,212 @@
+#include "formats/laz.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "formats/laz_chunk.h"
+#include "splatkit/error.h"
+
+namespace splatkit {
+
+namespace {
+
+// A chunk cannot hold more points than this per compressed byte: identical records cost LASzip's
+// adaptive models about 0.01 bit each (about 800 per byte), so a larger claim is a corrupt table.
+// Also what bounds the memory a forged count can make the decoder allocate.
+constexpr uint64_t kMaxPointsPerByte = 1024;
+// Points decoded per batch (the chunks of a batch are decoded in parallel).
+constexpr uint64_t kBatchPoints = uint64_t{1} << 21;
+
+uint64_t get64(const unsigned char* p) {
+  uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = v << 8 | p[i];
+  return v;
+}
+uint32_t get32(const unsigned char* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+}
+
+std::vector<unsigned char> read_rest(InputStream& in) {
+  std::vector<unsigned char> data;
+  if (auto left = in.remaining()) data.reserve(static_cast<std::size_t>(*left));
+  std::size_t got = 0;
+  do {
+    const std::size_t old = data.size();
+    data.resize(old + (std::size_t{1} << 20));
+    got = in.read_some(data.data() + old, std::size_t{1} << 20);
+    data.resize(old + got);
+  } while (got > 0);
+  return data;
+}
+
+struct Chunk {
+  uint64_t first_point = 0, points = 0;
+  uint64_t offset = 0, bytes = 0;  // within the point data
+};
+
+std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& info,
+                                const laz::LaszipVlr& vlr, std::span<const unsigned char> data) {
+  if (data.size() < 8)
+    throw_bad_input(path, "LAZ point data is " + std::to_string(data.size()) +
+                              " bytes, too short for the chunk table offset");
+  uint64_t table = get64(data.data());
+  const uint64_t end = info.point_offset + data.size();
+  if (table == ~uint64_t{0}) {  // written by a streaming LASzip: the offset is the file's last 8 bytes
+    if (data.size() < 16) throw_bad_input(path, "LAZ chunk table offset missing at the end");
+    table = get64(data.data() + data.size() - 8);
+  }
+  if (table < info.point_offset + 8 || table > end || end - table < 8)
+    throw_bad_input(path, "LAZ chunk table offset " + std::to_string(table) +
+                              " lies outside the point data (bytes " +
+                              std::to_string(info.point_offset + 8) + " to " + std::to_string(end) +
+                              ")");
+  const uint64_t rel = table - info.point_offset;
+  const uint32_t version = get32(data.data() + rel);
+  const uint32_t n = get32(data.data() + rel + 4);
+  if (version != 0)
+    throw_unsupported(path, "LAZ chunk table version " + std::to_string(version) +
+                                " is not supported (0 is)");
+  const uint64_t room = (rel - 8) / info.record_length;
+  if (n > room)
+    throw_bad_input(path, "LAZ chunk table lists " + std::to_string(n) +
+                              " chunks but the point data has room for at most " +
+                              std::to_string(room));
+  const bool variable = vlr.chunk_size == laz::kVariableChunkSize;
+  if (!variable) {
+    const uint64_t expected = info.count / vlr.chunk_size + (info.count % vlr.chunk_size != 0);
+    if (n != expected)
+      throw_bad_input(path, "header says " + std::to_string(info.count) + " points, " +
+                                std::to_string(expected) + " chunks of " +
+                                std::to_string(vlr.chunk_size) + " points, but the chunk table lists " +
+                                std::to_string(n) + " chunks");
+  }
+  std::vector<laz::ChunkEntry> entries;
+  try {
+    entries = laz::decode_chunk_table(data.subspan(rel + 8), n, variable);
+  } catch (const laz::LazDataError& e) {
+    throw_bad_input(path, std::string("LAZ chunk table: ") + e.what());
+  }
+  std::vector<Chunk> chunks;
+  chunks.reserve(n);
+  uint64_t offset = 8, first = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    Chunk c;
+    c.first_point = first;
+    c.points = variable ? entries[i].points : std::min<uint64_t>(vlr.chunk_size, info.count - first);
+    c.offset = offset;
+    c.bytes = entries[i].bytes;
+    const std::string which = "LAZ chunk " + std::to_string(i) + " of " + std::to_string(n);
+    if (c.bytes < info.record_length || c.bytes > rel - offset)
+      throw_bad_input(path, which + " claims " + std::to_string(c.bytes) + " bytes at point-data byte " +
+                                std::to_string(offset) + ", which do not fit before the chunk table (byte " +
+                                std::to_string(rel) + ")");
+    if (c.points == 0 || c.points > info.count - first)
+      throw_bad_input(path, which + " claims " + std::to_string(c.points) + " points; the header says " +
+                                std::to_string(info.count) + " in all and " + std::to_string(first) +
+                                " came before");
+    if (c.points > c.bytes * kMaxPointsPerByte)
+      throw_bad_input(path, which + " claims " + std::to_string(c.points) + " points in " +
+                                std::to_string(c.bytes) + " bytes, more than LASzip can compress into them");
+    offset += c.bytes;
+    first += c.points;
+    chunks.push_back(c);
+  }
+  if (first != info.count)
+    throw_bad_input(path, "header says " + std::to_string(info.count) +
+                              " points but the LAZ chunks hold " + std::to_string(first));
+  return chunks;
+}
+
+}  // namespace
+
+void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
+  if (!info.has_laszip_vlr)
+    throw_bad_input(path, "compressed LAS (LAZ) without the LASzip VLR (user id '" +
+                              std::string(laz::kLaszipUserId) + "', record " +
+                              std::to_string(laz::kLaszipRecordId) + ")");
+  laz::LaszipVlr vlr;
+  std::string error;
+  if (!laz::parse_laszip_vlr(info.laszip_vlr, vlr, error)) throw_bad_input(path, error);
+  if (vlr.compressor == laz::kLayeredChunked || info.format >= 6)
+    throw_unsupported(path, "LAZ point data format " + std::to_string(info.format) +
+                                " (LASzip layered compressor, version 3/4 items) is not supported; "
+                                "LAZ formats 0-3 are. Decompress it first, e.g. 'laszip -i in.laz "
+                                "-o out.las' or 'pdal translate in.laz out.las'");
+  if (vlr.compressor != laz::kPointWiseChunked)
+    throw_unsupported(path, "LASzip compressor " + std::to_string(vlr.compressor) +
+                                " is not supported (2, point-wise chunked, is)");
+  if (vlr.coder != 0)
+    throw_unsupported(path, "LASzip coder " + std::to_string(vlr.coder) +
+                                " is not supported (0, arithmetic, is)");
+  if (vlr.chunk_size == 0) throw_bad_input(path, "LASzip chunk size is 0");
+  const std::vector<laz::Item> want = laz::items_for_format(info.format, info.record_length);
+  if (vlr.items.size() != want.size())
+    throw_bad_input(path, "LASzip VLR lists " + std::to_string(vlr.items.size()) +
+                              " items; point data format " + std::to_string(info.format) +
+                              " with " + std::to_string(info.record_length) + "-byte records needs " +
+                              std::to_string(want.size()));
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    const laz::Item& got = vlr.items[i];
+    if (got.type != want[i].type || got.size != want[i].size)
+      throw_bad_input(path, "LASzip item " + std::to_string(i) + " is " + laz::item_name(got.type) +
+                                " of " + std::to_string(got.size) + " bytes; point data format " +
+                                std::to_string(info.format) + " needs " +
+                                laz::item_name(want[i].type) + " of " +
+                                std::to_string(want[i].size) + " bytes there");
+    if (got.version != 2)
+      throw_unsupported(path, "LASzip item " + laz::item_name(got.type) + " version " +
+                                  std::to_string(got.version) + " is not supported (2 is)");
+  }
+}
+
+void read_laz_points(InputStream& in, const LazPointsInfo& info,
+                     const std::function<void(const unsigned char*, std::size_t)>& sink) {
+  const std::string& path = in.path();
+  laz::LaszipVlr vlr;
+  std::string error;
+  laz::parse_laszip_vlr(info.laszip_vlr, vlr, error);  // checked by check_laz_vlr
+  const std::vector<unsigned char> data = read_rest(in);
+  if (info.count == 0) return;
+  const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data);
+  const std::size_t rl = info.record_length;
+  std::vector<unsigned char> records;
+  for (std::size_t begin = 0; begin < chunks.size();) {
+    std::size_t end = begin;
+    uint64_t points = 0;
+    while (end < chunks.size() && (end == begin || points + chunks[end].points <= kBatchPoints))
+      points += chunks[end++].points;
+    records.resize(static_cast<std::size_t>(points) * rl);
+    const uint64_t base = chunks[begin].first_point;
+    std::vector<std::string> errors(end - begin);
+    tbb::parallel_for(begin, end, [&](std::size_t i) {
+      const Chunk& c = chunks[i];
+      try {
+        const std::size_t used = laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes),
+                                                   vlr.items, c.points,
+                                                   records.data() + (c.first_point - base) * rl);
+        if (c.bytes - used > 1)
+          errors[i - begin] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
+                              " bytes are left after its " + std::to_string(c.points) +
+                              " points (the point count or the chunk table is wrong)";
+      } catch (const laz::LazDataError& e) {
+        errors[i - begin] = e.what();
+      }
+    });
+    for (std::size_t i = begin; i < end; ++i)
+      if (!errors[i - begin].empty())
+        throw_bad_input(path, "LAZ chunk " + std::to_string(i) + " of " +
+                                  std::to_string(chunks.size()) + " (points " +
+                                  std::to_string(chunks[i].first_point) + " to " +
+                                  std::to_string(chunks[i].first_point + chunks[i].points - 1) +
+                                  ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
+                                  "): " + errors[i - begin]);
+    sink(records.data(), static_cast<std::size_t>(points));
+    begin = end;
+  }
+}
+
+}  // namespace splatkit

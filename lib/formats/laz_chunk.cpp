@@ -1,0 +1,697 @@
+#include "formats/laz_chunk.h"
+
+#include <array>
+#include <cstring>
+#include <memory>
+
+namespace splatkit::laz {
+
+namespace {
+
+uint16_t get16(const unsigned char* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
+uint32_t get32(const unsigned char* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
+}
+uint64_t get64(const unsigned char* p) {
+  return static_cast<uint64_t>(get32(p)) | static_cast<uint64_t>(get32(p + 4)) << 32;
+}
+void put16(unsigned char* p, uint32_t v) {
+  p[0] = static_cast<unsigned char>(v);
+  p[1] = static_cast<unsigned char>(v >> 8);
+}
+void put32(unsigned char* p, uint32_t v) {
+  put16(p, v & 0xFFFF);
+  put16(p + 2, v >> 16);
+}
+void put64(unsigned char* p, uint64_t v) {
+  put32(p, static_cast<uint32_t>(v));
+  put32(p + 4, static_cast<uint32_t>(v >> 32));
+}
+
+// Contexts by return number r and number of returns n (LASzip's completed tables: files that
+// count returns from 0 or mix r and n up still get distinct contexts).
+constexpr uint8_t kReturnMap[8][8] = {
+    {15, 14, 13, 12, 11, 10, 9, 8}, {14, 0, 1, 3, 6, 10, 10, 9},   {13, 1, 2, 4, 7, 11, 11, 10},
+    {12, 3, 4, 5, 8, 12, 12, 11},   {11, 6, 7, 8, 9, 13, 13, 12},  {10, 10, 11, 12, 13, 14, 14, 13},
+    {9, 10, 11, 12, 13, 14, 15, 14}, {8, 9, 10, 11, 12, 13, 14, 15}};
+constexpr uint8_t kReturnLevel[8][8] = {
+    {0, 1, 2, 3, 4, 5, 6, 7}, {1, 0, 1, 2, 3, 4, 5, 6}, {2, 1, 0, 1, 2, 3, 4, 5},
+    {3, 2, 1, 0, 1, 2, 3, 4}, {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2},
+    {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0}};
+
+// Median of the last five values, updated in O(1) (LASzip's StreamingMedian5).
+struct Median5 {
+  std::array<int32_t, 5> v{};
+  bool high = true;
+  int32_t get() const { return v[2]; }
+  void add(int32_t x) {
+    if (high) {
+      if (x < v[2]) {
+        v[4] = v[3];
+        v[3] = v[2];
+        if (x < v[0]) {
+          v[2] = v[1];
+          v[1] = v[0];
+          v[0] = x;
+        } else if (x < v[1]) {
+          v[2] = v[1];
+          v[1] = x;
+        } else {
+          v[2] = x;
+        }
+      } else {
+        if (x < v[3]) {
+          v[4] = v[3];
+          v[3] = x;
+        } else {
+          v[4] = x;
+        }
+        high = false;
+      }
+    } else {
+      if (v[2] < x) {
+        v[0] = v[1];
+        v[1] = v[2];
+        if (v[4] < x) {
+          v[2] = v[3];
+          v[3] = v[4];
+          v[4] = x;
+        } else if (v[3] < x) {
+          v[2] = v[3];
+          v[3] = x;
+        } else {
+          v[2] = x;
+        }
+      } else {
+        if (v[1] < x) {
+          v[0] = v[1];
+          v[1] = x;
+        } else {
+          v[0] = x;
+        }
+        high = true;
+      }
+    }
+  }
+};
+
+// Lazily created 256-symbol models indexed by a byte (LASzip creates them on first use).
+struct LazyModels {
+  std::array<std::unique_ptr<SymbolModel>, 256> m;
+  SymbolModel& operator[](unsigned i) {
+    if (!m[i]) m[i] = std::make_unique<SymbolModel>(256);
+    return *m[i];
+  }
+};
+
+int32_t wrap_add(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
+}
+int32_t wrap_sub(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b));
+}
+int32_t wrap_mul(int32_t a, int32_t b) {
+  return static_cast<int32_t>(static_cast<uint32_t>(static_cast<int64_t>(a) * b));
+}
+unsigned clamp_u8(int v) { return v < 0 ? 0u : v > 255 ? 255u : static_cast<unsigned>(v); }
+
+// POINT10 version 2: x, y, z, intensity, flags, classification, scan angle, user data, source.
+class Point10 {
+ public:
+  static constexpr std::size_t kSize = 20;
+
+  void init(const unsigned char* item) {
+    std::memcpy(last_, item, kSize);
+    last_[12] = last_[13] = 0;
+  }
+
+  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+    const uint32_t changed = dec.decode_symbol(changed_values_);
+    unsigned r, n, m, l;
+    if (changed) {
+      if (changed & 32) last_[14] = static_cast<unsigned char>(dec.decode_symbol(bit_byte_[last_[14]]));
+      r = last_[14] & 7;
+      n = (last_[14] >> 3) & 7;
+      m = kReturnMap[n][r];
+      l = kReturnLevel[n][r];
+      if (changed & 16) {
+        last_intensity_[m] = static_cast<uint16_t>(
+            ic_intensity_.decompress(dec, last_intensity_[m], m < 3 ? m : 3));
+      }
+      put16(last_ + 12, last_intensity_[m]);
+      if (changed & 8)
+        last_[15] = static_cast<unsigned char>(dec.decode_symbol(classification_[last_[15]]));
+      if (changed & 4) {
+        const uint32_t v = dec.decode_symbol(scan_angle_[(last_[14] >> 6) & 1]);
+        last_[16] = static_cast<unsigned char>(v + last_[16]);
+      }
+      if (changed & 2)
+        last_[17] = static_cast<unsigned char>(dec.decode_symbol(user_data_[last_[17]]));
+      if (changed & 1)
+        put16(last_ + 18, static_cast<uint32_t>(ic_source_.decompress(dec, get16(last_ + 18), 0)));
+    } else {
+      r = last_[14] & 7;
+      n = (last_[14] >> 3) & 7;
+      m = kReturnMap[n][r];
+      l = kReturnLevel[n][r];
+    }
+    int32_t diff = ic_dx_.decompress(dec, median_x_[m].get(), n == 1);
+    put32(last_, static_cast<uint32_t>(wrap_add(static_cast<int32_t>(get32(last_)), diff)));
+    median_x_[m].add(diff);
+    uint32_t k_bits = ic_dx_.k();
+    diff = ic_dy_.decompress(dec, median_y_[m].get(), (n == 1) + (k_bits < 20 ? k_bits & ~1u : 20));
+    put32(last_ + 4, static_cast<uint32_t>(wrap_add(static_cast<int32_t>(get32(last_ + 4)), diff)));
+    median_y_[m].add(diff);
+    k_bits = (ic_dx_.k() + ic_dy_.k()) / 2;
+    last_height_[l] = ic_z_.decompress(dec, last_height_[l], (n == 1) + (k_bits < 18 ? k_bits & ~1u : 18));
+    put32(last_ + 8, static_cast<uint32_t>(last_height_[l]));
+    std::memcpy(item, last_, kSize);
+  }
+
+  void encode(ArithmeticEncoder& enc, const unsigned char* item) {
+    const unsigned r = item[14] & 7, n = (item[14] >> 3) & 7;
+    const unsigned m = kReturnMap[n][r], l = kReturnLevel[n][r];
+    const uint16_t intensity = get16(item + 12);
+    const uint32_t changed = (last_[14] != item[14]) << 5 | (last_intensity_[m] != intensity) << 4 |
+                             (last_[15] != item[15]) << 3 | (last_[16] != item[16]) << 2 |
+                             (last_[17] != item[17]) << 1 | (get16(last_ + 18) != get16(item + 18));
+    enc.encode_symbol(changed_values_, changed);
+    if (changed & 32) enc.encode_symbol(bit_byte_[last_[14]], item[14]);
+    if (changed & 16) {
+      ic_intensity_.compress(enc, last_intensity_[m], intensity, m < 3 ? m : 3);
+      last_intensity_[m] = intensity;
+    }
+    if (changed & 8) enc.encode_symbol(classification_[last_[15]], item[15]);
+    if (changed & 4)
+      enc.encode_symbol(scan_angle_[(item[14] >> 6) & 1],
+                        static_cast<unsigned char>(item[16] - last_[16]));
+    if (changed & 2) enc.encode_symbol(user_data_[last_[17]], item[17]);
+    if (changed & 1) ic_source_.compress(enc, get16(last_ + 18), get16(item + 18), 0);
+    int32_t diff = wrap_sub(static_cast<int32_t>(get32(item)), static_cast<int32_t>(get32(last_)));
+    ic_dx_.compress(enc, median_x_[m].get(), diff, n == 1);
+    median_x_[m].add(diff);
+    uint32_t k_bits = ic_dx_.k();
+    diff = wrap_sub(static_cast<int32_t>(get32(item + 4)), static_cast<int32_t>(get32(last_ + 4)));
+    ic_dy_.compress(enc, median_y_[m].get(), diff, (n == 1) + (k_bits < 20 ? k_bits & ~1u : 20));
+    median_y_[m].add(diff);
+    k_bits = (ic_dx_.k() + ic_dy_.k()) / 2;
+    const int32_t z = static_cast<int32_t>(get32(item + 8));
+    ic_z_.compress(enc, last_height_[l], z, (n == 1) + (k_bits < 18 ? k_bits & ~1u : 18));
+    last_height_[l] = z;
+    std::memcpy(last_, item, kSize);
+  }
+
+ private:
+  unsigned char last_[kSize] = {};
+  std::array<uint16_t, 16> last_intensity_{};
+  std::array<int32_t, 8> last_height_{};
+  std::array<Median5, 16> median_x_{}, median_y_{};
+  SymbolModel changed_values_{64};
+  IntegerCompressor ic_intensity_{16, 4};
+  SymbolModel scan_angle_[2] = {SymbolModel(256), SymbolModel(256)};
+  IntegerCompressor ic_source_{16, 1};
+  LazyModels bit_byte_, classification_, user_data_;
+  IntegerCompressor ic_dx_{32, 2}, ic_dy_{32, 22}, ic_z_{32, 20};
+};
+
+// GPSTIME11 version 2: up to four interleaved time sequences, each predicted by its last
+// difference times a small multiplier.
+class GpsTime11 {
+ public:
+  static constexpr std::size_t kSize = 8;
+  static constexpr int32_t kMulti = 500, kMultiMinus = -10;
+  static constexpr uint32_t kMultiUnchanged = kMulti - kMultiMinus + 1;
+  static constexpr uint32_t kMultiCodeFull = kMulti - kMultiMinus + 2;
+  static constexpr uint32_t kMultiTotal = kMulti - kMultiMinus + 6;
+
+  void init(const unsigned char* item) { last_time_[0] = static_cast<int64_t>(get64(item)); }
+
+  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+    // Each switch to another sequence is followed by a value in it; an encoder never switches
+    // twice in a row, so a few rounds bound a corrupt stream.
+    for (int round = 0;; ++round) {
+      if (round == 4) throw LazDataError("corrupt GPS time stream");
+      if (last_diff_[last_] == 0) {
+        const uint32_t multi = dec.decode_symbol(zero_diff_);
+        if (multi == 1) {
+          last_diff_[last_] = ic_.decompress(dec, 0, 0);
+          last_time_[last_] += last_diff_[last_];
+          extreme_[last_] = 0;
+        } else if (multi == 2) {
+          read_full(dec);
+        } else if (multi > 2) {
+          last_ = (last_ + multi - 2) & 3;
+          continue;
+        }
+      } else {
+        const uint32_t multi = dec.decode_symbol(multi_);
+        if (multi == 1) {
+          last_time_[last_] += ic_.decompress(dec, last_diff_[last_], 1);
+          extreme_[last_] = 0;
+        } else if (multi < kMultiUnchanged) {
+          int32_t diff;
+          if (multi == 0) {
+            diff = ic_.decompress(dec, 0, 7);
+            count_extreme(diff);
+          } else if (multi < static_cast<uint32_t>(kMulti)) {
+            diff = ic_.decompress(dec, wrap_mul(static_cast<int32_t>(multi), last_diff_[last_]),
+                                  multi < 10 ? 2 : 3);
+          } else if (multi == static_cast<uint32_t>(kMulti)) {
+            diff = ic_.decompress(dec, wrap_mul(kMulti, last_diff_[last_]), 4);
+            count_extreme(diff);
+          } else {
+            const int32_t neg = kMulti - static_cast<int32_t>(multi);
+            if (neg > kMultiMinus) {
+              diff = ic_.decompress(dec, wrap_mul(neg, last_diff_[last_]), 5);
+            } else {
+              diff = ic_.decompress(dec, wrap_mul(kMultiMinus, last_diff_[last_]), 6);
+              count_extreme(diff);
+            }
+          }
+          last_time_[last_] += diff;
+        } else if (multi == kMultiCodeFull) {
+          read_full(dec);
+        } else if (multi > kMultiCodeFull) {
+          last_ = (last_ + multi - kMultiCodeFull) & 3;
+          continue;
+        }
+      }
+      break;
+    }
+    put64(item, static_cast<uint64_t>(last_time_[last_]));
+  }
+
+  void encode(ArithmeticEncoder& enc, const unsigned char* item) {
+    const int64_t t = static_cast<int64_t>(get64(item));
+    for (;;) {
+      if (last_diff_[last_] == 0) {
+        if (t == last_time_[last_]) {
+          enc.encode_symbol(zero_diff_, 0);
+          return;
+        }
+        const int64_t d64 = static_cast<int64_t>(static_cast<uint64_t>(t) -
+                                                 static_cast<uint64_t>(last_time_[last_]));
+        if (d64 == static_cast<int32_t>(d64)) {
+          enc.encode_symbol(zero_diff_, 1);
+          ic_.compress(enc, 0, static_cast<int32_t>(d64), 0);
+          last_diff_[last_] = static_cast<int32_t>(d64);
+          extreme_[last_] = 0;
+          last_time_[last_] = t;
+          return;
+        }
+        if (const int other = other_sequence(t)) {
+          enc.encode_symbol(zero_diff_, static_cast<uint32_t>(other + 2));
+          last_ = (last_ + static_cast<uint32_t>(other)) & 3;
+          continue;
+        }
+        enc.encode_symbol(zero_diff_, 2);
+        write_full(enc, t);
+        return;
+      }
+      if (t == last_time_[last_]) {
+        enc.encode_symbol(multi_, kMultiUnchanged);
+        return;
+      }
+      const int64_t d64 = static_cast<int64_t>(static_cast<uint64_t>(t) -
+                                               static_cast<uint64_t>(last_time_[last_]));
+      if (d64 == static_cast<int32_t>(d64)) {
+        const int32_t diff = static_cast<int32_t>(d64);
+        const float multi_f = static_cast<float>(diff) / static_cast<float>(last_diff_[last_]);
+        // I32_QUANTIZE, with the out-of-range quotients sent to the extreme codes.
+        const int32_t multi = multi_f >= 1e6f    ? kMulti
+                              : multi_f <= -1e6f ? kMultiMinus
+                              : multi_f >= 0     ? static_cast<int32_t>(multi_f + 0.5f)
+                                                 : static_cast<int32_t>(multi_f - 0.5f);
+        if (multi == 1) {
+          enc.encode_symbol(multi_, 1);
+          ic_.compress(enc, last_diff_[last_], diff, 1);
+          extreme_[last_] = 0;
+        } else if (multi > 0) {
+          if (multi < kMulti) {
+            enc.encode_symbol(multi_, static_cast<uint32_t>(multi));
+            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, multi < 10 ? 2 : 3);
+          } else {
+            enc.encode_symbol(multi_, kMulti);
+            ic_.compress(enc, wrap_mul(kMulti, last_diff_[last_]), diff, 4);
+            count_extreme(diff);
+          }
+        } else if (multi < 0) {
+          if (multi > kMultiMinus) {
+            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - multi));
+            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, 5);
+          } else {
+            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - kMultiMinus));
+            ic_.compress(enc, wrap_mul(kMultiMinus, last_diff_[last_]), diff, 6);
+            count_extreme(diff);
+          }
+        } else {
+          enc.encode_symbol(multi_, 0);
+          ic_.compress(enc, 0, diff, 7);
+          count_extreme(diff);
+        }
+        last_time_[last_] = t;
+        return;
+      }
+      if (const int other = other_sequence(t)) {
+        enc.encode_symbol(multi_, kMultiCodeFull + static_cast<uint32_t>(other));
+        last_ = (last_ + static_cast<uint32_t>(other)) & 3;
+        continue;
+      }
+      enc.encode_symbol(multi_, kMultiCodeFull);
+      write_full(enc, t);
+      return;
+    }
+  }
+
+ private:
+  void count_extreme(int32_t diff) {
+    if (++extreme_[last_] > 3) {
+      last_diff_[last_] = diff;
+      extreme_[last_] = 0;
+    }
+  }
+  void read_full(ArithmeticDecoder& dec) {
+    next_ = (next_ + 1) & 3;
+    const uint64_t high = static_cast<uint32_t>(
+        ic_.decompress(dec, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32), 8));
+    last_time_[next_] = static_cast<int64_t>(high << 32 | dec.read_int());
+    last_ = next_;
+    last_diff_[last_] = 0;
+    extreme_[last_] = 0;
+  }
+  void write_full(ArithmeticEncoder& enc, int64_t t) {
+    const uint64_t u = static_cast<uint64_t>(t);
+    ic_.compress(enc, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32),
+                 static_cast<int32_t>(u >> 32), 8);
+    enc.write_int(static_cast<uint32_t>(u));
+    next_ = (next_ + 1) & 3;
+    last_ = next_;
+    last_diff_[last_] = 0;
+    extreme_[last_] = 0;
+    last_time_[last_] = t;
+  }
+  // 1..3 when t is within 32 bits of another sequence's last time, else 0.
+  int other_sequence(int64_t t) const {
+    for (unsigned i = 1; i < 4; ++i) {
+      const int64_t d = static_cast<int64_t>(static_cast<uint64_t>(t) -
+                                             static_cast<uint64_t>(last_time_[(last_ + i) & 3]));
+      if (d == static_cast<int32_t>(d)) return static_cast<int>(i);
+    }
+    return 0;
+  }
+
+  unsigned last_ = 0, next_ = 0;
+  std::array<int64_t, 4> last_time_{};
+  std::array<int32_t, 4> last_diff_{}, extreme_{};
+  SymbolModel multi_{kMultiTotal}, zero_diff_{6};
+  IntegerCompressor ic_{32, 9};
+};
+
+// RGB12 version 2: which bytes changed, then each changed byte against a prediction from the
+// changes of the channels before it.
+class Rgb12 {
+ public:
+  static constexpr std::size_t kSize = 6;
+
+  void init(const unsigned char* item) {
+    for (int c = 0; c < 3; ++c) last_[c] = get16(item + 2 * c);
+  }
+
+  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+    uint32_t v[3];
+    const uint32_t sym = dec.decode_symbol(byte_used_);
+    v[0] = (sym & 1) ? ((dec.decode_symbol(diff_[0]) + (last_[0] & 0xFF)) & 0xFF) : (last_[0] & 0xFF);
+    v[0] |= (sym & 2) ? ((dec.decode_symbol(diff_[1]) + (last_[0] >> 8)) & 0xFF) << 8 : (last_[0] & 0xFF00);
+    if (sym & 64) {
+      int diff = static_cast<int>(v[0] & 0xFF) - static_cast<int>(last_[0] & 0xFF);
+      v[1] = (sym & 4) ? ((dec.decode_symbol(diff_[2]) + clamp_u8(diff + (last_[1] & 0xFF))) & 0xFF)
+                       : (last_[1] & 0xFF);
+      if (sym & 16) {
+        diff = (diff + static_cast<int>(v[1] & 0xFF) - static_cast<int>(last_[1] & 0xFF)) / 2;
+        v[2] = (dec.decode_symbol(diff_[4]) + clamp_u8(diff + (last_[2] & 0xFF))) & 0xFF;
+      } else {
+        v[2] = last_[2] & 0xFF;
+      }
+      diff = static_cast<int>(v[0] >> 8) - static_cast<int>(last_[0] >> 8);
+      v[1] |= (sym & 8) ? ((dec.decode_symbol(diff_[3]) + clamp_u8(diff + (last_[1] >> 8))) & 0xFF) << 8
+                        : (last_[1] & 0xFF00);
+      if (sym & 32) {
+        diff = (diff + static_cast<int>(v[1] >> 8) - static_cast<int>(last_[1] >> 8)) / 2;
+        v[2] |= ((dec.decode_symbol(diff_[5]) + clamp_u8(diff + (last_[2] >> 8))) & 0xFF) << 8;
+      } else {
+        v[2] |= last_[2] & 0xFF00;
+      }
+    } else {
+      v[1] = v[2] = v[0];
+    }
+    for (int c = 0; c < 3; ++c) {
+      last_[c] = static_cast<uint16_t>(v[c]);
+      put16(item + 2 * c, v[c]);
+    }
+  }
+
+  void encode(ArithmeticEncoder& enc, const unsigned char* item) {
+    uint32_t v[3];
+    for (int c = 0; c < 3; ++c) v[c] = get16(item + 2 * c);
+    uint32_t sym = ((last_[0] & 0xFF) != (v[0] & 0xFF)) << 0 | ((last_[0] & 0xFF00) != (v[0] & 0xFF00)) << 1 |
+                   ((last_[1] & 0xFF) != (v[1] & 0xFF)) << 2 | ((last_[1] & 0xFF00) != (v[1] & 0xFF00)) << 3 |
+                   ((last_[2] & 0xFF) != (v[2] & 0xFF)) << 4 | ((last_[2] & 0xFF00) != (v[2] & 0xFF00)) << 5;
+    sym |= (v[0] != v[1] || v[0] != v[2]) << 6;
+    enc.encode_symbol(byte_used_, sym);
+    int diff_l = 0, diff_h = 0;
+    if (sym & 1) {
+      diff_l = static_cast<int>(v[0] & 0xFF) - static_cast<int>(last_[0] & 0xFF);
+      enc.encode_symbol(diff_[0], static_cast<uint32_t>(diff_l) & 0xFF);
+    }
+    if (sym & 2) {
+      diff_h = static_cast<int>(v[0] >> 8) - static_cast<int>(last_[0] >> 8);
+      enc.encode_symbol(diff_[1], static_cast<uint32_t>(diff_h) & 0xFF);
+    }
+    if (sym & 64) {
+      if (sym & 4) {
+        const int corr = static_cast<int>(v[1] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[1] & 0xFF)));
+        enc.encode_symbol(diff_[2], static_cast<uint32_t>(corr) & 0xFF);
+      }
+      if (sym & 16) {
+        diff_l = (diff_l + static_cast<int>(v[1] & 0xFF) - static_cast<int>(last_[1] & 0xFF)) / 2;
+        const int corr = static_cast<int>(v[2] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[2] & 0xFF)));
+        enc.encode_symbol(diff_[4], static_cast<uint32_t>(corr) & 0xFF);
+      }
+      if (sym & 8) {
+        const int corr = static_cast<int>(v[1] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[1] >> 8)));
+        enc.encode_symbol(diff_[3], static_cast<uint32_t>(corr) & 0xFF);
+      }
+      if (sym & 32) {
+        diff_h = (diff_h + static_cast<int>(v[1] >> 8) - static_cast<int>(last_[1] >> 8)) / 2;
+        const int corr = static_cast<int>(v[2] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[2] >> 8)));
+        enc.encode_symbol(diff_[5], static_cast<uint32_t>(corr) & 0xFF);
+      }
+    }
+    for (int c = 0; c < 3; ++c) last_[c] = static_cast<uint16_t>(v[c]);
+  }
+
+ private:
+  uint16_t last_[3] = {};
+  SymbolModel byte_used_{128};
+  SymbolModel diff_[6] = {SymbolModel(256), SymbolModel(256), SymbolModel(256),
+                          SymbolModel(256), SymbolModel(256), SymbolModel(256)};
+};
+
+// BYTE version 2: each extra byte against the same byte of the previous record.
+class Bytes {
+ public:
+  explicit Bytes(std::size_t n) : last_(n) { models_.reserve(n); for (std::size_t i = 0; i < n; ++i) models_.emplace_back(256); }
+  std::size_t size() const { return last_.size(); }
+  void init(const unsigned char* item) { std::memcpy(last_.data(), item, last_.size()); }
+  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+    for (std::size_t i = 0; i < last_.size(); ++i) {
+      last_[i] = static_cast<unsigned char>(last_[i] + dec.decode_symbol(models_[i]));
+      item[i] = last_[i];
+    }
+  }
+  void encode(ArithmeticEncoder& enc, const unsigned char* item) {
+    for (std::size_t i = 0; i < last_.size(); ++i) {
+      enc.encode_symbol(models_[i], static_cast<unsigned char>(item[i] - last_[i]));
+      last_[i] = item[i];
+    }
+  }
+
+ private:
+  std::vector<unsigned char> last_;
+  std::vector<SymbolModel> models_;
+};
+
+// The item coders of one chunk, in record order.
+struct ChunkCoders {
+  std::unique_ptr<Point10> point;
+  std::unique_ptr<GpsTime11> gps;
+  std::unique_ptr<Rgb12> rgb;
+  std::unique_ptr<Bytes> bytes;
+  std::size_t record_length = 0;
+
+  explicit ChunkCoders(const std::vector<Item>& items) {
+    for (const Item& it : items) {
+      if (it.type == kItemPoint10) point = std::make_unique<Point10>();
+      else if (it.type == kItemGpsTime11) gps = std::make_unique<GpsTime11>();
+      else if (it.type == kItemRgb12) rgb = std::make_unique<Rgb12>();
+      else if (it.type == kItemByte) bytes = std::make_unique<Bytes>(it.size);
+      record_length += it.size;
+    }
+  }
+  // Offsets follow items_for_format's order: POINT10, GPSTIME11, RGB12, BYTE.
+  void init(const unsigned char* r) {
+    point->init(r);
+    r += Point10::kSize;
+    if (gps) gps->init(r), r += GpsTime11::kSize;
+    if (rgb) rgb->init(r), r += Rgb12::kSize;
+    if (bytes) bytes->init(r);
+  }
+  void decode(ArithmeticDecoder& dec, unsigned char* r) {
+    point->decode(dec, r);
+    r += Point10::kSize;
+    if (gps) gps->decode(dec, r), r += GpsTime11::kSize;
+    if (rgb) rgb->decode(dec, r), r += Rgb12::kSize;
+    if (bytes) bytes->decode(dec, r);
+  }
+  void encode(ArithmeticEncoder& enc, const unsigned char* r) {
+    point->encode(enc, r);
+    r += Point10::kSize;
+    if (gps) gps->encode(enc, r), r += GpsTime11::kSize;
+    if (rgb) rgb->encode(enc, r), r += Rgb12::kSize;
+    if (bytes) bytes->encode(enc, r);
+  }
+};
+
+}  // namespace
+
+std::string item_name(uint16_t type) {
+  static const char* names[] = {"BYTE",         "SHORT",   "INT",         "LONG",
+                                "FLOAT",        "DOUBLE",  "POINT10",     "GPSTIME11",
+                                "RGB12",        "WAVEPACKET13", "POINT14", "RGB14",
+                                "RGBNIR14",     "WAVEPACKET14", "BYTE14"};
+  return type < std::size(names) ? names[type] : "type " + std::to_string(type);
+}
+
+bool parse_laszip_vlr(std::span<const unsigned char> p, LaszipVlr& vlr, std::string& error) {
+  if (p.size() < 34) {
+    error = "LASzip VLR is " + std::to_string(p.size()) + " bytes, shorter than its 34-byte header";
+    return false;
+  }
+  vlr.compressor = get16(&p[0]);
+  vlr.coder = get16(&p[2]);
+  vlr.version_major = p[4];
+  vlr.version_minor = p[5];
+  vlr.revision = get16(&p[6]);
+  vlr.options = get32(&p[8]);
+  vlr.chunk_size = get32(&p[12]);
+  vlr.special_evlr_count = static_cast<int64_t>(get64(&p[16]));
+  vlr.special_evlr_offset = static_cast<int64_t>(get64(&p[24]));
+  const uint16_t n = get16(&p[32]);
+  if (p.size() != 34 + 6 * std::size_t{n}) {
+    error = "LASzip VLR lists " + std::to_string(n) + " items (" + std::to_string(34 + 6 * n) +
+            " bytes) but is " + std::to_string(p.size()) + " bytes long";
+    return false;
+  }
+  vlr.items.clear();
+  for (uint16_t i = 0; i < n; ++i)
+    vlr.items.push_back({get16(&p[34 + 6 * i]), get16(&p[36 + 6 * i]), get16(&p[38 + 6 * i])});
+  return true;
+}
+
+std::vector<unsigned char> laszip_vlr_payload(const LaszipVlr& vlr) {
+  std::vector<unsigned char> p(34 + 6 * vlr.items.size());
+  put16(&p[0], vlr.compressor);
+  put16(&p[2], vlr.coder);
+  p[4] = vlr.version_major;
+  p[5] = vlr.version_minor;
+  put16(&p[6], vlr.revision);
+  put32(&p[8], vlr.options);
+  put32(&p[12], vlr.chunk_size);
+  put64(&p[16], static_cast<uint64_t>(vlr.special_evlr_count));
+  put64(&p[24], static_cast<uint64_t>(vlr.special_evlr_offset));
+  put16(&p[32], static_cast<uint32_t>(vlr.items.size()));
+  for (std::size_t i = 0; i < vlr.items.size(); ++i) {
+    put16(&p[34 + 6 * i], vlr.items[i].type);
+    put16(&p[36 + 6 * i], vlr.items[i].size);
+    put16(&p[38 + 6 * i], vlr.items[i].version);
+  }
+  return p;
+}
+
+std::vector<Item> items_for_format(int format, uint16_t record_length) {
+  static constexpr uint16_t kBase[4] = {20, 28, 26, 34};
+  std::vector<Item> items{{kItemPoint10, 20, 2}};
+  if (format == 1 || format == 3) items.push_back({kItemGpsTime11, 8, 2});
+  if (format == 2 || format == 3) items.push_back({kItemRgb12, 6, 2});
+  if (record_length > kBase[format])
+    items.push_back({kItemByte, static_cast<uint16_t>(record_length - kBase[format]), 2});
+  return items;
+}
+
+std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector<Item>& items,
+                         uint64_t count, unsigned char* out) {
+  ChunkCoders coders(items);
+  const std::size_t rl = coders.record_length;
+  if (bytes.size() < rl) throw LazDataError("chunk is shorter than its first (raw) point");
+  std::memcpy(out, bytes.data(), rl);
+  coders.init(out);
+  ArithmeticDecoder dec(bytes.data() + rl, bytes.data() + bytes.size());
+  dec.init();
+  for (uint64_t i = 1; i < count; ++i) coders.decode(dec, out + i * rl);
+  return static_cast<std::size_t>(dec.position() - bytes.data());
+}
+
+void encode_chunk(const unsigned char* records, uint64_t count, const std::vector<Item>& items,
+                  std::vector<unsigned char>& out) {
+  ChunkCoders coders(items);
+  const std::size_t rl = coders.record_length;
+  out.insert(out.end(), records, records + rl);
+  coders.init(records);
+  ArithmeticEncoder enc(out);
+  for (uint64_t i = 1; i < count; ++i) coders.encode(enc, records + i * rl);
+  enc.done();
+}
+
+std::vector<ChunkEntry> decode_chunk_table(std::span<const unsigned char> bytes, uint32_t chunks,
+                                           bool variable) {
+  std::vector<ChunkEntry> table;
+  ArithmeticDecoder dec(bytes.data(), bytes.data() + bytes.size());
+  dec.init();
+  IntegerCompressor ic(32, 2);
+  int32_t last_points = 0, last_bytes = 0;
+  for (uint32_t i = 0; i < chunks; ++i) {
+    ChunkEntry e;
+    if (variable) {
+      last_points = ic.decompress(dec, last_points, 0);
+      e.points = static_cast<uint32_t>(last_points);
+    }
+    last_bytes = ic.decompress(dec, last_bytes, 1);
+    e.bytes = static_cast<uint32_t>(last_bytes);
+    table.push_back(e);
+  }
+  return table;
+}
+
+void encode_chunk_table(const std::vector<ChunkEntry>& chunks, bool variable,
+                        std::vector<unsigned char>& out) {
+  unsigned char head[8];
+  put32(head, 0);
+  put32(head + 4, static_cast<uint32_t>(chunks.size()));
+  out.insert(out.end(), head, head + 8);
+  if (chunks.empty()) return;
+  ArithmeticEncoder enc(out);
+  IntegerCompressor ic(32, 2);
+  int32_t last_points = 0, last_bytes = 0;
+  for (const ChunkEntry& e : chunks) {
+    if (variable) {
+      ic.compress(enc, last_points, static_cast<int32_t>(e.points), 0);
+      last_points = static_cast<int32_t>(e.points);
+    }
+    ic.compress(enc, last_bytes, static_cast<int32_t>(e.bytes), 1);
+    last_bytes = static_cast<int32_t>(e.bytes);
+  }
+  enc.done();
+}
+
+}  // namespace splatkit::laz

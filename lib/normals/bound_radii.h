@@ -1,0 +1,36 @@
+// bound_radii: no splat larger than `ratio` times its neighbourhood's splats. A point at the edge
+// of a dense region, a stray point or a thin sparse patch gets a cover radius far larger than the
+// splats around it — a blob in front of the surface; this caps it.
+//
+// Each pass sets r_i = min(r_i, ratio × median of the radii of i's k nearest other points) (the
+// median of the radii as the pass found them, so passes are order-independent), scaling the
+// minor radius of an ellipse by the same factor. Passes repeat, at most max_passes times, until
+// one caps nothing; then every radius is within ratio × its neighbours' final median. Radii stay
+// positive when they all were (fill_isolated_radii runs first). Deterministic for any thread
+// count. Cost per pass: one streamed kNN pass (k + 1 per row).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "splatkit/spatial_index.h"
+
+namespace splatkit {
+
+struct BoundRadiiResult {
+  std::size_t capped = 0;   // points whose radius was lowered (counted once)
+  std::size_t passes = 0;
+  std::size_t over = 0;     // radii still above ratio × their neighbours' median after the last pass
+};
+
+// radii: #N, positive; minor_radii: #N or empty. ratio >= 1 (smaller values are a usage error the
+// caller rejects); k >= 1.
+BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radii,
+                             std::vector<float>& minor_radii, float ratio, std::size_t k = 8,
+                             std::size_t max_passes = 4);
+
+// The median of the radii of each point's k nearest other points (#N).
+std::vector<float> neighbour_median_radii(const SpatialIndex& index, const std::vector<float>& radii,
+                                          std::size_t k);
+
+}  // namespace splatkit

@@ -1,0 +1,98 @@
+// bound_radii and estimate-normals' --max-radius-ratio on clouds whose density varies 100x.
+#include "normals/bound_radii.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "normals/estimate_normals.h"
+#include "splatkit/deterministic_rng.h"
+
+namespace splatkit {
+namespace {
+
+// n points on the unit square, density growing 100x from x = 0 to x = 1 (x drawn by the inverse
+// CDF of a density proportional to 100^x), i.i.d.; `stray` points 0.05-0.3 above it.
+SplatCloud gradient_plane(std::size_t n, std::size_t stray, uint64_t seed) {
+  SplatCloud c;
+  DeterministicRng rng(seed);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = std::log1p(rng.uniform() * 99.0) / std::log(100.0);
+    c.positions.push_back({static_cast<float>(x), static_cast<float>(rng.uniform()), 0.0f});
+  }
+  for (std::size_t i = 0; i < stray; ++i)
+    c.positions.push_back({static_cast<float>(rng.uniform()), static_cast<float>(rng.uniform()),
+                           static_cast<float>(rng.uniform(0.05, 0.3))});
+  return c;
+}
+
+// The ratio of every radius to its 8 neighbours' median, sorted.
+std::vector<float> ratios(const SplatCloud& c) {
+  const SpatialIndex index(c.positions);
+  const std::vector<float> m = neighbour_median_radii(index, c.radii, 8);
+  std::vector<float> r(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) r[i] = c.radii[i] / m[i];
+  std::sort(r.begin(), r.end());
+  return r;
+}
+float quantile(const std::vector<float>& sorted, double q) {
+  return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+}
+
+TEST(NormalsBoundRadii, MeasuredDefaultOnA100xDensityGradient) {
+  // Unbounded radii of a clean gradient: how far above its neighbours' a radius goes where the
+  // density only varies smoothly (the default must leave these alone), and with 0.2 % strays.
+  NormalOptions off;
+  off.max_radius_ratio = 0;
+  off.orient = NormalOrientation::kNone;
+  SplatCloud clean = gradient_plane(30000, 0, 1);
+  estimate_normals(clean, off);
+  const std::vector<float> r = ratios(clean);
+  std::printf("clean 100x gradient, unbounded: ratio p50 %.2f p99 %.2f p99.9 %.2f max %.2f\n",
+              quantile(r, 0.5), quantile(r, 0.99), quantile(r, 0.999), r.back());
+  SplatCloud strays = gradient_plane(30000, 60, 1);
+  estimate_normals(strays, off);
+  const std::vector<float> s = ratios(strays);
+  std::printf("with 60 strays, unbounded: ratio p99.9 %.2f max %.2f\n", quantile(s, 0.999), s.back());
+  // The default bounds the strays and leaves (almost) all of the clean gradient alone.
+  EXPECT_LE(quantile(r, 0.999), kDefaultMaxRadiusRatio);
+  EXPECT_GT(s.back(), 2 * kDefaultMaxRadiusRatio);
+
+  NormalOptions on = off;
+  on.max_radius_ratio = kDefaultMaxRadiusRatio;
+  SplatCloud bounded = gradient_plane(30000, 60, 1);
+  const NormalReport rep = estimate_normals(bounded, on);
+  const std::vector<float> b = ratios(bounded);
+  std::printf("with 60 strays, bounded at %.1f: %zu radii lowered, max ratio %.3f\n",
+              kDefaultMaxRadiusRatio, rep.bounded_radii, b.back());
+  EXPECT_LE(b.back(), kDefaultMaxRadiusRatio * (1 + 1e-6f));
+  EXPECT_EQ(rep.radii_over_bound, 0u);
+  EXPECT_GT(rep.bounded_radii, 0u);
+  EXPECT_LT(rep.bounded_radii, bounded.size() / 100);
+  for (const float x : bounded.radii) EXPECT_GT(x, 0.0f);
+  SplatCloud clean_on = gradient_plane(30000, 0, 1);
+  const NormalReport rc = estimate_normals(clean_on, on);
+  EXPECT_LT(rc.bounded_radii, clean_on.size() / 500) << "the bound cut into a clean gradient";
+}
+
+TEST(NormalsBoundRadii, CapsAtRatioTimesNeighbourMedianAndScalesEllipses) {
+  // A row of points 1 apart with radius 1, one with radius 10: capped at 2 × 1.
+  std::vector<Vec3f> p;
+  for (int i = 0; i < 12; ++i) p.push_back({static_cast<float>(i), 0, 0});
+  const SpatialIndex index(p);
+  std::vector<float> radii(12, 1.0f), minor(12, 0.5f);
+  radii[5] = 10;
+  minor[5] = 5;
+  const BoundRadiiResult r = bound_radii(index, radii, minor, 2.0f);
+  EXPECT_EQ(r.capped, 1u);
+  EXPECT_EQ(r.over, 0u);
+  EXPECT_FLOAT_EQ(radii[5], 2.0f);
+  EXPECT_FLOAT_EQ(minor[5], 1.0f);
+  EXPECT_FLOAT_EQ(radii[4], 1.0f);
+}
+
+}  // namespace
+}  // namespace splatkit

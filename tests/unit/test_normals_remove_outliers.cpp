@@ -1,0 +1,141 @@
+// remove_outliers: injected outliers found, true points kept, split_cloud keeps everything else.
+// (PCL's filters as the oracle: tests/pcl/outliers_pcl_oracle.cpp.)
+#include "normals/remove_outliers.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "splatkit/deterministic_rng.h"
+#include "splatkit/synthetic_shapes.h"
+
+namespace splatkit {
+namespace {
+
+struct Injected {
+  ShapeOptions shape;
+  SplatCloud cloud;
+  std::size_t true_points = 0;  // the first true_points are the shape's, the rest injected
+  double spacing = 0;           // h: the sampling spacing (random sampling: radius / 1.71)
+};
+
+// A scan with 1 % of its points added uniformly in its bounding box.
+Injected with_outliers(ShapeKind kind, std::size_t n, double noise, double scan_lines, uint64_t seed) {
+  ShapeOptions s;
+  s.kind = kind;
+  s.points = n;
+  s.seed = seed;
+  s.noise = noise;
+  s.scan_lines = scan_lines;
+  s.random = true;
+  Injected r{s, make_shape(s), 0, 0};
+  r.true_points = r.cloud.size();
+  for (std::size_t i = 0; i < r.true_points; ++i) r.spacing += r.cloud.radii[i];
+  r.spacing /= 1.71 * static_cast<double>(r.true_points) * (scan_lines > 1 ? std::sqrt(scan_lines) : 1);
+  const Bounds b = compute_bounds(r.cloud);
+  DeterministicRng rng(seed + 100);
+  const std::size_t extra = r.true_points / 100;
+  SplatCloud& c = r.cloud;
+  for (std::size_t i = 0; i < extra; ++i) {
+    c.positions.push_back({static_cast<float>(rng.uniform(b.min.x, b.max.x)),
+                           static_cast<float>(rng.uniform(b.min.y, b.max.y)),
+                           static_cast<float>(rng.uniform(b.min.z, b.max.z))});
+    c.normals.push_back(c.normals.front());
+    c.radii.push_back(c.radii.front());
+    c.colors.push_back(c.colors.front());
+    for (ExtraAttribute& e : c.extras) e.values.push_back(9999);
+  }
+  return r;
+}
+
+// Injected points within 2 spacings of the surface lie in its sampling (and noise) band: no
+// distance statistic tells them from surface points (uniform in the box, about 10 % of them at
+// 40 000 points). The others must all but never survive; true points must rarely go.
+void expect_found(const Injected& in, const OutlierOptions& o, const char* what,
+                  std::size_t min_percent_found) {
+  const OutlierResult r = find_outliers(in.cloud.positions, o);
+  std::size_t lost = 0, found = 0, off = 0, off_found = 0;
+  for (std::size_t i = 0; i < in.cloud.size(); ++i) {
+    if (i < in.true_points) {
+      lost += r.outlier[i];
+      continue;
+    }
+    found += r.outlier[i];
+    if (distance_to_shape(in.shape, in.cloud.positions[i]) > 2 * in.spacing) {
+      ++off;
+      off_found += r.outlier[i];
+    }
+  }
+  const std::size_t injected = in.cloud.size() - in.true_points;
+  EXPECT_GE(off_found * 100, off * 95) << what << ": found " << off_found << " of the " << off
+                                       << " injected points farther than 2 spacings";
+  EXPECT_GE(found * 100, injected * min_percent_found) << what << ": found " << found << " of " << injected;
+  EXPECT_LE(lost * 1000, in.true_points * 5) << what << ": lost " << lost << " of " << in.true_points;
+  EXPECT_EQ(r.removed, found + lost);
+}
+
+TEST(NormalsRemoveOutliers, StatisticalDefaultsFindInjectedOutliers) {
+  const OutlierOptions sor;  // sor:8,1
+  expect_found(with_outliers(ShapeKind::kCadPart, 40000, 0, 0, 1), sor, "cad, random", 80);
+  expect_found(with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 2), sor, "torus, noise", 80);
+  expect_found(with_outliers(ShapeKind::kSphere, 40000, 0, 4, 3), sor, "sphere, scan lines", 80);
+}
+
+TEST(NormalsRemoveOutliers, RadiusDefaultsFindInjectedOutliers) {
+  OutlierOptions radius;
+  radius.rule = OutlierRule::kRadius;  // automatic R, N = 6
+  expect_found(with_outliers(ShapeKind::kCadPart, 40000, 0, 0, 4), radius, "cad, random", 75);
+  expect_found(with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 5), radius, "torus, noise", 75);
+}
+
+TEST(NormalsRemoveOutliers, RadiusCountsNeighboursWithinR) {
+  // Points on a line 1 apart, and one 10 away: within R = 1.5 the ends have 1 neighbour, the
+  // middle ones 2, the far point none.
+  const std::vector<Vec3f> p = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {13, 0, 0}};
+  OutlierOptions o;
+  o.rule = OutlierRule::kRadius;
+  o.radius = 1.5;
+  o.min_neighbors = 2;
+  EXPECT_EQ(find_outliers(p, o).outlier, (std::vector<uint8_t>{1, 0, 0, 1, 1}));
+  o.min_neighbors = 1;
+  EXPECT_EQ(find_outliers(p, o).outlier, (std::vector<uint8_t>{0, 0, 0, 0, 1}));
+}
+
+TEST(NormalsRemoveOutliers, StatisticalThresholdIsMeanPlusSigmaStddev) {
+  // k = 1: d_i is the distance to the nearest point: 1, 1, 1, 1, 10.
+  const std::vector<Vec3f> p = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {13, 0, 0}};
+  OutlierOptions o;
+  o.k = 1;
+  o.sigma = 1;
+  const OutlierResult r = find_outliers(p, o);
+  EXPECT_DOUBLE_EQ(r.mean, 2.8);
+  EXPECT_NEAR(r.stddev, 4.0249223594996213, 1e-12);  // sample std of {1,1,1,1,10}
+  EXPECT_EQ(r.outlier, (std::vector<uint8_t>{0, 0, 0, 0, 1}));
+  o.k = 5;  // as many neighbours as the cloud has others: nothing is judged
+  EXPECT_EQ(find_outliers(p, o).removed, 0u);
+}
+
+TEST(NormalsRemoveOutliers, SplitCloudMovesEveryAttributeAndRenumbersFaces) {
+  SplatCloud c;
+  c.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  c.radii = {0.1f, 0.2f, 0.3f, 0.4f};
+  c.colors = {{1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {4, 4, 4}};
+  c.extras = {{"id", ScalarType::kUInt32, {10, 11, 12, 13}}};
+  c.face_offsets = {0, 3, 6};
+  c.face_indices = {0, 2, 3, 0, 1, 2};
+  const SplatCloud out = split_cloud(c, {0, 1, 0, 0});
+  EXPECT_EQ(c.positions, (std::vector<Vec3f>{{0, 0, 0}, {2, 0, 0}, {3, 0, 0}}));
+  EXPECT_EQ(c.radii, (std::vector<float>{0.1f, 0.3f, 0.4f}));
+  EXPECT_EQ(c.extras[0].values, (std::vector<double>{10, 12, 13}));
+  EXPECT_EQ(c.face_offsets, (std::vector<uint32_t>{0, 3}));
+  EXPECT_EQ(c.face_indices, (std::vector<uint32_t>{0, 1, 2}));
+  c.check_consistent();
+  EXPECT_EQ(out.positions, (std::vector<Vec3f>{{1, 0, 0}}));
+  EXPECT_EQ(out.colors.size(), 1u);
+  EXPECT_EQ(out.extras[0].values, (std::vector<double>{11}));
+  out.check_consistent();
+}
+
+}  // namespace
+}  // namespace splatkit
