@@ -29,8 +29,23 @@ simd_summary() {
   done
 }
 
+# laz-perf (LASzip compiled to WebAssembly, from the npm registry) is the LAZ tests' oracle; it
+# goes into each build dir's node/ (SPLATKIT_LAZ_PERF_DIR's default). Without node or the
+# registry the LAZ comparisons are skipped with a message.
+install_laz_perf() {
+  [ -d "$1/node/node_modules/laz-perf" ] && return 0
+  if ! command -v npm >/dev/null; then
+    echo "note: npm not found; the laz-perf comparisons will be skipped"
+    return 0
+  fi
+  mkdir -p "$1/node"
+  npm install --silent --no-audit --no-fund --prefix "$1/node" laz-perf@0.0.7 >/dev/null 2>&1 ||
+    echo "note: npm could not install laz-perf; the laz-perf comparisons will be skipped"
+}
+
 echo "== Release build and tests =="
 "$top/scripts/build.sh" "$top/build" -DSPLATKIT_BUILD_TESTS=ON
+install_laz_perf "$top/build"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
@@ -42,6 +57,7 @@ if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
   echo "== ASan + UBSan build, tests and fuzzers =="
   CC=clang CXX=clang++ "$top/scripts/build.sh" "$top/build-asan" -DSPLATKIT_BUILD_TESTS=ON \
     -DSPLATKIT_SANITIZE=ON -DSPLATKIT_BUILD_FUZZERS=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  install_laz_perf "$top/build-asan"
   (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
      ctest --output-on-failure -j "$jobs")
 fi
