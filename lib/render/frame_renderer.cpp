@@ -16,6 +16,7 @@
 #include "render/rasterize_tile.h"
 #include "render/select_qsplat.h"
 #include "render/select_splats.h"
+#include "render/select_spt.h"
 #include "render/shade_row.h"
 #include "render/zbuffer_splats.h"
 #include "splatkit/error.h"
@@ -352,6 +353,14 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
     stats.splats_in = c.selected;
     stats.splats_drawn = c.drawn;
     stats.select_s = seconds(cleared, Clock::now());
+  } else if (scene.spt) {
+    const SptZBufferCounts c =
+        draw_spt_zbuffer(*scene.spt, scene.bounds, projection, options.spt_error_px, zb);
+    stats.lod.spt_prefix = c.prefix;
+    stats.lod.spt_culled = c.prefix - c.selected;
+    stats.splats_in = c.selected;
+    stats.splats_drawn = c.drawn;
+    stats.select_s = seconds(cleared, Clock::now());
   } else {
     draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
                           options.spt_error_px);
@@ -386,6 +395,12 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
     resolve_zbuffer(context, zb, [&](uint32_t i, PixelSurface& g) {
       g.normal = qsplat::decode_normal(m.normal_codes[i]);
       g.albedo = m.colors.empty() ? albedo : palette[m.colors[i]];
+    });
+  } else if (scene.spt) {
+    const SptModel& m = *scene.spt;
+    resolve_zbuffer(context, zb, [&](uint32_t i, PixelSurface& g) {
+      g.normal = m.normals[i];
+      g.albedo = m.colors.empty() ? albedo : spt_linear_color(m.colors[i]);
     });
   } else {
     const uint32_t* ids = options.surface_ids ? draws.surface_ids : nullptr;

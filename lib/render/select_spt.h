@@ -13,6 +13,7 @@
 #include "formats/read_spt.h"
 #include "render/camera.h"
 #include "render/select_splats.h"
+#include "render/zbuffer_splats.h"
 
 namespace splatkit::render {
 
@@ -20,5 +21,20 @@ namespace splatkit::render {
 // spt_culled.
 DrawList select_spt(const SptModel& model, const BoundingSphere& bounds,
                     const Projection& projection, float error_px, LodStats* stats = nullptr);
+
+struct SptZBufferCounts {
+  uint64_t prefix = 0, selected = 0;
+  uint64_t drawn = 0;  // of the selected, those that cover a pixel (zbuffer_splat)
+};
+
+// The same selection drawing each selected entry straight into `buffer` (zbuffer_splats.h),
+// keyed by its index in the list, with no DrawList in between: the fast path of
+// `--blend zbuffer`.
+SptZBufferCounts draw_spt_zbuffer(const SptModel& model, const BoundingSphere& bounds,
+                                  const Projection& projection, float error_px,
+                                  DepthKeyBuffer& buffer);
+
+// Linear RGB of an entry's 8-bit sRGB colour.
+Vec3f spt_linear_color(const std::array<uint8_t, 3>& rgb);
 
 }  // namespace splatkit::render

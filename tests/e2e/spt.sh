@@ -45,6 +45,15 @@ for d in 6 12 24; do
   [ "$n" -lt "$prev" ] && pass || fail "distance $d: $n splats drawn, not fewer than $prev"
   prev=$n
 done
+# The z-buffer fast path draws the same selection (the stats' prefix) with the same bytes on 1
+# and 2 threads.
+for t in 1 2; do
+  expect_exit 0 "$BIN/splat-view" "$WORK/torus.spt" -o "$WORK/z$t.png" -q --width 320 \
+    --height 240 --blend zbuffer --threads "$t" --stats "$WORK/z$t.json"
+done
+cmp -s "$WORK/z1.png" "$WORK/z2.png" && pass || fail "--blend zbuffer .spt differs across threads"
+tr -d ' \n' <"$WORK/z1.json" | grep -q '"spt":{[^}]*"prefix":[1-9]' && pass ||
+  fail "--blend zbuffer .spt: no spt counts"
 expect_exit 1 "$BIN/splat-view" "$WORK/torus.spt" -o "$WORK/x.png" --spt-error 0
 [ ! -e "$WORK/x.png" ] && pass || fail "a rejected --spt-error left an image"
 
