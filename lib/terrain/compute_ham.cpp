@@ -1,0 +1,234 @@
+#include "terrain/compute_ham.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "splatkit/error.h"
+#include "terrain/fill_voids.h"
+
+namespace splatkit::terrain {
+
+namespace {
+
+// One Sobel magnitude row from three source rows (above, centre, below), clamp-to-edge in x.
+// `s` and `d` are scratch rows of width + 2 (the vertical smooth and difference, padded).
+void sobel_row(const float* above, const float* centre, const float* below, int64_t w, float* s,
+               float* d, float* out) {
+  for (int64_t x = 0; x < w; ++x) {
+    s[x + 1] = above[x] + 2.0f * centre[x] + below[x];
+    d[x + 1] = below[x] - above[x];
+  }
+  s[0] = s[1];
+  d[0] = d[1];
+  s[w + 1] = s[w];
+  d[w + 1] = d[w];
+  for (int64_t x = 0; x < w; ++x) {
+    const float dx = d[x] + 2.0f * d[x + 1] + d[x + 2];
+    const float dy = s[x + 2] - s[x];
+    out[x] = std::sqrt(dx * dx + dy * dy);
+  }
+}
+
+struct TileAcc {
+  float ham = 0, h = -INFINITY;
+  uint32_t x = 0, y = 0, voids = 0;
+};
+
+// Folds `b` (later rows) into `a`: the larger HAM, the larger height, the first on ties.
+void merge(TileAcc& a, const TileAcc& b) {
+  a.ham = std::max(a.ham, b.ham);
+  if (b.h > a.h) {
+    a.h = b.h;
+    a.x = b.x;
+    a.y = b.y;
+  }
+  a.voids += b.voids;
+}
+
+}  // namespace
+
+HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& stats,
+                     const HamRowSink& sink, const ProgressFn& progress) {
+  if (o.tile < 1 || o.tile > 65536) throw_usage("--tile must be in [1, 65536]");
+  const HeightmapInfo& info = source.info();
+  const int64_t w = info.width, h = info.height, T = o.tile;
+  const bool has_nodata = o.has_nodata || info.has_nodata;
+  const auto nodata = float(o.has_nodata ? o.nodata : info.nodata);
+  const auto zs = float(o.z_scale);
+
+  HamTiles tiles;
+  tiles.resize(w, h, T);
+  tiles.z_scale = o.z_scale;
+  stats = {};
+  stats.samples = uint64_t(w) * uint64_t(h);
+
+  // Band: a multiple of the reader's band, about band_bytes of rows.
+  const int64_t reader_rows = std::max<int64_t>(1, info.band_rows);
+  int64_t band = std::max<int64_t>(8, o.band_bytes / std::max<int64_t>(1, w * 4));
+  band = std::max(reader_rows, band / reader_rows * reader_rows);
+  band = std::min(band, h);
+  stats.band_rows = band;
+
+  // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.
+  std::vector<float> window;
+  int64_t lo = 0, loaded = 0;
+  std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
+  std::vector<float> last_filled;   // the last row with valid samples (for all-void rows)
+  int64_t pending_void_rows = 0;    // all-void rows at the top, waiting for a valid row
+  int64_t pending_start = 0;
+  double h_min = INFINITY, h_max = -INFINITY;
+
+  auto read_more = [&](int64_t until) {
+    while (loaded < until) {
+      const int64_t n = std::min(reader_rows, h - loaded);
+      const std::size_t at = std::size_t((loaded - lo) * w);
+      window.resize(at + std::size_t(n * w));
+      row_voids.resize(std::size_t((loaded - lo + n) * tiles.tiles_x));
+      source.read_rows(n, window.data() + at);
+      for (int64_t r = 0; r < n; ++r) {
+        float* row = window.data() + at + std::size_t(r * w);
+        uint32_t* rv = row_voids.data() + std::size_t((loaded - lo + r) * tiles.tiles_x);
+        std::fill(rv, rv + tiles.tiles_x, 0u);
+        int64_t v = 0;
+        for (int64_t x = 0; x < w; ++x)
+          if (is_void(row[x], has_nodata, nodata)) {
+            ++v;
+            ++rv[x / T];
+          }
+        if (v > 0 && v < w) fill_row_voids(row, w, has_nodata, nodata);
+        stats.voids += uint64_t(v);
+        const int64_t image_row = loaded + r;
+        if (v == w) {
+          ++stats.void_rows;
+          if (last_filled.empty()) {
+            if (pending_void_rows++ == 0) pending_start = image_row;
+            std::fill(row, row + w, 0.0f);  // until a row with valid samples comes
+            continue;
+          }
+          std::memcpy(row, last_filled.data(), std::size_t(w) * 4);
+        } else {
+          for (int64_t x = 0; x < w; ++x) row[x] *= zs;
+        }
+        if (pending_void_rows > 0) {  // the top rows take the first row with valid samples
+          for (int64_t rr = std::max(pending_start, lo); rr < image_row; ++rr)
+            std::memcpy(window.data() + (rr - lo) * w, row, std::size_t(w) * 4);
+          pending_void_rows = 0;
+        }
+        last_filled.assign(row, row + w);
+        for (int64_t x = 0; x < w; ++x) {
+          h_min = std::min(h_min, double(row[x]));
+          h_max = std::max(h_max, double(row[x]));
+        }
+      }
+      loaded += n;
+    }
+  };
+
+  std::vector<float> band_out;
+  for (int64_t b0 = 0; b0 < h; b0 += band) {
+    const int64_t b1 = std::min(h, b0 + band);
+    const int64_t need_lo = std::max<int64_t>(0, b0 - 2), need_hi = std::min(h, b1 + 2);
+    if (need_lo > lo) {  // drop rows no longer needed
+      const int64_t drop = need_lo - lo;
+      window.erase(window.begin(), window.begin() + drop * w);
+      row_voids.erase(row_voids.begin(), row_voids.begin() + drop * tiles.tiles_x);
+      lo = need_lo;
+    }
+    read_more(need_hi);
+    if (pending_void_rows > 0 && loaded == h) {  // no valid sample in the whole map: zeros
+      h_min = std::min(h_min, 0.0);
+      h_max = std::max(h_max, 0.0);
+    }
+    auto hrow = [&](int64_t r) {
+      r = std::clamp<int64_t>(r, 0, h - 1);
+      return window.data() + (r - lo) * w;
+    };
+    if (sink) band_out.resize(std::size_t((b1 - b0) * w));
+
+    // Runs of rows, one task each; per-run tile records merged in row order afterwards.
+    const int64_t run = std::max<int64_t>(8, (b1 - b0 + 7) / 8);
+    const int64_t runs = (b1 - b0 + run - 1) / run;
+    std::vector<std::vector<TileAcc>> parts(static_cast<std::size_t>(runs));
+    std::vector<double> run_ham_max(static_cast<std::size_t>(runs), 0.0);
+    tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
+      const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
+      const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
+      std::vector<TileAcc>& acc = parts[std::size_t(k)];
+      acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
+      std::vector<float> s(static_cast<std::size_t>(w + 2)), d(s.size()), out(static_cast<std::size_t>(w));
+      std::vector<float> ring(static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
+      auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
+      auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
+        const int64_t rc = std::clamp<int64_t>(r, 0, h - 1);
+        sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, s.data(), d.data(), mrow(r));
+      };
+      compute_m(r0 - 1);
+      compute_m(r0);
+      float ham_max = 0;
+      for (int64_t r = r0; r < r1; ++r) {
+        compute_m(r + 1);
+        const float* above = r == 0 ? mrow(r) : mrow(r - 1);
+        const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
+        sobel_row(above, mrow(r), below, w, s.data(), d.data(), out.data());
+        if (sink) std::memcpy(band_out.data() + (r - b0) * w, out.data(), std::size_t(w) * 4);
+        const float* hr = hrow(r);
+        const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
+        TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
+        for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
+          const int64_t x0 = tx * T, x1 = std::min(w, x0 + T);
+          float hm = out[std::size_t(x0)];
+          int64_t best = x0;
+          float hh = hr[x0];
+          for (int64_t x = x0; x < x1; ++x) {
+            hm = std::max(hm, out[std::size_t(x)]);
+            if (hr[x] > hh) {
+              hh = hr[x];
+              best = x;
+            }
+          }
+          TileAcc& t = a[tx];
+          t.ham = std::max(t.ham, hm);
+          if (hh > t.h) {
+            t.h = hh;
+            t.x = uint32_t(best);
+            t.y = uint32_t(r);
+          }
+          t.voids += rv[tx];
+          ham_max = std::max(ham_max, hm);
+        }
+      }
+      run_ham_max[std::size_t(k)] = ham_max;
+    });
+    for (int64_t k = 0; k < runs; ++k) {
+      const int64_t r0 = b0 + k * run;
+      const int64_t ty0 = r0 / T;
+      const std::vector<TileAcc>& acc = parts[std::size_t(k)];
+      for (std::size_t i = 0; i < acc.size(); ++i) {
+        const std::size_t t = std::size_t(ty0 * tiles.tiles_x) + i;
+        TileAcc cur{tiles.ham_max[t], tiles.h_max[t], tiles.x[t], tiles.y[t], tiles.voids[t]};
+        merge(cur, acc[i]);
+        tiles.ham_max[t] = cur.ham;
+        tiles.h_max[t] = cur.h;
+        tiles.x[t] = cur.x;
+        tiles.y[t] = cur.y;
+        tiles.voids[t] = cur.voids;
+      }
+      stats.ham_max = std::max(stats.ham_max, run_ham_max[std::size_t(k)]);
+    }
+    if (sink) sink(b1 - b0, band_out.data());
+    progress(double(b1) / double(h), "ham");
+  }
+  stats.h_min = h_min;
+  stats.h_max = h_max;
+  tiles.header["h_min"] = h_min;
+  tiles.header["h_max"] = h_max;
+  tiles.header["ham_max"] = stats.ham_max;
+  tiles.header["voids"] = stats.voids;
+  return tiles;
+}
+
+}  // namespace splatkit::terrain
