@@ -15,22 +15,25 @@ namespace splatkit::terrain {
 namespace {
 
 // One Sobel magnitude row from three source rows (above, centre, below), clamp-to-edge in x.
-// `s` and `d` are scratch rows of width + 2 (the vertical smooth and difference, padded).
-void sobel_row(const float* above, const float* centre, const float* below, int64_t w, float* s,
-               float* d, float* out) {
-  for (int64_t x = 0; x < w; ++x) {
-    s[x + 1] = above[x] + 2.0f * centre[x] + below[x];
-    d[x + 1] = below[x] - above[x];
-  }
-  s[0] = s[1];
-  d[0] = d[1];
-  s[w + 1] = s[w];
-  d[w + 1] = d[w];
-  for (int64_t x = 0; x < w; ++x) {
-    const float dx = d[x] + 2.0f * d[x + 1] + d[x + 2];
-    const float dy = s[x + 2] - s[x];
+// Every term is a difference of two neighbouring samples first (exact in float for samples
+// within a factor of two of each other, as heights far above zero are), then the weighted sum:
+// no cancellation against the heights' own magnitude.
+inline float sobel_at(const float* a, const float* c, const float* b, int64_t xl, int64_t x,
+                      int64_t xr) {
+  const float dx = (b[xl] - a[xl]) + 2.0f * (b[x] - a[x]) + (b[xr] - a[xr]);
+  const float dy = (a[xr] - a[xl]) + 2.0f * (c[xr] - c[xl]) + (b[xr] - b[xl]);
+  return std::sqrt(dx * dx + dy * dy);
+}
+
+void sobel_row(const float* __restrict a, const float* __restrict c, const float* __restrict b,
+               int64_t w, float* __restrict out) {
+  out[0] = sobel_at(a, c, b, 0, 0, std::min<int64_t>(1, w - 1));
+  for (int64_t x = 1; x < w - 1; ++x) {
+    const float dx = (b[x - 1] - a[x - 1]) + 2.0f * (b[x] - a[x]) + (b[x + 1] - a[x + 1]);
+    const float dy = (a[x + 1] - a[x - 1]) + 2.0f * (c[x + 1] - c[x - 1]) + (b[x + 1] - b[x - 1]);
     out[x] = std::sqrt(dx * dx + dy * dy);
   }
+  if (w > 1) out[w - 1] = sobel_at(a, c, b, w - 2, w - 1, w - 1);
 }
 
 struct TileAcc {
@@ -73,59 +76,43 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   band = std::min(band, h);
   stats.band_rows = band;
 
+  // Void filling looks up to `lookahead` rows below a void (about 64 MiB of rows).
+  const int64_t lookahead = std::clamp<int64_t>((int64_t(64) << 20) / std::max<int64_t>(1, w * 5),
+                                                reader_rows, std::max<int64_t>(reader_rows, 1024));
+  VoidFiller filler(source, has_nodata, nodata, lookahead);
+
   // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.
   std::vector<float> window;
   int64_t lo = 0, loaded = 0;
   std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
-  std::vector<float> last_filled;   // the last row with valid samples (for all-void rows)
-  int64_t pending_void_rows = 0;    // all-void rows at the top, waiting for a valid row
-  int64_t pending_start = 0;
-  double h_min = INFINITY, h_max = -INFINITY;
+  float h_min = INFINITY, h_max = -INFINITY;
 
   auto read_more = [&](int64_t until) {
-    while (loaded < until) {
-      const int64_t n = std::min(reader_rows, h - loaded);
-      const std::size_t at = std::size_t((loaded - lo) * w);
-      window.resize(at + std::size_t(n * w));
-      row_voids.resize(std::size_t((loaded - lo + n) * tiles.tiles_x));
-      source.read_rows(n, window.data() + at);
-      for (int64_t r = 0; r < n; ++r) {
-        float* row = window.data() + at + std::size_t(r * w);
-        uint32_t* rv = row_voids.data() + std::size_t((loaded - lo + r) * tiles.tiles_x);
-        std::fill(rv, rv + tiles.tiles_x, 0u);
-        int64_t v = 0;
-        for (int64_t x = 0; x < w; ++x)
-          if (is_void(row[x], has_nodata, nodata)) {
-            ++v;
-            ++rv[x / T];
-          }
-        if (v > 0 && v < w) fill_row_voids(row, w, has_nodata, nodata);
+    const int64_t n = until - loaded;
+    const std::size_t at = std::size_t((loaded - lo) * w);
+    window.resize(at + std::size_t(n * w));
+    row_voids.resize(std::size_t((loaded - lo + n) * tiles.tiles_x));
+    for (int64_t r = 0; r < n; ++r) {
+      float* row = window.data() + at + std::size_t(r * w);
+      uint32_t* rv = row_voids.data() + std::size_t((loaded - lo + r) * tiles.tiles_x);
+      std::fill(rv, rv + tiles.tiles_x, 0u);
+      const int64_t v = filler.next(row);
+      if (v > 0) {
+        const std::vector<uint8_t>& mask = filler.mask();
+        for (int64_t x = 0; x < w; ++x) rv[x / T] += mask[std::size_t(x)];
         stats.voids += uint64_t(v);
-        const int64_t image_row = loaded + r;
-        if (v == w) {
-          ++stats.void_rows;
-          if (last_filled.empty()) {
-            if (pending_void_rows++ == 0) pending_start = image_row;
-            std::fill(row, row + w, 0.0f);  // until a row with valid samples comes
-            continue;
-          }
-          std::memcpy(row, last_filled.data(), std::size_t(w) * 4);
-        } else {
-          for (int64_t x = 0; x < w; ++x) row[x] *= zs;
-        }
-        if (pending_void_rows > 0) {  // the top rows take the first row with valid samples
-          for (int64_t rr = std::max(pending_start, lo); rr < image_row; ++rr)
-            std::memcpy(window.data() + (rr - lo) * w, row, std::size_t(w) * 4);
-          pending_void_rows = 0;
-        }
-        last_filled.assign(row, row + w);
-        for (int64_t x = 0; x < w; ++x) {
-          h_min = std::min(h_min, double(row[x]));
-          h_max = std::max(h_max, double(row[x]));
-        }
+        stats.void_rows += v == w;
       }
-      loaded += n;
+      float lo_h = row[0] * zs, hi_h = lo_h;
+      for (int64_t x = 0; x < w; ++x) {
+        row[x] *= zs;
+        lo_h = std::min(lo_h, row[x]);
+        hi_h = std::max(hi_h, row[x]);
+      }
+      h_min = std::min(h_min, lo_h);
+      h_max = std::max(h_max, hi_h);
     }
+    loaded = until;
   };
 
   std::vector<float> band_out;
@@ -139,10 +126,6 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       lo = need_lo;
     }
     read_more(need_hi);
-    if (pending_void_rows > 0 && loaded == h) {  // no valid sample in the whole map: zeros
-      h_min = std::min(h_min, 0.0);
-      h_max = std::max(h_max, 0.0);
-    }
     auto hrow = [&](int64_t r) {
       r = std::clamp<int64_t>(r, 0, h - 1);
       return window.data() + (r - lo) * w;
@@ -159,12 +142,12 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
       std::vector<TileAcc>& acc = parts[std::size_t(k)];
       acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
-      std::vector<float> s(static_cast<std::size_t>(w + 2)), d(s.size()), out(static_cast<std::size_t>(w));
+      std::vector<float> out(static_cast<std::size_t>(w));
       std::vector<float> ring(static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
       auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
       auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
         const int64_t rc = std::clamp<int64_t>(r, 0, h - 1);
-        sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, s.data(), d.data(), mrow(r));
+        sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, mrow(r));
       };
       compute_m(r0 - 1);
       compute_m(r0);
@@ -173,7 +156,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         compute_m(r + 1);
         const float* above = r == 0 ? mrow(r) : mrow(r - 1);
         const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
-        sobel_row(above, mrow(r), below, w, s.data(), d.data(), out.data());
+        sobel_row(above, mrow(r), below, w, out.data());
         if (sink) std::memcpy(band_out.data() + (r - b0) * w, out.data(), std::size_t(w) * 4);
         const float* hr = hrow(r);
         const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
@@ -222,10 +205,10 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     if (sink) sink(b1 - b0, band_out.data());
     progress(double(b1) / double(h), "ham");
   }
-  stats.h_min = h_min;
-  stats.h_max = h_max;
-  tiles.header["h_min"] = h_min;
-  tiles.header["h_max"] = h_max;
+  stats.h_min = double(h_min);
+  stats.h_max = double(h_max);
+  tiles.header["h_min"] = stats.h_min;
+  tiles.header["h_max"] = stats.h_max;
   tiles.header["ham_max"] = stats.ham_max;
   tiles.header["voids"] = stats.voids;
   return tiles;

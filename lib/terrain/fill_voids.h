@@ -1,12 +1,20 @@
-// Void filling for streamed heightmaps: a no-data run inside a row is replaced by the straight
-// line between the valid samples on either side (or the nearer one's value at the row's ends),
-// so a filled sample never lies outside the heights around it and a void never becomes a cliff
-// in the derivatives that follow. A row with no valid sample copies the filled row above it (or,
-// for the first rows of the map, the first row that has valid samples). Rows are filled one at a
-// time: memory does not depend on the map's size.
+// Void filling for streamed heightmaps, in two steps after the method of GDAL's FillNodata:
+//  1. every void sample takes the inverse-distance-weighted mean of the nearest good samples in
+//     its row (left, right) and column (above, and below within a look-ahead of rows): a convex
+//     combination, so a filled sample never lies outside the heights around the void;
+//  2. `smoothing` passes of a 3×3 mean over the filled samples only (good samples never change)
+//     take out the row-to-row steps of step 1, so that a void never becomes a ridge or a cliff
+//     in the second derivatives (the HAM) that follow.
+// Samples within kEdge of a void are treated as voids too: SRTM's void edges carry outliers.
+// Rows go out one at a time, `smoothing` rows behind the input; memory holds the look-ahead.
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "terrain/heightmap_source.h"
 
 namespace splatkit::terrain {
 
@@ -15,8 +23,54 @@ inline bool is_void(float v, bool has_nodata, float nodata) {
   return !(v - v == 0.0f) || (has_nodata && v == nodata);
 }
 
-// Fills the voids of one row of `width` samples in place; returns how many there were, or
-// `width` (nothing changed) when the row has no valid sample.
+// Fills the voids of one row from the row alone (each run becomes the straight line between
+// its neighbours, or their value at the row's ends); returns how many there were, or `width`
+// (nothing changed) when the row has no valid sample.
 int64_t fill_row_voids(float* row, int64_t width, bool has_nodata, float nodata);
+
+class VoidFiller {
+ public:
+  static constexpr int kSmoothing = 32;
+  static constexpr int64_t kEdge = 3;  // samples this close to a void (Chebyshev) are replaced
+  VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, int64_t lookahead,
+             int smoothing = kSmoothing);
+  // Writes the next row, filled, into `out` (width floats) and returns its number of no-data
+  // samples; mask() then flags them (1 = no-data). Samples with no good neighbour in any
+  // direction within reach take the filled row above, or 0 at the top.
+  int64_t next(float* out);
+  const std::vector<uint8_t>& mask() const { return mask_; }
+  uint64_t edge_samples() const { return edge_samples_; }  // good samples replaced beside voids
+
+ private:
+  using Row = std::shared_ptr<const std::vector<float>>;
+  struct Staged {
+    int64_t y;
+    Row values;
+    std::shared_ptr<const std::vector<uint8_t>> filled;  // 1 = replaced (void or void edge)
+    int64_t voids;                                       // no-data samples (before erosion)
+    std::shared_ptr<const std::vector<uint8_t>> nodata;
+  };
+  void load_more();
+  int good(int64_t y, int64_t x) const;  // 1 good, 0 void or beside one, 2 not yet known
+  Staged fill_next();                     // step 1 for the next input row
+  void push(int pass, Staged row);        // step 2, pass by pass
+
+  HeightmapSource& source_;
+  bool has_nodata_;
+  float nodata_;
+  int64_t width_, height_, lookahead_;
+  int smoothing_;
+  int64_t first_ = 0, loaded_ = 0, row_ = 0;  // buffered rows [first_, loaded_), next input row_
+  std::vector<float> rows_;                    // original samples of the buffered rows
+  std::vector<uint8_t> voids_;                 // their no-data flags
+  std::vector<float> up_val_;                  // last good sample above, per column
+  std::vector<int64_t> up_row_, down_row_, down_scanned_;
+  std::vector<int64_t> left_, right_;
+  std::vector<float> prev_;                    // the last filled row (step 1)
+  std::vector<std::deque<Staged>> passes_;     // the last rows of each smoothing pass
+  std::deque<Staged> ready_;
+  std::vector<uint8_t> mask_, near_;
+  uint64_t edge_samples_ = 0;
+};
 
 }  // namespace splatkit::terrain
