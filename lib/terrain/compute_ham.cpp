@@ -76,9 +76,9 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   band = std::min(band, h);
   stats.band_rows = band;
 
-  // Void filling looks up to `lookahead` rows below a void (about 64 MiB of rows).
-  const int64_t lookahead = std::clamp<int64_t>((int64_t(64) << 20) / std::max<int64_t>(1, w * 5),
-                                                reader_rows, std::max<int64_t>(reader_rows, 1024));
+  // Void filling looks up to 256 rows below a void (fewer when a row is wider than 32 K).
+  const int64_t lookahead =
+      std::clamp<int64_t>((int64_t(40) << 20) / std::max<int64_t>(1, w * 5), 16, 256);
   VoidFiller filler(source, has_nodata, nodata, lookahead);
 
   // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.
@@ -103,14 +103,8 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         stats.voids += uint64_t(v);
         stats.void_rows += v == w;
       }
-      float lo_h = row[0] * zs, hi_h = lo_h;
-      for (int64_t x = 0; x < w; ++x) {
-        row[x] *= zs;
-        lo_h = std::min(lo_h, row[x]);
-        hi_h = std::max(hi_h, row[x]);
-      }
-      h_min = std::min(h_min, lo_h);
-      h_max = std::max(h_max, hi_h);
+      if (zs != 1.0f)
+        for (int64_t x = 0; x < w; ++x) row[x] *= zs;
     }
     loaded = until;
   };
@@ -137,6 +131,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     const int64_t runs = (b1 - b0 + run - 1) / run;
     std::vector<std::vector<TileAcc>> parts(static_cast<std::size_t>(runs));
     std::vector<double> run_ham_max(static_cast<std::size_t>(runs), 0.0);
+    std::vector<std::pair<float, float>> run_h(static_cast<std::size_t>(runs));
     tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
       const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
       const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
@@ -151,7 +146,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       };
       compute_m(r0 - 1);
       compute_m(r0);
-      float ham_max = 0;
+      float ham_max = 0, lo_h = INFINITY, hi_h = -INFINITY;
       for (int64_t r = r0; r < r1; ++r) {
         compute_m(r + 1);
         const float* above = r == 0 ? mrow(r) : mrow(r - 1);
@@ -159,6 +154,10 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         sobel_row(above, mrow(r), below, w, out.data());
         if (sink) std::memcpy(band_out.data() + (r - b0) * w, out.data(), std::size_t(w) * 4);
         const float* hr = hrow(r);
+        for (int64_t x = 0; x < w; ++x) {
+          lo_h = std::min(lo_h, hr[x]);
+          hi_h = std::max(hi_h, hr[x]);
+        }
         const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
         TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
         for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
@@ -185,6 +184,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         }
       }
       run_ham_max[std::size_t(k)] = ham_max;
+      run_h[std::size_t(k)] = {lo_h, hi_h};
     });
     for (int64_t k = 0; k < runs; ++k) {
       const int64_t r0 = b0 + k * run;
@@ -201,6 +201,8 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         tiles.voids[t] = cur.voids;
       }
       stats.ham_max = std::max(stats.ham_max, run_ham_max[std::size_t(k)]);
+      h_min = std::min(h_min, run_h[std::size_t(k)].first);
+      h_max = std::max(h_max, run_h[std::size_t(k)].second);
     }
     if (sink) sink(b1 - b0, band_out.data());
     progress(double(b1) / double(h), "ham");

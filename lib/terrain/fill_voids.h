@@ -31,7 +31,9 @@ int64_t fill_row_voids(float* row, int64_t width, bool has_nodata, float nodata)
 class VoidFiller {
  public:
   static constexpr int kSmoothing = 32;
-  static constexpr int64_t kEdge = 3;  // samples this close to a void (Chebyshev) are replaced
+  static constexpr int64_t kEdge = 3;
+  // `lookahead`: rows searched below a void (voids taller than it are filled without the samples
+  // below them until their end comes into reach).  // samples this close to a void (Chebyshev) are replaced
   VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, int64_t lookahead,
              int smoothing = kSmoothing);
   // Writes the next row, filled, into `out` (width floats) and returns its number of no-data
@@ -45,31 +47,38 @@ class VoidFiller {
   using Row = std::shared_ptr<const std::vector<float>>;
   struct Staged {
     int64_t y;
-    Row values;
+    Row values;  // null: the row had no void within kEdge and is read from the ring
     std::shared_ptr<const std::vector<uint8_t>> filled;  // 1 = replaced (void or void edge)
     int64_t voids;                                       // no-data samples (before erosion)
     std::shared_ptr<const std::vector<uint8_t>> nodata;
   };
+  int64_t slot(int64_t y) const { return y % capacity_; }
+  float* row(int64_t y) { return rows_.data() + slot(y) * width_; }
+  const float* row(int64_t y) const { return rows_.data() + slot(y) * width_; }
+  const float* values(const Staged& s) const;
   void load_more();
   int good(int64_t y, int64_t x) const;  // 1 good, 0 void or beside one, 2 not yet known
   Staged fill_next();                     // step 1 for the next input row
-  void push(int pass, Staged row);        // step 2, pass by pass
+  void push(int pass, Staged staged);     // step 2, pass by pass
 
   HeightmapSource& source_;
   bool has_nodata_;
   float nodata_;
-  int64_t width_, height_, lookahead_;
+  int64_t width_, height_, band_, lookahead_, capacity_ = 0;
   int smoothing_;
-  int64_t first_ = 0, loaded_ = 0, row_ = 0;  // buffered rows [first_, loaded_), next input row_
-  std::vector<float> rows_;                    // original samples of the buffered rows
-  std::vector<uint8_t> voids_;                 // their no-data flags
-  std::vector<float> up_val_;                  // last good sample above, per column
+  int64_t loaded_ = 0, row_ = 0;     // rows read so far; next input row
+  std::vector<float> rows_;          // ring of original rows (capacity_ rows)
+  std::vector<uint8_t> voids_;       // their no-data flags
+  std::vector<int64_t> counts_;      // no-data samples per ring row
+  std::vector<float> up_val_;        // last good sample above, per column
   std::vector<int64_t> up_row_, down_row_, down_scanned_;
   std::vector<int64_t> left_, right_;
-  std::vector<float> prev_;                    // the last filled row (step 1)
-  std::vector<std::deque<Staged>> passes_;     // the last rows of each smoothing pass
+  int64_t last_clean_ = -1;          // the last row kept as it is
+  Row prev_filled_;                  // the last step-1 row that was filled
+  std::vector<std::deque<Staged>> passes_;  // the last rows of each smoothing pass
   std::deque<Staged> ready_;
   std::vector<uint8_t> mask_, near_;
+  bool had_mask_ = true;
   uint64_t edge_samples_ = 0;
 };
 

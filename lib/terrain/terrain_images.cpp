@@ -30,7 +30,7 @@ std::vector<std::string> candidates() {
 const TerrainImages* load(std::string& why) {
   for (const std::string& path : candidates()) {
     if (::access(path.c_str(), F_OK) != 0) continue;
-    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    void* handle = ::dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (handle == nullptr) {
       why = ::dlerror();
       return nullptr;
