@@ -14,7 +14,7 @@
 #include "splatkit/remove_on_signal.h"
 #include "splatkit/same_file.h"
 #include "terrain/compute_ham.h"
-#include "terrain/raw_heightmap.h"
+#include "terrain/terrain_map.h"
 #include "terrain/terrain_images.h"
 
 namespace splatkit::apps {
@@ -24,11 +24,7 @@ namespace {
 using terrain::HeightmapSource;
 
 std::unique_ptr<HeightmapSource> open_source(const BuildHamOptions& o) {
-  const std::string& in = o.paths.input;
-  if (!o.raw.empty()) return terrain::open_raw_heightmap(in, terrain::parse_raw_layout(o.raw));
-  if (in == "-") throw_usage("IN may be '-' only with --raw (other formats need a file)");
-  if (lower_extension(in) == "hgt") return terrain::open_hgt(in);
-  return terrain::open_image_heightmap(in);
+  return terrain::open_heightmap(o.paths.input, o.raw);
 }
 
 // Metres per texel (x, y) from the georeferencing: geographic degrees at the map's centre
