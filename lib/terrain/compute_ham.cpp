@@ -76,9 +76,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   band = std::min(band, h);
   stats.band_rows = band;
 
-  // Void filling looks up to 256 rows below a void (fewer when a row is wider than 32 K).
-  const int64_t lookahead =
-      std::clamp<int64_t>((int64_t(40) << 20) / std::max<int64_t>(1, w * 5), 16, 256);
+  const int64_t lookahead = default_lookahead(w);
   VoidFiller filler(source, has_nodata, nodata, lookahead);
 
   // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.

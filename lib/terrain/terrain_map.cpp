@@ -37,7 +37,8 @@ TerrainMap load_terrain_map(HeightmapSource& source, std::optional<double> nodat
   m.height = info.height;
   m.heights.resize(std::size_t(m.width * m.height));
   const bool has_nodata = nodata.has_value() || info.has_nodata;
-  VoidFiller filler(source, has_nodata, float(nodata ? *nodata : info.nodata), 256);
+  VoidFiller filler(source, has_nodata, float(nodata ? *nodata : info.nodata),
+                    default_lookahead(m.width));
   for (int64_t y = 0; y < m.height; ++y) filler.next(m.heights.data() + y * m.width);
   for (float& h : m.heights) h = float(h * z_scale);
   const auto [lo, hi] = std::minmax_element(m.heights.begin(), m.heights.end());

@@ -97,7 +97,7 @@ std::vector<float> filled_copy(const std::vector<float>& v, int64_t w, int64_t h
                                float nodata) {
   MemorySource src(v, w, h);
   if (nd) src.set_nodata(nodata);
-  VoidFiller filler(src, nd, nodata, 1 << 20);
+  VoidFiller filler(src, nd, nodata, default_lookahead(w));
   std::vector<float> out(v.size());
   for (int64_t y = 0; y < h; ++y) filler.next(out.data() + y * w);
   return out;
