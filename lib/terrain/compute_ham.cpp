@@ -63,20 +63,31 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   const auto nodata = float(o.has_nodata ? o.nodata : info.nodata);
   const auto zs = float(o.z_scale);
 
-  HamTiles tiles;
-  tiles.resize(w, h, T);
-  tiles.z_scale = o.z_scale;
-  stats = {};
-  stats.samples = uint64_t(w) * uint64_t(h);
-
   // Band: a multiple of the reader's band, about band_bytes of rows.
   const int64_t reader_rows = std::max<int64_t>(1, info.band_rows);
   int64_t band = std::max<int64_t>(8, o.band_bytes / std::max<int64_t>(1, w * 4));
   band = std::max(reader_rows, band / reader_rows * reader_rows);
   band = std::min(band, h);
-  stats.band_rows = band;
-
   const int64_t lookahead = default_lookahead(w);
+  // Rows held at once: the band with its halo, the void filler's ring, per-thread rows.
+  const double tiles_bytes = 20.0 * double((w + T - 1) / T) * double((h + T - 1) / T);
+  const double held =
+      double(w) * (4.0 * double(band + 4) + 5.0 * double(lookahead + 2 * reader_rows + 64)) +
+      tiles_bytes;
+  if (held > double(int64_t(4) << 30))
+    throw_unsupported("the heightmap",
+                      std::to_string(w) + " x " + std::to_string(h) + " texels in tiles of " +
+                          std::to_string(T) + " need " +
+                          std::to_string(int64_t(held / double(1 << 20))) +
+                          " MiB in memory at once (limit 4096)");
+  HamTiles tiles;
+  tiles.resize(w, h, T);
+  tiles.z_scale = o.z_scale;
+  stats = {};
+  stats.band_rows = band;
+  stats.samples = uint64_t(w) * uint64_t(h);
+
+
   VoidFiller filler(source, has_nodata, nodata, lookahead);
 
   // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.

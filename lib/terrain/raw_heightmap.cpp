@@ -151,13 +151,17 @@ RawLayout parse_raw_layout(const std::string& text) {
 std::unique_ptr<HeightmapSource> open_raw_heightmap(const std::string& path,
                                                     const RawLayout& layout) {
   if (path != "-") {
-    const int64_t expected = layout.width * layout.height * sample_bytes(layout.type);
+    const auto expected = static_cast<unsigned __int128>(layout.width) *
+                          static_cast<unsigned __int128>(layout.height) *
+                          static_cast<unsigned>(sample_bytes(layout.type));
     const int64_t length = file_length(path);
-    if (length != expected)
+    if (static_cast<unsigned __int128>(length) != expected)
       throw_bad_input(display_name(path),
                       std::to_string(length) + " bytes; --raw " + std::to_string(layout.width) +
                           "," + std::to_string(layout.height) + "," + layout.type + " needs " +
-                          std::to_string(expected));
+                          (expected < (static_cast<unsigned __int128>(1) << 63)
+                               ? std::to_string(uint64_t(expected))
+                               : std::string("more than 2^63")));
   }
   HeightmapInfo info;
   info.format = "raw";

@@ -14,6 +14,13 @@ namespace {
 
 using OIIO::TypeDesc;
 
+// OpenImageIO's messages may span lines; splatkit's errors are one line.
+std::string one_line(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  for (std::size_t i = s.find('\n'); i != std::string::npos; i = s.find('\n', i)) s.replace(i, 1, "; ");
+  return s;
+}
+
 std::string sample_type_name(TypeDesc t) {
   switch (t.basetype) {
     case TypeDesc::UINT8: return "uint8";
@@ -60,7 +67,7 @@ class OiioRows final : public RasterRows {
 
  private:
   std::string error() {
-    std::string e = in->geterror();
+    std::string e = one_line(in->geterror());
     return e.empty() ? "OpenImageIO could not read rows" : e;
   }
   template <class T>
@@ -82,10 +89,12 @@ class OiioRows final : public RasterRows {
 };
 
 std::string open_raster(const std::string& path, std::unique_ptr<RasterRows>& out) {
+  // Rows are streamed: OpenImageIO's cap on whole-image sizes does not apply.
+  OIIO::attribute("limits:imagesize_MB", 0);
   auto rows = std::make_unique<OiioRows>();
   rows->in = OIIO::ImageInput::open(path);
   if (!rows->in) {
-    std::string e = OIIO::geterror();
+    std::string e = one_line(OIIO::geterror());
     return e.empty() ? "OpenImageIO cannot read this file" : e;
   }
   const OIIO::ImageSpec& spec = rows->in->spec();
@@ -99,6 +108,15 @@ std::string open_raster(const std::string& path, std::unique_ptr<RasterRows>& ou
   rows->info.width = spec.width;
   rows->info.height = spec.height;
   rows->info.format = rows->in->format_name();
+  // An uncompressed file must hold every sample: a header claiming more is refused before any
+  // memory is set aside for its rows.
+  const std::string compression = spec.get_string_attribute("compression", "none");
+  const uint64_t file_size = OIIO::Filesystem::file_size(path);
+  const uint64_t need = uint64_t(spec.width) * uint64_t(spec.height) * rows->type.size();
+  if (std::string(rows->in->format_name()) == "tiff" && compression == "none" && file_size < need)
+    return "truncated: " + std::to_string(file_size) + " bytes cannot hold " +
+           std::to_string(spec.width) + " x " + std::to_string(spec.height) + " uncompressed " +
+           rows->info.sample_type + " samples";
   rows->tiled = spec.tile_width > 0 && spec.tile_height > 0;
   rows->info.band_rows = rows->tiled ? (64 + spec.tile_height - 1) / spec.tile_height * spec.tile_height : 64;
   out = std::move(rows);
@@ -142,7 +160,7 @@ std::string encode_tiles(const HamTiles& t, std::vector<unsigned char>& bytes) {
 std::string decode_tiles(const std::string& path, HamTiles& t) {
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
-    std::string e = OIIO::geterror();
+    std::string e = one_line(OIIO::geterror());
     return e.empty() ? "OpenImageIO cannot read this file" : e;
   }
   const OIIO::ImageSpec& spec = in->spec();
@@ -169,7 +187,7 @@ std::string decode_tiles(const std::string& path, HamTiles& t) {
     if (spec.channelformat(index) != want)
       return std::string("channel ") + kTileChannels[c] + " is not " + want.c_str();
     std::vector<uint32_t> plane(n);
-    if (!in->read_image(0, 0, index, index + 1, want, plane.data())) return in->geterror();
+    if (!in->read_image(0, 0, index, index + 1, want, plane.data())) return one_line(in->geterror());
     if (c == 0) std::memcpy(t.ham_max.data(), plane.data(), 4 * n);
     if (c == 1) std::memcpy(t.h_max.data(), plane.data(), 4 * n);
     if (c == 2) t.x = plane;
