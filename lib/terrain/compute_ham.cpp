@@ -1,6 +1,7 @@
 #include "terrain/compute_ham.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <cmath>
@@ -96,15 +97,17 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
   float h_min = INFINITY, h_max = -INFINITY;
 
-  auto read_more = [&](int64_t until) {
-    const int64_t n = until - loaded;
-    const std::size_t at = std::size_t((loaded - lo) * w);
-    window.resize(at + std::size_t(n * w));
-    row_voids.resize(std::size_t((loaded - lo + n) * tiles.tiles_x));
+  // Rows are filled into `ahead` (by a task while the previous band is computed), then moved
+  // to the window.
+  std::vector<float> ahead;
+  std::vector<uint32_t> ahead_voids;
+  int64_t ahead_rows = 0;
+  auto produce = [&](int64_t n) {
+    ahead.resize(std::size_t(n * w));
+    ahead_voids.assign(std::size_t(n * tiles.tiles_x), 0u);
     for (int64_t r = 0; r < n; ++r) {
-      float* row = window.data() + at + std::size_t(r * w);
-      uint32_t* rv = row_voids.data() + std::size_t((loaded - lo + r) * tiles.tiles_x);
-      std::fill(rv, rv + tiles.tiles_x, 0u);
+      float* row = ahead.data() + std::size_t(r * w);
+      uint32_t* rv = ahead_voids.data() + std::size_t(r * tiles.tiles_x);
       const int64_t v = filler.next(row);
       if (v > 0) {
         const std::vector<uint8_t>& mask = filler.mask();
@@ -115,7 +118,14 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       if (zs != 1.0f)
         for (int64_t x = 0; x < w; ++x) row[x] *= zs;
     }
-    loaded = until;
+    ahead_rows = n;
+  };
+  auto take_ahead = [&] {
+    window.insert(window.end(), ahead.begin(), ahead.begin() + ahead_rows * w);
+    row_voids.insert(row_voids.end(), ahead_voids.begin(),
+                     ahead_voids.begin() + ahead_rows * tiles.tiles_x);
+    loaded += ahead_rows;
+    ahead_rows = 0;
   };
 
   std::vector<float> band_out;
@@ -128,7 +138,14 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       row_voids.erase(row_voids.begin(), row_voids.begin() + drop * tiles.tiles_x);
       lo = need_lo;
     }
-    read_more(need_hi);
+    if (loaded < need_hi) {  // the first band (later ones were read ahead)
+      produce(need_hi - loaded);
+      take_ahead();
+    }
+    // Read the next band's rows while this one is computed.
+    const int64_t next_hi = std::min(h, b1 + band + 2);
+    tbb::task_group prefetch;
+    if (next_hi > loaded) prefetch.run([&, n = next_hi - loaded] { produce(n); });
     auto hrow = [&](int64_t r) {
       r = std::clamp<int64_t>(r, 0, h - 1);
       return window.data() + (r - lo) * w;
@@ -141,6 +158,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     std::vector<std::vector<TileAcc>> parts(static_cast<std::size_t>(runs));
     std::vector<double> run_ham_max(static_cast<std::size_t>(runs), 0.0);
     std::vector<std::pair<float, float>> run_h(static_cast<std::size_t>(runs));
+    try {
     tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
       const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
       const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
@@ -195,6 +213,14 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       run_ham_max[std::size_t(k)] = ham_max;
       run_h[std::size_t(k)] = {lo_h, hi_h};
     });
+    } catch (...) {
+      try {
+        prefetch.wait();
+      } catch (...) {
+      }
+      throw;
+    }
+    prefetch.wait();
     for (int64_t k = 0; k < runs; ++k) {
       const int64_t r0 = b0 + k * run;
       const int64_t ty0 = r0 / T;
@@ -214,6 +240,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       h_max = std::max(h_max, run_h[std::size_t(k)].second);
     }
     if (sink) sink(b1 - b0, band_out.data());
+    if (ahead_rows > 0) take_ahead();
     progress(double(b1) / double(h), "ham");
   }
   stats.h_min = double(h_min);

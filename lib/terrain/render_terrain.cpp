@@ -60,7 +60,7 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
   TerrainRenderStats stats;
   const std::vector<TileFactors> factors =
       tess_factors(tiles, frame, p, o.tess, height_at, &map);
-  const Vec3f light = normalized(Vec3f{-0.45f, 0.55f, 0.70f});
+  const Vec3f light = normalized(Vec3f{0.35f, -0.45f, 0.80f});
   const float range = std::max(1e-6f, map.h_max - map.h_min);
 
   TileMesh mesh;
@@ -97,7 +97,7 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
         const double dhdy = (map.sample(x, y + 1) - map.sample(x, y - 1)) * 0.5;
         s.normal = normalized(Vec3f{float(-dhdx / frame.sx), float(dhdy / frame.sy), 1.0f});
         const float lambert = std::max(0.0f, dot(s.normal, light));
-        s.color = hypsometric((float(h) - map.h_min) / range) * (0.30f + 0.75f * lambert);
+        s.color = hypsometric((float(h) - map.h_min) / range) * (0.45f + 0.65f * lambert);
       }
       for (const auto& t : mesh.triangles) {
         const ScreenVertex &a = sv[t[0]], &b = sv[t[1]], &c = sv[t[2]];
