@@ -1,6 +1,6 @@
-// Tessellation factors of terrain tiles for a camera, after Yusov & Shevtsov's HAM-driven
-// hardware tessellation [Yusov11]: per tile, integer factors in [1, 64] for its four edges and
-// its interior (0 for a tile outside the view frustum), from
+// Tessellation factors of terrain tiles for a camera, after the HAM-driven hardware
+// tessellation of [Valdetaro10] ([TerrainCh5] eqs. 5-2 to 5-7): per tile, integer factors in
+// [1, 64] for its four edges and its interior (0 for a tile outside the view frustum), from
 //   T_max = 1 + 63·sqrt(HAM_max / HAM_ref)          (the tile's roughness; HAM_ref: the map's
 //                                                     largest HAM, so the roughest tile gets 64)
 //   T_min = clamp(log2(ĥ / ε), 1, T_max)             (ĥ: the projected peak height in pixels,
