@@ -65,7 +65,7 @@ class Parser {
       if (size == 0) fail(where + " has unknown type " + std::to_string(type));
       std::vector<unsigned char> v(std::size_t(count) * size);
       if (v.size() <= slot) {
-        std::memcpy(v.data(), inline_value, v.size());
+        if (!v.empty()) std::memcpy(v.data(), inline_value, v.size());
       } else {
         const uint64_t off = big_ ? u64(inline_value) : u32(inline_value);
         if (!read_(off, v.size(), v.data())) fail(where + " values run past the end");

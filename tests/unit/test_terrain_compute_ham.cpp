@@ -258,13 +258,17 @@ TEST(TerrainComputeHam, RealSrtmWithVoids) {
     // samples replaced too, then two Sobel passes) against the HAM of the texels that do not,
     // in the same tile and the 8 around it.
     const HamTiles& t = r.tiles;
-    std::vector<uint8_t> affected(std::size_t(w * h), 0);
-    for (int64_t y = 0; y < h; ++y)
+    std::vector<uint8_t> row_near(std::size_t(w * h), 0), affected(std::size_t(w * h), 0);
+    for (int64_t y = 0; y < h; ++y)  // dilation by 5 texels: rows, then columns
       for (int64_t x = 0; x < w; ++x)
         if (raw[std::size_t(y * w + x)] == -32768)
+          for (int64_t xx = std::max<int64_t>(0, x - 5); xx <= std::min(w - 1, x + 5); ++xx)
+            row_near[std::size_t(y * w + xx)] = 1;
+    for (int64_t y = 0; y < h; ++y)
+      for (int64_t x = 0; x < w; ++x)
+        if (row_near[std::size_t(y * w + x)])
           for (int64_t yy = std::max<int64_t>(0, y - 5); yy <= std::min(h - 1, y + 5); ++yy)
-            for (int64_t xx = std::max<int64_t>(0, x - 5); xx <= std::min(w - 1, x + 5); ++xx)
-              affected[std::size_t(yy * w + xx)] = 1;
+            affected[std::size_t(yy * w + x)] = 1;
     std::vector<float> clean(t.size(), 0.0f), filled_max(t.size(), 0.0f);
     for (int64_t y = 0; y < h; ++y)
       for (int64_t x = 0; x < w; ++x) {
