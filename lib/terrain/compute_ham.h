@@ -21,7 +21,7 @@ struct HamOptions {
   bool has_nodata = false;  // overrides the source's own no-data value when set
   double nodata = 0;
   // Bytes of rows a band may hold (the band is at least 8 rows and a reader band).
-  int64_t band_bytes = int64_t(32) << 20;
+  int64_t band_bytes = int64_t(8) << 20;
 };
 
 struct HamStats {

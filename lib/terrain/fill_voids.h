@@ -29,9 +29,9 @@ inline bool is_void(float v, bool has_nodata, float nodata) {
 int64_t fill_row_voids(float* row, int64_t width, bool has_nodata, float nodata);
 
 // The look-ahead build-ham uses for a map `width` texels wide: 256 rows, fewer for rows wider
-// than 32 K texels (about 40 MiB of rows and flags).
+// than 12 K texels (about 16 MiB of rows and flags), at least 16.
 inline int64_t default_lookahead(int64_t width) {
-  const int64_t rows = (int64_t(40) << 20) / (width > 0 ? width * 5 : 1);
+  const int64_t rows = (int64_t(16) << 20) / (width > 0 ? width * 5 : 1);
   return rows < 16 ? 16 : rows > 256 ? 256 : rows;
 }
 
