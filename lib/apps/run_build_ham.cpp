@@ -14,6 +14,7 @@
 #include "splatkit/remove_on_signal.h"
 #include "splatkit/same_file.h"
 #include "terrain/compute_ham.h"
+#include "terrain/encode_ham_tiles.h"
 #include "terrain/terrain_map.h"
 #include "terrain/terrain_images.h"
 
@@ -133,9 +134,7 @@ StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress)
   for (const auto& [key, value] : header.items()) tiles.header[key] = value;
 
   const Clock::time_point t0 = Clock::now();
-  std::vector<unsigned char> bytes;
-  const std::string why = terrain::terrain_images(output).encode_tiles(tiles, bytes);
-  if (!why.empty()) throw_output(display_name(output, true), why);
+  const std::vector<unsigned char> bytes = terrain::encode_ham_tiles(tiles);
   OutputFile out(output);
   out.write(bytes.data(), bytes.size());
   if (full) full->commit();

@@ -5,7 +5,9 @@
 
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
+#include "terrain/direct_tiff.h"
 #include "terrain/fill_voids.h"
+#include "terrain/tiff_geo_tags.h"
 #include "terrain/raw_heightmap.h"
 #include "terrain/terrain_images.h"
 
@@ -25,7 +27,11 @@ double TerrainMap::sample(double x, double y) const {
 std::unique_ptr<HeightmapSource> open_heightmap(const std::string& path, const std::string& raw) {
   if (!raw.empty()) return open_raw_heightmap(path, parse_raw_layout(raw));
   if (path == "-") throw_usage("a heightmap may be '-' only with --raw (other formats need a file)");
-  if (lower_extension(path) == "hgt") return open_hgt(path);
+  const std::string ext = lower_extension(path);
+  if (ext == "hgt") return open_hgt(path);
+  if (ext == "tif" || ext == "tiff") {  // uncompressed single-band: read directly
+    if (auto direct = open_direct_tiff(path, read_tiff_geo_tags_file(path))) return direct;
+  }
   return open_image_heightmap(path);
 }
 

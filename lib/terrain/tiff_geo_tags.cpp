@@ -53,10 +53,18 @@ class Parser {
     for (uint64_t i = 0; i < entries; ++i) {
       const unsigned char* e = dir.data() + i * entry_size;
       const uint16_t tag = u16(e), type = u16(e + 2);
+      const bool layout_tag = tag == 256 || tag == 257 || tag == 258 || tag == 259 ||
+                              tag == 273 || tag == 277 || tag == 278 || tag == 279 ||
+                              tag == 284 || tag == 322 || tag == 323 || tag == 324 ||
+                              tag == 325 || tag == 339;
       if (tag != kNoData && tag != kPixelScale && tag != kTiepoint && tag != kTransformation &&
-          tag != kGeoKeys)
+          tag != kGeoKeys && !layout_tag)
         continue;
       const uint64_t count = big_ ? u64(e + 4) : u32(e + 4);
+      if (layout_tag) {
+        read_layout(tag, type, count, e + (big_ ? 12 : 8), out.layout);
+        continue;
+      }
       const unsigned char* inline_value = e + (big_ ? 12 : 8);
       const std::size_t slot = big_ ? 8 : 4;
       const std::string where = "tag " + std::to_string(tag);
@@ -106,10 +114,48 @@ class Parser {
       }
     }
     if (!geo.empty()) out.georef = std::move(geo);
+    out.layout.little_endian = little_;
     return out;
   }
 
  private:
+  // A layout tag's values (SHORT, LONG or LONG8): one value, or the strips' or tiles' offsets
+  // and byte counts (at most 2^24 of them; the bytes must be in the file).
+  void read_layout(uint16_t tag, uint16_t type, uint64_t count, const unsigned char* inline_value,
+                   TiffLayout& l) {
+    const std::string where = "tag " + std::to_string(tag);
+    const std::size_t size = type == 3 ? 2 : type == 4 ? 4 : type == 16 ? 8 : 0;
+    if (size == 0) fail(where + " has type " + std::to_string(type) + " (an integer expected)");
+    if (count > (uint64_t(1) << 24)) fail(where + " has " + std::to_string(count) + " values");
+    const bool many = tag == 273 || tag == 279 || tag == 324 || tag == 325;
+    if (!many && count != 1 && tag != 258 && tag != 339) fail(where + " has " + std::to_string(count) + " values");
+    if (count == 0) fail(where + " has no value");
+    std::vector<unsigned char> v(std::size_t(count) * size);
+    if (v.size() <= std::size_t(big_ ? 8 : 4)) {
+      std::memcpy(v.data(), inline_value, v.size());
+    } else {
+      const uint64_t off = big_ ? u64(inline_value) : u32(inline_value);
+      if (!read_(off, v.size(), v.data())) fail(where + " values run past the end");
+    }
+    std::vector<uint64_t> values(static_cast<std::size_t>(count));
+    for (std::size_t k = 0; k < values.size(); ++k)
+      values[k] = size == 2 ? u16(v.data() + 2 * k) : size == 4 ? u32(v.data() + 4 * k) : u64(v.data() + 8 * k);
+    switch (tag) {
+      case 256: l.width = values[0]; break;
+      case 257: l.height = values[0]; break;
+      case 258: l.bits = values[0]; break;  // one per sample; the first is the one read
+      case 259: l.compression = values[0]; break;
+      case 277: l.samples = values[0]; break;
+      case 278: l.rows_per_strip = values[0]; break;
+      case 284: l.planar = values[0]; break;
+      case 322: l.tile_width = values[0]; break;
+      case 323: l.tile_height = values[0]; break;
+      case 339: l.sample_format = values[0]; break;
+      case 273: case 324: l.offsets = std::move(values); break;
+      default: l.byte_counts = std::move(values); break;
+    }
+  }
+
   static std::size_t type_size(uint16_t type) {
     switch (type) {
       case 1: case 2: case 6: case 7: return 1;

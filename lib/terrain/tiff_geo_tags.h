@@ -11,12 +11,23 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace splatkit::terrain {
+
+// The layout of the first image, for reading uncompressed single-band files directly.
+struct TiffLayout {
+  bool little_endian = true;
+  uint64_t width = 0, height = 0;
+  uint64_t bits = 0, sample_format = 1, samples = 1, compression = 1, planar = 1;
+  uint64_t rows_per_strip = 0, tile_width = 0, tile_height = 0;
+  std::vector<uint64_t> offsets, byte_counts;  // strips or tiles
+};
 
 struct TiffGeoTags {
   std::optional<double> nodata;
   nlohmann::json georef;  // null when the file has no GeoTIFF tags
+  TiffLayout layout;
 };
 
 // Reads n bytes at offset into out; false when the file is shorter.
