@@ -114,7 +114,9 @@ def chunk(t, b): return struct.pack(">I", len(b)) + t + b + struct.pack(">I", zl
 open(d + "/u16.png", "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 16, 0, 0, 0, 0)) + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 PY
 oiiotool "$WORK/f32.tif" -o "$WORK/f32.exr" 2>/dev/null
-for f in f32.tif f32-tiled.tif i32.tif i16-tiled.tif f32.exr N46W122.hgt; do
+# A compressed TIFF goes through OpenImageIO (the uncompressed ones are read directly).
+oiiotool "$WORK/f32.tif" --compression zip -o "$WORK/f32-zip.tif" 2>/dev/null
+for f in f32.tif f32-tiled.tif i32.tif i16-tiled.tif f32-zip.tif f32.exr N46W122.hgt; do
   expect_exit 0 "$BIN/build-ham" "$WORK/$f" "$WORK/$f.tiles.exr" -q
   same_pixels "$WORK/t.exr" "$WORK/$f.tiles.exr" && pass || fail "$f: tiles differ from the TIFF's"
 done
