@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
       "bands of rows: memory does not grow with its height.",
       "  $ build-ham N46W122.hgt rainier-tiles.exr --report ham.json\n"
       "  $ build-ham dem.tif tiles.exr --tile 32 --ham-full ham.exr --z-scale 2\n"
-      "  $ cat dem.f32 | build-ham - tiles.exr --raw 8192,8192,float32,little\n");
+      "  $ cat dem.f32 | build-ham - dem-f32.exr --raw 1024,1024,float32,little\n");
   splatkit::apps::BuildHamOptions o;
   auto& app = tool.app();
   tool.add_in_out(o.paths, "Heightmap ('-' = stdin, with --raw only)",
