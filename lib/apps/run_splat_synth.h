@@ -13,11 +13,16 @@
 namespace splatkit::apps {
 
 struct SplatSynthOptions {
-  std::string shape;      // sphere | torus | cad | two-spheres | cube
+  std::string shape;      // sphere | torus | cad | two-spheres | cube | city
   std::string output;     // extension picks the format ("-": .splk on standard output)
   ShapeOptions sample;    // points, seed, noise, random, keep_inside; kind comes from `shape`
   bool no_color = false;  // leave out the colours
   WriteOptions write;     // ascii, big_endian (PLY)
+  // city (splatkit/synthetic_city.h): buildings per side, and a JSON camera path of a street-level
+  // walkthrough (splat-view --path) written beside the cloud when `walkthrough` is not empty.
+  int city_blocks = 8;
+  int walk_frames = 60;
+  std::string walkthrough;
 };
 
 // Throws Error(kUsage) for bad options or an unusable OUT (before any work), Error(kOutput).

@@ -6,22 +6,29 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <numbers>
 #include <regex>
+#include <sstream>
 #include <vector>
 
 #include "apps/parse_triple.h"
+#include "apps/read_camera_path.h"
 #include "apps/stage.h"
 #include "formats/read_cloud.h"
 #include "formats/read_qsplat.h"
 #include "render/background_image_writer.h"
 #include "render/camera.h"
+#include "render/chunk_bvh.h"
+#include "render/count_visible_splats.h"
+#include "render/occlusion_culler.h"
 #include "render/qsplat_scene.h"
 #include "render/reconstruct_pixel.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
 #include "render/setup_splats.h"
 #include "render/splat_palette.h"
+#include "render/subset_scene.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
@@ -56,6 +63,8 @@ struct Resolved {
   Vec3f up{0, 0, 1};
   ColorBy color_by = ColorBy::kFile;
   RenderOptions render;
+  OcclusionMode occlusion = OcclusionMode::kNone;
+  BvhSplit split = BvhSplit::kMedian;
 };
 
 Vec3f to_vec3(const std::array<double, 3>& v) {
@@ -90,13 +99,13 @@ void parse_view(const std::string& text, Resolved& r) {
 }
 
 void parse_blend(const std::string& text, RenderOptions& r) {
-  if (text == "zrange") {
-    r.blend = BlendMode::kZRange;
+  if (text == "zrange" || text == "zbuffer") {
+    r.blend = text == "zrange" ? BlendMode::kZRange : BlendMode::kZBuffer;
     return;
   }
   const std::string prefix = "zthreshold";
   if (text.rfind(prefix, 0) != 0)
-    throw_usage("--blend must be zthreshold[=EPS] or zrange, got '" + text + "'");
+    throw_usage("--blend must be zthreshold[=EPS], zrange or zbuffer, got '" + text + "'");
   r.blend = BlendMode::kZThreshold;
   if (text.size() == prefix.size()) return;
   std::size_t used = 0;
@@ -169,15 +178,24 @@ Resolved resolve(const SplatViewOptions& o) {
   if (o.render.max_fragments < 1 || o.render.max_fragments > kMaxFragmentsPerPixel)
     throw_usage("--max-fragments must be in [1, " + std::to_string(kMaxFragmentsPerPixel) + "]");
   if (o.turntable < 0) throw_usage("--turntable must be positive");
-  if (o.turntable > 0) {
+  r.occlusion = parse_occlusion_mode(o.occlusion);
+  if (o.bvh_split != "median" && o.bvh_split != "sah")
+    throw_usage("--bvh-split must be median or sah, got '" + o.bvh_split + "'");
+  r.split = o.bvh_split == "sah" ? BvhSplit::kSah : BvhSplit::kMedian;
+  if (o.bvh_leaf < 1) throw_usage("--bvh-leaf must be at least 1");
+  if (r.occlusion != OcclusionMode::kNone && r.render.blend == BlendMode::kZBuffer)
+    throw_usage("--occlusion works with the A-buffer blends (zthreshold, zrange), not zbuffer");
+  if (!o.path.empty() && (r.eye || r.view || o.turntable > 0))
+    throw_usage("--path gives the cameras; it does not go with --eye, --view or --turntable");
+  if (o.turntable > 0 || !o.path.empty()) {
     const auto begin = std::sregex_iterator(o.output.begin(), o.output.end(), frame_pattern());
     if (std::distance(begin, std::sregex_iterator()) != 1 ||
         std::count(o.output.begin(), o.output.end(), '%') != 1)
-      throw_usage(
-          "--turntable needs an output name with one frame number field such as %04d, got '" +
-          o.output + "'");
+      throw_usage(std::string(o.turntable > 0 ? "--turntable" : "--path") +
+                  " needs an output name with one frame number field such as %04d, got '" +
+                  o.output + "'");
   }
-  check_output_format(o.turntable > 0 ? frame_path(o.output, 0) : o.output);
+  check_output_format(o.turntable > 0 || !o.path.empty() ? frame_path(o.output, 0) : o.output);
   return r;
 }
 
@@ -202,7 +220,9 @@ Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingS
   return orbit_camera(bounds, az, el, r.view_distance, r.up, o.fov_y_deg, o.width, o.height);
 }
 
-const char* blend_name(BlendMode m) { return m == BlendMode::kZRange ? "zrange" : "zthreshold"; }
+const char* blend_name(BlendMode m) {
+  return m == BlendMode::kZRange ? "zrange" : m == BlendMode::kZBuffer ? "zbuffer" : "zthreshold";
+}
 
 // Replaces the scene's colours by the false colours of `by`, or says which tool makes the data.
 void apply_colors(ColorBy by, DocumentScene& d, const std::string& name) {
@@ -262,6 +282,31 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
   return j;
 }
 
+nlohmann::json occlusion_json(const OcclusionStats& s) {
+  auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
+  return {
+      {"nodes_traversed", s.nodes_traversed},
+      {"queries", s.queries},
+      {"multiqueries", s.multiqueries},
+      {"queries_per_multiquery",
+       s.multiqueries ? std::round(100.0 * s.multiquery_nodes / s.multiqueries) / 100 : 0.0},
+      {"nodes_culled_frustum", s.culled_frustum},
+      {"nodes_culled_occlusion", s.culled_occlusion},
+      {"leaves_drawn", s.leaves_drawn},
+      {"splats_drawn", s.splats_drawn},
+      {"time_ms",
+       {{"traversal", ms(s.traversal_s)}, {"queries", ms(s.query_s)}, {"depth", ms(s.depth_s)}}}};
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw_bad_input(path, "cannot open the camera path");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw_bad_input(path, "cannot read the camera path");
+  return text.str();
+}
+
 // Distinct ids, not counting kNoSurfaceId.
 uint64_t surface_count(const std::vector<uint32_t>& ids) {
   std::vector<uint32_t> sorted(ids);
@@ -289,12 +334,18 @@ StageSummary SplatViewSummary::line() const {
 
 SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& progress) {
   const Resolved r = resolve(o);
-  const int frames = o.turntable > 0 ? o.turntable : 1;
-  auto image_path = [&](int i) { return o.turntable > 0 ? frame_path(o.output, i) : o.output; };
+  std::vector<Camera> path;
+  if (!o.path.empty())
+    path = read_camera_path(read_text_file(o.path), o.path, r.up, o.fov_y_deg, o.width, o.height);
+  const bool numbered = o.turntable > 0 || !o.path.empty();
+  const int frames = !path.empty() ? int(path.size()) : o.turntable > 0 ? o.turntable : 1;
+  auto image_path = [&](int i) { return numbered ? frame_path(o.output, i) : o.output; };
   Stage stage("splat-view", {o.input, image_path(0), o.stats_path}, "--stats");
-  for (int i = 1; i < frames; ++i)  // the other frames of a turntable
-    if (same_file(o.input, image_path(i)) || same_file(o.stats_path, image_path(i), 1, 1))
-      throw_usage("frame " + image_path(i) + " would overwrite the input or the stats");
+  for (int i = 0; i < frames; ++i)  // the other frames of a turntable or a path; the path file
+    if ((i > 0 &&
+         (same_file(o.input, image_path(i)) || same_file(o.stats_path, image_path(i), 1, 1))) ||
+        (!o.path.empty() && same_file(o.path, image_path(i))))
+      throw_usage("frame " + image_path(i) + " would overwrite an input or the stats");
 
   SplatViewSummary summary;
   const auto t0 = Clock::now();
@@ -313,6 +364,29 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   const Camera base = base_camera(o, r, scene.bounds);
   RenderOptions render = r.render;
   render.planes = planes_for_output(o.output, use_ids);
+  // Occlusion culling: the chunk hierarchy once, then per frame the splats to draw as a scene of
+  // their own (subset_scene.h) rendered like the whole one.
+  const bool culling = r.occlusion != OcclusionMode::kNone;
+  if (culling && scene.qsplat)
+    throw_usage("--occlusion needs a plain splat file; " + name + " is a QSplat hierarchy");
+  if (culling && render.clip && scene.has_clip())
+    throw_usage("--occlusion does not cull scenes with clip partners (" + name +
+                "); give --no-clip or --occlusion none");
+  ChunkBvh bvh;
+  if (culling) {
+    bvh = stage.phase(nullptr, "building the chunk hierarchy",
+                      [&] { return build_chunk_bvh(scene, o.bvh_leaf, r.split); });
+    summary.bvh_seconds = bvh.build_seconds;
+  }
+  std::unique_ptr<OcclusionCuller> culler;
+  if (culling) culler = std::make_unique<OcclusionCuller>(scene, bvh);
+  float margin = 0;
+  if (culling) {
+    const float eps = render.epsilon > 0 ? render.epsilon : 2.0f * scene.mean_radius;
+    margin = depth_window(render.blend, eps, scene.max_radius, render.max_fragments);
+  }
+  RenderScene subset;
+  nlohmann::json per_frame_occlusion = nlohmann::json::array();
   FrameRenderer renderer;
   Framebuffer frame;
   // Frame i is encoded and written on the writer's thread while frame i + 1 renders; the two
@@ -329,13 +403,27 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   };
   for (int i = 0; i < frames; ++i) {
     progress(double(i) / frames, "rendering");
-    const Camera camera = turned_camera(
-        base, r.up, 2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
+    const Camera camera =
+        !path.empty()
+            ? path[i]
+            : turned_camera(base, r.up,
+                            2.0f * std::numbers::pi_v<float> * static_cast<float>(i) / frames);
     Framebuffer target = std::move(frame);
     FrameStats stats;
+    OcclusionStats occlusion;
     try {
-      stats = stage.phase(nullptr, "rendering",
-                          [&] { return renderer.render(scene, camera, render, target); });
+      stats = stage.phase(nullptr, "rendering", [&] {
+        if (!culling) return renderer.render(scene, camera, render, target);
+        const auto c0 = Clock::now();
+        const std::vector<uint32_t>& draw = culler->cull(make_projection(camera), r.occlusion,
+                                                         margin, render.cull_backfaces, occlusion);
+        subset_scene(scene, draw, subset);
+        const double cull_s = seconds_since(c0);
+        FrameStats f = renderer.render(subset, camera, render, target);
+        f.select_s += cull_s;  // culling is the selection of what to draw
+        f.total_s += cull_s;
+        return f;
+      });
     } catch (...) {
       if (writer.busy()) finish_write();  // an error writing the previous frame came first
       throw;
@@ -343,6 +431,12 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     if (writer.busy()) finish_write();
     writer.start(std::move(target), image_path(i), i + 1 < frames);
     summary.frame_seconds += stats.total_s;
+    summary.occlusion.add(occlusion);
+    nlohmann::json oj = culling ? occlusion_json(occlusion) : nlohmann::json::object();
+    if (o.count_visible && !scene.qsplat)
+      oj["splats_visible"] =
+          count_visible_splats(scene, make_projection(camera), render.cull_backfaces);
+    per_frame_occlusion.push_back(oj);
     last = stats;
   }
   std::unique_ptr<OutputFile> last_image = finish_write();  // committed after the stats
@@ -363,6 +457,22 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     j["clipped_splats"] = r.render.clip ? scene.clip.clipped_splats() : 0;
     j["clip_partners"] = r.render.clip ? scene.clip.partners.size() : 0;
     j["load_ms"] = std::round(summary.load_seconds * 1e6) / 1e3;
+    j["occlusion"] = occlusion_mode_name(r.occlusion);
+    if (o.count_visible)
+      for (std::size_t f = 0; f < per_frame.size(); ++f)
+        per_frame[f]["occlusion"] = per_frame_occlusion[f];
+    if (culling) {
+      j["bvh"] = {{"split", o.bvh_split},
+                  {"leaf_size", o.bvh_leaf},
+                  {"nodes", bvh.nodes.size()},
+                  {"leaves", bvh.leaf_count},
+                  {"sah_cost", std::round(bvh.sah_cost() * 1e3) / 1e3},
+                  {"build_ms", std::round(bvh.build_seconds * 1e6) / 1e3}};
+      j["occlusion_total"] = occlusion_json(summary.occlusion);
+      for (std::size_t f = 0; f < per_frame.size(); ++f)
+        per_frame[f]["occlusion"] = per_frame_occlusion[f];
+      j["occlusion_stats"] = per_frame_occlusion.back();
+    }
     if (frames > 1) {
       j["frames"] = per_frame;
       j["mean_frame_ms"] = std::round(summary.frame_seconds / frames * 1e6) / 1e3;

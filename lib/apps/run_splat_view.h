@@ -6,6 +6,7 @@
 
 #include "apps/stage_types.h"
 #include "render/frame_renderer.h"
+#include "render/occlusion_culler.h"
 #include "splatkit/progress.h"
 
 namespace splatkit::apps {
@@ -31,6 +32,18 @@ struct SplatViewOptions {
   // sharp (splats with a sharp edge), clipped (splats with clip partners)
   std::string shade = "phong";
   std::string background;  // "r,g,b" sRGB in [0, 1], or empty for the default
+  // A camera path (read_camera_path.h), or empty; one frame per camera, `output` then holds a
+  // frame number field as for a turntable. Not with eye/view/turntable.
+  std::string path;
+  // Occlusion culling (render/occlusion_culler.h): none | frustum | hierarchical | chc | chc++.
+  // Images are the same in every mode; plain scenes only (no QSplat, no clip partners unless
+  // render.clip is off), not with --blend zbuffer.
+  std::string occlusion = "none";
+  std::string bvh_split = "median";  // median | sah (render/chunk_bvh.h)
+  uint32_t bvh_leaf = 2048;          // splats per hierarchy leaf, at most
+  // Diagnostic: count the splats each frame truly shows (render/count_visible_splats.h) into
+  // the report as splats_visible; costs a z-buffer pass per frame, not counted in frame times.
+  bool count_visible = false;
   // render.max_fragments, cull_backfaces, clip (use the file's CLIP), surface_ids (use the file's
   // surface ids); blend, shade and background come from the texts above.
   render::RenderOptions render;
@@ -41,6 +54,8 @@ struct SplatViewSummary {
   uint64_t splats = 0;       // per frame
   double frame_seconds = 0;  // sum over frames, rendering only
   double load_seconds = 0, write_seconds = 0;
+  double bvh_seconds = 0;            // building the chunk hierarchy (occlusion culling)
+  render::OcclusionStats occlusion;  // summed over frames
   StageSummary line() const;  // for the command line's summary
 };
 

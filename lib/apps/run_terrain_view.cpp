@@ -76,6 +76,8 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (t.ham.empty()) throw_usage("--terrain needs --ham TILES.exr (build-ham's output)");
   if (!o.input.empty()) throw_usage("--terrain renders a heightmap: give no splat file");
   if (o.turntable > 0) throw_usage("--turntable does not apply to --terrain");
+  if (!o.path.empty()) throw_usage("--path does not apply to --terrain");
+  if (o.occlusion != "none") throw_usage("--occlusion does not apply to --terrain");
   if (!(t.tess_error_px > 0)) throw_usage("--tess-error must be > 0");
   render::check_output_format(o.output);
   Stage stage("splat-view", {t.heightmap, o.output, o.stats_path}, "--stats");

@@ -20,7 +20,7 @@ struct TerrainViewOptions {
 };
 
 // The camera (eye, target, up, view, fov, width, height), the background, the image and the
-// report come from `view`; its input, turntable, blend and shade do not apply. Throws
+// report come from `view`; its input, turntable, path, occlusion, blend and shade do not apply. Throws
 // Error(kUsage) for options that do not apply or bad values, Error(kBadInput) when the tiles do
 // not match the heightmap (size, tile size), as the readers do otherwise, Error(kOutput).
 StageSummary run_terrain_view(const SplatViewOptions& view, const TerrainViewOptions& terrain,

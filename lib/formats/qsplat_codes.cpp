@@ -14,6 +14,8 @@ struct SphereTables {
   std::array<SphereCell, kSphereCells> cells{};
   // [size − 1 + 13·(x + 13·(y + 13·z))] -> S, or -1 for a cell outside the table.
   std::array<int16_t, kN * kN * kN * kN> index{};
+  // 1 − (|(X, Y, Z)| + R) of each cell, in double: how far inside a unit parent it lies.
+  std::array<double, kSphereCells> inside{};
 };
 
 const SphereTables& sphere_tables() {
@@ -35,6 +37,7 @@ const SphereTables& sphere_tables() {
             const float lim = 1.0f + sqrt3 * R;
             if (X * X + Y * Y + Z * Z > lim * lim) continue;
             s.cells[i] = {X, Y, Z, R};
+            s.inside[i] = 1.0 - (std::sqrt(double{X} * X + double{Y} * Y + double{Z} * Z) + R);
             s.index[size - 1 + kN * (x + kN * (y + kN * z))] = static_cast<int16_t>(i);
             ++i;
           }
@@ -83,9 +86,32 @@ const std::array<Vec3f, kNormalCodes>& normal_table() {
   return t;
 }
 
+// Whether code q's two stored components lie on or inside the unit circle (the original's table
+// holds a unit normal there; the encoder writes no other code).
+const std::array<bool, kNormalCodes>& unit_codes() {
+  static const std::array<bool, kNormalCodes> t = [] {
+    std::array<bool, kNormalCodes> u{};
+    for (int q = 0; q < kNormalCodes; ++q) {
+      const float fu = unwarp(static_cast<unsigned>(q / kNormalSteps % kNormalSteps));
+      const float fv = unwarp(static_cast<unsigned>(q % kNormalSteps));
+      u[q] = fu * fu + fv * fv <= 1.0f;
+    }
+    return u;
+  }();
+  return t;
+}
+
+// The original's step of a component c: k = int((w + 1) / 2 · 52) with w = atan(c) · 4/π
+// clamped to [−1, 1], i.e. the number of steps k >= 1 with c >= tan((k / 26 − 1) · π/4): counted
+// against those 51 bounds, without an atan per component.
 int warp_index(float c) {
-  const float w = std::min(std::max(static_cast<float>(std::atan(c) * 4.0f / M_PI), -1.0f), 1.0f);
-  return std::min(static_cast<int>((w + 1.0f) * 0.5f * kNormalSteps), kNormalSteps - 1);
+  static const std::array<float, kNormalSteps - 1> bounds = [] {
+    std::array<float, kNormalSteps - 1> b{};
+    for (int k = 1; k < kNormalSteps; ++k)
+      b[k - 1] = static_cast<float>(std::tan((2.0 * k / kNormalSteps - 1.0) * M_PI / 4));
+    return b;
+  }();
+  return static_cast<int>(std::upper_bound(bounds.begin(), bounds.end(), c) - bounds.begin());
 }
 
 double distance(const Vec3f& a, const double b[3]) {
@@ -104,6 +130,11 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const int first = std::clamp(static_cast<int>(std::floor(radius / pr * kN)), 1, kN);
+  // The decoded child is computed in float from the parent's float centre: its distance to the
+  // parent's centre may be off by a few units in the last place of the coordinates. A cell more
+  // than that (in parent radii) inside or outside the unit sphere needs no exact check.
+  const double far = std::max({std::fabs(pc[0]), std::fabs(pc[1]), std::fabs(pc[2])}) + pr;
+  const double unsure = 8.0 * far * 0x1p-23 / pr + 1e-9;
   for (int size = first; size <= kN; ++size) {
     // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
     // ones that can contain it.
@@ -121,7 +152,7 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int z = lo[2]; z <= hi[2]; ++z) {
           const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
-          if (s < 0) continue;
+          if (s < 0 || t.inside[s] < -unsure) continue;  // clearly outside the parent
           const Sphere d = decode_sphere(t.cells[s], parent);
           const double room = d.radius - radius;
           const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
@@ -130,8 +161,9 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
           if (room < 0 || dist2 > room * room * (1 + 1e-9)) continue;  // clearly too far
           const double dist = std::sqrt(dist2);
           if (dist >= best_d) continue;
-          if (dist + radius > d.radius) continue;                // must contain the true sphere
-          if (distance(d.centre, pc) + d.radius > pr) continue;  // must lie inside the parent
+          if (dist + radius > d.radius) continue;  // must contain the true sphere
+          // ... and lie inside the parent
+          if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) continue;
           best_d = dist;
           best = s;
         }
@@ -153,18 +185,16 @@ int encode_normal(const Vec3f& n) {
   const Vec3f m = normalized(n);
   const int u0 = warp_index(m[(axis + 1) % 3]), v0 = warp_index(m[(axis + 2) % 3]);
   const std::array<Vec3f, kNormalCodes>& t = normal_table();
+  const std::array<bool, kNormalCodes>& unit = unit_codes();
   // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
   int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
-  float best_dot = -2.0f;
-  const float fu0 = unwarp(static_cast<unsigned>(u0)), fv0 = unwarp(static_cast<unsigned>(v0));
-  if (fu0 * fu0 + fv0 * fv0 <= 1.0f) best_dot = dot(t[best], m);
-  for (int du = -1; du <= 1; ++du)
-    for (int dv = -1; dv <= 1; ++dv) {
-      const int u = u0 + du, v = v0 + dv;
-      if (u < 0 || v < 0 || u >= kNormalSteps || v >= kNormalSteps) continue;
-      const float fu = unwarp(static_cast<unsigned>(u)), fv = unwarp(static_cast<unsigned>(v));
-      if (fu * fu + fv * fv > 1.0f) continue;  // not a unit normal in the original's table
+  float best_dot = unit[best] ? dot(t[best], m) : -2.0f;
+  const int u_lo = std::max(u0 - 1, 0), u_hi = std::min(u0 + 1, kNormalSteps - 1);
+  const int v_lo = std::max(v0 - 1, 0), v_hi = std::min(v0 + 1, kNormalSteps - 1);
+  for (int u = u_lo; u <= u_hi; ++u)
+    for (int v = v_lo; v <= v_hi; ++v) {
       const int q = (a * kNormalSteps + u) * kNormalSteps + v;
+      if (!unit[q]) continue;  // not a unit normal in the original's table
       const float d = dot(t[q], m);
       if (d > best_dot) {
         best_dot = d;

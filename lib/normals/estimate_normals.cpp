@@ -164,10 +164,11 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
 }
 
 // Phase 6.
-void orient(SplatCloud& cloud, const SpatialIndex& index, const NormalOptions& o,
-            NormalReport& report) {
+// The last stage: it takes the index (the MST orientation releases it before its peak).
+void orient(SplatCloud& cloud, SpatialIndex&& index, const NormalOptions& o, NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
-    const OrientStats stats = orient_normals_mst(index, cloud.positions, cloud.normals, kOrientK);
+    const OrientStats stats =
+        orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
     report.flipped_points = stats.flipped;
     report.components = stats.components;
   } else if (o.orient == NormalOrientation::kViewpoint) {
@@ -210,6 +211,31 @@ nlohmann::json NormalReport::to_json() const {
           {"points_per_s", total > 0 ? static_cast<double>(output_points) / total : 0.0}};
 }
 
+namespace {
+
+// v'[t] = v[order[t]].
+template <class T>
+std::vector<T> gathered(const std::vector<T>& v, const std::vector<uint32_t>& order) {
+  std::vector<T> out(order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
+    for (std::size_t t = r.begin(); t < r.end(); ++t) out[t] = v[order[t]];
+  });
+  return out;
+}
+
+// The inverse of gathered, in place: v becomes w with w[order[t]] = v[t] (empty stays empty).
+template <class T>
+void scatter(std::vector<T>& v, const std::vector<uint32_t>& order) {
+  if (v.empty()) return;
+  std::vector<T> out(v.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
+    for (std::size_t t = r.begin(); t < r.end(); ++t) out[order[t]] = v[t];
+  });
+  v = std::move(out);
+}
+
+}  // namespace
+
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                               const ProgressFn& progress) {
   check_options(options);
@@ -232,8 +258,17 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   const std::size_t n = cloud.size();
   report.output_points = n;
   progress(0.05, "kd-tree");
+  // Every stage below runs over the points renumbered in the index's tree order (a spatial
+  // order: a point's neighbours are mostly near it in memory, whatever the input's order) and
+  // the results are put back in the input's order at the end. Ties between equally distant
+  // neighbours are broken by the new numbers.
   SpatialIndex index;
-  timed("index", [&] { index = SpatialIndex(cloud.positions); });
+  std::vector<uint32_t> order;
+  timed("index", [&] {
+    index = SpatialIndex(cloud.positions);
+    order = index.renumber_in_tree_order();
+    cloud.positions = gathered(cloud.positions, order);
+  });
 
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
@@ -270,6 +305,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("robust", [&] {
       RobustNormalOptions ro;
       ro.pca_k = options.k;
+      ro.stream_ids = order;  // the same random samples as over the input's numbering
       report.robust =
           robust_stats_json(robust_normals(index, cloud.positions, variation, cloud.normals, ro));
     });
@@ -302,8 +338,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   }
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, index, options, report); });
+    timed("orient", [&] { orient(cloud, std::move(index), options, report); });
   }
+  timed("reorder", [&] {
+    for (auto* v : {&cloud.positions, &cloud.normals, &cloud.axes}) scatter(*v, order);
+    for (auto* v : {&cloud.radii, &cloud.minor_radii}) scatter(*v, order);
+  });
   if (options.radius_scale != 1.0f) {
     for (float& r : cloud.radii) r *= options.radius_scale;
     for (float& r : cloud.minor_radii) r *= options.radius_scale;

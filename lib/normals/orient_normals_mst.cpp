@@ -18,11 +18,11 @@ constexpr uint32_t kNone = SpatialIndex::kNone;
 constexpr float kParallel = 0.70710678f;  // cos 45°
 
 // The kNN graph as fixed-length rows (k - 1 neighbours per point, kNone where the cloud is
-// smaller) with one quantised weight per entry.
+// smaller). Weights are not stored: the sort computes them as it goes (twice), which keeps 2 bytes
+// per edge off the peak.
 struct KnnGraph {
   std::size_t width = 0;  // neighbours per row
   std::vector<uint32_t> neighbors;
-  std::vector<uint16_t> keys;
 };
 
 // The agreement of a pair's signs: positive when consistently oriented, its magnitude the
@@ -45,148 +45,161 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-KnnGraph build_graph(const SpatialIndex& index, std::span<const Vec3f> positions,
-                     std::span<const Vec3f> normals, std::size_t k) {
+KnnGraph build_graph(const SpatialIndex& index, std::size_t k) {
   KnnGraph g;
   g.width = k - 1;
   const std::size_t n = index.size();
   g.neighbors.assign(n * g.width, kNone);
-  g.keys.assign(n * g.width, 0);
   index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
                                   std::span<const uint32_t> indices, std::span<const float>) {
     for (std::size_t r = 0; r < queries.size(); ++r) {
-      const uint32_t i = queries[r];
       // Column 0 is the point itself; the rest are its neighbours.
-      for (std::size_t c = 1; c < k; ++c) {
-        const uint32_t j = indices[r * k + c];
-        const std::size_t e = i * g.width + (c - 1);
-        g.neighbors[e] = j;
-        if (j != kNone)
-          g.keys[e] = weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
-      }
+      std::copy_n(indices.data() + r * k + 1, g.width, g.neighbors.data() + queries[r] * g.width);
     }
   });
   return g;
 }
 
-// Edge ids sorted by key, ties by id (a stable counting sort).
+// Edge ids sorted by key, ties by id (a stable counting sort, in parallel over fixed chunks of
+// rows: each chunk counts its keys and writes after the earlier chunks' share of every bucket, so
+// the order is the serial one for any thread count). Left out: slots without a neighbour, and an
+// edge i -> j whose reverse j -> i is in the earlier row j (j < i): the two have the same key
+// (the agreement is symmetric), so Kruskal meets the earlier one first and would always reject
+// this one; in a kNN graph most edges come in such pairs.
 template <typename Id>
-std::vector<Id> sort_edges(const KnnGraph& g) {
-  std::vector<std::size_t> start(kOrientBuckets + 1, 0);
-  for (std::size_t e = 0; e < g.keys.size(); ++e)
-    if (g.neighbors[e] != kNone) ++start[g.keys[e] + 1];
-  for (std::size_t b = 0; b < kOrientBuckets; ++b) start[b + 1] += start[b];
-  std::vector<Id> order(start[kOrientBuckets]);
-  for (std::size_t e = 0; e < g.keys.size(); ++e)
-    if (g.neighbors[e] != kNone) order[start[g.keys[e]]++] = static_cast<Id>(e);
+std::vector<Id> sort_edges(const KnnGraph& g, std::span<const Vec3f> positions,
+                           std::span<const Vec3f> normals) {
+  const std::size_t w = g.width;
+  if (w == 0) return {};  // a cloud of one point
+  const std::size_t n = g.neighbors.size() / w;
+  const uint32_t* nb = g.neighbors.data();
+  auto kept = [&](std::size_t i, uint32_t j) {
+    if (j == kNone) return false;
+    if (j > i) return true;
+    const uint32_t* row = nb + std::size_t{j} * w;
+    return std::find(row, row + w, static_cast<uint32_t>(i)) == row + w;
+  };
+  auto key = [&](std::size_t i, uint32_t j) {
+    return weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
+  };
+  constexpr std::size_t kRows = 1 << 15;
+  const std::size_t chunks = (n + kRows - 1) / kRows;
+  std::vector<uint64_t> start(chunks * kOrientBuckets, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t* count = start.data() + c * kOrientBuckets;
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      for (std::size_t s = 0; s < w; ++s) {
+        const uint32_t j = nb[i * w + s];
+        if (kept(i, j)) ++count[key(i, j)];
+      }
+  });
+  uint64_t at = 0;
+  for (std::size_t b = 0; b < kOrientBuckets; ++b)
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const uint64_t count = start[c * kOrientBuckets + b];
+      start[c * kOrientBuckets + b] = at;
+      at += count;
+    }
+  std::vector<Id> order(at);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    uint64_t* next = start.data() + c * kOrientBuckets;
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      for (std::size_t s = 0; s < w; ++s) {
+        const uint32_t j = nb[i * w + s];
+        if (kept(i, j)) order[next[key(i, j)]++] = static_cast<Id>(i * w + s);
+      }
+  });
   return order;
 }
 
-class UnionFind {
+// Union-find whose links carry a parity: flip(x) is whether x's sign is the opposite of its set
+// root's. Joining two sets along a tree edge sets the parity of the new link so that the edge's
+// relation holds; the relation between any two points of a set is then the product of the
+// relations along their path in the spanning forest, which is what propagating signs over the
+// forest breadth first gives, without storing the forest.
+class SignedUnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n), rank_(n, 0) {
+  explicit SignedUnionFind(std::size_t n) : parent_(n), rank_(n, 0), flip_(n, 0) {
     for (std::size_t i = 0; i < n; ++i) parent_[i] = static_cast<uint32_t>(i);
   }
-  uint32_t find(uint32_t x) {
+  // The root of x's set; `flip` gets x's parity relative to it.
+  uint32_t find(uint32_t x, uint8_t& flip) {
+    uint8_t acc = 0;
     while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];  // path halving
+      const uint32_t p = parent_[x];
+      if (parent_[p] != p) {  // path halving: link x to its grandparent
+        flip_[x] ^= flip_[p];
+        parent_[x] = parent_[p];
+      }
+      acc ^= flip_[x];
       x = parent_[x];
     }
+    flip = acc;
     return x;
   }
-  // Joins the sets of a and b; false when they were already one.
-  bool unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
+  // Joins the sets of a and b so that b's sign is a's (opposite: a's negated); false when they
+  // were already one set.
+  bool unite(uint32_t a, uint32_t b, bool opposite) {
+    uint8_t fa, fb;
+    a = find(a, fa), b = find(b, fb);
     if (a == b) return false;
     if (rank_[a] < rank_[b]) std::swap(a, b);
     parent_[b] = a;
+    flip_[b] = static_cast<uint8_t>(fa ^ fb ^ (opposite ? 1 : 0));
     if (rank_[a] == rank_[b]) ++rank_[a];
     return true;
   }
 
  private:
   std::vector<uint32_t> parent_;
-  std::vector<uint8_t> rank_;
+  std::vector<uint8_t> rank_, flip_;
 };
 
-// Kruskal over the sorted edges: the minimum spanning forest as (i, j) pairs, plus each point's
-// component root.
+// Kruskal over the sorted edges with the signed union-find: the minimum spanning forest's
+// relations (flip n_j when a < 0) are recorded as the sets join. Returns the sets.
 template <typename Id>
-std::vector<std::pair<uint32_t, uint32_t>> spanning_forest(const KnnGraph& g, std::size_t n,
-                                                           std::vector<uint32_t>& root) {
-  std::vector<std::pair<uint32_t, uint32_t>> tree;
-  tree.reserve(n > 0 ? n - 1 : 0);
-  UnionFind sets(n);
-  {
-    const std::vector<Id> order = sort_edges<Id>(g);
-    for (const Id e : order) {
-      const auto i = static_cast<uint32_t>(e / g.width);
-      const uint32_t j = g.neighbors[e];
-      if (sets.unite(i, j)) {
-        tree.emplace_back(i, j);
-        if (tree.size() + 1 == n) break;  // one component: the tree is complete
-      }
-    }
-  }
-  root.resize(n);
-  for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i));
-  return tree;
-}
-
-// Compressed adjacency of the forest.
-struct Adjacency {
-  std::vector<uint32_t> offsets;
-  std::vector<uint32_t> targets;
-};
-
-Adjacency forest_adjacency(const std::vector<std::pair<uint32_t, uint32_t>>& tree, std::size_t n) {
-  Adjacency a;
-  a.offsets.assign(n + 1, 0);
-  for (const auto& [i, j] : tree) ++a.offsets[i + 1], ++a.offsets[j + 1];
-  for (std::size_t i = 0; i < n; ++i) a.offsets[i + 1] += a.offsets[i];
-  a.targets.resize(a.offsets[n]);
-  std::vector<uint32_t> fill(a.offsets.begin(), a.offsets.end() - 1);
-  for (const auto& [i, j] : tree) a.targets[fill[i]++] = j, a.targets[fill[j]++] = i;
-  return a;
-}
-
-// +1 / -1 per point: the sign that makes normals[i] consistent over its tree and outward at the
-// component's top-most point. Returns the number of components.
-std::size_t propagate_signs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                            const Adjacency& adj, const std::vector<uint32_t>& root,
-                            std::vector<int8_t>& sign) {
+SignedUnionFind spanning_forest(const KnnGraph& g, std::span<const Vec3f> positions,
+                                std::span<const Vec3f> normals) {
   const std::size_t n = positions.size();
-  std::vector<uint32_t> seed(n, kNone);  // per root: its component's top-most point
+  SignedUnionFind sets(n);
+  const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
+  std::size_t joined = 0;
+  for (const Id e : order) {
+    const auto i = static_cast<uint32_t>(e / g.width);
+    const uint32_t j = g.neighbors[e];
+    const bool opposite = agreement(positions[i], normals[i], positions[j], normals[j]) < 0;
+    if (sets.unite(i, j, opposite) && ++joined + 1 == n) break;  // one set: the forest is whole
+  }
+  return sets;
+}
+
+// +1 / -1 per point from the sets: each set's top-most point (largest z, smallest index on ties)
+// points +z, the rest follow their parity relative to it. Returns the number of sets.
+std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                         SignedUnionFind& sets, std::vector<int8_t>& sign) {
+  const std::size_t n = positions.size();
+  std::vector<uint32_t> root(n);
+  std::vector<uint8_t> flip(n);
+  for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i), flip[i]);
+  std::vector<uint32_t> seed(n, kNone);  // per root: its set's top-most point
+  std::size_t components = 0;
   for (std::size_t i = 0; i < n; ++i) {
     uint32_t& s = seed[root[i]];
+    components += s == kNone;
     if (s == kNone || positions[i].z > positions[s].z) s = static_cast<uint32_t>(i);
   }
-  sign.assign(n, 0);
-  std::size_t components = 0;
-  std::vector<uint32_t> queue;
-  for (std::size_t r = 0; r < n; ++r) {
-    if (seed[r] == kNone) continue;
-    ++components;
-    const uint32_t s = seed[r];
-    sign[s] = normals[s].z < 0 ? -1 : 1;
-    queue.assign(1, s);
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-      const uint32_t i = queue[head];
-      for (uint32_t e = adj.offsets[i]; e < adj.offsets[i + 1]; ++e) {
-        const uint32_t j = adj.targets[e];
-        if (sign[j] != 0) continue;
-        const float agree = agreement(positions[i], normals[i], positions[j], normals[j]);
-        sign[j] = static_cast<int8_t>(agree < 0 ? -sign[i] : sign[i]);
-        queue.push_back(j);
-      }
-    }
+  sign.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t s = seed[root[i]];
+    const bool seed_up = !(normals[s].z < 0);
+    sign[i] = static_cast<int8_t>((seed_up != (flip[i] != flip[s])) ? 1 : -1);
   }
   return components;
 }
 
 }  // namespace
 
-OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f> positions,
+OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k) {
   if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
   const std::size_t n = positions.size();
@@ -195,20 +208,15 @@ OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f>
   OrientStats stats;
   if (n == 0) return stats;
 
-  std::vector<uint32_t> root;
-  std::vector<std::pair<uint32_t, uint32_t>> tree;
-  {
-    const KnnGraph graph = build_graph(index, positions, normals, std::min(k, n));
-    tree = graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
-               ? spanning_forest<uint32_t>(graph, n, root)
-               : spanning_forest<uint64_t>(graph, n, root);
-  }
+  SignedUnionFind sets = [&] {
+    const KnnGraph graph = build_graph(index, std::min(k, n));
+    index = SpatialIndex();
+    return graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
+               ? spanning_forest<uint32_t>(graph, positions, normals)
+               : spanning_forest<uint64_t>(graph, positions, normals);
+  }();
   std::vector<int8_t> sign;
-  {
-    const Adjacency adj = forest_adjacency(tree, n);
-    tree = {};
-    stats.components = propagate_signs(positions, normals, adj, root, sign);
-  }
+  stats.components = assign_signs(positions, normals, sets, sign);
   for (std::size_t i = 0; i < n; ++i) {
     if (sign[i] < 0) {
       normals[i] = -normals[i];

@@ -14,21 +14,25 @@
 // the mirror everywhere turned half of the noisy CAD part inward). Weight 1 − |a|, quantised to
 // kOrientBuckets levels of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting
 // sort with ties broken by edge order (point index, then neighbour rank); the minimum spanning
-// forest comes from Kruskal with union-find; propagation flips n_j when a < 0, breadth-first
-// from each component's seed. Limitation: two sides of a part thinner than the kNN reach, with
-// antiparallel normals, look like one consistently flipped sheet (none in the CAD sample: its
-// thinnest place is the 60° wedge's tip, a crease).
+// forest comes from Kruskal with a union-find whose links carry the sign relation of the tree
+// edge that made them (flip n_j when a < 0), so each point's sign relative to its component's
+// seed is read off the union-find: the same signs as a breadth-first propagation over the
+// forest from the seed, without storing the forest. Limitation: two sides of a part thinner than
+// the kNN reach, with antiparallel normals, look like one consistently flipped sheet (none in the
+// CAD sample: its thinnest place is the 60° wedge's tip, a crease).
 //
 // Outward sign, per connected component: the component's point of largest z (smallest index on
 // ties) is made to point +z (its normal's z >= 0). For a closed surface that point is a top-most
 // point, where the outward normal has z > 0, so the whole component ends up pointing outward. Open
 // sheets seen from above (terrain, facades' tops) point up.
 //
-// Memory: 6 bytes per graph edge for the neighbour rows and their keys, 4 per edge for the sorted
-// order, about 20 per point for the forest: about 10 (k - 1) + 20 bytes per point at peak
-// (k = 10: 110). Time: one kNN pass (parallel), a counting sort, a near-linear union-find and a
-// breadth-first pass. Deterministic for any thread count (the kNN rows are exact; everything
-// after them is sequential).
+// Memory: 4 bytes per graph edge for the neighbour rows, 4 per kept edge for the sorted order
+// (an edge whose reverse is in an earlier row is left out: about half of them), 6 per point for
+// the union-find: about 6 (k - 1) + 6 bytes per point at peak (k = 10: 60). The index passed in
+// is released once the graph is built. Time: one kNN pass (parallel), a counting sort (parallel,
+// computing the weights twice) and a near-linear union-find.
+// Deterministic for any thread count (the kNN rows are exact; the sort's chunks are fixed;
+// everything after it is sequential).
 #pragma once
 
 #include <cstddef>
@@ -47,9 +51,10 @@ struct OrientStats {
   std::size_t components = 0;  // connected components of the kNN graph (isolated points count)
 };
 
-// index: built over positions (#N). normals: #N unit normals, re-signed in place. k >= 2 and
-// matching sizes, else std::invalid_argument.
-OrientStats orient_normals_mst(const SpatialIndex& index, std::span<const Vec3f> positions,
+// index: built over positions (#N); taken by value and released once the kNN graph is built, so a
+// caller done with it moves it in and the forest's peak does not hold it. normals: #N unit
+// normals, re-signed in place. k >= 2 and matching sizes, else std::invalid_argument.
+OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k = kOrientK);
 
 }  // namespace splatkit

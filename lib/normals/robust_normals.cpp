@@ -219,7 +219,7 @@ bool fit_point(std::span<const Vec3f> positions, uint32_t i, std::span<const uin
     if (j != SpatialIndex::kNone) s.local.push_back(positions[j] - p);
   if (s.local.size() < 6) return false;
   s.local[0] = Vec3f{0, 0, 0};
-  DeterministicRng rng(options.seed, i);
+  DeterministicRng rng(options.seed, options.stream_ids.empty() ? i : options.stream_ids[i]);
   return robust_fit(s.local, options.candidates, rng, s, normal);
 }
 
@@ -247,19 +247,29 @@ std::size_t refine_points(const SpatialIndex& index, std::span<const Vec3f> posi
   return refined;
 }
 
-// The median surface variation of k-rows over every kWideSampleStep-th point. Measured, not
+// The median surface variation of k-rows over every kWideSampleStep-th point (by `ids`, the
+// points' numbers in the caller's cloud, when given). Measured, not
 // scaled from the narrow rows' median: once the noise is as large as the neighbourhood's extent
 // the variation no longer falls as 1/k (at 1M points and noise 1.6 spacings, scaling sent 71 %
 // of the points through the robust fit).
 double wide_median_variation(const SpatialIndex& index, std::span<const Vec3f> positions,
-                             std::span<const float> variation, std::size_t k) {
-  const std::size_t samples = (positions.size() + kWideSampleStep - 1) / kWideSampleStep;
+                             std::span<const float> variation, std::size_t k,
+                             std::span<const uint32_t> numbers) {
+  const std::size_t n = positions.size();
+  const std::size_t samples = (n + kWideSampleStep - 1) / kWideSampleStep;
+  std::vector<uint32_t> at;  // sample r -> the point numbered r * kWideSampleStep
+  if (!numbers.empty()) {
+    at.resize(samples);
+    for (std::size_t t = 0; t < n; ++t)
+      if (numbers[t] % kWideSampleStep == 0)
+        at[numbers[t] / kWideSampleStep] = static_cast<uint32_t>(t);
+  }
   std::vector<float> wide(samples, -1.0f);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples, 64),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       std::vector<uint32_t> ids(k);
                       for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                        const std::size_t i = r * kWideSampleStep;
+                        const std::size_t i = at.empty() ? r * kWideSampleStep : at[r];
                         if (variation[i] < 0) continue;
                         const std::size_t m = index.knn(positions[i], k, ids.data(), nullptr);
                         wide[r] = static_cast<float>(surface_variation(
@@ -325,8 +335,8 @@ RobustNormalStats robust_normals(const SpatialIndex& index, std::span<const Vec3
   stats.k = std::min(stats.k, index.size());
   if (stats.k < 6 || options.candidates == 0) return stats;
   if (stats.noisy)
-    stats.wide_threshold =
-        kNoisyFactor * wide_median_variation(index, positions, variation, stats.k);
+    stats.wide_threshold = kNoisyFactor * wide_median_variation(index, positions, variation,
+                                                                stats.k, options.stream_ids);
   const auto wide_threshold = static_cast<float>(stats.wide_threshold);
   stats.refined = stats.noisy ? refine_all(index, positions, variation, wide_threshold, stats.k,
                                            normals, options)

@@ -74,6 +74,11 @@ struct RobustNormalOptions {
   std::size_t max_k = 64;       // cap of the neighbourhood of noisy clouds
   std::size_t candidates = 32;  // random triplets (candidate planes) per refined point
   uint64_t seed = 0x5eed5eed;
+  // #N numbers of the points in the caller's cloud when it renumbered them (a permutation of
+  // 0..N-1), so that results do not depend on the renumbering: they key each point's random
+  // stream (with `seed`) and pick the sample of a noisy cloud's wide neighbourhoods. Empty: the
+  // index in `positions`.
+  std::span<const uint32_t> stream_ids;
 };
 
 struct RobustNormalStats {

@@ -1,6 +1,7 @@
 #include "qsplat/build_qsplat_tree.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -89,12 +90,18 @@ void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
   const uint32_t half = b + sizes[0] + sizes[1];
   Box lo, hi;
   split_at(pts, b, e, half, box, lo, hi);
-  split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
   if (children == 3) {
-    boxes[2] = hi;
+    split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]);
     return;
   }
-  split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]);
+  auto left = [&] { split_at(pts, b, half, b + sizes[0], lo, boxes[0], boxes[1]); };
+  auto right = [&] { split_at(pts, half, e, half + sizes[2], hi, boxes[2], boxes[3]); };
+  if (e - b < (1u << 16)) {
+    left();
+    right();
+  } else {  // the halves in parallel: at the top of the tree there are fewer nodes than threads
+    tbb::parallel_invoke(left, right);
+  }
 }
 
 double angle(const Vec3f& a, const Vec3f& b) {
@@ -151,8 +158,9 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   t.leaf.assign(m, kNoLeaf);
   for (std::size_t i = 0; i < m; ++i)
     if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf;
-  // A leaf's attributes side by side: one cache miss per leaf below, not one per array (the
-  // leaves are visited in tree order, which is random in the input's order).
+  // The leaves' attributes side by side, gathered in tree order (rank in `pts`) by a loop that
+  // does nothing else, so that the loads of a randomly ordered input overlap (with prefetching);
+  // the pass below then reads them in order instead of missing the cache once per leaf.
   struct Attr {
     Vec3f normal;
     float radius;
@@ -161,9 +169,18 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   const bool color = !leaves.colors.empty();
   std::vector<Attr> attr(n);
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
-    for (uint32_t i = r.begin(); i < r.end(); ++i)
-      attr[i] = {leaves.normals[i], leaves.radii[i],
+    constexpr uint32_t kAhead = 16;
+    for (uint32_t k = r.begin(); k < r.end(); ++k) {
+      if (k + kAhead < n) {
+        const uint32_t ahead = pts[k + kAhead].leaf;
+        __builtin_prefetch(&leaves.normals[ahead]);
+        __builtin_prefetch(&leaves.radii[ahead]);
+        if (color) __builtin_prefetch(&leaves.colors[ahead]);
+      }
+      const uint32_t i = pts[k].leaf;
+      attr[k] = {leaves.normals[i], leaves.radii[i],
                  color ? leaves.colors[i] : std::array<uint8_t, 3>{0, 0, 0}};
+    }
   });
 
   t.spheres.resize(m);
@@ -181,7 +198,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
           for (uint32_t i = r.begin(); i < r.end(); ++i) {
             const int c = t.child_count[i];
             if (c == 0) {
-              const Attr& a = attr[t.leaf[i]];
+              const Attr& a = attr[rb[i]];
               t.spheres[i] = {pts[rb[i]].p, a.radius};
               if (measure_centroid_rule) centroid[i] = t.spheres[i];
               normal[i] = a.normal;

@@ -1,7 +1,11 @@
 #include "qsplat/make_qsplat_leaves.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "splatkit/error.h"
 
@@ -78,8 +82,39 @@ QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
     throw_bad_input(name, std::string("the splats have no ") +
                               (cloud.has_normals() ? "radii" : "normals") +
                               " (and no faces); run estimate-normals first");
-  QSplatLeaves out;
   const std::size_t n = cloud.size();
+  // The usual case, every splat usable: the arrays copied in parallel. Otherwise the loop below,
+  // which drops and reports in input order.
+  const bool all_usable = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 1 << 14), true,
+      [&](const auto& r, bool ok) {
+        for (std::size_t i = r.begin(); ok && i < r.end(); ++i) {
+          const float len2 = squared_norm(cloud.normals[i]);
+          ok = std::isfinite(cloud.radii[i]) && cloud.radii[i] > 0 && std::isfinite(len2) &&
+               len2 > 0;
+        }
+        return ok;
+      },
+      std::logical_and<>());
+  QSplatLeaves out;
+  if (all_usable) {
+    out.positions.resize(n);
+    out.normals.resize(n);
+    out.radii.resize(n);
+    out.source.resize(n);
+    if (cloud.has_colors()) out.colors.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const Vec3f& nv = cloud.normals[i];
+        out.positions[i] = cloud.positions[i];
+        out.normals[i] = squared_norm(nv) == 1.0f ? nv : normalized(nv);
+        out.radii[i] = cloud.radii[i];
+        out.source[i] = static_cast<uint32_t>(i);
+        if (cloud.has_colors()) out.colors[i] = to_rgb8(cloud.colors[i], cloud.color_bits);
+      }
+    });
+    return out;
+  }
   out.positions.reserve(n);
   out.normals.reserve(n);
   out.radii.reserve(n);

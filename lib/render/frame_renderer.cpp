@@ -2,17 +2,22 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 
+#include "formats/qsplat_codes.h"
 #include "render/rasterize_tile.h"
+#include "render/select_qsplat.h"
 #include "render/select_splats.h"
 #include "render/shade_row.h"
+#include "render/zbuffer_splats.h"
 #include "splatkit/error.h"
 
 namespace splatkit::render {
@@ -69,6 +74,7 @@ struct TileScratch {
 
 struct FrameRenderer::Scratch {
   tbb::enumerable_thread_specific<TileScratch> threads;
+  DepthKeyBuffer zbuffer;
 };
 
 FrameRenderer::FrameRenderer() : scratch_(std::make_unique<Scratch>()) {}
@@ -221,6 +227,35 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   local.counters.shade_s += seconds(t2, t3);
 }
 
+// The framebuffer from a depth-key buffer: rows in parallel, each in runs of a tile's width, the
+// pixel's splat made a G-buffer entry by surface(index, entry) (normal, albedo, surface id), then
+// shaded and written as the tiles are.
+template <class Surface>
+void resolve_zbuffer(const FrameContext& f, const DepthKeyBuffer& b, Surface surface) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, b.height, 8), [&](const auto& rows) {
+    PixelSurface g[kMaxShadeRun];
+    Vec3f colors[kMaxShadeRun];
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x0 = 0; x0 < b.width; x0 += kMaxShadeRun) {
+        const int count = std::min(kMaxShadeRun, b.width - x0);
+        const uint64_t* keys = b.keys.data() + std::size_t(y) * b.width + x0;
+        if (std::all_of(keys, keys + count, [](uint64_t k) { return k == kNoSplatKey; })) {
+          write_background_row(f, x0, y, count);
+          continue;
+        }
+        for (int i = 0; i < count; ++i) {
+          g[i] = PixelSurface{};
+          if (keys[i] == kNoSplatKey) continue;
+          surface(DepthKeyBuffer::index_of(keys[i]), g[i]);
+          g[i].depth = DepthKeyBuffer::depth_of(keys[i]);
+          g[i].alpha = 1;
+        }
+        shade_row(f.shading, f.projection, x0, y, count, g, colors);
+        write_row(f, x0, y, count, g, colors);
+      }
+  });
+}
+
 void check_options(const RenderOptions& o) {
   if (o.max_fragments < 1 || o.max_fragments > kMaxFragmentsPerPixel)
     throw_usage("--max-fragments must be in 1.." + std::to_string(kMaxFragmentsPerPixel));
@@ -235,6 +270,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   check_options(options);
   const auto start = Clock::now();
   const Projection projection = make_projection(camera);
+  if (options.blend == BlendMode::kZBuffer) return render_zbuffer(scene, projection, options, out);
   FrameStats stats;
   DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod);
   if (!options.surface_ids) draws.surface_ids = nullptr;
@@ -294,6 +330,70 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
     stats.shade_s = tiles_wall * sum.shade_s / cpu;
   }
   stats.total_s = seconds(start, tiles_end);
+  return stats;
+}
+
+FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Projection& projection,
+                                         const RenderOptions& options, Framebuffer& out) {
+  const auto start = Clock::now();
+  FrameStats stats;
+  DepthKeyBuffer& zb = scratch_->zbuffer;
+  zb.reset(projection.width, projection.height);
+  const auto cleared = Clock::now();
+  stats.setup_s = seconds(start, cleared);  // clearing the buffer
+  DrawList draws;
+  if (scene.qsplat) {
+    const QSplatZBufferCounts c =
+        draw_qsplat_zbuffer(*scene.qsplat, projection, options.qsplat_threshold_px, zb);
+    stats.lod = c.lod;
+    stats.splats_in = c.selected;
+    stats.splats_drawn = c.drawn;
+    stats.select_s = seconds(cleared, Clock::now());
+  } else {
+    draws = select_splats(scene, projection);
+    stats.splats_in = draws.count;
+    const bool cull = options.cull_backfaces;
+    stats.splats_drawn = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, draws.count, 1 << 14), uint64_t{0},
+        [&](const auto& r, uint64_t n) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            if (cull && dot(draws.normals[i], draws.positions[i] - projection.eye) > 0) continue;
+            n += zbuffer_splat(zb, projection, projection.to_camera(draws.positions[i]),
+                               draws.radii[i], static_cast<uint32_t>(i));
+          }
+          return n;
+        },
+        std::plus<>());
+    stats.raster_s = seconds(cleared, Clock::now());
+  }
+  const auto drawn = Clock::now();
+  out.allocate(projection.width, projection.height, options.planes);
+  const BlendOptions blend;
+  const Shading shading = make_shading(options.shade, projection, scene.bounds);
+  FrameContext context{draws, bins_, projection, options, blend, shading, nullptr, out, {}};
+  const SrgbEncoder& enc = srgb_encoder();
+  context.background_rgb8[0] = enc(options.background.x);
+  context.background_rgb8[1] = enc(options.background.y);
+  context.background_rgb8[2] = enc(options.background.z);
+  const Vec3f albedo = options.default_albedo;
+  if (scene.qsplat) {
+    const QSplatModel& m = *scene.qsplat;
+    const auto& palette = linear_palette_565();
+    resolve_zbuffer(context, zb, [&](uint32_t i, PixelSurface& g) {
+      g.normal = qsplat::decode_normal(m.normal_codes[i]);
+      g.albedo = m.colors.empty() ? albedo : palette[m.colors[i]];
+    });
+  } else {
+    const uint32_t* ids = options.surface_ids ? draws.surface_ids : nullptr;
+    resolve_zbuffer(context, zb, [&](uint32_t i, PixelSurface& g) {
+      g.normal = draws.normals[i];
+      g.albedo = draws.colors ? draws.colors[i] : albedo;
+      g.surface_id = ids ? ids[i] : 0;
+    });
+  }
+  const auto end = Clock::now();
+  stats.shade_s = seconds(drawn, end);
+  stats.total_s = seconds(start, end);
   return stats;
 }
 

@@ -4,6 +4,10 @@
 // (only fragments of one surface id blend, [IvoMSc] §5.5; docs/references.md), deferred shading
 // into the Framebuffer.
 //
+// `--blend zbuffer` (BlendMode::kZBuffer) takes a path of its own instead of the tiles: every splat
+// straight into a depth-key buffer (zbuffer_splats.h; QSplat scenes draw from their traversal
+// without a DrawList), then each pixel's nearest splat shaded by the same deferred shading.
+//
 // Deterministic: every tile is computed from its own splat list in splat index order with
 // per-tile scratch, so the image is byte-identical for any thread count (threads come from the
 // TBB arena the caller runs in). Memory beyond the scene and the framebuffer: one 68-byte
@@ -63,6 +67,8 @@ class FrameRenderer {
 
  private:
   struct Scratch;
+  FrameStats render_zbuffer(const RenderScene& scene, const Projection& projection,
+                            const RenderOptions& options, Framebuffer& out);
   FrameBins bins_;
   std::unique_ptr<Scratch> scratch_;
 };

@@ -23,7 +23,9 @@
 
 namespace splatkit::render {
 
-enum class BlendMode { kZThreshold, kZRange };
+// kZBuffer: no reconstruction at all, the nearest splat per pixel (zbuffer_splats.h); the frame
+// renderer takes its own path for it and never calls the functions below with it.
+enum class BlendMode { kZThreshold, kZRange, kZBuffer };
 
 struct BlendOptions {
   BlendMode mode = BlendMode::kZThreshold;

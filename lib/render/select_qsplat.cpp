@@ -6,6 +6,7 @@
 
 #include "formats/qsplat_codes.h"
 #include "render/render_scene.h"
+#include "render/zbuffer_splats.h"
 
 namespace splatkit::render {
 
@@ -21,13 +22,12 @@ struct Traversal {
   const Projection& proj;
   float threshold;
   float plane_x[2], plane_y[2];  // (a, b) of the side planes a·x − b·z = 0, normalised
-  std::array<Vec3f, 65536> const* palette;
 
   // 0: culled by the frustum, 1: culled by the cone, 2: visible.
-  int classify(uint32_t i, float& z) const {
-    const Vec3f c = proj.to_camera(m.centres[i]);
+  // `c` gets the centre in camera space.
+  int classify(uint32_t i, Vec3f& c) const {
+    c = proj.to_camera(m.centres[i]);
     const float r = m.radii[i];
-    z = c.z;
     if (c.z + r < proj.near) return 0;
     if (c.x * plane_x[0] - c.z * plane_x[1] > r || -c.x * plane_x[0] - c.z * plane_x[1] > r ||
         c.y * plane_y[0] - c.z * plane_y[1] > r || -c.y * plane_y[0] - c.z * plane_y[1] > r)
@@ -44,24 +44,19 @@ struct Traversal {
     return 2;
   }
 
-  void draw(uint32_t i, Draws& out) const {
-    out.positions.push_back(m.centres[i]);
-    out.normals.push_back(qsplat::decode_normal(m.normal_codes[i]));
-    out.radii.push_back(m.radii[i]);
-    if (!m.colors.empty()) out.colors.push_back((*palette)[m.colors[i]]);
-  }
-
-  // Visits node i and what lies below it, appending to `out`. `defer`: nodes at depth `split`
-  // below the start go to `deferred` (in order) instead of being visited.
-  void visit(uint32_t i, Draws& out, LodStats& st, std::vector<uint32_t>* deferred, int depth,
+  // Visits node i and what lies below it, passing the nodes it draws to out.draw(node, centre in
+  // camera space).
+  // `deferred`: nodes at depth `split` go there (in order) instead of being visited.
+  template <class Sink>
+  void visit(uint32_t i, Sink& out, LodStats& st, std::vector<uint32_t>* deferred, int depth,
              int split) const {
     std::vector<std::pair<uint32_t, int>> stack{{i, depth}};
     while (!stack.empty()) {
       const auto [n, d] = stack.back();
       stack.pop_back();
       ++st.visited;
-      float z = 0;
-      const int cls = m.child_count[n] && d == 0 ? 2 : classify(n, z);  // roots have no cone
+      Vec3f c{0, 0, 0};
+      const int cls = m.child_count[n] && d == 0 ? 2 : classify(n, c);  // roots have no cone
       if (cls == 0) {
         ++st.culled_frustum;
         continue;
@@ -71,9 +66,9 @@ struct Traversal {
         continue;
       }
       const int kids = m.child_count[n];
-      const bool small = z > proj.near && 2 * m.radii[n] * proj.focal_px / z <= threshold;
+      const bool small = c.z > proj.near && 2 * m.radii[n] * proj.focal_px / c.z <= threshold;
       if (kids == 0 || (small && d > 0)) {
-        draw(n, out);
+        out.draw(n, c);
         continue;
       }
       if (deferred && d + 1 == split) {
@@ -87,7 +82,9 @@ struct Traversal {
   }
 };
 
-const std::array<Vec3f, 65536>& linear_palette() {
+}  // namespace
+
+const std::array<Vec3f, 65536>& linear_palette_565() {
   static const std::array<Vec3f, 65536> p = [] {
     float five[32], six[64];  // each channel's 8-bit expansion, made linear once
     for (int v = 0; v < 32; ++v) five[v] = srgb_to_linear(((v << 3) | (v >> 2)) / 255.0f);
@@ -97,6 +94,70 @@ const std::array<Vec3f, 65536>& linear_palette() {
     return t;
   }();
   return p;
+}
+
+namespace {
+
+// Sink of select_qsplat: the drawn nodes' splats, in order.
+struct DrawSink {
+  const QSplatModel& m;
+  const std::array<Vec3f, 65536>& palette;
+  Draws out;
+  void draw(uint32_t i, const Vec3f&) {
+    out.positions.push_back(m.centres[i]);
+    out.normals.push_back(qsplat::decode_normal(m.normal_codes[i]));
+    out.radii.push_back(m.radii[i]);
+    if (!m.colors.empty()) out.colors.push_back(palette[m.colors[i]]);
+  }
+};
+
+// Sink of draw_qsplat_zbuffer: each drawn node straight into the buffer, keyed by its index.
+struct ZBufferSink {
+  const QSplatModel& m;
+  const Projection& proj;
+  DepthKeyBuffer& buffer;
+  uint64_t selected = 0, drawn = 0;
+  void draw(uint32_t i, const Vec3f& c) {
+    ++selected;
+    drawn += zbuffer_splat(buffer, proj, c, m.radii[i], i);
+  }
+};
+
+Traversal make_traversal(const QSplatModel& m, const Projection& proj, float threshold_px) {
+  Traversal t{m, proj, threshold_px, {}, {}};
+  const float tx = proj.cx / proj.focal_px, ty = proj.cy / proj.focal_px;
+  const float nx = std::sqrt(1 + tx * tx), ny = std::sqrt(1 + ty * ty);
+  t.plane_x[0] = 1 / nx;
+  t.plane_x[1] = tx / nx;
+  t.plane_y[0] = 1 / ny;
+  t.plane_y[1] = ty / ny;
+  return t;
+}
+
+// The top of each tree sequentially into `top`, down to a few hundred subtrees at depth 5; those
+// in parallel, each into a sink made by make_sink(); then merge(top, sink) for each subtree's
+// sink in order. Returns the counts.
+template <class Sink, class MakeSink, class Merge>
+LodStats traverse(const Traversal& t, Sink& top, MakeSink make_sink, Merge merge) {
+  LodStats total;
+  for (uint32_t root : t.m.roots) {
+    std::vector<uint32_t> tasks;
+    t.visit(root, top, total, &tasks, 0, 5);
+    std::vector<Sink> parts;
+    parts.reserve(tasks.size());
+    for (std::size_t k = 0; k < tasks.size(); ++k) parts.push_back(make_sink());
+    std::vector<LodStats> part_stats(tasks.size());
+    tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
+      t.visit(tasks[k], parts[k], part_stats[k], nullptr, 5, 0);
+    });
+    for (std::size_t k = 0; k < tasks.size(); ++k) {
+      merge(top, parts[k]);
+      total.visited += part_stats[k].visited;
+      total.culled_frustum += part_stats[k].culled_frustum;
+      total.culled_cone += part_stats[k].culled_cone;
+    }
+  }
+  return total;
 }
 
 void append(Draws& to, Draws&& from) {
@@ -110,32 +171,17 @@ void append(Draws& to, Draws&& from) {
 
 DrawList select_qsplat(const QSplatModel& m, const Projection& proj, float threshold_px,
                        LodStats* stats) {
-  Traversal t{m, proj, threshold_px, {}, {}, &linear_palette()};
-  const float tx = proj.cx / proj.focal_px, ty = proj.cy / proj.focal_px;
-  const float nx = std::sqrt(1 + tx * tx), ny = std::sqrt(1 + ty * ty);
-  t.plane_x[0] = 1 / nx;
-  t.plane_x[1] = tx / nx;
-  t.plane_y[0] = 1 / ny;
-  t.plane_y[1] = ty / ny;
-  // The top of each tree sequentially, down to a few hundred subtrees; those in parallel.
-  LodStats total;
-  auto all = std::make_shared<Draws>();
-  for (uint32_t root : m.roots) {
-    std::vector<uint32_t> tasks;
-    t.visit(root, *all, total, &tasks, 0, 5);
-    std::vector<Draws> parts(tasks.size());
-    std::vector<LodStats> part_stats(tasks.size());
-    tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) {
-      t.visit(tasks[k], parts[k], part_stats[k], nullptr, 5, 0);
-    });
-    for (std::size_t k = 0; k < tasks.size(); ++k) {
-      append(*all, std::move(parts[k]));
-      total.visited += part_stats[k].visited;
-      total.culled_frustum += part_stats[k].culled_frustum;
-      total.culled_cone += part_stats[k].culled_cone;
-    }
-  }
+  const Traversal t = make_traversal(m, proj, threshold_px);
+  const auto& palette = linear_palette_565();
+  DrawSink top{m, palette, {}};
+  const LodStats total = traverse(
+      t, top,
+      [&] {
+        return DrawSink{m, palette, {}};
+      },
+      [](DrawSink& to, DrawSink& part) { append(to.out, std::move(part.out)); });
   if (stats) *stats = total;
+  auto all = std::make_shared<Draws>(std::move(top.out));
   DrawList d;
   d.count = all->positions.size();
   d.positions = all->positions.data();
@@ -144,6 +190,25 @@ DrawList select_qsplat(const QSplatModel& m, const Projection& proj, float thres
   d.colors = all->colors.empty() ? nullptr : all->colors.data();
   d.storage = all;
   return d;
+}
+
+QSplatZBufferCounts draw_qsplat_zbuffer(const QSplatModel& m, const Projection& proj,
+                                        float threshold_px, DepthKeyBuffer& buffer) {
+  const Traversal t = make_traversal(m, proj, threshold_px);
+  ZBufferSink top{m, proj, buffer};
+  QSplatZBufferCounts c;
+  c.lod = traverse(
+      t, top,
+      [&] {
+        return ZBufferSink{m, proj, buffer};
+      },
+      [](ZBufferSink& to, const ZBufferSink& part) {
+        to.selected += part.selected;
+        to.drawn += part.drawn;
+      });
+  c.selected = top.selected;
+  c.drawn = top.drawn;
+  return c;
 }
 
 }  // namespace splatkit::render

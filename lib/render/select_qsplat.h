@@ -16,11 +16,27 @@
 #include "formats/read_qsplat.h"
 #include "render/camera.h"
 #include "render/select_splats.h"
+#include "render/zbuffer_splats.h"
 
 namespace splatkit::render {
 
 // The DrawList owns its arrays (DrawList::storage). `stats` (optional) gets the counts.
 DrawList select_qsplat(const QSplatModel& model, const Projection& projection, float threshold_px,
                        LodStats* stats = nullptr);
+
+struct QSplatZBufferCounts {
+  LodStats lod;
+  uint64_t selected = 0;  // nodes the traversal draws
+  uint64_t drawn = 0;     // of those, the ones that cover a pixel (zbuffer_splat)
+};
+
+// The same traversal drawing each selected node straight into `buffer` (zbuffer_splats.h), keyed
+// by its node index, with no DrawList in between: the fast path of `--blend zbuffer`.
+QSplatZBufferCounts draw_qsplat_zbuffer(const QSplatModel& model, const Projection& projection,
+                                        float threshold_px, DepthKeyBuffer& buffer);
+
+// Linear RGB of every 5-6-5 colour word (each channel expanded to 8 bits as the format says, then
+// made linear).
+const std::array<Vec3f, 65536>& linear_palette_565();
 
 }  // namespace splatkit::render

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # QSplat: build-qsplat end to end (read .splk, leaves, tree, quantise, write; the whole command
-# timed) on N splats, then splat-view's QSplat traversal at 1920x1080 at thresholds 1, 4 and 16 px
-# (splats drawn per second = the frame's drawn splats / its time), then the file size per leaf of
-# a 1M-splat model with and without colour.
+# timed) on N splats, then splat-view's QSplat traversal at 1920x1080 at thresholds 1, 4 and 16
+# px, with the z-buffer fast path (--blend zbuffer, drawn as QSplat draws) and with the blended
+# surface splatting (splats drawn per second = the frame's drawn splats / its time), then the
+# file size per leaf of a 1M-splat model with and without colour.
 # usage: scripts/bench/qsplat.sh [splats=4000000] [threads=2] [runs=3]
 #        (build dir: $BUILD_DIR, default build; inputs are made with splat-synth in a temp dir)
 set -euo pipefail
@@ -29,11 +30,12 @@ bytes=$(stat -c %s "$work/model.qs")
 awk -v n="$n" -v t="$best" -v b="$bytes" -v th="$threads" 'BEGIN {
   printf "build-qsplat: %d splats, %d threads: %.3f s end to end = %.2f M splats/s; %d bytes (%.2f per leaf)\n",
          n, th, t, n / t / 1e6, b, b / n }'
+for blend in zbuffer zthreshold; do
 for px in 1 4 16; do
   fbest=0
   for _ in $(seq "$runs"); do
     "$bin/splat-view" -q "$work/model.qs" -o "$work/qs-$px.png" --width 1920 --height 1080 \
-      --qsplat-threshold "$px" --threads "$threads" --stats "$work/stats.json"
+      --qsplat-threshold "$px" --threads "$threads" --stats "$work/stats.json" --blend "$blend"
     line=$(python3 -c "
 import json; j = json.load(open('$work/stats.json')); q = j['qsplat']
 print(j['time_ms']['frame'], j['time_ms']['select'], q['nodes_visited'], q['culled_frustum'],
@@ -41,13 +43,14 @@ print(j['time_ms']['frame'], j['time_ms']['select'], q['nodes_visited'], q['cull
     read -r ms sel visited frustum cone selected drawn <<<"$line"
     if awk -v t="$ms" -v b="$fbest" 'BEGIN {exit !(b == 0 || t < b)}'; then
       fbest=$ms
-      fline=$(awk -v px="$px" -v ms="$ms" -v sel="$sel" -v v="$visited" -v f="$frustum" \
+      fline=$(awk -v blend="$blend" -v px="$px" -v ms="$ms" -v sel="$sel" -v v="$visited" -v f="$frustum" \
         -v c="$cone" -v s="$selected" -v d="$drawn" 'BEGIN {
-        printf "splat-view %2d px: %.1f ms/frame (select %.1f ms), %d nodes visited, %d culled by frustum, %d by cone, %d splats drawn = %.1f M splats drawn/s\n",
-               px, ms, sel, v, f, c, d, d / ms / 1e3 }')
+        printf "splat-view --blend %s %2d px: %.1f ms/frame (select %.1f ms), %d nodes visited, %d culled by frustum, %d by cone, %d splats drawn = %.1f M splats drawn/s\n",
+               blend, px, ms, sel, v, f, c, d, d / ms / 1e3 }')
     fi
   done
   echo "$fline"
+done
 done
 "$bin/splat-synth" -q torus "$work/m1.splk" -n 1000000 --random
 for c in color no-color; do

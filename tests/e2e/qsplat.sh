@@ -61,6 +61,22 @@ for px in 1 4 16; do
   tr -d ' \n' <"$WORK/v$px.json" | grep -q '"nodes_visited":[1-9]' && pass ||
     fail "splat-view --stats: no qsplat counts"
 done
+# The z-buffer fast path: the same bytes on 1 and 2 threads, for a .qs and for plain splats, and
+# fewer splats drawn at 16 px than at 1 px.
+for t in 1 2; do
+  expect_exit 0 "$BIN/splat-view" "$WORK/torus.qs" -o "$WORK/z$t.png" -q --width 320 \
+    --height 240 --blend zbuffer --threads "$t" --stats "$WORK/z$t.json"
+  expect_exit 0 "$BIN/splat-view" "$S/torus.ply" -o "$WORK/zp$t.png" -q --width 320 \
+    --height 240 --blend zbuffer --threads "$t"
+done
+cmp -s "$WORK/z1.png" "$WORK/z2.png" && pass || fail "--blend zbuffer .qs differs across threads"
+cmp -s "$WORK/zp1.png" "$WORK/zp2.png" && pass || fail "--blend zbuffer .ply differs across threads"
+expect_exit 0 "$BIN/splat-view" "$WORK/torus.qs" -o "$WORK/z16.png" -q --width 320 \
+  --height 240 --blend zbuffer --qsplat-threshold 16 --stats "$WORK/z16.json"
+drawn() { tr -d ' \n' <"$1" | grep -o '"splats_drawn":[0-9]*' | head -1 | cut -d: -f2; }
+[ "$(drawn "$WORK/z16.json")" -lt "$(drawn "$WORK/z1.json")" ] && pass ||
+  fail "--blend zbuffer: 16 px draws no fewer splats than 1 px"
+tr -d ' \n' <"$WORK/z1.json" | grep -q '"blend":"zbuffer"' && pass || fail "--stats: no blend mode"
 
 # Bad input: exit codes and one-line messages; no output left behind.
 printf '0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 2\n3 3 3\n' >"$WORK/bare.xyz"

@@ -31,6 +31,7 @@ struct Case {
   Shape shape;
   int splats;
   float distance;
+  bool zbuffer = false;  // the .qs render by --blend zbuffer (the reference stays blended)
 };
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
@@ -61,6 +62,7 @@ TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
   Framebuffer a, b;
   FrameRenderer renderer;
   renderer.render(plain, cam, options, a);
+  if (k.zbuffer) options.blend = BlendMode::kZBuffer;
   const FrameStats s = renderer.render(qs, cam, options, b);
 
   const int w = cam.width, h = cam.height;
@@ -92,13 +94,15 @@ TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
   EXPECT_GT(s.lod.culled_cone, 0u);  // the far side of a closed shape
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, RenderQSplat,
-                         ::testing::Values(Case{"sphere_mid", Shape::kSphere, 20000, 3.0f},
-                                           Case{"sphere_near", Shape::kSphere, 5000, 2.6f},
-                                           Case{"torus_mid", Shape::kTorus, 30000, 3.5f}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return std::string(info.param.name);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, RenderQSplat,
+    ::testing::Values(Case{"sphere_mid", Shape::kSphere, 20000, 3.0f},
+                      Case{"sphere_near", Shape::kSphere, 5000, 2.6f},
+                      Case{"torus_mid", Shape::kTorus, 30000, 3.5f},
+                      Case{"sphere_mid_zbuffer", Shape::kSphere, 20000, 3.0f, true},
+                      Case{"sphere_near_zbuffer", Shape::kSphere, 5000, 2.6f, true},
+                      Case{"torus_mid_zbuffer", Shape::kTorus, 30000, 3.5f, true}),
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 TEST(RenderQSplat, LargerThresholdsDrawFewerSplatsAndCullOutsideTheFrustum) {
   const RenderScene qs = qsplat_scene_of(testing::sample_shape(Shape::kTorus, 30000));

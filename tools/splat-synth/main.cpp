@@ -15,12 +15,16 @@ int main(int argc, char** argv) {
       "  $ splat-synth two-spheres spheres.ply --keep-inside  # both whole spheres, red and blue\n"
       "  $ splat-synth torus torus.xyz -n 2000 --random --seed=7  # i.i.d. uniform sample as text\n"
       "  $ splat-synth cad lines.ply -n 50000 --scan-lines 4  # scan lines, 4x denser along\n"
-      "  $ splat-synth cube - | splat-info -            # .splk on stdout\n");
+      "  $ splat-synth cube - | splat-info -            # .splk on stdout\n"
+      "  $ splat-synth city city.splk -n 10000000 --walkthrough city.path.json\n");
   splatkit::apps::SplatSynthOptions o;
   auto& app = tool.app();
-  app.add_option("SHAPE", o.shape, "sphere, torus, cad, two-spheres or cube")
+  app.add_option("SHAPE", o.shape,
+                 "sphere, torus, cad, two-spheres, cube, or city (a grid of buildings with walls, "
+                 "floor slabs and roofs on a ground plane, metres, sampled on a regular grid; "
+                 "for occlusion culling; --blocks, --walkthrough)")
       ->required()
-      ->check(CLI::IsMember({"sphere", "torus", "cad", "two-spheres", "cube"}));
+      ->check(CLI::IsMember({"sphere", "torus", "cad", "two-spheres", "cube", "city"}));
   app.add_option("OUT", o.output, "Output file ('-' = .splk on stdout)")->required();
   app.add_option("-n,--points", o.sample.points, "Number of points (stratified: approximately)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30))
@@ -41,6 +45,14 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-inside", o.sample.keep_inside,
                "two-spheres: keep the part of each sphere inside the other (two whole spheres)");
   app.add_flag("--no-color", o.no_color, "Leave out the colours (smaller files)");
+  app.add_option("--blocks", o.city_blocks, "city: buildings per side of the grid (2..64)")
+      ->default_val(8);
+  app.add_option("--walkthrough", o.walkthrough,
+                 "city: also write a street-level walkthrough camera path (JSON for splat-view "
+                 "--path)")
+      ->type_name("PATH.json");
+  app.add_option("--walk-frames", o.walk_frames, "city: cameras on the walkthrough (2..100000)")
+      ->default_val(60);
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_synth(o, progress);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
       "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
       "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n"
+      "$ splat-view city.splk -o 'walk_%04d.png' --path city.path.json --occlusion chc++\n"
       "$ splat-view --terrain dem.tif --ham tiles.exr -o dem.png --wireframe  # after build-ham\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
@@ -55,7 +56,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--blend", o.blend,
                  "Surface reconstruction: zthreshold[=EPS] (EPS in scene units, default twice "
-                 "the mean splat radius) or zrange")
+                 "the mean splat radius), zrange, or zbuffer: no blending, each pixel shows its "
+                 "nearest splat drawn as a screen-aligned disc (the fast path for splats of a "
+                 "few pixels, as QSplat draws; no clipping, aliased edges)")
       ->default_val("zthreshold");
   app.add_option("--shade", o.shade,
                  "phong, normals, depth, flat (unlit albedo), or false colours lit with phong: "
@@ -84,6 +87,28 @@ int main(int argc, char** argv) {
                "reconstruction: fragments of different surfaces blend");
   app.add_option("--background", o.background, "Background colour R,G,B (sRGB, each in 0..1)")
       ->type_name("R,G,B");
+  app.add_option("--path", o.path,
+                 "Camera path: a JSON array of {\"eye\": [x,y,z], \"target\": [x,y,z]} with "
+                 "optional \"up\" and \"fov\"; one frame per camera, OUT needs a %04d field")
+      ->type_name("CAMERAS.json");
+  app.add_option("--occlusion", o.occlusion,
+                 "Occlusion culling over a hierarchy of splat chunks built at load: none, "
+                 "frustum, hierarchical (a depth-pyramid query per node), chc or chc++ "
+                 "(coherent hierarchical culling, Bittner et al. 2004; Mattausch et al. 2008). "
+                 "Every mode gives the same image; plain splat files, A-buffer blends")
+      ->default_val("none")
+      ->check(CLI::IsMember({"none", "frustum", "hierarchical", "chc", "chc++"}));
+  app.add_option("--bvh-split", o.bvh_split,
+                 "Chunk hierarchy split: median (of the centres along the longest axis) or sah "
+                 "(surface area heuristic)")
+      ->default_val("median")
+      ->check(CLI::IsMember({"median", "sah"}));
+  app.add_option("--bvh-leaf", o.bvh_leaf, "Splats per chunk (hierarchy leaf), at most")
+      ->default_val(2048)
+      ->check(CLI::Range(1u, 1u << 24));
+  app.add_flag("--count-visible", o.count_visible,
+               "Diagnostic: count the splats each frame truly shows (nearest splat ids of a "
+               "z-buffer pass) into the --stats report as occlusion.splats_visible");
   app.add_option("--stats", o.stats_path, "Write a JSON report (counts, time per stage)");
   splatkit::apps::TerrainViewOptions terrain;
   app.add_option("--terrain", terrain.heightmap,

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Occlusion culling in splat-view, one run: a city from splat-synth (N splats, default 10 M) and
+# K consecutive frames of its street-level walkthrough (120 cameras, about 2 m apart; the K
+# frames from the 10th), rendered at 1920x1080 with T threads by
+#   splat-view city.splk -o 'MODE/%04d.png' --path walk.json --occlusion MODE --stats MODE.json
+# for MODE = none, frustum, hierarchical, chc, chc++ (the scene loads once per run; frame times
+# are splat-view's own, culling included, PNG writing excluded). Every frame of every mode is
+# compared byte for byte with none. Prints the per-frame table (ms per frame, splats drawn,
+# queries) and the ratios: chc++ frames/s against frustum and none, chc++ queries against
+# hierarchical, and splats chc++ draws against the splats truly visible (distinct nearest splat
+# ids of a z-buffer pass: splat-view --count-visible).
+# usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=2048]
+#        (build dir: $BUILD_DIR, default build-bench)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build-bench}
+splats=${1:-10000000} frames=${2:-8} threads=${3:-2} blocks=${4:-8} leaf=${5:-2048}
+if [ ! -f "$build/build.ninja" ]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_TESTS=OFF \
+    >/dev/null
+fi
+ninja -C "$build" -j2 splat-synth splat-view >/dev/null
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$build/tools/splat-synth" -q city "$work/city.splk" -n "$splats" --blocks "$blocks" \
+  --walkthrough "$work/walk-all.json" --walk-frames 120
+python3 - "$work/walk-all.json" "$frames" "$work/walk.json" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1])); k = int(sys.argv[2])
+json.dump(p[10:10 + k], open(sys.argv[3], "w"))
+PY
+modes="none frustum hierarchical chc chc++"
+for m in $modes; do
+  mkdir -p "$work/$m"
+  extra=()
+  [ "$m" = "chc++" ] && extra=(--count-visible)
+  /usr/bin/time -f "%e %M" -o "$work/$m.time" "$build/tools/splat-view" -q "$work/city.splk" \
+    -o "$work/$m/%04d.png" --path "$work/walk.json" --width 1920 --height 1080 \
+    --threads "$threads" --occlusion "$m" --bvh-leaf "$leaf" --stats "$work/$m.json" "${extra[@]}"
+done
+identical=0 total=0
+for m in frustum hierarchical chc chc++; do
+  for f in "$work/none"/*.png; do
+    total=$((total + 1))
+    cmp -s "$f" "$work/$m/$(basename "$f")" && identical=$((identical + 1))
+  done
+done
+echo "city: $splats splats requested, $frames frames, 1920x1080, $threads threads, leaves of $leaf"
+echo "byte-identical to none: $identical of $total frames"
+python3 - "$work" $modes <<'PY'
+import json, sys, os
+work, modes = sys.argv[1], sys.argv[2:]
+r = {m: json.load(open(os.path.join(work, m + ".json"))) for m in modes}
+wall = {m: open(os.path.join(work, m + ".time")).read().split() for m in modes}
+print("scene splats: %d" % r["none"]["frames"][0]["splats_in"])
+for m in modes:
+    b = r[m].get("bvh")
+    if b:
+        print("%-12s load %.0f ms, bvh %s split, %d leaves, build %.0f ms, process %s s, %s KB peak"
+              % (m, r[m]["load_ms"], b["split"], b["leaves"], b["build_ms"], wall[m][0], wall[m][1]))
+hdr = "frame " + " ".join("%10s" % (m + " ms") for m in modes) + \
+      " " + " ".join("%12s" % (m + " drawn") for m in modes) + \
+      "   q(hier)  q(chc++)  visible"
+print(hdr)
+n = len(r["none"]["frames"])
+def fr(m, i): return r[m]["frames"][i]
+for i in range(n):
+    row = "%5d " % i + " ".join("%10.1f" % fr(m, i)["time_ms"]["frame"] for m in modes)
+    row += " " + " ".join("%12d" % fr(m, i)["splats_in"] for m in modes)
+    row += " %9d %9d %8d" % (fr("hierarchical", i)["occlusion"]["queries"],
+                             fr("chc++", i)["occlusion"]["queries"],
+                             fr("chc++", i)["occlusion"]["splats_visible"])
+    print(row)
+tot = {m: sum(f["time_ms"]["frame"] for f in r[m]["frames"]) for m in modes}
+for m in modes:
+    print("%-12s %8.1f ms/frame  %6.2f frames/s" % (m, tot[m] / n, 1000.0 * n / tot[m]))
+q = {m: r[m].get("occlusion_total", {}).get("queries", 0) for m in modes}
+drawn = sum(f["splats_in"] for f in r["chc++"]["frames"])
+visible = sum(f["occlusion"]["splats_visible"] for f in r["chc++"]["frames"])
+t = r["chc++"]["occlusion_total"]
+print("chc++ multiqueries: %d covering %d nodes (%.2f nodes each)"
+      % (t["multiqueries"], t["queries_per_multiquery"] * t["multiqueries"], t["queries_per_multiquery"]))
+def line(name, value, target, ok):
+    print("%-44s %8.2f   (target %s: %s)" % (name, value, target, "met" if ok else "NOT met"))
+line("fps ratio chc++ / frustum", tot["frustum"] / tot["chc++"], ">= 4", tot["frustum"] / tot["chc++"] >= 4)
+line("fps ratio chc++ / none", tot["none"] / tot["chc++"], ">= 8", tot["none"] / tot["chc++"] >= 8)
+line("fps ratio chc++ / hierarchical", tot["hierarchical"] / tot["chc++"], "-", True)
+line("queries chc++ / hierarchical", q["chc++"] / max(1, q["hierarchical"]), "<= 1/3",
+     q["chc++"] <= q["hierarchical"] / 3)
+line("queries chc / hierarchical", q["chc"] / max(1, q["hierarchical"]), "-", True)
+line("splats drawn by chc++ / truly visible", drawn / max(1, visible), "<= 2", drawn <= 2 * visible)
+PY

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Scaling: whole commands as a user runs them on i.i.d. random tori (splat-synth torus --random,
+# shuffled like a merged scan), 2 threads, at several sizes: estimate-normals (read .splk ->
+# write .splk, MST orientation included) with its orient phase, build-splat-graph, segment-surfaces
+# and splat-view's load (a 64x36 frame, so the time is the read and the scene set-up). Prints
+# seconds, microseconds per point, and peak RSS per point (bytes), then each tool's time per
+# point at the largest size over the smallest (the target: at most 1.3).
+# usage: scripts/bench/scale.sh [millions of points...]   (default: 1 4 16)
+#        (build dir: $BUILD_DIR, default build; temporary files in $TMPDIR)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build}
+ninja -C "$build" -j2 splat-synth estimate-normals build-splat-graph segment-surfaces \
+  splat-view >/dev/null
+bin=$build/tools
+sizes=("$@")
+[ ${#sizes[@]} -gt 0 ] || sizes=(1 4 16)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# run NAME POINTS COMMAND...: times the command with GNU time, prints a row, records us/point.
+declare -A first
+run() {
+  local name=$1 n=$2
+  shift 2
+  /usr/bin/time -f "%e %M" -o "$work/time" "$@"
+  read -r secs kb <"$work/time"
+  local us rss
+  us=$(awk -v s="$secs" -v n="$n" 'BEGIN {printf "%.3f", s / n * 1e6}')
+  rss=$(awk -v k="$kb" -v n="$n" 'BEGIN {printf "%.0f", k * 1024 / n}')
+  printf "%-18s %6dM %8.2f s %8s us/point %6s B/point peak\n" "$name" $((n / 1000000)) "$secs" \
+    "$us" "$rss"
+  [ -n "${first[$name]:-}" ] || first[$name]=$us
+  last[$name]=$us
+}
+declare -A last
+orient_first="" orient_last=""
+for m in "${sizes[@]}"; do
+  n=$((m * 1000000))
+  "$bin/splat-synth" -q torus "$work/in.splk" -n "$n" --random --no-color
+  run estimate-normals "$n" "$bin/estimate-normals" -q "$work/in.splk" "$work/normals.splk" \
+    --threads 2 --report "$work/normals.json"
+  orient=$(tr -d '\n ' <"$work/normals.json" | grep -o '"orient":[0-9.e+-]*' | cut -d: -f2)
+  us=$(awk -v s="$orient" -v n="$n" 'BEGIN {printf "%.3f", s / n * 1e6}')
+  printf "%-18s %6dM %8.2f s %8s us/point\n" "  of which orient" "$m" "$orient" "$us"
+  [ -n "$orient_first" ] || orient_first=$us
+  orient_last=$us
+  run build-splat-graph "$n" "$bin/build-splat-graph" -q "$work/normals.splk" "$work/graph.splk" \
+    --threads 2
+  run segment-surfaces "$n" "$bin/segment-surfaces" -q "$work/graph.splk" "$work/surf.splk" \
+    --threads 2
+  run "splat-view load" "$n" "$bin/splat-view" -q "$work/surf.splk" -o "$work/v.png" \
+    --width 64 --height 36 --threads 2
+  rm -f "$work"/*.splk
+done
+echo "time per point, largest size over smallest (target <= 1.3):"
+for name in estimate-normals build-splat-graph segment-surfaces "splat-view load"; do
+  awk -v a="${first[$name]}" -v b="${last[$name]}" -v t="$name" \
+    'BEGIN {printf "  %-18s %.2fx\n", t, b / a}'
+done
+awk -v a="$orient_first" -v b="$orient_last" 'BEGIN {printf "  %-18s %.2fx\n", "orient", b / a}'

@@ -1,0 +1,162 @@
+// The z-buffer fast path (render/zbuffer_splats.h, --blend zbuffer): which pixels a splat covers,
+// which splat a pixel keeps, splats that are not drawn, and images byte-identical for any thread
+// count on a real render (plain splats and a QSplat hierarchy).
+#include <gtest/gtest.h>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "formats/read_qsplat.h"
+#include "qsplat/build_qsplat_tree.h"
+#include "qsplat/encode_qsplat.h"
+#include "qsplat/make_qsplat_leaves.h"
+#include "render/qsplat_scene.h"
+#include "render/zbuffer_splats.h"
+#include "test_render_support.h"
+
+namespace splatkit::render {
+namespace {
+
+// A 20 × 10 image, focal 10 px, looking down +z from the origin: camera space = scene space.
+Projection small_projection() {
+  Projection p;
+  p.eye = {0, 0, 0};
+  p.right = {1, 0, 0};
+  p.down = {0, 1, 0};
+  p.forward = {0, 0, 1};
+  p.focal_px = 10;
+  p.cx = 10;
+  p.cy = 5;
+  p.width = 20;
+  p.height = 10;
+  p.near = 0.1f;
+  return p;
+}
+
+std::vector<int> covered(const DepthKeyBuffer& b, uint32_t index) {
+  std::vector<int> px;
+  for (int p = 0; p < b.width * b.height; ++p)
+    if (b.keys[p] != kNoSplatKey && DepthKeyBuffer::index_of(b.keys[p]) == index) px.push_back(p);
+  return px;
+}
+
+TEST(ZBufferSplat, CoversThePixelCentresInsideTheProjectedDisc) {
+  const Projection p = small_projection();
+  DepthKeyBuffer b;
+  b.reset(p.width, p.height);
+  // Centre at pixel coordinates (10.5, 5.5) (pixel (10, 5)'s centre), radius 1.2 px: the pixel
+  // and its four edge neighbours (distance 1), not the diagonals (distance 1.41).
+  const float z = 2;
+  ASSERT_TRUE(zbuffer_splat(b, p, {0.05f * z, 0.05f * z, z}, 0.12f * z, 7));
+  EXPECT_EQ(covered(b, 7),
+            (std::vector<int>{4 * 20 + 10, 5 * 20 + 9, 5 * 20 + 10, 5 * 20 + 11, 6 * 20 + 10}));
+  EXPECT_FLOAT_EQ(DepthKeyBuffer::depth_of(b.keys[5 * 20 + 10]), z);
+}
+
+TEST(ZBufferSplat, ASplatSmallerThanAPixelStillDrawsThePixelUnderItsCentre) {
+  const Projection p = small_projection();
+  DepthKeyBuffer b;
+  b.reset(p.width, p.height);
+  // Projected centre (3.9, 2.1), radius 0.05 px: no pixel centre within reach.
+  ASSERT_TRUE(zbuffer_splat(b, p, {-0.61f, -0.29f, 1}, 0.005f, 3));
+  EXPECT_EQ(covered(b, 3), (std::vector<int>{2 * 20 + 3}));
+}
+
+TEST(ZBufferSplat, ThePixelKeepsTheNearestSplatThenTheLowestIndex) {
+  const Projection p = small_projection();
+  DepthKeyBuffer b;
+  b.reset(p.width, p.height);
+  const Vec3f at{0.05f, 0.05f, 1};
+  ASSERT_TRUE(zbuffer_splat(b, p, at * 2.0f, 0.01f, 5));
+  ASSERT_TRUE(zbuffer_splat(b, p, at * 3.0f, 0.01f, 1));  // farther: loses
+  EXPECT_EQ(DepthKeyBuffer::index_of(b.keys[5 * 20 + 10]), 5u);
+  ASSERT_TRUE(zbuffer_splat(b, p, at * 2.0f, 0.01f, 9));  // same depth, higher index: loses
+  EXPECT_EQ(DepthKeyBuffer::index_of(b.keys[5 * 20 + 10]), 5u);
+  ASSERT_TRUE(zbuffer_splat(b, p, at * 2.0f, 0.01f, 2));  // same depth, lower index: wins
+  EXPECT_EQ(DepthKeyBuffer::index_of(b.keys[5 * 20 + 10]), 2u);
+}
+
+TEST(ZBufferSplat, SplatsReachingPastTheNearPlaneOrOffTheImageAreNotDrawn) {
+  const Projection p = small_projection();
+  DepthKeyBuffer b;
+  b.reset(p.width, p.height);
+  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, 0.15f}, 0.1f, 0));    // reaches depth 0.05 < near
+  EXPECT_FALSE(zbuffer_splat(b, p, {0, 0, -2}, 0.1f, 0));       // behind the eye
+  EXPECT_FALSE(zbuffer_splat(b, p, {5, 0, 1}, 0.1f, 0));        // 40 px right of the image
+  EXPECT_FALSE(zbuffer_splat(b, p, {0, -0.62f, 1}, 0.05f, 0));  // centre row -1.2, reach 0.5 px
+  for (uint64_t k : b.keys) ASSERT_EQ(k, kNoSplatKey);
+  // Partly off the image: the pixels inside are drawn.
+  EXPECT_TRUE(zbuffer_splat(b, p, {-1.0f, 0, 1}, 0.1f, 4));
+  EXPECT_FALSE(covered(b, 4).empty());
+}
+
+Camera render_camera() {
+  Camera cam;
+  cam.width = 240;
+  cam.height = 180;
+  cam.eye = {2.2f, -1.6f, 1.4f};
+  return cam;
+}
+
+// Renders `scene` with --blend zbuffer on `threads` threads.
+Framebuffer render_on(const RenderScene& scene, int threads, FrameStats* stats = nullptr) {
+  const Camera cam = render_camera();
+  RenderOptions o;
+  o.blend = BlendMode::kZBuffer;
+  o.planes = {true, true, true};
+  Framebuffer out;
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    FrameRenderer r;
+    const FrameStats s = r.render(scene, cam, o, out);
+    if (stats) *stats = s;
+  });
+  return out;
+}
+
+void expect_identical(const Framebuffer& a, const Framebuffer& b) {
+  EXPECT_EQ(a.rgb8, b.rgb8);
+  EXPECT_EQ(a.rgba, b.rgba);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.normal, b.normal);
+}
+
+TEST(ZBufferFrame, ByteIdenticalForAnyThreadCountAndHoleFree) {
+  using testing::Shape;
+  const SplatCloud cloud = testing::sample_shape(Shape::kTorus, 40000);
+  const RenderScene plain = make_render_scene(SplatCloud(cloud), "test");
+  FrameStats s;
+  const Framebuffer one = render_on(plain, 1, &s);
+  expect_identical(one, render_on(plain, 2));
+  EXPECT_EQ(s.splats_in, cloud.size());
+  EXPECT_GT(s.splats_drawn, cloud.size() / 2);
+  // Inside the silhouette of the blended render (its mask eroded by a pixel) nothing is open.
+  Framebuffer blended;
+  RenderOptions o;
+  o.planes = {true, false, true};
+  FrameRenderer().render(plain, render_camera(), o, blended);
+  const auto inside = testing::morph(
+      [&] {
+        std::vector<uint8_t> m(blended.alpha.size());
+        for (std::size_t p = 0; p < m.size(); ++p) m[p] = blended.alpha[p] > 0;
+        return m;
+      }(),
+      240, 180, false);
+  int holes = 0, pixels = 0;
+  for (std::size_t p = 0; p < inside.size(); ++p) {
+    holes += inside[p] && !(one.alpha[p] > 0);
+    pixels += inside[p];
+  }
+  EXPECT_GT(pixels, 5000);
+  EXPECT_EQ(holes, 0);
+
+  const qsplat::QSplatLeaves leaves = qsplat::make_qsplat_leaves(cloud, "test");
+  const qsplat::EncodedQSplat e = qsplat::encode_qsplat(qsplat::build_qsplat_tree(leaves), "");
+  const RenderScene qs = make_qsplat_scene(parse_qsplat(e.bytes, "test.qs"), "test.qs");
+  const Framebuffer q1 = render_on(qs, 1, &s);
+  expect_identical(q1, render_on(qs, 2));
+  EXPECT_GT(s.lod.visited, s.splats_in);
+  EXPECT_GT(s.splats_drawn, 1000u);
+}
+
+}  // namespace
+}  // namespace splatkit::render
