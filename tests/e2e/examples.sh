@@ -31,6 +31,14 @@ setup build-splat-graph -q part.splk part-graph.splk
 setup segment-surfaces -q part-graph.splk part-surf.splk
 setup splat-convert -q bunny.splk bunny.ply
 setup build-qsplat -q bunny.splk bunny.qs
+# Heightmaps: the real SRTM crop as GeoTIFF, as an SRTM .hgt, and 1024² float32 RAW.
+cp "$S/rainier-srtm.tif" dem.tif
+python3 -c 'import struct, math, sys
+n = 257
+open("N46W122.hgt", "wb").write(struct.pack(">%dh" % (n * n), *[int(1500 + 800 * math.sin(i / 900)) for i in range(n * n)]))
+open("dem.f32", "wb").write(struct.pack("<%df" % (1024 * 1024), *[100 * math.sin(i / 5000) for i in range(1024 * 1024)]))' ||
+  fail "setup: heightmaps"
+setup build-ham -q dem.tif tiles.exr
 
 run_example() {  # run_example SOURCE COMMAND
   local cmd=$2 code
@@ -38,7 +46,7 @@ run_example() {  # run_example SOURCE COMMAND
   code=$?
   if [ "$code" -ne 0 ]; then
     fail "$1: exit $code: $cmd"; sed 's/^/  stderr: /' "$WORK/ex.err" | head -5 >&2
-  elif grep -v -E '^[a-z-]+: [0-9]+ (points|splats) in ' "$WORK/ex.err" | grep -q .; then
+  elif grep -v -E '^[a-z-]+: [0-9]+ (points|splats|samples|triangles) in ' "$WORK/ex.err" | grep -q .; then
     fail "$1: unexpected stderr: $cmd: $(head -3 "$WORK/ex.err")"
   else
     pass
@@ -47,7 +55,7 @@ run_example() {  # run_example SOURCE COMMAND
 
 count=0
 for tool in splat-info splat-convert splat-synth estimate-normals build-splat-graph \
-            segment-surfaces build-qsplat build-spt splat-view; do
+            segment-surfaces build-qsplat build-spt build-ham splat-view; do
   # The examples: lines "$ command  # comment" in the help footer (commands span one line).
   while IFS= read -r cmd; do
     run_example "$tool --help" "$cmd"
@@ -69,7 +77,8 @@ for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply 
          spheres.ply torus.xyz scan.splk part-graph.splk parts.ply graph.json part-surf.ply \
          surfaces.json bunny.png top.png part.exr turn_0000.png turn_0035.png stats.json \
          surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json part-top.png \
-         inventory.json bunny.qs scan.qs qs.json far.png scan.spt spt.json s.json; do
+         inventory.json bunny.qs scan.qs qs.json far.png scan.spt spt.json s.json \
+         rainier-tiles.exr ham.json ham.exr dem-f32.exr dem.png; do
   [ -s "$f" ] && pass || fail "no $f after the examples"
 done
 expect_eq "inventory.json describes every scan" \

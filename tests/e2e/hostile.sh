@@ -260,5 +260,24 @@ hostile 1 "\\.spt" -- "$BIN/build-spt" "$IN/splats.splk" "$OUT/x.ply"
 hostile 1 "input|same|OUT" -- "$BIN/build-spt" "$IN/huge.spt" "$IN/huge.spt"
 hostile 2 "estimate-normals" -- "$BIN/build-spt" "$IN/kitten.xyz" "$OUT/x.spt"
 hostile 0 "" -- "$BIN/build-spt" -q "$IN/splats.splk" "$OUT/x.spt"
+# ---- 6. heightmaps (build-ham, splat-view --terrain) ----------------------------------------------
+# A TIFF header claiming 10^6 x 10^6 uncompressed float samples in 200 bytes; an empty .hgt;
+# RAW rows of 2^31 texels from stdin; a TIFF whose first directory lies past its end.
+python3 - "$IN" <<'PY'
+import struct, sys
+d = sys.argv[1]
+e = [(256, 4, 1000000), (257, 4, 1000000), (258, 3, 32), (259, 3, 1), (262, 3, 1), (273, 4, 200),
+     (277, 3, 1), (278, 4, 1), (279, 4, 4000000), (339, 3, 3)]
+ifd = struct.pack("<H", len(e)) + b"".join(
+    struct.pack("<HHII", t, y, 1, v) if y == 4 else struct.pack("<HHIHH", t, y, 1, v, 0) for t, y, v in e) + b"\0" * 4
+open(d + "/huge.tif", "wb").write(b"II*\0" + struct.pack("<I", 8) + ifd + b"\0" * 64)
+open(d + "/far-ifd.tif", "wb").write(b"II*\0" + struct.pack("<I", 1 << 30) + b"\0" * 64)
+PY
+: >"$IN/N10E010.hgt"
+hostile 2 "huge.tif.*(truncated|cannot hold|strip)" -- "$BIN/build-ham" "$IN/huge.tif" "$OUT/h.exr"
+hostile 2 "far-ifd.tif" -- "$BIN/build-ham" "$IN/far-ifd.tif" "$OUT/h.exr"
+hostile 2 "N10E010.hgt.*SRTM" -- "$BIN/build-ham" "$IN/N10E010.hgt" "$OUT/h.exr"
+hostile 3 "2147483648 texels" -- "$BIN/build-ham" - "$OUT/h.exr" --raw 2147483648,2147483648,float32
+hostile 2 "huge.tif" -- "$BIN/splat-view" --terrain "$IN/huge.tif" --ham "$IN/huge.tif" -o "$OUT/x.png"
 
 finish

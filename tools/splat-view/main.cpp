@@ -1,7 +1,9 @@
 // splat-view: declares the options of apps::run_splat_view (lib/apps) and calls it.
 #include "apps/run_splat_view.h"
+#include "apps/run_terrain_view.h"
 #include "render/reconstruct_pixel.h"
 #include "render/setup_splats.h"
+#include "splatkit/error.h"
 #include "splatkit/tool.h"
 
 int main(int argc, char** argv) {
@@ -17,13 +19,14 @@ int main(int argc, char** argv) {
       "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
       "$ splat-view scan.spt -o far.png --spt-error 2 --stats s.json  # Sequential Point Tree\n"
       "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n"
-      "$ splat-view city.splk -o 'walk_%04d.png' --path city.path.json --occlusion chc++\n");
+      "$ splat-view city.splk -o 'walk_%04d.png' --path city.path.json --occlusion chc++\n"
+      "$ splat-view --terrain dem.tif --ham tiles.exr -o dem.png --wireframe  # after build-ham\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
   splatkit::apps::SplatViewOptions o;
   namespace render = splatkit::render;
-  app.add_option("input", o.input, "Splat file (any format estimate-normals writes, .splk)")
-      ->required();
+  app.add_option("input", o.input,
+                 "Splat file (any format estimate-normals writes, .splk); none with --terrain");
   app.add_option("-o,--output", o.output,
                  "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
                  "surface_id channel when the file has surface ids and --no-surface-ids is not "
@@ -117,7 +120,28 @@ int main(int argc, char** argv) {
                "Diagnostic: count the splats each frame truly shows (nearest splat ids of a "
                "z-buffer pass) into the --stats report as occlusion.splats_visible");
   app.add_option("--stats", o.stats_path, "Write a JSON report (counts, time per stage)");
+  splatkit::apps::TerrainViewOptions terrain;
+  app.add_option("--terrain", terrain.heightmap,
+                 "Render this heightmap (any build-ham input) instead of splats, tessellated per "
+                 "tile by --ham")
+      ->type_name("HEIGHTMAP");
+  app.add_option("--ham", terrain.ham, "With --terrain: build-ham's per-tile HAM EXR")
+      ->type_name("TILES.exr");
+  app.add_option("--tess-error", terrain.tess_error_px,
+                 "With --terrain: allowed screen-space error of a tile's peak, pixels")
+      ->default_val(2.0f)
+      ->check(splatkit::positive_finite());
+  app.add_option("--tess-distance", terrain.tess_distance_tiles,
+                 "With --terrain: full tessellation within this many tile diagonals of the eye")
+      ->default_val(3.0f)
+      ->check(splatkit::positive_finite());
+  app.add_option("--raw", terrain.raw, "With --terrain: the heightmap is headerless RAW")
+      ->type_name("W,H,TYPE[,ENDIAN]");
+  app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges");
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
+    if (!terrain.heightmap.empty())
+      return splatkit::apps::run_terrain_view(o, terrain, progress);
+    if (o.input.empty()) splatkit::throw_usage("input is required (a splat file, or --terrain HEIGHTMAP)");
     return splatkit::apps::run_splat_view(o, progress).line();
   });
 }

@@ -1,0 +1,255 @@
+#include "terrain/compute_ham.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "splatkit/error.h"
+#include "terrain/fill_voids.h"
+
+namespace splatkit::terrain {
+
+namespace {
+
+// One Sobel magnitude row from three source rows (above, centre, below), clamp-to-edge in x.
+// Every term is a difference of two neighbouring samples first (exact in float for samples
+// within a factor of two of each other, as heights far above zero are), then the weighted sum:
+// no cancellation against the heights' own magnitude.
+inline float sobel_at(const float* a, const float* c, const float* b, int64_t xl, int64_t x,
+                      int64_t xr) {
+  const float dx = (b[xl] - a[xl]) + 2.0f * (b[x] - a[x]) + (b[xr] - a[xr]);
+  const float dy = (a[xr] - a[xl]) + 2.0f * (c[xr] - c[xl]) + (b[xr] - b[xl]);
+  return std::sqrt(dx * dx + dy * dy);
+}
+
+void sobel_row(const float* __restrict a, const float* __restrict c, const float* __restrict b,
+               int64_t w, float* __restrict out) {
+  out[0] = sobel_at(a, c, b, 0, 0, std::min<int64_t>(1, w - 1));
+  for (int64_t x = 1; x < w - 1; ++x) {
+    const float dx = (b[x - 1] - a[x - 1]) + 2.0f * (b[x] - a[x]) + (b[x + 1] - a[x + 1]);
+    const float dy = (a[x + 1] - a[x - 1]) + 2.0f * (c[x + 1] - c[x - 1]) + (b[x + 1] - b[x - 1]);
+    out[x] = std::sqrt(dx * dx + dy * dy);
+  }
+  if (w > 1) out[w - 1] = sobel_at(a, c, b, w - 2, w - 1, w - 1);
+}
+
+struct TileAcc {
+  float ham = 0, h = -INFINITY;
+  uint32_t x = 0, y = 0, voids = 0;
+};
+
+// Folds `b` (later rows) into `a`: the larger HAM, the larger height, the first on ties.
+void merge(TileAcc& a, const TileAcc& b) {
+  a.ham = std::max(a.ham, b.ham);
+  if (b.h > a.h) {
+    a.h = b.h;
+    a.x = b.x;
+    a.y = b.y;
+  }
+  a.voids += b.voids;
+}
+
+}  // namespace
+
+HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& stats,
+                     const HamRowSink& sink, const ProgressFn& progress) {
+  if (o.tile < 1 || o.tile > 65536) throw_usage("--tile must be in [1, 65536]");
+  const HeightmapInfo& info = source.info();
+  const int64_t w = info.width, h = info.height, T = o.tile;
+  const bool has_nodata = o.has_nodata || info.has_nodata;
+  const auto nodata = float(o.has_nodata ? o.nodata : info.nodata);
+  const auto zs = float(o.z_scale);
+
+  // Band: a multiple of the reader's band, about band_bytes of rows.
+  const int64_t reader_rows = std::max<int64_t>(1, info.band_rows);
+  int64_t band = std::max<int64_t>(8, o.band_bytes / std::max<int64_t>(1, w * 4));
+  band = std::max(reader_rows, band / reader_rows * reader_rows);
+  band = std::min(band, h);
+  const int64_t lookahead = default_lookahead(w);
+  // Rows held at once: the band with its halo, the void filler's ring, per-thread rows.
+  const double tiles_bytes = 20.0 * double((w + T - 1) / T) * double((h + T - 1) / T);
+  const double held =
+      double(w) * (4.0 * double(band + 4) + 5.0 * double(lookahead + 2 * reader_rows + 64)) +
+      tiles_bytes;
+  if (held > double(int64_t(4) << 30))
+    throw_unsupported("the heightmap",
+                      std::to_string(w) + " x " + std::to_string(h) + " texels in tiles of " +
+                          std::to_string(T) + " need " +
+                          std::to_string(int64_t(held / double(1 << 20))) +
+                          " MiB in memory at once (limit 4096)");
+  HamTiles tiles;
+  tiles.resize(w, h, T);
+  tiles.z_scale = o.z_scale;
+  stats = {};
+  stats.band_rows = band;
+  stats.samples = uint64_t(w) * uint64_t(h);
+
+
+  VoidFiller filler(source, has_nodata, nodata, lookahead);
+
+  // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.
+  std::vector<float> window;
+  int64_t lo = 0, loaded = 0;
+  std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
+  float h_min = INFINITY, h_max = -INFINITY;
+
+  // Rows are filled into `ahead` (by a task while the previous band is computed), then moved
+  // to the window.
+  std::vector<float> ahead;
+  std::vector<uint32_t> ahead_voids;
+  int64_t ahead_rows = 0;
+  auto produce = [&](int64_t n) {
+    ahead.resize(std::size_t(n * w));
+    ahead_voids.assign(std::size_t(n * tiles.tiles_x), 0u);
+    for (int64_t r = 0; r < n; ++r) {
+      float* row = ahead.data() + std::size_t(r * w);
+      uint32_t* rv = ahead_voids.data() + std::size_t(r * tiles.tiles_x);
+      const int64_t v = filler.next(row);
+      if (v > 0) {
+        const std::vector<uint8_t>& mask = filler.mask();
+        for (int64_t x = 0; x < w; ++x) rv[x / T] += mask[std::size_t(x)];
+        stats.voids += uint64_t(v);
+        stats.void_rows += v == w;
+      }
+      if (zs != 1.0f)
+        for (int64_t x = 0; x < w; ++x) row[x] *= zs;
+    }
+    ahead_rows = n;
+  };
+  auto take_ahead = [&] {
+    window.insert(window.end(), ahead.begin(), ahead.begin() + ahead_rows * w);
+    row_voids.insert(row_voids.end(), ahead_voids.begin(),
+                     ahead_voids.begin() + ahead_rows * tiles.tiles_x);
+    loaded += ahead_rows;
+    ahead_rows = 0;
+  };
+
+  std::vector<float> band_out;
+  for (int64_t b0 = 0; b0 < h; b0 += band) {
+    const int64_t b1 = std::min(h, b0 + band);
+    const int64_t need_lo = std::max<int64_t>(0, b0 - 2), need_hi = std::min(h, b1 + 2);
+    if (need_lo > lo) {  // drop rows no longer needed
+      const int64_t drop = need_lo - lo;
+      window.erase(window.begin(), window.begin() + drop * w);
+      row_voids.erase(row_voids.begin(), row_voids.begin() + drop * tiles.tiles_x);
+      lo = need_lo;
+    }
+    if (loaded < need_hi) {  // the first band (later ones were read ahead)
+      produce(need_hi - loaded);
+      take_ahead();
+    }
+    // Read the next band's rows while this one is computed.
+    const int64_t next_hi = std::min(h, b1 + band + 2);
+    tbb::task_group prefetch;
+    if (next_hi > loaded) prefetch.run([&, n = next_hi - loaded] { produce(n); });
+    auto hrow = [&](int64_t r) {
+      r = std::clamp<int64_t>(r, 0, h - 1);
+      return window.data() + (r - lo) * w;
+    };
+    if (sink) band_out.resize(std::size_t((b1 - b0) * w));
+
+    // Runs of rows, one task each; per-run tile records merged in row order afterwards.
+    const int64_t run = std::max<int64_t>(8, (b1 - b0 + 7) / 8);
+    const int64_t runs = (b1 - b0 + run - 1) / run;
+    std::vector<std::vector<TileAcc>> parts(static_cast<std::size_t>(runs));
+    std::vector<double> run_ham_max(static_cast<std::size_t>(runs), 0.0);
+    std::vector<std::pair<float, float>> run_h(static_cast<std::size_t>(runs));
+    try {
+    tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
+      const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
+      const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
+      std::vector<TileAcc>& acc = parts[std::size_t(k)];
+      acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
+      std::vector<float> out(static_cast<std::size_t>(w));
+      std::vector<float> ring(static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
+      auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
+      auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
+        const int64_t rc = std::clamp<int64_t>(r, 0, h - 1);
+        sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, mrow(r));
+      };
+      compute_m(r0 - 1);
+      compute_m(r0);
+      float ham_max = 0, lo_h = INFINITY, hi_h = -INFINITY;
+      for (int64_t r = r0; r < r1; ++r) {
+        compute_m(r + 1);
+        const float* above = r == 0 ? mrow(r) : mrow(r - 1);
+        const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
+        sobel_row(above, mrow(r), below, w, out.data());
+        if (sink) std::memcpy(band_out.data() + (r - b0) * w, out.data(), std::size_t(w) * 4);
+        const float* hr = hrow(r);
+        for (int64_t x = 0; x < w; ++x) {
+          lo_h = std::min(lo_h, hr[x]);
+          hi_h = std::max(hi_h, hr[x]);
+        }
+        const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
+        TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
+        for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
+          const int64_t x0 = tx * T, x1 = std::min(w, x0 + T);
+          float hm = out[std::size_t(x0)];
+          int64_t best = x0;
+          float hh = hr[x0];
+          for (int64_t x = x0; x < x1; ++x) {
+            hm = std::max(hm, out[std::size_t(x)]);
+            if (hr[x] > hh) {
+              hh = hr[x];
+              best = x;
+            }
+          }
+          TileAcc& t = a[tx];
+          t.ham = std::max(t.ham, hm);
+          if (hh > t.h) {
+            t.h = hh;
+            t.x = uint32_t(best);
+            t.y = uint32_t(r);
+          }
+          t.voids += rv[tx];
+          ham_max = std::max(ham_max, hm);
+        }
+      }
+      run_ham_max[std::size_t(k)] = ham_max;
+      run_h[std::size_t(k)] = {lo_h, hi_h};
+    });
+    } catch (...) {
+      try {
+        prefetch.wait();
+      } catch (...) {
+      }
+      throw;
+    }
+    prefetch.wait();
+    for (int64_t k = 0; k < runs; ++k) {
+      const int64_t r0 = b0 + k * run;
+      const int64_t ty0 = r0 / T;
+      const std::vector<TileAcc>& acc = parts[std::size_t(k)];
+      for (std::size_t i = 0; i < acc.size(); ++i) {
+        const std::size_t t = std::size_t(ty0 * tiles.tiles_x) + i;
+        TileAcc cur{tiles.ham_max[t], tiles.h_max[t], tiles.x[t], tiles.y[t], tiles.voids[t]};
+        merge(cur, acc[i]);
+        tiles.ham_max[t] = cur.ham;
+        tiles.h_max[t] = cur.h;
+        tiles.x[t] = cur.x;
+        tiles.y[t] = cur.y;
+        tiles.voids[t] = cur.voids;
+      }
+      stats.ham_max = std::max(stats.ham_max, run_ham_max[std::size_t(k)]);
+      h_min = std::min(h_min, run_h[std::size_t(k)].first);
+      h_max = std::max(h_max, run_h[std::size_t(k)].second);
+    }
+    if (sink) sink(b1 - b0, band_out.data());
+    if (ahead_rows > 0) take_ahead();
+    progress(double(b1) / double(h), "ham");
+  }
+  stats.h_min = double(h_min);
+  stats.h_max = double(h_max);
+  tiles.header["h_min"] = stats.h_min;
+  tiles.header["h_max"] = stats.h_max;
+  tiles.header["ham_max"] = stats.ham_max;
+  tiles.header["voids"] = stats.voids;
+  return tiles;
+}
+
+}  // namespace splatkit::terrain

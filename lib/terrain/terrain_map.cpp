@@ -1,0 +1,56 @@
+#include "terrain/terrain_map.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
+#include "terrain/direct_tiff.h"
+#include "terrain/fill_voids.h"
+#include "terrain/tiff_geo_tags.h"
+#include "terrain/raw_heightmap.h"
+#include "terrain/terrain_images.h"
+
+namespace splatkit::terrain {
+
+double TerrainMap::sample(double x, double y) const {
+  x = std::clamp(x, 0.0, double(width - 1));
+  y = std::clamp(y, 0.0, double(height - 1));
+  const auto x0 = int64_t(x), y0 = int64_t(y);
+  const int64_t x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+  const double fx = x - double(x0), fy = y - double(y0);
+  const double top = at(x0, y0) + (at(x1, y0) - at(x0, y0)) * fx;
+  const double bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * fx;
+  return top + (bottom - top) * fy;
+}
+
+std::unique_ptr<HeightmapSource> open_heightmap(const std::string& path, const std::string& raw) {
+  if (!raw.empty()) return open_raw_heightmap(path, parse_raw_layout(raw));
+  if (path == "-") throw_usage("a heightmap may be '-' only with --raw (other formats need a file)");
+  const std::string ext = lower_extension(path);
+  if (ext == "hgt") return open_hgt(path);
+  if (ext == "tif" || ext == "tiff") {  // uncompressed single-band: read directly
+    if (auto direct = open_direct_tiff(path, read_tiff_geo_tags_file(path))) return direct;
+  }
+  return open_image_heightmap(path);
+}
+
+TerrainMap load_terrain_map(HeightmapSource& source, std::optional<double> nodata,
+                            double z_scale) {
+  const HeightmapInfo& info = source.info();
+  TerrainMap m;
+  m.width = info.width;
+  m.height = info.height;
+  m.heights.resize(std::size_t(m.width * m.height));
+  const bool has_nodata = nodata.has_value() || info.has_nodata;
+  VoidFiller filler(source, has_nodata, float(nodata ? *nodata : info.nodata),
+                    default_lookahead(m.width));
+  for (int64_t y = 0; y < m.height; ++y) filler.next(m.heights.data() + y * m.width);
+  for (float& h : m.heights) h = float(h * z_scale);
+  const auto [lo, hi] = std::minmax_element(m.heights.begin(), m.heights.end());
+  m.h_min = *lo;
+  m.h_max = *hi;
+  return m;
+}
+
+}  // namespace splatkit::terrain
