@@ -9,31 +9,25 @@
 #include <vector>
 
 #include "formats/laz_chunk.h"
+#include "formats/little_endian.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
 
 namespace {
 
+using le::put16;
+using le::put32;
+using le::put64;
+
 constexpr std::size_t kHeaderSize = 227, kVlrHeaderSize = 54;
 constexpr uint16_t kFormatSize[4] = {20, 28, 26, 34};
 
-void put16(unsigned char* p, uint32_t v) {
-  p[0] = static_cast<unsigned char>(v);
-  p[1] = static_cast<unsigned char>(v >> 8);
-}
-void put32(unsigned char* p, uint32_t v) {
-  put16(p, v & 0xFFFF);
-  put16(p + 2, v >> 16);
-}
-void put64(unsigned char* p, uint64_t v) {
-  put32(p, static_cast<uint32_t>(v));
-  put32(p + 4, static_cast<uint32_t>(v >> 32));
-}
 void putf64(unsigned char* p, double v) { put64(p, std::bit_cast<uint64_t>(v)); }
 int32_t get_i32(const unsigned char* p) {
   return static_cast<int32_t>(static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-                              static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24);
+                              static_cast<uint32_t>(p[2]) << 16 |
+                              static_cast<uint32_t>(p[3]) << 24);
 }
 void put_text(unsigned char* p, std::size_t n, const std::string& s) {
   std::memcpy(p, s.data(), std::min(n, s.size()));
@@ -41,9 +35,9 @@ void put_text(unsigned char* p, std::size_t n, const std::string& s) {
 
 }  // namespace
 
-void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const unsigned char* records,
-                       uint64_t count, bool compressed, uint32_t chunk_size,
-                       bool variable_chunks) {
+void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
+                       const unsigned char* records, uint64_t count, bool compressed,
+                       uint32_t chunk_size, bool variable_chunks) {
   if (count > 0xFFFFFFFFu)
     throw_unsupported(out.path(), "LAS 1.2 holds at most 4294967295 points, the cloud has " +
                                       std::to_string(count));
@@ -103,7 +97,8 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const un
   for (uint64_t first = 0, n = 0; first < count; first += n) {
     n = std::min<uint64_t>(chunk_size + (variable_chunks ? table.size() : 0), count - first);
     const std::size_t before = data.size();
-    laz::encode_chunk(records + first * rl, n, laz::items_for_format(layout.format, layout.record_length), data);
+    laz::encode_chunk(records + first * rl, n,
+                      laz::items_for_format(layout.format, layout.record_length), data);
     table.push_back({n, data.size() - before});
   }
   put64(data.data(), kHeaderSize + vlr.size() + data.size());
@@ -134,7 +129,8 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
   if (!from_las) {
     double extent = 0;
     for (const Vec3f& p : c.positions)
-      extent = std::max({extent, std::abs(double{p.x}), std::abs(double{p.y}), std::abs(double{p.z})});
+      extent =
+          std::max({extent, std::abs(double{p.x}), std::abs(double{p.y}), std::abs(double{p.z})});
     double scale = 0.001;
     while (extent / scale > 2.0e9) scale *= 10;
     for (int k = 0; k < 3; ++k) {
@@ -160,8 +156,10 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
     for (int k = 0; k < 3; ++k) {
       const double q = std::round((xyz[k] - layout.offset[k]) / layout.scale[k]);
       if (!(q >= INT32_MIN && q <= INT32_MAX))
-        throw_unsupported(out.path(), "point " + std::to_string(i) + " does not fit LAS's 32-bit "
-                                      "coordinates with scale " + std::to_string(layout.scale[k]));
+        throw_unsupported(out.path(), "point " + std::to_string(i) +
+                                          " does not fit LAS's 32-bit "
+                                          "coordinates with scale " +
+                                          std::to_string(layout.scale[k]));
       put32(r + 4 * k, static_cast<uint32_t>(static_cast<int32_t>(q)));
     }
     put16(r + 12, static_cast<uint32_t>(value(intensity, i, 0, 65535)));
@@ -178,7 +176,8 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
     }
     if (c.has_colors()) {
       const int mul = c.color_bits == 8 ? 257 : 1;
-      for (int k = 0; k < 3; ++k) put16(r + at + 2 * k, static_cast<uint32_t>(c.colors[i][k] * mul));
+      for (int k = 0; k < 3; ++k)
+        put16(r + at + 2 * k, static_cast<uint32_t>(c.colors[i][k] * mul));
     }
   }
   write_las_records(out, layout, records.data(), c.size(), compressed);

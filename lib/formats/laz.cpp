@@ -7,11 +7,15 @@
 #include <vector>
 
 #include "formats/laz_chunk.h"
+#include "formats/little_endian.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
 
 namespace {
+
+using le::get32;
+using le::get64;
 
 // A chunk cannot hold more points than this per compressed byte: identical records cost LASzip's
 // adaptive models about 0.01 bit each (about 800 per byte), so a larger claim is a corrupt table.
@@ -19,16 +23,6 @@ namespace {
 constexpr uint64_t kMaxPointsPerByte = 1024;
 // Points decoded per batch (the chunks of a batch are decoded in parallel).
 constexpr uint64_t kBatchPoints = uint64_t{1} << 21;
-
-uint64_t get64(const unsigned char* p) {
-  uint64_t v = 0;
-  for (int i = 7; i >= 0; --i) v = v << 8 | p[i];
-  return v;
-}
-uint32_t get32(const unsigned char* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
-}
 
 std::vector<unsigned char> read_rest(InputStream& in) {
   std::vector<unsigned char> data;
@@ -55,7 +49,8 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
                               " bytes, too short for the chunk table offset");
   uint64_t table = get64(data.data());
   const uint64_t end = info.point_offset + data.size();
-  if (table == ~uint64_t{0}) {  // written by a streaming LASzip: the offset is the file's last 8 bytes
+  if (table ==
+      ~uint64_t{0}) {  // written by a streaming LASzip: the offset is the file's last 8 bytes
     if (data.size() < 16) throw_bad_input(path, "LAZ chunk table offset missing at the end");
     table = get64(data.data() + data.size() - 8);
   }
@@ -68,8 +63,8 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
   const uint32_t version = get32(data.data() + rel);
   const uint32_t n = get32(data.data() + rel + 4);
   if (version != 0)
-    throw_unsupported(path, "LAZ chunk table version " + std::to_string(version) +
-                                " is not supported (0 is)");
+    throw_unsupported(
+        path, "LAZ chunk table version " + std::to_string(version) + " is not supported (0 is)");
   const uint64_t room = (rel - 8) / info.record_length;
   if (n > room)
     throw_bad_input(path, "LAZ chunk table lists " + std::to_string(n) +
@@ -79,10 +74,10 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
   if (!variable) {
     const uint64_t expected = info.count / vlr.chunk_size + (info.count % vlr.chunk_size != 0);
     if (n != expected)
-      throw_bad_input(path, "header says " + std::to_string(info.count) + " points, " +
-                                std::to_string(expected) + " chunks of " +
-                                std::to_string(vlr.chunk_size) + " points, but the chunk table lists " +
-                                std::to_string(n) + " chunks");
+      throw_bad_input(
+          path, "header says " + std::to_string(info.count) + " points, " +
+                    std::to_string(expected) + " chunks of " + std::to_string(vlr.chunk_size) +
+                    " points, but the chunk table lists " + std::to_string(n) + " chunks");
   }
   std::vector<laz::ChunkEntry> entries;
   try {
@@ -96,21 +91,24 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
   for (uint32_t i = 0; i < n; ++i) {
     Chunk c;
     c.first_point = first;
-    c.points = variable ? entries[i].points : std::min<uint64_t>(vlr.chunk_size, info.count - first);
+    c.points =
+        variable ? entries[i].points : std::min<uint64_t>(vlr.chunk_size, info.count - first);
     c.offset = offset;
     c.bytes = entries[i].bytes;
     const std::string which = "LAZ chunk " + std::to_string(i) + " of " + std::to_string(n);
     if (c.bytes < info.record_length || c.bytes > rel - offset)
-      throw_bad_input(path, which + " claims " + std::to_string(c.bytes) + " bytes at point-data byte " +
-                                std::to_string(offset) + ", which do not fit before the chunk table (byte " +
+      throw_bad_input(path, which + " claims " + std::to_string(c.bytes) +
+                                " bytes at point-data byte " + std::to_string(offset) +
+                                ", which do not fit before the chunk table (byte " +
                                 std::to_string(rel) + ")");
     if (c.points == 0 || c.points > info.count - first)
-      throw_bad_input(path, which + " claims " + std::to_string(c.points) + " points; the header says " +
-                                std::to_string(info.count) + " in all and " + std::to_string(first) +
-                                " came before");
+      throw_bad_input(path, which + " claims " + std::to_string(c.points) +
+                                " points; the header says " + std::to_string(info.count) +
+                                " in all and " + std::to_string(first) + " came before");
     if (c.points > c.bytes * kMaxPointsPerByte)
       throw_bad_input(path, which + " claims " + std::to_string(c.points) + " points in " +
-                                std::to_string(c.bytes) + " bytes, more than LASzip can compress into them");
+                                std::to_string(c.bytes) +
+                                " bytes, more than LASzip can compress into them");
     offset += c.bytes;
     first += c.points;
     chunks.push_back(c);
@@ -147,8 +145,8 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
   if (vlr.items.size() != want.size())
     throw_bad_input(path, "LASzip VLR lists " + std::to_string(vlr.items.size()) +
                               " items; point data format " + std::to_string(info.format) +
-                              " with " + std::to_string(info.record_length) + "-byte records needs " +
-                              std::to_string(want.size()));
+                              " with " + std::to_string(info.record_length) +
+                              "-byte records needs " + std::to_string(want.size()));
   for (std::size_t i = 0; i < want.size(); ++i) {
     const laz::Item& got = vlr.items[i];
     if (got.type != want[i].type || got.size != want[i].size)
@@ -185,12 +183,13 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
     tbb::parallel_for(begin, end, [&](std::size_t i) {
       const Chunk& c = chunks[i];
       try {
-        const std::size_t used = laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes),
-                                                   vlr.items, c.points,
-                                                   records.data() + (c.first_point - base) * rl);
+        const std::size_t used =
+            laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
+                              records.data() + (c.first_point - base) * rl);
         if (c.bytes - used > 1)
-          errors[i - begin] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
-                              " bytes are left after its " + std::to_string(c.points) +
+          errors[i - begin] = std::to_string(c.bytes - used) + " of its " +
+                              std::to_string(c.bytes) + " bytes are left after its " +
+                              std::to_string(c.points) +
                               " points (the point count or the chunk table is wrong)";
       } catch (const laz::LazDataError& e) {
         errors[i - begin] = e.what();
@@ -198,12 +197,12 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
     });
     for (std::size_t i = begin; i < end; ++i)
       if (!errors[i - begin].empty())
-        throw_bad_input(path, "LAZ chunk " + std::to_string(i) + " of " +
-                                  std::to_string(chunks.size()) + " (points " +
-                                  std::to_string(chunks[i].first_point) + " to " +
-                                  std::to_string(chunks[i].first_point + chunks[i].points - 1) +
-                                  ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
-                                  "): " + errors[i - begin]);
+        throw_bad_input(path,
+                        "LAZ chunk " + std::to_string(i) + " of " + std::to_string(chunks.size()) +
+                            " (points " + std::to_string(chunks[i].first_point) + " to " +
+                            std::to_string(chunks[i].first_point + chunks[i].points - 1) +
+                            ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
+                            "): " + errors[i - begin]);
     sink(records.data(), static_cast<std::size_t>(points));
     begin = end;
   }

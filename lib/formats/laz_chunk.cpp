@@ -4,41 +4,30 @@
 #include <cstring>
 #include <memory>
 
+#include "formats/little_endian.h"
+
 namespace splatkit::laz {
 
 namespace {
 
-uint16_t get16(const unsigned char* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
-uint32_t get32(const unsigned char* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
-         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
-}
-uint64_t get64(const unsigned char* p) {
-  return static_cast<uint64_t>(get32(p)) | static_cast<uint64_t>(get32(p + 4)) << 32;
-}
-void put16(unsigned char* p, uint32_t v) {
-  p[0] = static_cast<unsigned char>(v);
-  p[1] = static_cast<unsigned char>(v >> 8);
-}
-void put32(unsigned char* p, uint32_t v) {
-  put16(p, v & 0xFFFF);
-  put16(p + 2, v >> 16);
-}
-void put64(unsigned char* p, uint64_t v) {
-  put32(p, static_cast<uint32_t>(v));
-  put32(p + 4, static_cast<uint32_t>(v >> 32));
-}
+using le::get16;
+using le::get32;
+using le::get64;
+using le::put16;
+using le::put32;
+using le::put64;
 
 // Contexts by return number r and number of returns n (LASzip's completed tables: files that
 // count returns from 0 or mix r and n up still get distinct contexts).
 constexpr uint8_t kReturnMap[8][8] = {
-    {15, 14, 13, 12, 11, 10, 9, 8}, {14, 0, 1, 3, 6, 10, 10, 9},   {13, 1, 2, 4, 7, 11, 11, 10},
-    {12, 3, 4, 5, 8, 12, 12, 11},   {11, 6, 7, 8, 9, 13, 13, 12},  {10, 10, 11, 12, 13, 14, 14, 13},
+    {15, 14, 13, 12, 11, 10, 9, 8},  {14, 0, 1, 3, 6, 10, 10, 9},
+    {13, 1, 2, 4, 7, 11, 11, 10},    {12, 3, 4, 5, 8, 12, 12, 11},
+    {11, 6, 7, 8, 9, 13, 13, 12},    {10, 10, 11, 12, 13, 14, 14, 13},
     {9, 10, 11, 12, 13, 14, 15, 14}, {8, 9, 10, 11, 12, 13, 14, 15}};
-constexpr uint8_t kReturnLevel[8][8] = {
-    {0, 1, 2, 3, 4, 5, 6, 7}, {1, 0, 1, 2, 3, 4, 5, 6}, {2, 1, 0, 1, 2, 3, 4, 5},
-    {3, 2, 1, 0, 1, 2, 3, 4}, {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2},
-    {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0}};
+constexpr uint8_t kReturnLevel[8][8] = {{0, 1, 2, 3, 4, 5, 6, 7}, {1, 0, 1, 2, 3, 4, 5, 6},
+                                        {2, 1, 0, 1, 2, 3, 4, 5}, {3, 2, 1, 0, 1, 2, 3, 4},
+                                        {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2},
+                                        {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0}};
 
 // Median of the last five values, updated in O(1) (LASzip's StreamingMedian5).
 struct Median5 {
@@ -130,14 +119,15 @@ class Point10 {
     const uint32_t changed = dec.decode_symbol(changed_values_);
     unsigned r, n, m, l;
     if (changed) {
-      if (changed & 32) last_[14] = static_cast<unsigned char>(dec.decode_symbol(bit_byte_[last_[14]]));
+      if (changed & 32)
+        last_[14] = static_cast<unsigned char>(dec.decode_symbol(bit_byte_[last_[14]]));
       r = last_[14] & 7;
       n = (last_[14] >> 3) & 7;
       m = kReturnMap[n][r];
       l = kReturnLevel[n][r];
       if (changed & 16) {
-        last_intensity_[m] = static_cast<uint16_t>(
-            ic_intensity_.decompress(dec, last_intensity_[m], m < 3 ? m : 3));
+        last_intensity_[m] =
+            static_cast<uint16_t>(ic_intensity_.decompress(dec, last_intensity_[m], m < 3 ? m : 3));
       }
       put16(last_ + 12, last_intensity_[m]);
       if (changed & 8)
@@ -164,7 +154,8 @@ class Point10 {
     put32(last_ + 4, static_cast<uint32_t>(wrap_add(static_cast<int32_t>(get32(last_ + 4)), diff)));
     median_y_[m].add(diff);
     k_bits = (ic_dx_.k() + ic_dy_.k()) / 2;
-    last_height_[l] = ic_z_.decompress(dec, last_height_[l], (n == 1) + (k_bits < 18 ? k_bits & ~1u : 18));
+    last_height_[l] =
+        ic_z_.decompress(dec, last_height_[l], (n == 1) + (k_bits < 18 ? k_bits & ~1u : 18));
     put32(last_ + 8, static_cast<uint32_t>(last_height_[l]));
     std::memcpy(item, last_, kSize);
   }
@@ -313,8 +304,8 @@ class GpsTime11 {
         enc.encode_symbol(multi_, kMultiUnchanged);
         return;
       }
-      const int64_t d64 = static_cast<int64_t>(static_cast<uint64_t>(t) -
-                                               static_cast<uint64_t>(last_time_[last_]));
+      const int64_t d64 =
+          static_cast<int64_t>(static_cast<uint64_t>(t) - static_cast<uint64_t>(last_time_[last_]));
       if (d64 == static_cast<int32_t>(d64)) {
         const int32_t diff = static_cast<int32_t>(d64);
         const float multi_f = static_cast<float>(diff) / static_cast<float>(last_diff_[last_]);
@@ -373,8 +364,8 @@ class GpsTime11 {
   }
   void read_full(ArithmeticDecoder& dec) {
     next_ = (next_ + 1) & 3;
-    const uint64_t high = static_cast<uint32_t>(
-        ic_.decompress(dec, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32), 8));
+    const uint64_t high = static_cast<uint32_t>(ic_.decompress(
+        dec, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32), 8));
     last_time_[next_] = static_cast<int64_t>(high << 32 | dec.read_int());
     last_ = next_;
     last_diff_[last_] = 0;
@@ -421,8 +412,10 @@ class Rgb12 {
   void decode(ArithmeticDecoder& dec, unsigned char* item) {
     uint32_t v[3];
     const uint32_t sym = dec.decode_symbol(byte_used_);
-    v[0] = (sym & 1) ? ((dec.decode_symbol(diff_[0]) + (last_[0] & 0xFF)) & 0xFF) : (last_[0] & 0xFF);
-    v[0] |= (sym & 2) ? ((dec.decode_symbol(diff_[1]) + (last_[0] >> 8)) & 0xFF) << 8 : (last_[0] & 0xFF00);
+    v[0] =
+        (sym & 1) ? ((dec.decode_symbol(diff_[0]) + (last_[0] & 0xFF)) & 0xFF) : (last_[0] & 0xFF);
+    v[0] |= (sym & 2) ? ((dec.decode_symbol(diff_[1]) + (last_[0] >> 8)) & 0xFF) << 8
+                      : (last_[0] & 0xFF00);
     if (sym & 64) {
       int diff = static_cast<int>(v[0] & 0xFF) - static_cast<int>(last_[0] & 0xFF);
       v[1] = (sym & 4) ? ((dec.decode_symbol(diff_[2]) + clamp_u8(diff + (last_[1] & 0xFF))) & 0xFF)
@@ -434,8 +427,9 @@ class Rgb12 {
         v[2] = last_[2] & 0xFF;
       }
       diff = static_cast<int>(v[0] >> 8) - static_cast<int>(last_[0] >> 8);
-      v[1] |= (sym & 8) ? ((dec.decode_symbol(diff_[3]) + clamp_u8(diff + (last_[1] >> 8))) & 0xFF) << 8
-                        : (last_[1] & 0xFF00);
+      v[1] |= (sym & 8)
+                  ? ((dec.decode_symbol(diff_[3]) + clamp_u8(diff + (last_[1] >> 8))) & 0xFF) << 8
+                  : (last_[1] & 0xFF00);
       if (sym & 32) {
         diff = (diff + static_cast<int>(v[1] >> 8) - static_cast<int>(last_[1] >> 8)) / 2;
         v[2] |= ((dec.decode_symbol(diff_[5]) + clamp_u8(diff + (last_[2] >> 8))) & 0xFF) << 8;
@@ -454,9 +448,10 @@ class Rgb12 {
   void encode(ArithmeticEncoder& enc, const unsigned char* item) {
     uint32_t v[3];
     for (int c = 0; c < 3; ++c) v[c] = get16(item + 2 * c);
-    uint32_t sym = ((last_[0] & 0xFF) != (v[0] & 0xFF)) << 0 | ((last_[0] & 0xFF00) != (v[0] & 0xFF00)) << 1 |
-                   ((last_[1] & 0xFF) != (v[1] & 0xFF)) << 2 | ((last_[1] & 0xFF00) != (v[1] & 0xFF00)) << 3 |
-                   ((last_[2] & 0xFF) != (v[2] & 0xFF)) << 4 | ((last_[2] & 0xFF00) != (v[2] & 0xFF00)) << 5;
+    uint32_t sym =
+        ((last_[0] & 0xFF) != (v[0] & 0xFF)) << 0 | ((last_[0] & 0xFF00) != (v[0] & 0xFF00)) << 1 |
+        ((last_[1] & 0xFF) != (v[1] & 0xFF)) << 2 | ((last_[1] & 0xFF00) != (v[1] & 0xFF00)) << 3 |
+        ((last_[2] & 0xFF) != (v[2] & 0xFF)) << 4 | ((last_[2] & 0xFF00) != (v[2] & 0xFF00)) << 5;
     sym |= (v[0] != v[1] || v[0] != v[2]) << 6;
     enc.encode_symbol(byte_used_, sym);
     int diff_l = 0, diff_h = 0;
@@ -470,21 +465,25 @@ class Rgb12 {
     }
     if (sym & 64) {
       if (sym & 4) {
-        const int corr = static_cast<int>(v[1] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[1] & 0xFF)));
+        const int corr =
+            static_cast<int>(v[1] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[1] & 0xFF)));
         enc.encode_symbol(diff_[2], static_cast<uint32_t>(corr) & 0xFF);
       }
       if (sym & 16) {
         diff_l = (diff_l + static_cast<int>(v[1] & 0xFF) - static_cast<int>(last_[1] & 0xFF)) / 2;
-        const int corr = static_cast<int>(v[2] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[2] & 0xFF)));
+        const int corr =
+            static_cast<int>(v[2] & 0xFF) - static_cast<int>(clamp_u8(diff_l + (last_[2] & 0xFF)));
         enc.encode_symbol(diff_[4], static_cast<uint32_t>(corr) & 0xFF);
       }
       if (sym & 8) {
-        const int corr = static_cast<int>(v[1] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[1] >> 8)));
+        const int corr =
+            static_cast<int>(v[1] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[1] >> 8)));
         enc.encode_symbol(diff_[3], static_cast<uint32_t>(corr) & 0xFF);
       }
       if (sym & 32) {
         diff_h = (diff_h + static_cast<int>(v[1] >> 8) - static_cast<int>(last_[1] >> 8)) / 2;
-        const int corr = static_cast<int>(v[2] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[2] >> 8)));
+        const int corr =
+            static_cast<int>(v[2] >> 8) - static_cast<int>(clamp_u8(diff_h + (last_[2] >> 8)));
         enc.encode_symbol(diff_[5], static_cast<uint32_t>(corr) & 0xFF);
       }
     }
@@ -501,7 +500,10 @@ class Rgb12 {
 // BYTE version 2: each extra byte against the same byte of the previous record.
 class Bytes {
  public:
-  explicit Bytes(std::size_t n) : last_(n) { models_.reserve(n); for (std::size_t i = 0; i < n; ++i) models_.emplace_back(256); }
+  explicit Bytes(std::size_t n) : last_(n) {
+    models_.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) models_.emplace_back(256);
+  }
   std::size_t size() const { return last_.size(); }
   void init(const unsigned char* item) { std::memcpy(last_.data(), item, last_.size()); }
   void decode(ArithmeticDecoder& dec, unsigned char* item) {
@@ -532,10 +534,14 @@ struct ChunkCoders {
 
   explicit ChunkCoders(const std::vector<Item>& items) {
     for (const Item& it : items) {
-      if (it.type == kItemPoint10) point = std::make_unique<Point10>();
-      else if (it.type == kItemGpsTime11) gps = std::make_unique<GpsTime11>();
-      else if (it.type == kItemRgb12) rgb = std::make_unique<Rgb12>();
-      else if (it.type == kItemByte) bytes = std::make_unique<Bytes>(it.size);
+      if (it.type == kItemPoint10)
+        point = std::make_unique<Point10>();
+      else if (it.type == kItemGpsTime11)
+        gps = std::make_unique<GpsTime11>();
+      else if (it.type == kItemRgb12)
+        rgb = std::make_unique<Rgb12>();
+      else if (it.type == kItemByte)
+        bytes = std::make_unique<Bytes>(it.size);
       record_length += it.size;
     }
   }
@@ -566,10 +572,9 @@ struct ChunkCoders {
 }  // namespace
 
 std::string item_name(uint16_t type) {
-  static const char* names[] = {"BYTE",         "SHORT",   "INT",         "LONG",
-                                "FLOAT",        "DOUBLE",  "POINT10",     "GPSTIME11",
-                                "RGB12",        "WAVEPACKET13", "POINT14", "RGB14",
-                                "RGBNIR14",     "WAVEPACKET14", "BYTE14"};
+  static const char* names[] = {"BYTE",    "SHORT",   "INT",       "LONG",         "FLOAT",
+                                "DOUBLE",  "POINT10", "GPSTIME11", "RGB12",        "WAVEPACKET13",
+                                "POINT14", "RGB14",   "RGBNIR14",  "WAVEPACKET14", "BYTE14"};
   return type < std::size(names) ? names[type] : "type " + std::to_string(type);
 }
 

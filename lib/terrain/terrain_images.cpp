@@ -1,12 +1,9 @@
 #include "terrain/terrain_images.h"
 
-#include <dlfcn.h>
-#include <unistd.h>
-
-#include <climits>
 #include <mutex>
 
 #include "splatkit/error.h"
+#include "splatkit/load_module.h"
 #include "splatkit/lower_extension.h"
 #include "terrain/tiff_geo_tags.h"
 
@@ -14,39 +11,17 @@ namespace splatkit::terrain {
 
 namespace {
 
-std::vector<std::string> candidates() {
-  std::vector<std::string> out;
-  char exe[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (n > 0) {
-    std::string dir(exe, std::size_t(n));
-    dir.erase(dir.find_last_of('/') + 1);
-    out.push_back(dir + "../lib/splatkit/" SPLATKIT_TERRAIN_MODULE_NAME);
-  }
-  out.push_back(SPLATKIT_TERRAIN_MODULE_BUILD_PATH);
-  return out;
-}
-
+// Loads the module, or returns why not.
 const TerrainImages* load(std::string& why) {
-  for (const std::string& path : candidates()) {
-    if (::access(path.c_str(), F_OK) != 0) continue;
-    void* handle = ::dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
-    if (handle == nullptr) {
-      why = ::dlerror();
-      return nullptr;
-    }
-    using Entry = const TerrainImages* (*)();
-    const auto entry = reinterpret_cast<Entry>(::dlsym(handle, kTerrainImagesEntry));
-    const TerrainImages* images = entry ? entry() : nullptr;
-    if (images == nullptr || images->version != kTerrainImagesVersion) {
-      why = path + " is not this build's module";
-      return nullptr;
-    }
-    return images;
+  std::string path;
+  const auto* images = static_cast<const TerrainImages*>(
+      load_module(SPLATKIT_TERRAIN_MODULE_NAME, SPLATKIT_TERRAIN_MODULE_BUILD_PATH,
+                  kTerrainImagesEntry, why, path));
+  if (images != nullptr && images->version != kTerrainImagesVersion) {
+    why = path + " is not this build's module";
+    return nullptr;
   }
-  why = "not found beside the executable (../lib/splatkit/" SPLATKIT_TERRAIN_MODULE_NAME
-        ") nor in the build tree";
-  return nullptr;
+  return images;
 }
 
 class ImageSource final : public HeightmapSource {

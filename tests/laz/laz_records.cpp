@@ -24,26 +24,18 @@
 #include "formats/las.h"
 #include "formats/las_writer.h"
 #include "formats/laz_chunk.h"
+#include "formats/little_endian.h"
 #include "splatkit/error.h"
 #include "splatkit/input_stream.h"
 #include "splatkit/output_file.h"
 
 namespace {
 
-using splatkit::LasRecordsLayout;
+using splatkit::le::put16;
+using splatkit::le::put32;
+using splatkit::le::put64;
 
-void put16(unsigned char* p, uint32_t v) {
-  p[0] = static_cast<unsigned char>(v);
-  p[1] = static_cast<unsigned char>(v >> 8);
-}
-void put32(unsigned char* p, uint32_t v) {
-  put16(p, v & 0xFFFF);
-  put16(p + 2, v >> 16);
-}
-void put64(unsigned char* p, uint64_t v) {
-  put32(p, static_cast<uint32_t>(v));
-  put32(p + 4, static_cast<uint32_t>(v >> 32));
-}
+using splatkit::LasRecordsLayout;
 
 std::vector<unsigned char> make_records(int format, uint64_t count, unsigned seed, int extra,
                                         LasRecordsLayout& layout) {
@@ -77,15 +69,18 @@ std::vector<unsigned char> make_records(int format, uint64_t count, unsigned see
     put32(r, static_cast<uint32_t>(x));
     put32(r + 4, static_cast<uint32_t>(y));
     put32(r + 8, static_cast<uint32_t>(z));
-    if (chance(0.7)) intensity = static_cast<uint16_t>(chance(0.05) ? uni(0, 65535) : intensity + uni(-20, 20));
+    if (chance(0.7))
+      intensity = static_cast<uint16_t>(chance(0.05) ? uni(0, 65535) : intensity + uni(-20, 20));
     put16(r + 12, intensity);
     if (chance(0.3)) {  // returns r of n (sometimes invalid combinations), scan direction, edge
       const int n = static_cast<int>(chance(0.9) ? uni(1, 5) : uni(0, 7));
       const int ret = static_cast<int>(chance(0.9) ? uni(1, n > 0 ? n : 1) : uni(0, 7));
-      flags = static_cast<unsigned char>(ret | n << 3 | (chance(0.5) ? 0x40 : 0) | (chance(0.02) ? 0x80 : 0));
+      flags = static_cast<unsigned char>(ret | n << 3 | (chance(0.5) ? 0x40 : 0) |
+                                         (chance(0.02) ? 0x80 : 0));
     }
     r[14] = flags;
-    if (chance(0.05)) cls = static_cast<unsigned char>(uni(0, 31) | (chance(0.1) ? uni(1, 7) << 5 : 0));
+    if (chance(0.05))
+      cls = static_cast<unsigned char>(uni(0, 31) | (chance(0.1) ? uni(1, 7) << 5 : 0));
     r[15] = cls;
     if (chance(0.2)) angle = static_cast<int8_t>(angle + uni(-3, 3));
     if (chance(0.01)) angle = static_cast<int8_t>(uni(-128, 127));
@@ -113,14 +108,16 @@ std::vector<unsigned char> make_records(int format, uint64_t count, unsigned see
           rgb[0] = rgb[1] = rgb[2] = static_cast<uint16_t>(uni(0, 65535));
         } else {
           for (uint16_t& c : rgb)
-            c = static_cast<uint16_t>(chance(0.5) ? c + uni(-300, 300) : (c & 0xFF00) | uni(0, 255));
+            c = static_cast<uint16_t>(chance(0.5) ? c + uni(-300, 300)
+                                                  : (c & 0xFF00) | uni(0, 255));
         }
       }
       for (int k = 0; k < 3; ++k) put16(r + at + 2 * k, rgb[k]);
       at += 6;
     }
     for (int e = 0; e < extra; ++e)
-      r[at + e] = static_cast<unsigned char>(chance(0.5) && i > 0 ? (r - rl)[at + e] + uni(-2, 2) : uni(0, 255));
+      r[at + e] = static_cast<unsigned char>(chance(0.5) && i > 0 ? (r - rl)[at + e] + uni(-2, 2)
+                                                                  : uni(0, 255));
   }
   layout.scale[0] = layout.scale[1] = layout.scale[2] = 0.01;
   return out;
@@ -140,7 +137,8 @@ int make(int argc, char** argv) {
   const std::vector<unsigned char> records = make_records(format, count, seed, extra, layout);
   for (int compressed = 0; compressed < 2; ++compressed) {
     splatkit::OutputFile out(argv[7 + compressed]);
-    splatkit::write_las_records(out, layout, records.data(), count, compressed != 0, chunk, variable);
+    splatkit::write_las_records(out, layout, records.data(), count, compressed != 0, chunk,
+                                variable);
     out.commit();
   }
   return 0;
@@ -177,22 +175,28 @@ int cut(int argc, char** argv) {
   {
     splatkit::InputStream in(argv[2]);
     unsigned char buf[65536];
-    for (std::size_t got; (got = in.read_some(buf, sizeof buf)) > 0;) d.insert(d.end(), buf, buf + got);
+    for (std::size_t got; (got = in.read_some(buf, sizeof buf)) > 0;)
+      d.insert(d.end(), buf, buf + got);
   }
   const std::size_t k = std::stoul(argv[4]), nbytes = std::stoul(argv[5]);
-  const std::size_t point_offset = d[96] | d[97] << 8 | d[98] << 16 | static_cast<std::size_t>(d[99]) << 24;
+  const std::size_t point_offset =
+      d[96] | d[97] << 8 | d[98] << 16 | static_cast<std::size_t>(d[99]) << 24;
   const std::size_t table = get64(d, point_offset);
-  const uint32_t n = d[table + 4] | d[table + 5] << 8 | d[table + 6] << 16 | static_cast<uint32_t>(d[table + 7]) << 24;
-  std::vector<splatkit::laz::ChunkEntry> chunks = splatkit::laz::decode_chunk_table(
-      std::span(d).subspan(table + 8), n, false);
+  const uint32_t n = d[table + 4] | d[table + 5] << 8 | d[table + 6] << 16 |
+                     static_cast<uint32_t>(d[table + 7]) << 24;
+  std::vector<splatkit::laz::ChunkEntry> chunks =
+      splatkit::laz::decode_chunk_table(std::span(d).subspan(table + 8), n, false);
   if (k >= n || chunks[k].bytes <= nbytes) return 1;
   std::size_t end = point_offset + 8;
   for (std::size_t i = 0; i <= k; ++i) end += chunks[i].bytes;
   std::vector<unsigned char> out(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(end - nbytes));
-  out.insert(out.end(), d.begin() + static_cast<std::ptrdiff_t>(end), d.begin() + static_cast<std::ptrdiff_t>(table));
+  out.insert(out.end(), d.begin() + static_cast<std::ptrdiff_t>(end),
+             d.begin() + static_cast<std::ptrdiff_t>(table));
   chunks[k].bytes -= nbytes;
   const uint64_t new_table = out.size();
-  for (int i = 0; i < 8; ++i) out[point_offset + static_cast<std::size_t>(i)] = static_cast<unsigned char>(new_table >> (8 * i));
+  for (int i = 0; i < 8; ++i)
+    out[point_offset + static_cast<std::size_t>(i)] =
+        static_cast<unsigned char>(new_table >> (8 * i));
   splatkit::laz::encode_chunk_table(chunks, false, out);
   splatkit::OutputFile o(argv[3]);
   o.write(out.data(), out.size());
@@ -210,9 +214,10 @@ int main(int argc, char** argv) {
                    : mode == "cut"  ? cut(argc, argv)
                                     : 1;
     if (rc == 1)
-      std::fprintf(stderr, "usage: laz_records make FORMAT COUNT CHUNK SEED EXTRA OUT.las OUT.laz\n"
-                           "       laz_records dump IN OUT.bin [THREADS]\n"
-                           "       laz_records cut IN.laz OUT.laz K NBYTES\n");
+      std::fprintf(stderr,
+                   "usage: laz_records make FORMAT COUNT CHUNK SEED EXTRA OUT.las OUT.laz\n"
+                   "       laz_records dump IN OUT.bin [THREADS]\n"
+                   "       laz_records cut IN.laz OUT.laz K NBYTES\n");
     return rc;
   } catch (const splatkit::Error& e) {
     std::fprintf(stderr, "laz_records: %s\n", e.what());
