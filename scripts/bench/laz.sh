@@ -19,7 +19,7 @@ ninja -C "$build" -j2 splat-synth splat-convert laz_records >/dev/null
 bin=$build/tools
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin/splat-synth" -q cad "$work/in.ply" -n "$points" --scan-lines 4 --seed 1
+"$bin/splat-synth" -q cad "$work/in.ply" -n "$points" --scan-lines 4 --seed=1
 "$bin/splat-convert" -q "$work/in.ply" "$work/in.laz"
 "$bin/splat-convert" -q "$work/in.laz" "$work/in.las"
 rm "$work/in.ply"
