@@ -17,9 +17,9 @@
 // forest comes from Kruskal with a union-find whose links carry the sign relation of the tree
 // edge that made them (flip n_j when a < 0), so each point's sign relative to its component's
 // seed is read off the union-find: the same signs as a breadth-first propagation over the
-// forest from the top-most point, without storing the forest. Limitation: two sides of a part thinner than
-// the kNN reach, with antiparallel normals, look like one consistently flipped sheet (none in the
-// CAD sample: its thinnest place is the 60° wedge's tip, a crease).
+// forest from the top-most point, without storing the forest. Limitation: two sides of a part
+// thinner than the kNN reach, with antiparallel normals, look like one consistently flipped sheet
+// (none in the CAD sample: its thinnest place is the 60° wedge's tip, a crease).
 //
 // Outward sign, per connected component: the component's point of largest z (smallest index on
 // ties) is made to point +z (its normal's z >= 0). For a closed surface that point is a top-most
