@@ -57,7 +57,9 @@ Vec3f spt_linear_color(const std::array<uint8_t, 3>& rgb) {
 SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bounds,
                                   const Projection& proj, float error_px,
                                   DepthKeyBuffer& buffer) {
-  const auto [k, prefix] = find_prefix(m, bounds, proj, error_px);
+  const Prefix found = find_prefix(m, bounds, proj, error_px);
+  const float k = found.k;  // named copies: clang 14 lambdas cannot capture structured bindings
+  const std::size_t prefix = found.length;
   struct Counts {
     uint64_t selected = 0, drawn = 0;
   };
@@ -79,7 +81,9 @@ SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bound
 
 DrawList select_spt(const SptModel& m, const BoundingSphere& bounds, const Projection& proj,
                     float error_px, LodStats* stats) {
-  const auto [k, prefix] = find_prefix(m, bounds, proj, error_px);
+  const Prefix found = find_prefix(m, bounds, proj, error_px);
+  const float k = found.k;  // named copies: clang 14 lambdas cannot capture structured bindings
+  const std::size_t prefix = found.length;
   // Chunks of the prefix tested in parallel; each keeps the indices it draws, in order.
   const std::size_t chunks = (prefix + kChunk - 1) / kChunk;
   std::vector<std::vector<uint32_t>> picked(chunks);
