@@ -12,9 +12,12 @@ namespace {
 // Loads the module, or returns why not.
 const OiioImages* load(std::string& why) {
   std::string path;
-  const auto* images = static_cast<const OiioImages*>(load_module(
-      SPLATKIT_OIIO_MODULE_NAME, SPLATKIT_OIIO_MODULE_BUILD_PATH, kOiioImagesEntry, why, path));
-  if (images != nullptr && images->version != kOiioImagesVersion) {
+  void* symbol = load_module(SPLATKIT_OIIO_MODULE_NAME, SPLATKIT_OIIO_MODULE_BUILD_PATH,
+                             kOiioImagesEntry, why, path);
+  if (symbol == nullptr) return nullptr;
+  using Entry = const OiioImages* (*)();
+  const OiioImages* images = reinterpret_cast<Entry>(symbol)();
+  if (images == nullptr || images->version != kOiioImagesVersion) {
     why = path + " is not this build's module";
     return nullptr;
   }

@@ -8,8 +8,8 @@
 
 namespace splatkit {
 
-const void* load_module(const std::string& file, const std::string& build_path, const char* entry,
-                        std::string& why, std::string& path) {
+void* load_module(const std::string& file, const std::string& build_path, const char* entry,
+                  std::string& why, std::string& path) {
   std::vector<std::string> candidates;
   char exe[PATH_MAX];
   const ssize_t n = ::readlink("/proc/self/exe", exe, sizeof exe - 1);
@@ -27,11 +27,9 @@ const void* load_module(const std::string& file, const std::string& build_path, 
       why = ::dlerror();
       return nullptr;
     }
-    using Entry = const void* (*)();
-    const auto fn = reinterpret_cast<Entry>(::dlsym(handle, entry));
-    const void* result = fn != nullptr ? fn() : nullptr;
-    if (result == nullptr) why = candidate + " is not this build's module";
-    return result;  // never closed: the libraries behind it keep their plugins loaded
+    void* symbol = ::dlsym(handle, entry);
+    if (symbol == nullptr) why = candidate + " is not this build's module";
+    return symbol;  // never closed: the libraries behind it keep their plugins loaded
   }
   why = "not found beside the executable (../lib/splatkit/" + file + ") nor in the build tree";
   return nullptr;

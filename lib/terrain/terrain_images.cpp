@@ -14,10 +14,12 @@ namespace {
 // Loads the module, or returns why not.
 const TerrainImages* load(std::string& why) {
   std::string path;
-  const auto* images = static_cast<const TerrainImages*>(
-      load_module(SPLATKIT_TERRAIN_MODULE_NAME, SPLATKIT_TERRAIN_MODULE_BUILD_PATH,
-                  kTerrainImagesEntry, why, path));
-  if (images != nullptr && images->version != kTerrainImagesVersion) {
+  void* symbol = load_module(SPLATKIT_TERRAIN_MODULE_NAME, SPLATKIT_TERRAIN_MODULE_BUILD_PATH,
+                             kTerrainImagesEntry, why, path);
+  if (symbol == nullptr) return nullptr;
+  using Entry = const TerrainImages* (*)();
+  const TerrainImages* images = reinterpret_cast<Entry>(symbol)();
+  if (images == nullptr || images->version != kTerrainImagesVersion) {
     why = path + " is not this build's module";
     return nullptr;
   }
