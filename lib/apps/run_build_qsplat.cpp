@@ -31,10 +31,13 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
     throw_usage("OUT must end in .qs or be '-': " + output);
   Stage stage("build-qsplat", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
+  const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
+  stage.stamp(doc, options);  // provenance from the input cloud, before the leaves take it over
+  const std::size_t input_points = doc.cloud.size(), input_faces = doc.cloud.face_count();
+  if (o.no_color) doc.cloud.colors.clear();
   qsplat::QSplatLeaves leaves = stage.phase("leaves", "collecting the leaves", [&] {
-    return qsplat::make_qsplat_leaves(doc.cloud, stage.input_name());
+    return qsplat::make_qsplat_leaves(std::move(doc.cloud), stage.input_name());
   });
-  if (o.no_color) leaves.colors.clear();
   if (leaves.size() < 5)
     throw_unsupported(stage.input_name(),
                       std::to_string(leaves.size()) +
@@ -43,8 +46,6 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   const qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
     return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
   });
-  const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
-  stage.stamp(doc, options);
   qsplat::EncodedQSplat file = stage.phase("quantise", "quantising the QSplat tree", [&] {
     return qsplat::encode_qsplat(tree, comment_text(doc));
   });
@@ -56,8 +57,8 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   nlohmann::json report;
   if (!o.paths.report.empty()) {
     const double n = static_cast<double>(file.leaves);
-    report = {{"input_points", doc.cloud.size()},
-              {"input_faces", doc.cloud.face_count()},
+    report = {{"input_points", input_points},
+              {"input_faces", input_faces},
               {"leaves", file.leaves},
               {"dropped_unused", leaves.dropped_unused},
               {"dropped_zero_radius", leaves.dropped_zero_radius},

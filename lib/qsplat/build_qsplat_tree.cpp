@@ -22,25 +22,26 @@ struct Box {
   Vec3f lo, hi;
 };
 
+// The order leaves are cut in: coordinate along axis A, ties broken by leaf index.
+// (A function object, so that nth_element inlines it.)
 template <int A>
-void nth_along(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m) {
-  auto key = [](const Point& p) { return A == 0 ? p.p.x : (A == 1 ? p.p.y : p.p.z); };
-  std::nth_element(pts.begin() + b, pts.begin() + m, pts.begin() + e,
-                   [&](const Point& p, const Point& q) {
-                     const float kp = key(p), kq = key(q);
-                     return kp < kq || (kp == kq && p.leaf < q.leaf);
-                   });
-}
+struct Before {
+  bool operator()(const Point& p, const Point& q) const {
+    const float kp = p.p[A], kq = q.p[A];
+    return kp < kq || (kp == kq && p.leaf < q.leaf);
+  }
+};
 
-// Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it
-// (ties broken by leaf index), and cuts the box there into `left` and `right`.
+// Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it,
+// and cuts the box there into `left` and `right`.
 void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
               Box& left, Box& right) {
   const Vec3f ext = box.hi - box.lo;
   const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
-  if (axis == 0) nth_along<0>(pts, b, e, m);
-  if (axis == 1) nth_along<1>(pts, b, e, m);
-  if (axis == 2) nth_along<2>(pts, b, e, m);
+  const auto first = pts.begin() + b, nth = pts.begin() + m, last = pts.begin() + e;
+  if (axis == 0) std::nth_element(first, nth, last, Before<0>());
+  if (axis == 1) std::nth_element(first, nth, last, Before<1>());
+  if (axis == 2) std::nth_element(first, nth, last, Before<2>());
   left = right = box;
   left.hi[axis] = right.lo[axis] = pts[m].p[axis];
 }
@@ -81,7 +82,7 @@ void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
       box.hi[k] = std::max(box.hi[k], pts[i].p[k]);
     }
   Box boxes[4];
-  uint32_t sizes[4];
+  uint32_t sizes[4] = {0, 0, 0, 0};
   const int children = child_sizes(e - b, sizes);
   if (children == 2) {
     split_at(pts, b, e, b + sizes[0], box, boxes[0], boxes[1]);
@@ -158,31 +159,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   t.leaf.assign(m, kNoLeaf);
   for (std::size_t i = 0; i < m; ++i)
     if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf;
-  // The leaves' attributes side by side, gathered in tree order (rank in `pts`) by a loop that
-  // does nothing else, so that the loads of a randomly ordered input overlap (with prefetching);
-  // the pass below then reads them in order instead of missing the cache once per leaf.
-  struct Attr {
-    Vec3f normal;
-    float radius;
-    std::array<uint8_t, 3> rgb;
-  };
   const bool color = !leaves.colors.empty();
-  std::vector<Attr> attr(n);
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const auto& r) {
-    constexpr uint32_t kAhead = 16;
-    for (uint32_t k = r.begin(); k < r.end(); ++k) {
-      if (k + kAhead < n) {
-        const uint32_t ahead = pts[k + kAhead].leaf;
-        __builtin_prefetch(&leaves.normals[ahead]);
-        __builtin_prefetch(&leaves.radii[ahead]);
-        if (color) __builtin_prefetch(&leaves.colors[ahead]);
-      }
-      const uint32_t i = pts[k].leaf;
-      attr[k] = {leaves.normals[i], leaves.radii[i],
-                 color ? leaves.colors[i] : std::array<uint8_t, 3>{0, 0, 0}};
-    }
-  });
-
   t.spheres.resize(m);
   t.normal_codes.resize(m);
   t.cones.resize(m);
@@ -191,43 +168,59 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   std::vector<Vec3f> normal(m);
   std::vector<float> cone(m);
   std::vector<std::array<uint8_t, 3>> rgb(color ? m : 0);
+  // The leaf nodes first, in node order, by a loop that does little else and prefetches the
+  // input's attributes a few leaves ahead: the input is in any order, and a cache miss per leaf
+  // had been half of the bottom-up pass.
+  const uint8_t leaf_cone = static_cast<uint8_t>(encode_cone(0));
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, static_cast<uint32_t>(m), 4096),
+                    [&](const auto& r) {
+                      constexpr uint32_t kAhead = 16;
+                      for (uint32_t i = r.begin(); i < r.end(); ++i) {
+                        if (i + kAhead < m && t.leaf[i + kAhead] != kNoLeaf) {
+                          const uint32_t ahead = t.leaf[i + kAhead];
+                          __builtin_prefetch(&leaves.normals[ahead]);
+                          __builtin_prefetch(&leaves.radii[ahead]);
+                          if (color) __builtin_prefetch(&leaves.colors[ahead]);
+                        }
+                        const uint32_t j = t.leaf[i];
+                        if (j == kNoLeaf) continue;
+                        t.spheres[i] = {pts[rb[i]].p, leaves.radii[j]};
+                        if (measure_centroid_rule) centroid[i] = t.spheres[i];
+                        normal[i] = leaves.normals[j];
+                        cone[i] = 0;
+                        t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
+                        t.cones[i] = leaf_cone;
+                        if (color) {
+                          rgb[i] = leaves.colors[j];
+                          t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+                        }
+                      }
+                    });
   for (std::size_t l = t.levels(); l-- > 0;) {
     tbb::parallel_for(
         tbb::blocked_range<uint32_t>(t.level_begin[l], t.level_begin[l + 1], 1024),
         [&](const auto& r) {
           for (uint32_t i = r.begin(); i < r.end(); ++i) {
             const int c = t.child_count[i];
-            if (c == 0) {
-              const Attr& a = attr[rb[i]];
-              t.spheres[i] = {pts[rb[i]].p, a.radius};
-              if (measure_centroid_rule) centroid[i] = t.spheres[i];
-              normal[i] = a.normal;
-              cone[i] = 0;
-              if (color) rgb[i] = a.rgb;
-            } else {
-              const uint32_t f = t.first_child[i];
-              t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
-              if (measure_centroid_rule) centroid[i] = enclose_spheres(&centroid[f], c, true);
-              Vec3f sum{0, 0, 0};
-              for (int k = 0; k < c; ++k) sum += normal[f + k];
-              normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
-              if (color) {
-                std::array<int, 3> acc{0, 0, 0};
-                for (int k = 0; k < c; ++k)
-                  for (int j = 0; j < 3; ++j) acc[j] += rgb[f + k][j];
-                for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
-              }
+            if (c == 0) continue;  // done above
+            const uint32_t f = t.first_child[i];
+            t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
+            if (measure_centroid_rule) centroid[i] = enclose_spheres(&centroid[f], c, true);
+            Vec3f sum{0, 0, 0};
+            for (int k = 0; k < c; ++k) sum += normal[f + k];
+            normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
+            if (color) {
+              std::array<int, 3> acc{0, 0, 0};
+              for (int k = 0; k < c; ++k)
+                for (int j = 0; j < 3; ++j) acc[j] += rgb[f + k][j];
+              for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
             }
             t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
-            if (c > 0) {
-              const Vec3f& dn = decode_normal(t.normal_codes[i]);
-              double theta = 0;
-              const uint32_t f = t.first_child[i];
-              for (int k = 0; k < c; ++k)
-                theta =
-                    std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
-              cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
-            }
+            const Vec3f& dn = decode_normal(t.normal_codes[i]);
+            double theta = 0;
+            for (int k = 0; k < c; ++k)
+              theta = std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
+            cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
             t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
             if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
           }

@@ -38,7 +38,6 @@ void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const V
   out.normals.push_back(n);
   out.radii.push_back(r);
   if (cloud.has_colors()) out.colors.push_back(to_rgb8(cloud.colors[i], cloud.color_bits));
-  out.source.push_back(static_cast<uint32_t>(i));
 }
 
 QSplatLeaves from_mesh(const SplatCloud& cloud) {
@@ -77,7 +76,7 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
   return out;
 }
 
-QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
+QSplatLeaves from_splats(SplatCloud& cloud, const std::string& name) {
   if (!cloud.has_normals() || !cloud.has_radii())
     throw_bad_input(name, std::string("the splats have no ") +
                               (cloud.has_normals() ? "radii" : "normals") +
@@ -97,28 +96,29 @@ QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
       },
       std::logical_and<>());
   QSplatLeaves out;
-  if (all_usable) {
-    out.positions.resize(n);
-    out.normals.resize(n);
-    out.radii.resize(n);
-    out.source.resize(n);
-    if (cloud.has_colors()) out.colors.resize(n);
+  if (all_usable) {  // the cloud's arrays become the leaves' (colours narrowed to 8 bits)
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const Vec3f& nv = cloud.normals[i];
-        out.positions[i] = cloud.positions[i];
-        out.normals[i] = squared_norm(nv) == 1.0f ? nv : normalized(nv);
-        out.radii[i] = cloud.radii[i];
-        out.source[i] = static_cast<uint32_t>(i);
-        if (cloud.has_colors()) out.colors[i] = to_rgb8(cloud.colors[i], cloud.color_bits);
+        Vec3f& nv = cloud.normals[i];
+        if (squared_norm(nv) != 1.0f) nv = normalized(nv);
       }
     });
+    if (cloud.has_colors()) {
+      out.colors.resize(n);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i)
+          out.colors[i] = to_rgb8(cloud.colors[i], cloud.color_bits);
+      });
+      std::vector<std::array<uint16_t, 3>>().swap(cloud.colors);
+    }
+    out.positions = std::move(cloud.positions);
+    out.normals = std::move(cloud.normals);
+    out.radii = std::move(cloud.radii);
     return out;
   }
   out.positions.reserve(n);
   out.normals.reserve(n);
   out.radii.reserve(n);
-  out.source.reserve(n);
   if (cloud.has_colors()) out.colors.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const float r = cloud.radii[i];
@@ -140,7 +140,7 @@ QSplatLeaves from_splats(const SplatCloud& cloud, const std::string& name) {
 
 }  // namespace
 
-QSplatLeaves make_qsplat_leaves(const SplatCloud& cloud, const std::string& name) {
+QSplatLeaves make_qsplat_leaves(SplatCloud cloud, const std::string& name) {
   return cloud.face_count() > 0 ? from_mesh(cloud) : from_splats(cloud, name);
 }
 

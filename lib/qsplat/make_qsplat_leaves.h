@@ -15,7 +15,8 @@ namespace splatkit::qsplat {
 // A cloud without faces must hold normals and radii (estimate-normals); splats of radius 0 are
 // dropped and counted. Colours (8 or 16 bits) become 8-bit. Throws Error(kBadInput) naming `name`
 // when the splats lack normals or radii (the message names estimate-normals), or a normal or
-// radius is not usable (check_splats.h's rules).
-QSplatLeaves make_qsplat_leaves(const SplatCloud& cloud, const std::string& name);
+// radius is not usable (check_splats.h's rules). Taken by value: pass std::move(cloud) to let the
+// leaves take over its arrays instead of copying them.
+QSplatLeaves make_qsplat_leaves(SplatCloud cloud, const std::string& name);
 
 }  // namespace splatkit::qsplat

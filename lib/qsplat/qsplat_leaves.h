@@ -14,7 +14,6 @@ struct QSplatLeaves {
   std::vector<Vec3f> normals;                  // #N unit normals
   std::vector<float> radii;                    // #N radii > 0
   std::vector<std::array<uint8_t, 3>> colors;  // #N 8-bit RGB, or empty
-  std::vector<uint32_t> source;                // #N index of the input point each leaf comes from
   uint64_t dropped_unused = 0;                 // mesh vertices in no face
   uint64_t dropped_zero_radius = 0;  // splats of radius 0, vertices of degenerate faces only
   uint64_t dropped_zero_normal = 0;  // mesh vertices whose faces' normals cancel out

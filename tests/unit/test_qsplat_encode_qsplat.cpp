@@ -25,7 +25,6 @@ QSplatLeaves line_of_five() {
     l.positions.push_back({static_cast<float>(i), 0, 0});
     l.normals.push_back({0, 0, 1});
     l.radii.push_back(0.4f);
-    l.source.push_back(static_cast<uint32_t>(i));
   }
   return l;
 }
@@ -202,7 +201,6 @@ QSplatLeaves shape_leaves(ShapeKind kind, std::size_t n, bool color) {
   l.normals = c.normals;
   l.radii = c.radii;
   for (std::size_t i = 0; i < c.size(); ++i) {
-    l.source.push_back(static_cast<uint32_t>(i));
     if (color) l.colors.push_back({static_cast<uint8_t>(i), static_cast<uint8_t>(i >> 3), 200});
   }
   return l;
@@ -221,7 +219,6 @@ TEST(QSplatEncode, CoincidentPointsStillSplit) {
     l.positions.push_back({1, 1, 1});
     l.normals.push_back({0, 1, 0});
     l.radii.push_back(0.01f);
-    l.source.push_back(static_cast<uint32_t>(l.source.size()));
   }
   check_structure(l, false);
 }
