@@ -219,7 +219,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
             const Vec3f& dn = decode_normal(t.normal_codes[i]);
             double theta = 0;
             for (int k = 0; k < c; ++k)
-              theta = std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
+              theta =
+                  std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
             cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
             t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
             if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
