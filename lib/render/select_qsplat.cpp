@@ -17,29 +17,50 @@ struct Draws {
   std::vector<float> radii;
 };
 
+// A subtree to visit, with what its ancestors proved (Traversal::classify).
+struct Task {
+  uint32_t node;
+  uint8_t proved;
+};
+
 struct Traversal {
   const QSplatModel& m;
   const Projection& proj;
   float threshold;
   float plane_x[2], plane_y[2];  // (a, b) of the side planes a·x − b·z = 0, normalised
 
-  // 0: culled by the frustum, 1: culled by the cone, 2: visible.
-  // `c` gets the centre in camera space.
-  int classify(uint32_t i, Vec3f& c) const {
+  // What a node's sphere proves for every sphere below it (each decoded child sphere lies inside
+  // its decoded parent, and each child's normal cone inside its parent's), so that their tests
+  // can be skipped: wholly inside the frustum, wholly front-facing. Both are proved with a small
+  // margin, so that rounding never lets a skipped test differ from the one it stands for.
+  enum : uint8_t { kInside = 1, kFront = 2 };
+
+  // 0: culled by the frustum, 1: culled by the cone, 2: visible. `c` gets the centre in camera
+  // space; `proved` comes in with the parent's proofs and goes out with this node's.
+  int classify(uint32_t i, Vec3f& c, uint8_t& proved) const {
     c = proj.to_camera(m.centres[i]);
     const float r = m.radii[i];
-    if (c.z + r < proj.near) return 0;
-    if (c.x * plane_x[0] - c.z * plane_x[1] > r || -c.x * plane_x[0] - c.z * plane_x[1] > r ||
-        c.y * plane_y[0] - c.z * plane_y[1] > r || -c.y * plane_y[0] - c.z * plane_y[1] > r)
-      return 0;
+    if (!(proved & kInside)) {
+      if (c.z + r < proj.near) return 0;
+      const float d[4] = {c.x * plane_x[0] - c.z * plane_x[1], -c.x * plane_x[0] - c.z * plane_x[1],
+                          c.y * plane_y[0] - c.z * plane_y[1], -c.y * plane_y[0] - c.z * plane_y[1]};
+      if (d[0] > r || d[1] > r || d[2] > r || d[3] > r) return 0;
+      const float margin = r * 1.001f + 1e-5f * (std::fabs(c.x) + std::fabs(c.y) + c.z);
+      if (c.z - margin > proj.near && d[0] < -margin && d[1] < -margin && d[2] < -margin &&
+          d[3] < -margin)
+        proved |= kInside;
+    }
     const int cone = m.cones[i];
-    if (cone < 3) {
+    if (cone < 3 && !(proved & kFront)) {
       const Vec3f& n = qsplat::decode_normal(m.normal_codes[i]);
       const Vec3f v = proj.eye - m.centres[i];
       const float nv = dot(n, v);
       const float s = qsplat::decode_cone_sine(cone);
       const float lim = (norm(v) + r) * s;
       if (nv < -r && (nv + r) * (nv + r) > lim * lim) return 1;
+      // The mirror of the test above: every normal of the cone faces every point of the sphere.
+      const float front = nv - r * 1.001f - 1e-5f * norm(v);
+      if (front > 0 && front * front > lim * lim * 1.002f) proved |= kFront;
     }
     return 2;
   }
@@ -48,15 +69,21 @@ struct Traversal {
   // camera space).
   // `deferred`: nodes at depth `split` go there (in order) instead of being visited.
   template <class Sink>
-  void visit(uint32_t i, Sink& out, LodStats& st, std::vector<uint32_t>* deferred, int depth,
+  void visit(Task task, Sink& out, LodStats& st, std::vector<Task>* deferred, int depth,
              int split) const {
-    std::vector<std::pair<uint32_t, int>> stack{{i, depth}};
+    struct Item {
+      uint32_t node;
+      int depth;
+      uint8_t proved;
+    };
+    std::vector<Item> stack{{task.node, depth, task.proved}};
     while (!stack.empty()) {
-      const auto [n, d] = stack.back();
+      auto [n, d, proved] = stack.back();
       stack.pop_back();
       ++st.visited;
       Vec3f c{0, 0, 0};
-      const int cls = m.child_count[n] && d == 0 ? 2 : classify(n, c);  // roots have no cone
+      // Roots have no cone.
+      const int cls = m.child_count[n] && d == 0 ? 2 : classify(n, c, proved);
       if (cls == 0) {
         ++st.culled_frustum;
         continue;
@@ -73,11 +100,12 @@ struct Traversal {
       }
       if (deferred && d + 1 == split) {
         // Children become tasks, in order (the stack pops them in reverse below otherwise).
-        for (int k = 0; k < kids; ++k) deferred->push_back(m.first_child[n] + k);
+        for (int k = 0; k < kids; ++k)
+          deferred->push_back({m.first_child[n] + static_cast<uint32_t>(k), proved});
         continue;
       }
       for (int k = kids; k-- > 0;)
-        stack.push_back({m.first_child[n] + static_cast<uint32_t>(k), d + 1});
+        stack.push_back({m.first_child[n] + static_cast<uint32_t>(k), d + 1, proved});
     }
   }
 };
@@ -141,8 +169,8 @@ template <class Sink, class MakeSink, class Merge>
 LodStats traverse(const Traversal& t, Sink& top, MakeSink make_sink, Merge merge) {
   LodStats total;
   for (uint32_t root : t.m.roots) {
-    std::vector<uint32_t> tasks;
-    t.visit(root, top, total, &tasks, 0, 5);
+    std::vector<Task> tasks;
+    t.visit({root, 0}, top, total, &tasks, 0, 5);
     std::vector<Sink> parts;
     parts.reserve(tasks.size());
     for (std::size_t k = 0; k < tasks.size(); ++k) parts.push_back(make_sink());
