@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "formats/read_qsplat.h"
+#include "normals/estimate_normals.h"
 #include "qsplat/build_qsplat_tree.h"
 #include "qsplat/encode_qsplat.h"
 #include "qsplat/make_qsplat_leaves.h"
@@ -32,7 +33,23 @@ struct Case {
   int splats;
   float distance;
   bool zbuffer = false;  // the .qs render by --blend zbuffer (the reference stays blended)
+  // 0: stratified with exact normals; 1: i.i.d. random, 4: scan lines 4x denser along than
+  // across; both with estimate-normals' normals and cover radii, as scanners sample.
+  double scan_lines = 0;
 };
+
+SplatCloud cloud_of(const Case& k) {
+  if (k.scan_lines == 0) return testing::sample_shape(k.shape, k.splats);
+  ShapeOptions shape;
+  shape.kind = k.shape == Shape::kSphere ? ShapeKind::kSphere : ShapeKind::kTorus;
+  shape.points = static_cast<std::size_t>(k.splats);
+  shape.random = true;
+  shape.scan_lines = k.scan_lines > 1 ? k.scan_lines : 0;
+  SplatCloud cloud = make_shape(shape);
+  cloud.colors.clear();
+  estimate_normals(cloud, NormalOptions{});
+  return cloud;
+}
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
@@ -51,7 +68,7 @@ Camera camera_at(float distance) {
 
 TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
   const Case& k = GetParam();
-  const SplatCloud cloud = testing::sample_shape(k.shape, k.splats);
+  const SplatCloud cloud = cloud_of(k);
   RenderScene plain = make_render_scene(SplatCloud(cloud), "test");
   const RenderScene qs = qsplat_scene_of(cloud);
   const Camera cam = camera_at(k.distance);
@@ -85,7 +102,14 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"torus_mid", Shape::kTorus, 30000, 3.5f},
                       Case{"sphere_mid_zbuffer", Shape::kSphere, 20000, 3.0f, true},
                       Case{"sphere_near_zbuffer", Shape::kSphere, 5000, 2.6f, true},
-                      Case{"torus_mid_zbuffer", Shape::kTorus, 30000, 3.5f, true}),
+                      Case{"torus_mid_zbuffer", Shape::kTorus, 30000, 3.5f, true},
+                      Case{"torus_random", Shape::kTorus, 30000, 3.5f, false, 1},
+                      Case{"sphere_scan_lines", Shape::kSphere, 20000, 3.0f, false, 4},
+                      // The z-buffer path is for splats of a pixel or two: there its discs
+                      // facing the screen and its unblended normals cost little.
+                      Case{"torus_random_zbuffer", Shape::kTorus, 120000, 3.5f, true, 1},
+                      Case{"sphere_scan_lines_zbuffer", Shape::kSphere, 60000, 3.0f, true, 4},
+                      Case{"torus_scan_lines_zbuffer", Shape::kTorus, 120000, 3.5f, true, 4}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 TEST(RenderQSplat, LargerThresholdsDrawFewerSplatsAndCullOutsideTheFrustum) {
