@@ -39,23 +39,21 @@ inline uint32_t unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
 
 // Joins i and j for every edge the rows give, in parallel: edges(i, fn) calls fn(j) for the
 // edges (i, j) to be joined, each with j > i (required: a j below i could belong to another
-// chunk). Each chunk of rows joins the edges that stay inside it on its
-// own (a chunk's trees only hold its own splats, so the chunks never touch the same entry); the
-// edges that leave their chunk are kept and joined afterwards, in order. The components, and so
-// the roots, do not depend on the thread count. parent: as above, all splats their own root.
+// chunk), and must give the same edges when called again. Each chunk of rows joins the edges that
+// stay inside it on its own (a chunk's trees only hold its own splats, so the chunks never touch
+// the same entry); the edges that leave their chunk are joined afterwards by a second, serial
+// walk over the rows (enumerating them again costs less than keeping them: in a cloud in no
+// spatial order nearly every edge leaves its chunk, 8 bytes each). The components, and so the
+// roots, do not depend on the thread count. parent: as above, all splats their own root.
 template <class Edges>
 void unite_rows(std::vector<uint32_t>& parent, Edges&& edges) {
   constexpr std::size_t kChunk = 16384;  // rows per task
   const std::size_t n = parent.size();
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> leaving(chunk_count(n, kChunk));
-  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+  for_each_chunk(n, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       uint32_t root = find_root(parent, uint32_t(i));
       edges(i, [&](uint32_t j) {
-        if (j >= end) {
-          leaving[c].emplace_back(uint32_t(i), j);
-          return;
-        }
+        if (j >= end) return;  // joined below
         // Rows are joined in ascending order, so every tree with more than one splat has its
         // root at or below i < j: a j that is its own root is alone, and hangs from i's root
         // like a j that is already there (the common cases, without a search).
@@ -67,8 +65,13 @@ void unite_rows(std::vector<uint32_t>& parent, Edges&& edges) {
       });
     }
   });
-  for (const auto& pairs : leaving)
-    for (const auto& [i, j] : pairs) unite(parent, i, j);
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t end = std::min(n, begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i)
+      edges(i, [&](uint32_t j) {
+        if (j >= end) unite(parent, uint32_t(i), j);
+      });
+  }
 }
 
 }  // namespace splatkit::graph
