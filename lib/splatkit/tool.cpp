@@ -3,6 +3,8 @@
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/info.h>
 
+#include <malloc.h>
+
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -66,6 +68,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   }
   // A closed pipe downstream becomes a write error (exit 4) instead of a silent kill.
   std::signal(SIGPIPE, SIG_IGN);
+  // Blocks of 1 MiB and more are mapped on their own and handed back when freed. glibc's default
+  // raises that threshold to the size of each freed block (up to 32 MiB), after which the
+  // per-point arrays of one phase stay in the heap as free space beside the next phase's: peak
+  // RSS is 10-14 % higher for estimate-normals and build-splat-graph on 4M points.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   std::unique_ptr<tbb::global_control> limit;
   if (threads_ > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
