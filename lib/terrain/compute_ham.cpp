@@ -204,7 +204,8 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
                                  row_bound.data() + (slot(r) + 1) * w);
         for (int64_t y = std::max<int64_t>(0, r - ring_r); y <= std::min(h - 1, r + ring_r); ++y) {
           const float* b = row_bound.data() + slot(y) * w;
-          for (int64_t x = 0; x < w; ++x) bound[std::size_t(x)] = std::max(bound[std::size_t(x)], b[x]);
+          for (int64_t x = 0; x < w; ++x)
+            bound[std::size_t(x)] = std::max(bound[std::size_t(x)], b[x]);
         }
         float* hr = ham_row(r);
         const uint8_t* a = affected.data() + slot(r) * w;

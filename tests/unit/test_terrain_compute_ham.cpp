@@ -299,7 +299,7 @@ TEST(TerrainFillVoids, RunsBecomeLinesBetweenTheirNeighbours) {
 // when it has none. Also per tile: the affected texels of a tile against the unaffected texels of
 // that tile and the 8 around it (a looser, tile-sized "surrounding").
 struct SpikeCheck {
-  std::size_t affected = 0, over = 0;  // affected texels, those above their surrounding maximum
+  std::size_t affected = 0, over = 0;      // affected texels, those above their surrounding maximum
   double worst_texel = 0, worst_tile = 0;  // largest ratio affected HAM / surrounding maximum
 };
 
@@ -348,15 +348,15 @@ TEST(TerrainComputeHam, SyntheticVoidsStayBelowTheirSurroundingTerrain) {
     for (int64_t y = y0; y < y1; ++y)
       for (int64_t x = x0; x < x1; ++x) v[std::size_t(y * w + x)] = -32768;
   };
-  hole(100, 40, 230, 170);  // large void: 130 x 130
+  hole(100, 40, 230, 170);            // large void: 130 x 130
   for (int64_t y = 90; y < 112; ++y)  // an island of data inside it, and a 2 x 2 speck
     for (int64_t x = 150; x < 172; ++x) v[std::size_t(y * w + x)] = 2500.0f + float(x - y);
   v[std::size_t(60 * w + 200)] = v[std::size_t(60 * w + 201)] = 2100.0f;
   v[std::size_t(61 * w + 200)] = v[std::size_t(61 * w + 201)] = 2100.0f;
-  hole(0, 10, 9, 60);        // left border
-  hole(30, h - 6, 80, h);    // bottom border
-  hole(w - 12, 0, w, 15);    // top-right corner
-  hole(260, 0, 261, h);      // a column void, top to bottom
+  hole(0, 10, 9, 60);      // left border
+  hole(30, h - 6, 80, h);  // bottom border
+  hole(w - 12, 0, w, 15);  // top-right corner
+  hole(260, 0, 261, h);    // a column void, top to bottom
   for (int64_t k = 0; k < 40; ++k) v[std::size_t(((k * 37) % h) * w + (k * 53) % 90)] = NAN;
   const Filled filled = filled_copy(v, w, h, true, -32768);
   const Reference ref = reference(filled.heights, w, h, 64, filled.replaced);
@@ -366,8 +366,8 @@ TEST(TerrainComputeHam, SyntheticVoidsStayBelowTheirSurroundingTerrain) {
       HamOptions o;
       o.band_bytes = band_bytes;
       const HamRun r = run_ham(v, w, h, o, 7, true, -32768);
-      const std::string what = "band=" + std::to_string(band_bytes) + " threads=" +
-                               std::to_string(threads);
+      const std::string what =
+          "band=" + std::to_string(band_bytes) + " threads=" + std::to_string(threads);
       expect_matches(r, ref, what);
       const SpikeCheck c = check_spikes(r, filled.replaced, w, h, 64);
       EXPECT_GT(c.affected, 20000u) << what;
@@ -387,8 +387,10 @@ TEST(TerrainComputeHam, SyntheticVoidsStayBelowTheirSurroundingTerrain) {
 TEST(TerrainComputeHam, RealSrtmWithVoids) {
   for (const char* path :
        {"/work/shared/data/dem/mt_fuji_90m.tif", "/work/shared/data/dem/mt_rainier_90m.tif",
-        "/work/shared/data/dem/mt_everest_90m.tif", SPLATKIT_SOURCE_DIR "/data-samples/rainier-srtm.tif"}) {
-    if (FILE* f = std::fopen(path, "rb")) std::fclose(f);
+        "/work/shared/data/dem/mt_everest_90m.tif",
+        SPLATKIT_SOURCE_DIR "/data-samples/rainier-srtm.tif"}) {
+    if (FILE* f = std::fopen(path, "rb"))
+      std::fclose(f);
     else {
       std::printf("%s not present: skipped\n", path);
       continue;
@@ -413,9 +415,10 @@ TEST(TerrainComputeHam, RealSrtmWithVoids) {
     HamRun unbounded;
     unbounded.ham.assign(unbounded_ref.ham.begin(), unbounded_ref.ham.end());
     const SpikeCheck u = check_spikes(unbounded, filled.replaced, w, h, 64);
-    std::printf("%s: %zu affected texels; bounded: worst texel %.3f, worst tile %.3f of the "
-                "surrounding maximum; fill alone: %zu texels above it, worst tile %.3f\n",
-                path, c.affected, c.worst_texel, c.worst_tile, u.over, u.worst_tile);
+    std::printf(
+        "%s: %zu affected texels; bounded: worst texel %.3f, worst tile %.3f of the "
+        "surrounding maximum; fill alone: %zu texels above it, worst tile %.3f\n",
+        path, c.affected, c.worst_texel, c.worst_tile, u.over, u.worst_tile);
     // Unfilled, the same voids would be cliffs: the checks above can fail.
     const HamRun cliffs = run_ham(raw, w, h, HamOptions{}, 256, false, 0);
     EXPECT_GT(cliffs.stats.ham_max, 10 * r.stats.ham_max) << path;
