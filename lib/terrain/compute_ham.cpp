@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <vector>
 
 #include "splatkit/error.h"
@@ -35,6 +36,27 @@ void sobel_row(const float* __restrict a, const float* __restrict c, const float
     out[x] = std::sqrt(dx * dx + dy * dy);
   }
   if (w > 1) out[w - 1] = sobel_at(a, c, b, w - 2, w - 1, w - 1);
+}
+
+// out[x] = the largest v[q] over q in [x - r, x + r] ∩ [0, w) with skip[q] == 0 (skip may be
+// null), or 0 when there is none (v >= 0): van Herk's running maximum over blocks of 2r + 1
+// [vanHerk92], linear in w whatever r.
+void window_max(const float* v, const uint8_t* skip, int64_t w, int64_t r, float* out,
+                std::vector<float>& prefix, std::vector<float>& suffix) {
+  const int64_t k = 2 * r + 1, n = w + 2 * r;
+  prefix.resize(std::size_t(n));
+  suffix.resize(std::size_t(n));
+  auto value = [&](int64_t i) {
+    const int64_t x = i - r;
+    return x < 0 || x >= w || (skip && skip[x]) ? 0.0f : v[x];
+  };
+  for (int64_t i = 0; i < n; ++i)
+    prefix[std::size_t(i)] = i % k == 0 ? value(i) : std::max(prefix[std::size_t(i - 1)], value(i));
+  for (int64_t i = n - 1; i >= 0; --i)
+    suffix[std::size_t(i)] =
+        i % k == k - 1 || i == n - 1 ? value(i) : std::max(suffix[std::size_t(i + 1)], value(i));
+  for (int64_t x = 0; x < w; ++x)
+    out[x] = std::max(suffix[std::size_t(x)], prefix[std::size_t(x + 2 * r)]);
 }
 
 struct TileAcc {
@@ -70,10 +92,12 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   band = std::max(reader_rows, band / reader_rows * reader_rows);
   band = std::min(band, h);
   const int64_t lookahead = default_lookahead(w);
-  // Rows held at once: the band with its halo, the void filler's ring, per-thread rows.
+  // Rows held at once: the band with its halo, the void filler's ring, per-thread rows, the HAM
+  // ring with its void flags and bounds.
   const double tiles_bytes = 20.0 * double((w + T - 1) / T) * double((h + T - 1) / T);
   const double held =
-      double(w) * (4.0 * double(band + 4) + 5.0 * double(lookahead + 2 * reader_rows + 64)) +
+      double(w) * (4.0 * double(band + 4) + 5.0 * double(lookahead + 2 * reader_rows + 64) +
+                   9.0 * double(band + 2 * kVoidRing + 1)) +
       tiles_bytes;
   if (held > double(int64_t(4) << 30))
     throw_unsupported("the heightmap",
@@ -93,14 +117,17 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
 
   // The window of filled heights: image rows [lo, loaded), lo = first row a band needs.
   std::vector<float> window;
-  int64_t lo = 0, loaded = 0;
+  int64_t lo = 0, loaded = 0, produced = 0;
   std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
   float h_min = INFINITY, h_max = -INFINITY;
+  // Rows with replaced samples: the replaced flags dilated by 2 texels along the row.
+  std::map<int64_t, std::vector<uint8_t>> replaced_rows;
 
   // Rows are filled into `ahead` (by a task while the previous band is computed), then moved
   // to the window.
   std::vector<float> ahead;
   std::vector<uint32_t> ahead_voids;
+  std::vector<std::pair<int64_t, std::vector<uint8_t>>> ahead_replaced;
   int64_t ahead_rows = 0;
   auto produce = [&](int64_t n) {
     ahead.resize(std::size_t(n * w));
@@ -115,6 +142,19 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         stats.voids += uint64_t(v);
         stats.void_rows += v == w;
       }
+      if (filler.any_replaced()) {
+        const std::vector<uint8_t>& rep = filler.replaced();
+        std::vector<uint8_t> dilated(std::size_t(w), 0);
+        bool any = false;
+        for (int64_t x = 0; x < w; ++x)
+          if (rep[std::size_t(x)]) {
+            any = true;
+            for (int64_t xx = std::max<int64_t>(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx)
+              dilated[std::size_t(xx)] = 1;
+          }
+        if (any) ahead_replaced.emplace_back(produced, std::move(dilated));
+      }
+      ++produced;
       if (zs != 1.0f)
         for (int64_t x = 0; x < w; ++x) row[x] *= zs;
     }
@@ -124,11 +164,74 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     window.insert(window.end(), ahead.begin(), ahead.begin() + ahead_rows * w);
     row_voids.insert(row_voids.end(), ahead_voids.begin(),
                      ahead_voids.begin() + ahead_rows * tiles.tiles_x);
+    for (auto& [y, flags] : ahead_replaced) replaced_rows.emplace(y, std::move(flags));
+    ahead_replaced.clear();
     loaded += ahead_rows;
     ahead_rows = 0;
   };
 
-  std::vector<float> band_out;
+  // HAM rows go to a ring (row r in slot r % cap) and leave it kVoidRing rows later, once the
+  // bound of their texels that depend on filled samples ("affected") is known.
+  const int64_t ring_r = kVoidRing, cap = band + 2 * ring_r + 1;
+  std::vector<float> ham_ring(std::size_t(cap * w));
+  std::vector<uint8_t> has_affected(std::size_t(cap), 0), bound_ready(std::size_t(cap), 0);
+  std::vector<uint8_t> affected;  // cap × w flags, allocated at the first void
+  std::vector<float> row_bound;   // cap × w: window_max of each row's unaffected HAM (lazily)
+  auto slot = [&](int64_t r) { return std::size_t(r % cap); };
+  auto ham_row = [&](int64_t r) { return ham_ring.data() + slot(r) * std::size_t(w); };
+  // Bounds the affected texels of rows [f0, f1), adds them to the tiles, hands the rows on.
+  auto finish_rows = [&](int64_t f0, int64_t f1) {
+    std::vector<int64_t> rows, need;
+    for (int64_t r = f0; r < f1; ++r)
+      if (has_affected[slot(r)]) rows.push_back(r);
+    if (!rows.empty()) {
+      if (row_bound.empty()) row_bound.resize(std::size_t(cap * w));
+      for (int64_t r : rows)
+        for (int64_t y = std::max<int64_t>(0, r - ring_r); y <= std::min(h - 1, r + ring_r); ++y)
+          if (!bound_ready[slot(y)]) {
+            bound_ready[slot(y)] = 1;
+            need.push_back(y);
+          }
+      tbb::parallel_for(std::size_t(0), need.size(), [&](std::size_t i) {
+        std::vector<float> prefix, suffix;
+        const int64_t y = need[i];
+        window_max(ham_row(y), has_affected[slot(y)] ? affected.data() + slot(y) * w : nullptr, w,
+                   ring_r, row_bound.data() + slot(y) * w, prefix, suffix);
+      });
+      tbb::parallel_for(std::size_t(0), rows.size(), [&](std::size_t i) {
+        const int64_t r = rows[i];
+        std::vector<float> bound(row_bound.data() + slot(r) * w,
+                                 row_bound.data() + (slot(r) + 1) * w);
+        for (int64_t y = std::max<int64_t>(0, r - ring_r); y <= std::min(h - 1, r + ring_r); ++y) {
+          const float* b = row_bound.data() + slot(y) * w;
+          for (int64_t x = 0; x < w; ++x)
+            bound[std::size_t(x)] = std::max(bound[std::size_t(x)], b[x]);
+        }
+        float* hr = ham_row(r);
+        const uint8_t* a = affected.data() + slot(r) * w;
+        for (int64_t x = 0; x < w; ++x)
+          if (a[x]) hr[x] = std::min(hr[x], bound[std::size_t(x)]);
+      });
+      for (int64_t r : rows) {  // the bounded texels into their tiles
+        const float* hr = ham_row(r);
+        const uint8_t* a = affected.data() + slot(r) * w;
+        float* tile_row = tiles.ham_max.data() + std::size_t((r / T) * tiles.tiles_x);
+        for (int64_t x = 0; x < w; ++x)
+          if (a[x]) {
+            tile_row[x / T] = std::max(tile_row[x / T], hr[x]);
+            stats.ham_max = std::max(stats.ham_max, double(hr[x]));
+          }
+      }
+    }
+    if (sink)  // in runs of rows contiguous in the ring
+      for (int64_t r = f0; r < f1;) {
+        const int64_t n = std::min(f1 - r, cap - int64_t(slot(r)));
+        sink(n, ham_row(r));
+        r += n;
+      }
+  };
+
+  int64_t finished = 0;  // rows handed on
   for (int64_t b0 = 0; b0 < h; b0 += band) {
     const int64_t b1 = std::min(h, b0 + band);
     const int64_t need_lo = std::max<int64_t>(0, b0 - 2), need_hi = std::min(h, b1 + 2);
@@ -136,6 +239,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       const int64_t drop = need_lo - lo;
       window.erase(window.begin(), window.begin() + drop * w);
       row_voids.erase(row_voids.begin(), row_voids.begin() + drop * tiles.tiles_x);
+      replaced_rows.erase(replaced_rows.begin(), replaced_rows.lower_bound(need_lo));
       lo = need_lo;
     }
     if (loaded < need_hi) {  // the first band (later ones were read ahead)
@@ -150,7 +254,10 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       r = std::clamp<int64_t>(r, 0, h - 1);
       return window.data() + (r - lo) * w;
     };
-    if (sink) band_out.resize(std::size_t((b1 - b0) * w));
+    // Replaced samples within 2 rows of the band: flag its affected texels.
+    const bool band_voids = replaced_rows.lower_bound(b0 - 2) != replaced_rows.end() &&
+                            replaced_rows.lower_bound(b0 - 2)->first <= b1 + 1;
+    if (band_voids && affected.empty()) affected.resize(std::size_t(cap * w));
 
     // Runs of rows, one task each; per-run tile records merged in row order afterwards.
     const int64_t run = std::max<int64_t>(8, (b1 - b0 + 7) / 8);
@@ -164,7 +271,6 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
       std::vector<TileAcc>& acc = parts[std::size_t(k)];
       acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
-      std::vector<float> out(static_cast<std::size_t>(w));
       std::vector<float> ring(static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
       auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
       auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
@@ -178,8 +284,21 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         compute_m(r + 1);
         const float* above = r == 0 ? mrow(r) : mrow(r - 1);
         const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
-        sobel_row(above, mrow(r), below, w, out.data());
-        if (sink) std::memcpy(band_out.data() + (r - b0) * w, out.data(), std::size_t(w) * 4);
+        float* out = ham_row(r);
+        sobel_row(above, mrow(r), below, w, out);
+        bound_ready[slot(r)] = 0;
+        uint8_t* aff = nullptr;  // this row's affected texels, or null
+        if (band_voids)
+          for (int64_t y = std::max<int64_t>(0, r - 2); y <= std::min(h - 1, r + 2); ++y) {
+            const auto it = replaced_rows.find(y);
+            if (it == replaced_rows.end()) continue;
+            if (!aff) {
+              aff = affected.data() + slot(r) * w;
+              std::fill(aff, aff + w, uint8_t(0));
+            }
+            for (int64_t x = 0; x < w; ++x) aff[x] |= it->second[std::size_t(x)];
+          }
+        has_affected[slot(r)] = aff != nullptr;
         const float* hr = hrow(r);
         for (int64_t x = 0; x < w; ++x) {
           lo_h = std::min(lo_h, hr[x]);
@@ -189,14 +308,24 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
         for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
           const int64_t x0 = tx * T, x1 = std::min(w, x0 + T);
-          float hm = out[std::size_t(x0)];
+          float hm = 0;  // affected texels join their tile once bounded (finish_rows)
           int64_t best = x0;
           float hh = hr[x0];
-          for (int64_t x = x0; x < x1; ++x) {
-            hm = std::max(hm, out[std::size_t(x)]);
-            if (hr[x] > hh) {
-              hh = hr[x];
-              best = x;
+          if (aff) {
+            for (int64_t x = x0; x < x1; ++x) {
+              if (!aff[x]) hm = std::max(hm, out[x]);
+              if (hr[x] > hh) {
+                hh = hr[x];
+                best = x;
+              }
+            }
+          } else {
+            for (int64_t x = x0; x < x1; ++x) {
+              hm = std::max(hm, out[x]);
+              if (hr[x] > hh) {
+                hh = hr[x];
+                best = x;
+              }
             }
           }
           TileAcc& t = a[tx];
@@ -239,7 +368,10 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
       h_min = std::min(h_min, run_h[std::size_t(k)].first);
       h_max = std::max(h_max, run_h[std::size_t(k)].second);
     }
-    if (sink) sink(b1 - b0, band_out.data());
+    // Rows whose ring of kVoidRing rows below is computed are final.
+    const int64_t final_rows = b1 == h ? h : std::max(finished, b1 - ring_r);
+    finish_rows(finished, final_rows);
+    finished = final_rows;
     if (ahead_rows > 0) take_ahead();
     progress(double(b1) / double(h), "ham");
   }

@@ -3,7 +3,8 @@
 // with clamp-to-edge borders, reduced to per-tile records (ham_tiles.h). The map is read in bands
 // of rows; each thread takes a run of rows of a band and fuses the two passes over a ring of three
 // M rows, so memory holds one band and a few rows, whatever the map's height. No-data samples are
-// filled first (fill_voids.h).
+// filled first (fill_voids.h), and the HAM of the texels that depend on a filled sample is bounded
+// by the HAM of the valid terrain around them (kVoidRing; formats/ham.md, "Voids").
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,12 @@
 #include "terrain/heightmap_source.h"
 
 namespace splatkit::terrain {
+
+// The HAM of a texel within 2 texels (Chebyshev) of a replaced sample (a void or a void edge,
+// fill_voids.h) depends on filled heights: it is clamped to the largest HAM of the texels within
+// kVoidRing texels of it (Chebyshev) that are not within 2 texels of a replaced sample; to 0 when
+// there is none. Filled voids never raise the HAM above the terrain around them.
+inline constexpr int64_t kVoidRing = 32;
 
 struct HamOptions {
   int64_t tile = 64;

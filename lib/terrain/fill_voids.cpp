@@ -247,6 +247,8 @@ int64_t VoidFiller::next(float* out) {
   if (staged.nodata) std::copy(staged.nodata->begin(), staged.nodata->end(), mask_.begin());
   else if (had_mask_) std::fill(mask_.begin(), mask_.end(), 0);
   had_mask_ = staged.nodata != nullptr;
+  any_replaced_ = staged.filled != nullptr;
+  if (any_replaced_) replaced_.assign(staged.filled->begin(), staged.filled->end());
   return staged.voids;
 }
 

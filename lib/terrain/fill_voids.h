@@ -48,6 +48,10 @@ class VoidFiller {
   // direction within reach take the filled row above, or 0 at the top.
   int64_t next(float* out);
   const std::vector<uint8_t>& mask() const { return mask_; }
+  // The samples of that row that were replaced (voids and void edges: 1), valid when
+  // any_replaced(); compute_ham bounds the HAM of the texels that depend on them.
+  const std::vector<uint8_t>& replaced() const { return replaced_; }
+  bool any_replaced() const { return any_replaced_; }
   uint64_t edge_samples() const { return edge_samples_; }  // good samples replaced beside voids
 
  private:
@@ -84,8 +88,8 @@ class VoidFiller {
   Row prev_filled_;                  // the last step-1 row that was filled
   std::vector<std::deque<Staged>> passes_;  // the last rows of each smoothing pass
   std::deque<Staged> ready_;
-  std::vector<uint8_t> mask_, near_;
-  bool had_mask_ = true;
+  std::vector<uint8_t> mask_, near_, replaced_;
+  bool had_mask_ = true, any_replaced_ = false;
   uint64_t edge_samples_ = 0;
 };
 

@@ -17,13 +17,15 @@ namespace {
 using splatkit::OutlierOptions;
 using splatkit::OutlierRule;
 
-std::vector<splatkit::Vec3f> scan(splatkit::ShapeKind kind, std::size_t n, double noise, uint64_t seed) {
+std::vector<splatkit::Vec3f> scan(splatkit::ShapeKind kind, std::size_t n, double noise,
+                                  uint64_t seed, double scan_lines) {
   splatkit::ShapeOptions s;
   s.kind = kind;
   s.points = n;
   s.seed = seed;
   s.noise = noise;
   s.random = true;
+  s.scan_lines = scan_lines;
   std::vector<splatkit::Vec3f> p = splatkit::make_shape(s).positions;
   splatkit::Bounds b;
   b.min = b.max = p.front();
@@ -70,14 +72,17 @@ int main() {
     std::size_t n;
     double noise;
     uint64_t seed;
+    double scan_lines;
   };
-  const Case cases[] = {{splatkit::ShapeKind::kCadPart, 30000, 0, 1},
-                        {splatkit::ShapeKind::kTorus, 30000, 0.002, 2},
-                        {splatkit::ShapeKind::kSphere, 20000, 0.001, 3}};
+  const Case cases[] = {{splatkit::ShapeKind::kCadPart, 30000, 0, 1, 0},
+                        {splatkit::ShapeKind::kTorus, 30000, 0.002, 2, 0},
+                        {splatkit::ShapeKind::kSphere, 20000, 0.001, 3, 0},
+                        {splatkit::ShapeKind::kCadPart, 40000, 0, 1, 4}};
   for (const Case& c : cases) {
-    const std::vector<splatkit::Vec3f> p = scan(c.kind, c.n, c.noise, c.seed);
-    std::vector<OutlierOptions> variants;
-    for (auto [k, sigma] : {std::pair<std::size_t, double>{8, 1.0}, {16, 2.0}, {30, 0.5}}) {
+    const std::vector<splatkit::Vec3f> p = scan(c.kind, c.n, c.noise, c.seed, c.scan_lines);
+    std::vector<OutlierOptions> variants{OutlierOptions{}};  // the defaults, sor:12,1
+    for (auto [k, sigma] :
+         {std::pair<std::size_t, double>{8, 1.0}, {16, 2.0}, {30, 0.5}, {6, 0.4}}) {
       OutlierOptions o;
       o.k = k;
       o.sigma = sigma;

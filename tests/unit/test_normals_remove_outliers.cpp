@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/spatial_index.h"
 #include "splatkit/synthetic_shapes.h"
 
 namespace splatkit {
@@ -75,11 +78,89 @@ void expect_found(const Injected& in, const OutlierOptions& o, const char* what,
   EXPECT_EQ(r.removed, found + lost);
 }
 
-TEST(NormalsRemoveOutliers, StatisticalDefaultsFindInjectedOutliers) {
-  const OutlierOptions sor;  // sor:8,1
-  expect_found(with_outliers(ShapeKind::kCadPart, 40000, 0, 0, 1), sor, "cad, random", 80);
-  expect_found(with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 2), sor, "torus, noise", 80);
-  expect_found(with_outliers(ShapeKind::kSphere, 40000, 0, 4, 3), sor, "sphere, scan lines", 80);
+// The injected points' share removed, the scan's share removed, and the share removed of the
+// injected points farther than off_s (in s) from the scan (s = the square root of the scan's area
+// per point: the median distance r8 to the 8th nearest scan point times sqrt(pi / 8), as
+// scripts/bench/outliers.sh measures it).
+struct Removal {
+  double injected = 0, scan = 0, off_surface = 0, near_surface = 0;  // near: within 1.5 s (share)
+};
+
+Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
+  const std::span<const Vec3f> scan(in.cloud.positions.data(), in.true_points);
+  const SpatialIndex index(scan);
+  std::vector<float> r8(in.true_points);
+  index.for_each_knn_block(
+      9, [&](std::span<const uint32_t> q, std::span<const uint32_t>, std::span<const float> sq) {
+        for (std::size_t r = 0; r < q.size(); ++r) r8[q[r]] = std::sqrt(sq[r * 9 + 8]);
+      });
+  std::nth_element(r8.begin(), r8.begin() + static_cast<std::ptrdiff_t>(r8.size() / 2), r8.end());
+  const double s = r8[r8.size() / 2] * std::sqrt(3.14159265358979 / 8);
+  const OutlierResult r = find_outliers(in.cloud.positions, o);
+  std::size_t lost = 0, found = 0, off = 0, off_found = 0, near = 0;
+  for (std::size_t i = 0; i < in.cloud.size(); ++i) {
+    if (i < in.true_points) {
+      lost += r.outlier[i];
+      continue;
+    }
+    found += r.outlier[i];
+    uint32_t nearest;
+    float sq;
+    index.knn(in.cloud.positions[i], 1, &nearest, &sq);
+    const double d = std::sqrt(static_cast<double>(sq)) / s;
+    near += d < 1.5;
+    if (d > off_s) {
+      ++off;
+      off_found += r.outlier[i];
+    }
+  }
+  EXPECT_EQ(r.removed, found + lost);
+  const auto injected = static_cast<double>(in.cloud.size() - in.true_points);
+  Removal m;
+  m.injected = 100.0 * static_cast<double>(found) / injected;
+  m.scan = 100.0 * static_cast<double>(lost) / static_cast<double>(in.true_points);
+  m.off_surface = 100.0 * static_cast<double>(off_found) / static_cast<double>(off);
+  m.near_surface = 100.0 * static_cast<double>(near) / injected;
+  std::printf(
+      "%zu scan points, sor:%zu,%g: removed %.1f %% of the injected points (%.1f %% of "
+      "those farther than %g s; %.1f %% of them lie within 1.5 s), %.3f %% of the scan\n",
+      in.true_points, o.k, o.sigma, m.injected, m.off_surface, off_s, m.near_surface, m.scan);
+  return m;
+}
+
+// A dense i.i.d. scan of a sphere, where few injected points land on the surface (2.7 % within
+// 1.5 s). The defaults remove none of the scan and every injected point farther than 5 s, but
+// miss the goal (>= 95 % of them) by about a point: they reach 94.1 % here (scripts/bench/
+// outliers.sh: 92.5 % at 250 000 points, 95.0 % at 400 000, 94.6 % at a million), since the
+// deviation the outliers inflate raises the threshold, in units of s, as the scan gets denser.
+// K and SIGMA tuned to such a clean, dense scan reach the goal: sor:6,0.4.
+TEST(NormalsRemoveOutliers, StatisticalOnADenseScan) {
+  const Injected in = with_outliers(ShapeKind::kSphere, 400000, 0, 0, 3);
+  const Removal m = measure(in, OutlierOptions{}, 5);
+  EXPECT_GE(m.off_surface, 99.0);
+  EXPECT_GE(m.injected, 93.0);
+  EXPECT_LE(m.scan, 0.5);
+  OutlierOptions tuned;
+  tuned.k = 6;
+  tuned.sigma = 0.4;
+  const Removal t = measure(in, tuned, 5);
+  EXPECT_GE(t.injected, 95.0);
+  EXPECT_LE(t.scan, 0.5);
+}
+
+// On scan lines, noise and creases the defaults remove every injected point off the surface
+// (farther than 3 s) and at most 0.5 % of the scan; the injected points within about 1.5 s lie
+// in the surface's own sampling and noise band, where no distance rule can tell them (here 9-17 %
+// of them: the goal of 95 % in all is out of reach on these scans, by about that share).
+TEST(NormalsRemoveOutliers, StatisticalDefaultsRemoveEveryOutlierOffTheSurface) {
+  const OutlierOptions sor;
+  for (const Removal& m : {measure(with_outliers(ShapeKind::kCadPart, 40000, 0, 4, 1), sor),
+                           measure(with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 2), sor),
+                           measure(with_outliers(ShapeKind::kSphere, 40000, 0, 4, 3), sor)}) {
+    EXPECT_GE(m.off_surface, 99.0);
+    EXPECT_LE(m.scan, 0.5);
+    EXPECT_GE(m.injected, 80.0);
+  }
 }
 
 TEST(NormalsRemoveOutliers, RadiusDefaultsFindInjectedOutliers) {

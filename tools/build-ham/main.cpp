@@ -6,13 +6,17 @@ int main(int argc, char** argv) {
   splatkit::Tool tool(
       "build-ham",
       "Compute the height acceleration map (HAM) of a heightmap for terrain tessellation "
-      "[Sobel68; Valdetaro10]: the Sobel gradient magnitude of the heights, then the Sobel magnitude "
+      "[Sobel68; Valdetaro10]: the Sobel gradient magnitude of the heights, then the Sobel "
+      "magnitude "
       "of that (clamp-to-edge borders), summarised per tile as an EXR with the float channels "
       "ham_max, h_max and the uint32 channels x, y (texel of h_max, first in row-major order) and "
       "voids (no-data texels filled). IN: TIFF/GeoTIFF (8/16/32-bit integer or float, stripped "
       "or tiled), PNG (8/16-bit), EXR, SRTM .hgt, or headerless RAW with --raw. No-data comes from "
-      "the file (GDAL_NODATA tag, SRTM's -32768), --nodata, and NaN; voids are filled along their "
-      "row before differentiating so that they never become cliffs. The map is streamed in "
+      "the file (GDAL_NODATA tag, SRTM's -32768), --nodata, and NaN; voids are filled from the "
+      "nearest good samples along rows and columns, then smoothed, before differentiating, and "
+      "the HAM of texels within 2 of a filled sample is bounded by the largest HAM of the valid "
+      "terrain within 32 texels (formats/ham.md), so voids never become cliffs or spikes. The "
+      "map is streamed in "
       "bands of rows: memory does not grow with its height.",
       "  $ build-ham N46W122.hgt rainier-tiles.exr --report ham.json\n"
       "  $ build-ham dem.tif tiles.exr --tile 32 --ham-full ham.exr --z-scale 2\n"

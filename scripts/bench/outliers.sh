@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Outlier removal measured: each scan below gets 1 % of its point count added uniformly in its
+# bounding box, and bench_outliers prints, over a grid of K and SIGMA, the share of the injected
+# points `estimate-normals --outliers sor:K,SIGMA` removes against the share of the scan's own
+# points it removes (PCL's StatisticalOutlierRemoval rule; the default cell also run through
+# find_outliers itself), the same for a robust threshold (median + KAPPA * 1.4826 MAD of the
+# same distances), the best cell that removes at most 0.5 % of the scan, and the injected points
+# by their distance to the nearest scan point in s (the square root of the scan's area per point,
+# from the median distance to the 8th nearest scan point): points that land on the surface are
+# not outliers any rule can see. Then, over all scans, the cells that remove at most 0.5 % of
+# every scan, best first. Deterministic (fixed seeds).
+# The goal: >= 95 % of the injected points, <= 0.5 % of the scan.
+# usage: scripts/bench/outliers.sh [K=12 SIGMA=1: the default to check] [scale=1: point counts x]
+#   (build dir: $BUILD_DIR, default build-bench)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build-bench}
+k=${1:-12} sigma=${2:-1} scale=${3:-1}
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
+  -DSPLATKIT_BUILD_TESTS=OFF >/dev/null
+ninja -C "$build" -j2 bench_outliers splat-synth >/dev/null
+bench=$build/scripts/bench/bench_outliers
+synth=$build/tools/splat-synth
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+n() { awk -v a="$1" -v s="$scale" 'BEGIN {printf "%d", a * s}'; }
+
+"$synth" -q cad "$work/cad-lines.ply" -n "$(n 100000)" --scan-lines 4 --seed 1 --no-color
+"$synth" -q torus "$work/torus-noisy.ply" -n "$(n 100000)" --random --noise 0.002 --seed 2 --no-color
+"$synth" -q sphere "$work/sphere-30k.ply" -n "$(n 30000)" --random --noise 0.001 --seed 3 --no-color
+"$synth" -q sphere "$work/sphere-300k.ply" -n "$(n 300000)" --random --noise 0.001 --seed 3 --no-color
+"$synth" -q city "$work/city.ply" -n "$(n 200000)" --blocks 2 --seed 4 --no-color
+"$synth" -q cad "$work/cad-lines-40k.ply" -n "$(n 40000)" --scan-lines 4 --seed 1 --no-color
+"$synth" -q torus "$work/torus-noisy-40k.ply" -n "$(n 40000)" --random --noise 0.002 --seed 2 --no-color
+"$synth" -q city "$work/city-50k.ply" -n "$(n 50000)" --blocks 2 --seed 4 --no-color
+python3 "$root/scripts/bench/dem_to_xyz.py" "$root/data-samples/rainier-srtm.tif" "$work/rainier.xyz"
+
+for scan in "cad --scan-lines 4:cad-lines.ply" "torus --random --noise 0.002:torus-noisy.ply" \
+  "sphere --random --noise 0.001, 30k:sphere-30k.ply" "sphere --random --noise 0.001, 300k:sphere-300k.ply" \
+  "city --blocks 2:city.ply" "cad --scan-lines 4, 40k:cad-lines-40k.ply" \
+  "torus --random --noise 0.002, 40k:torus-noisy-40k.ply" "city --blocks 2, 50k:city-50k.ply" \
+  "real terrain (data-samples/rainier-srtm.tif as points):rainier.xyz" \
+  "real scan (data-samples/kitten.xyz):$root/data-samples/kitten.xyz" \
+  "cad scan lines (data-samples/cad-scan.laz):$root/data-samples/cad-scan.laz"; do
+  file=${scan##*:}
+  [ "${file#/}" = "$file" ] && file=$work/$file
+  "$bench" "${scan%%:*}" "$file" 1 "$k" "$sigma" "$work/cells.tsv"
+  echo
+done
+
+python3 - "$work/cells.tsv" "$k" "$sigma" <<'PY'
+import collections, sys
+cells = collections.defaultdict(list)
+for line in open(sys.argv[1]):
+    name, rule, k, par, found, lost = line.rstrip("\n").split("\t")
+    cells[(rule, int(k), float(par))].append((name, float(found), float(lost)))
+rows = []
+for key, v in cells.items():
+    rows.append((max(l for _, _, l in v), sum(f for _, f, _ in v) / len(v), min(f for _, f, _ in v), key))
+ok = sorted((r for r in rows if r[0] <= 0.5), key=lambda r: -r[1])
+print(f"over all {len(next(iter(cells.values())))} scans: the cells that remove <= 0.5 % of every scan, best first")
+print("  rule:K,PARAM     injected removed: mean  min   scan removed: worst")
+for worst, mean, low, (rule, k, par) in ok[:8]:
+    print(f"  {rule}:{k},{par:<6g}  {mean:24.1f} {low:5.1f} {worst:20.3f}")
+d = cells.get(("sor", int(sys.argv[2]), float(sys.argv[3])))
+if d:
+    worst = max(l for _, _, l in d)
+    print(f"default sor:{sys.argv[2]},{sys.argv[3]}: injected removed {min(f for _, f, _ in d):.1f}-"
+          f"{max(f for _, f, _ in d):.1f} % (goal >= 95: met on {sum(f >= 95 for _, f, _ in d)} of "
+          f"{len(d)} scans), scan removed at most {worst:.3f} % (goal <= 0.5: "
+          f"{'met' if worst <= 0.5 else 'NOT met'})")
+PY

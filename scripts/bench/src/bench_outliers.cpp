@@ -1,0 +1,240 @@
+// Outlier removal measured (outliers.sh): a scan read from FILE gets 1 % of its point count added
+// uniformly in its bounding box; then, over a grid of K and SIGMA, the share of those injected
+// points that `sor` removes and the share of the scan's own points it removes (PCL's
+// StatisticalOutlierRemoval rule, computed as in lib/normals/remove_outliers.cpp; the default
+// cell is also run through find_outliers itself), the same for a robust threshold (median +
+// KAPPA * 1.4826 * MAD of the same distances), and the injected points by their distance to the
+// nearest scan point in s, the square root of the scan's area per point: the ones lying on the
+// surface are not outliers any rule can see.
+//
+// usage: bench_outliers NAME FILE [SEED=1] [DEFAULT_K=8] [DEFAULT_SIGMA=1] [CELLS.tsv]
+//   prints text tables (see outliers.sh); with CELLS.tsv, appends one line per grid cell:
+//   NAME RULE K PARAMETER injected% scan% (for the summary over scans).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "formats/read_cloud.h"
+#include "normals/remove_outliers.h"
+#include "splatkit/deterministic_rng.h"
+#include "splatkit/spatial_index.h"
+
+using namespace splatkit;
+
+namespace {
+
+const std::size_t kKs[] = {4, 6, 8, 12, 16, 24, 32, 48};
+const double kSigmas[] = {-0.25, 0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.75, 1, 1.5, 2, 3};
+const double kKappas[] = {2, 3, 4, 5, 6, 8, 10};
+const double kBands[] = {0, 0.5, 1, 1.5, 2, 3, 5, 10, 1e300};  // spacings
+
+double median(std::vector<float> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+struct Scores {
+  double outliers_pct = 0, true_pct = 0;
+  std::vector<std::size_t> band_removed;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: bench_outliers NAME FILE [SEED] [DEFAULT_K] [DEFAULT_SIGMA]\n");
+    return 1;
+  }
+  const std::string name = argv[1];
+  const uint64_t seed = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
+  const std::size_t default_k = argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 8;
+  const double default_sigma = argc > 5 ? std::strtod(argv[5], nullptr) : 1.0;
+  FILE* cells = argc > 6 ? std::fopen(argv[6], "a") : nullptr;
+
+  std::vector<Vec3f> p = read_cloud(argv[2]).cloud.positions;
+  const std::size_t n_true = p.size();
+  Vec3f lo = p.front(), hi = p.front();
+  for (const Vec3f& q : p) {
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  }
+  DeterministicRng rng(seed);
+  const std::size_t n_out = n_true / 100;
+  for (std::size_t i = 0; i < n_out; ++i)
+    p.push_back({static_cast<float>(rng.uniform(lo.x, hi.x)),
+                 static_cast<float>(rng.uniform(lo.y, hi.y)),
+                 static_cast<float>(rng.uniform(lo.z, hi.z))});
+  const std::size_t n = p.size();
+
+  // Spacing s = the square root of the scan's area per point, from the median distance r8 to the
+  // 8th nearest scan point (a disc of radius r8 holds 8 points: s = r8 * sqrt(pi / 8)); robust to
+  // scan lines, where the nearest neighbour is along the line. Each injected point's distance to
+  // the nearest scan point, in s.
+  const SpatialIndex scan_index(std::span<const Vec3f>(p.data(), n_true));
+  std::vector<float> r8(n_true);
+  scan_index.for_each_knn_block(
+      9, [&](std::span<const uint32_t> q, std::span<const uint32_t>, std::span<const float> sq) {
+        for (std::size_t r = 0; r < q.size(); ++r) r8[q[r]] = std::sqrt(sq[r * 9 + 8]);
+      });
+  const double spacing = median(r8) * std::sqrt(3.14159265358979 / 8);
+  std::vector<double> off(n_out);
+  std::vector<std::size_t> band_count(std::size(kBands) - 1, 0);
+  auto band_of = [&](double d) {
+    std::size_t b = 0;
+    while (b + 2 < std::size(kBands) && d >= kBands[b + 1]) ++b;
+    return b;
+  };
+  for (std::size_t i = 0; i < n_out; ++i) {
+    uint32_t idx;
+    float sq;
+    scan_index.knn(p[n_true + i], 1, &idx, &sq);
+    off[i] = std::sqrt(double(sq)) / spacing;
+    ++band_count[band_of(off[i])];
+  }
+
+  // Mean distance to the K nearest other points, for every K of the grid, from one kNN pass
+  // (the same sums as find_outliers: double over sqrt of the float squared distances).
+  const std::size_t kmax = kKs[std::size(kKs) - 1];
+  const SpatialIndex index(p);
+  std::vector<std::vector<float>> d(std::size(kKs), std::vector<float>(n));
+  index.for_each_knn_block(kmax + 1, [&](std::span<const uint32_t> q, std::span<const uint32_t>,
+                                         std::span<const float> sq) {
+    for (std::size_t r = 0; r < q.size(); ++r) {
+      double sum = 0;
+      std::size_t next = 0;
+      for (std::size_t j = 1; j <= kmax; ++j) {
+        sum += std::sqrt(sq[r * (kmax + 1) + j]);
+        if (j == kKs[next]) d[next++][q[r]] = static_cast<float>(sum / static_cast<double>(j));
+      }
+    }
+  });
+
+  auto score = [&](const std::vector<float>& dk, double threshold) {
+    Scores s;
+    s.band_removed.assign(band_count.size(), 0);
+    std::size_t lost = 0, found = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(dk[i] > threshold)) continue;
+      if (i < n_true) {
+        ++lost;
+      } else {
+        ++found;
+        ++s.band_removed[band_of(off[i - n_true])];
+      }
+    }
+    s.outliers_pct = 100.0 * double(found) / double(n_out);
+    s.true_pct = 100.0 * double(lost) / double(n_true);
+    return s;
+  };
+  auto sor_threshold = [&](const std::vector<float>& dk, double sigma) {
+    double sum = 0, sq_sum = 0;
+    for (const float v : dk) {
+      sum += v;
+      sq_sum += static_cast<double>(v * v);
+    }
+    const double count = static_cast<double>(n);
+    return sum / count + sigma * std::sqrt((sq_sum - sum * sum / count) / (count - 1));
+  };
+  auto robust_threshold = [&](const std::vector<float>& dk, double kappa) {
+    const double m = median(dk);
+    std::vector<float> dev(dk.size());
+    for (std::size_t i = 0; i < dk.size(); ++i) dev[i] = static_cast<float>(std::abs(dk[i] - m));
+    return m + kappa * 1.4826 * median(dev);
+  };
+
+  std::printf("== %s: %zu scan points + %zu injected (1 %%, uniform in the box), s = %.4g\n",
+              name.c_str(), n_true, n_out, spacing);
+  std::printf("injected points by distance to the nearest scan point (in s):");
+  for (std::size_t b = 0; b < band_count.size(); ++b) {
+    if (b + 2 < std::size(kBands))
+      std::printf("  %g-%g: %.1f%%", kBands[b], kBands[b + 1],
+                  100.0 * double(band_count[b]) / double(n_out));
+    else
+      std::printf("  >=%g: %.1f%%", kBands[b], 100.0 * double(band_count[b]) / double(n_out));
+  }
+  std::printf("\n");
+
+  struct Best {
+    std::string rule;
+    Scores s;
+  } best{"none", {}};
+  auto consider = [&](const std::string& rule, const Scores& s) {
+    if (s.true_pct <= 0.5 && s.outliers_pct > best.s.outliers_pct) best = {rule, s};
+  };
+  std::printf("sor: injected removed %% / scan points removed %% (K rows, SIGMA columns)\n   K");
+  for (double sg : kSigmas) std::printf(" %12g", sg);
+  std::printf("\n");
+  for (std::size_t ki = 0; ki < std::size(kKs); ++ki) {
+    std::printf("%4zu", kKs[ki]);
+    for (double sg : kSigmas) {
+      const Scores s = score(d[ki], sor_threshold(d[ki], sg));
+      std::printf(" %5.1f/%-6.2f", s.outliers_pct, s.true_pct);
+      consider("sor:" + std::to_string(kKs[ki]) + "," + std::to_string(sg).substr(0, 5), s);
+      if (cells)
+        std::fprintf(cells, "%s\tsor\t%zu\t%g\t%.3f\t%.4f\n", name.c_str(), kKs[ki], sg,
+                     s.outliers_pct, s.true_pct);
+    }
+    std::printf("\n");
+  }
+  std::printf(
+      "robust (median + KAPPA * 1.4826 MAD): removed %% / scan %% (K rows, KAPPA columns)\n   K");
+  for (double kp : kKappas) std::printf(" %12g", kp);
+  std::printf("\n");
+  for (std::size_t ki = 0; ki < std::size(kKs); ++ki) {
+    std::printf("%4zu", kKs[ki]);
+    for (double kp : kKappas) {
+      const Scores s = score(d[ki], robust_threshold(d[ki], kp));
+      std::printf(" %5.1f/%-6.2f", s.outliers_pct, s.true_pct);
+      consider("robust:" + std::to_string(kKs[ki]) + "," + std::to_string(kp).substr(0, 4), s);
+      if (cells)
+        std::fprintf(cells, "%s\trobust\t%zu\t%g\t%.3f\t%.4f\n", name.c_str(), kKs[ki], kp,
+                     s.outliers_pct, s.true_pct);
+    }
+    std::printf("\n");
+  }
+  std::printf(
+      "best with <= 0.5 %% of the scan removed: %s removes %.1f %% of the injected points "
+      "(%.2f %% of the scan)\n",
+      best.rule.c_str(), best.s.outliers_pct, best.s.true_pct);
+  if (!best.s.band_removed.empty()) {
+    std::printf("  removed per distance band:");
+    for (std::size_t b = 0; b < band_count.size(); ++b)
+      if (band_count[b])
+        std::printf("  %g-: %.0f%%", kBands[b],
+                    100.0 * double(best.s.band_removed[b]) / double(band_count[b]));
+    std::printf("\n");
+  }
+
+  // The default, through find_outliers itself (the rule PCL's filter is checked against).
+  OutlierOptions o;
+  o.k = default_k;
+  o.sigma = default_sigma;
+  const OutlierResult r = find_outliers(p, o);
+  std::size_t found = 0, lost = 0;
+  std::vector<std::size_t> band_removed(band_count.size(), 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!r.outlier[i]) continue;
+    if (i < n_true) {
+      ++lost;
+    } else {
+      ++found;
+      ++band_removed[band_of(off[i - n_true])];
+    }
+  }
+  std::printf(
+      "default sor:%zu,%g (find_outliers): removes %.1f %% of the injected points, %.3f %% "
+      "of the scan; per band:",
+      default_k, default_sigma, 100.0 * double(found) / double(n_out),
+      100.0 * double(lost) / double(n_true));
+  for (std::size_t b = 0; b < band_count.size(); ++b)
+    if (band_count[b])
+      std::printf("  %g-: %.0f%%", kBands[b],
+                  100.0 * double(band_removed[b]) / double(band_count[b]));
+  std::printf("\n");
+  if (cells) std::fclose(cells);
+  return 0;
+}
