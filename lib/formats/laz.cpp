@@ -129,12 +129,16 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
   laz::LaszipVlr vlr;
   std::string error;
   if (!laz::parse_laszip_vlr(info.laszip_vlr, vlr, error)) throw_bad_input(path, error);
-  if (vlr.compressor == laz::kLayeredChunked || info.format >= 6)
-    throw_unsupported(path, "LAZ point data format " + std::to_string(info.format) +
-                                " (LASzip layered compressor, version 3/4 items) is not supported; "
-                                "LAZ formats 0-3 are. Decompress it first, e.g. 'laszip -i in.laz "
-                                "-o out.las' or 'pdal translate in.laz out.las'");
-  if (vlr.compressor != laz::kPointWiseChunked)
+  const bool v14 = info.format >= 6;
+  if (!v14 && vlr.compressor == laz::kLayeredChunked)
+    throw_unsupported(path, "LASzip layered compressor (3) for point data format " +
+                                std::to_string(info.format) +
+                                " is not supported (LASzip writes formats 0-3 with compressor 2)");
+  if (v14 && vlr.compressor != laz::kLayeredChunked)
+    throw_unsupported(path, "LASzip compressor " + std::to_string(vlr.compressor) +
+                                " for point data format " + std::to_string(info.format) +
+                                " is not supported (3, layered chunked, is)");
+  if (!v14 && vlr.compressor != laz::kPointWiseChunked)
     throw_unsupported(path, "LASzip compressor " + std::to_string(vlr.compressor) +
                                 " is not supported (2, point-wise chunked, is)");
   if (vlr.coder != 0)
@@ -155,9 +159,10 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
                                 std::to_string(info.format) + " needs " +
                                 laz::item_name(want[i].type) + " of " +
                                 std::to_string(want[i].size) + " bytes there");
-    if (got.version != 2)
+    if (got.version != want[i].version)
       throw_unsupported(path, "LASzip item " + laz::item_name(got.type) + " version " +
-                                  std::to_string(got.version) + " is not supported (2 is)");
+                                  std::to_string(got.version) + " is not supported (" +
+                                  std::to_string(want[i].version) + " is)");
   }
 }
 
