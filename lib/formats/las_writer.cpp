@@ -191,9 +191,9 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
                                          static_cast<int>(value(rets, i, 0, 15)) << 4);
       r[16] = static_cast<unsigned char>(value(cls, i, 0, 255));
       r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
-      // Degrees to LAS 1.4's 0.006 degree steps.
+      // Degrees to LAS 1.4's 0.006 degree steps (the int16 range: files beyond +-30000 read back).
       const double steps = angle && std::isfinite(angle->values[i])
-                               ? std::clamp(std::round(angle->values[i] / 0.006), -30000.0, 30000.0)
+                               ? std::clamp(std::round(angle->values[i] / 0.006), -32768.0, 32767.0)
                                : 0.0;
       put16(r + 18, static_cast<uint16_t>(static_cast<int16_t>(steps)));
       put16(r + 20, static_cast<uint32_t>(value(source, i, 0, 65535)));
