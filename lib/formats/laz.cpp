@@ -1,8 +1,10 @@
 #include "formats/laz.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,8 +23,10 @@ using le::get64;
 // adaptive models about 0.01 bit each (about 800 per byte), so a larger claim is a corrupt table.
 // Also what bounds the memory a forged count can make the decoder allocate.
 constexpr uint64_t kMaxPointsPerByte = 1024;
-// Points decoded per batch (the chunks of a batch are decoded in parallel).
-constexpr uint64_t kBatchPoints = uint64_t{1} << 21;
+// Points decoded per batch (the chunks of a batch are decoded in parallel): at least this many,
+// and at least 4 chunks per worker thread. Small enough that the batch's records stay mostly in
+// cache on their way to the sink, and that the buffer costs few page faults.
+constexpr uint64_t kBatchPoints = uint64_t{1} << 19;
 
 std::vector<unsigned char> read_rest(InputStream& in) {
   std::vector<unsigned char> data;
@@ -176,13 +180,26 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   if (info.count == 0) return;
   const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data);
   const std::size_t rl = info.record_length;
-  std::vector<unsigned char> records;
+  const uint64_t workers =
+      static_cast<uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  uint64_t batch_points = kBatchPoints;
+  for (std::size_t i = 0; i < chunks.size() && i < 4 * workers; ++i)
+    batch_points = std::max(batch_points, chunks[i].points * 4 * workers);
+  // Batches as the loop below forms them, for the buffer's size (allocated once, not zeroed).
+  uint64_t most = 0;
+  for (std::size_t begin = 0, end = 0; begin < chunks.size(); begin = end) {
+    uint64_t points = 0;
+    while (end < chunks.size() && (end == begin || points + chunks[end].points <= batch_points))
+      points += chunks[end++].points;
+    most = std::max(most, points);
+  }
+  const std::unique_ptr<unsigned char[]> records(
+      new unsigned char[static_cast<std::size_t>(most) * rl]);
   for (std::size_t begin = 0; begin < chunks.size();) {
     std::size_t end = begin;
     uint64_t points = 0;
-    while (end < chunks.size() && (end == begin || points + chunks[end].points <= kBatchPoints))
+    while (end < chunks.size() && (end == begin || points + chunks[end].points <= batch_points))
       points += chunks[end++].points;
-    records.resize(static_cast<std::size_t>(points) * rl);
     const uint64_t base = chunks[begin].first_point;
     std::vector<std::string> errors(end - begin);
     tbb::parallel_for(begin, end, [&](std::size_t i) {
@@ -190,7 +207,7 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
       try {
         const std::size_t used =
             laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
-                              records.data() + (c.first_point - base) * rl);
+                              records.get() + (c.first_point - base) * rl);
         if (c.bytes - used > 1)
           errors[i - begin] = std::to_string(c.bytes - used) + " of its " +
                               std::to_string(c.bytes) + " bytes are left after its " +
@@ -208,7 +225,7 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
                             std::to_string(chunks[i].first_point + chunks[i].points - 1) +
                             ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
                             "): " + errors[i - begin]);
-    sink(records.data(), static_cast<std::size_t>(points));
+    sink(records.get(), static_cast<std::size_t>(points));
     begin = end;
   }
 }

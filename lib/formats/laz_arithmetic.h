@@ -45,7 +45,8 @@ struct BitModel {
   }
 };
 
-// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16.
+// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16. Its
+// distribution, counts and table sit in one allocation (fewer cache lines per symbol).
 class SymbolModel {
  public:
   explicit SymbolModel(uint32_t symbols) : symbols_(symbols), last_symbol_(symbols - 1) {
@@ -54,14 +55,21 @@ class SymbolModel {
       while (symbols > (1u << (table_bits + 2))) ++table_bits;
       table_size_ = 1u << table_bits;
       table_shift_ = kSymLengthShift - table_bits;
-      decoder_table_.resize(table_size_ + 2);
     }
-    distribution_.resize(symbols);
-    symbol_count_.assign(symbols, 1);
+    storage_.assign(2 * std::size_t{symbols} + (table_size_ ? table_size_ + 2 : 0), 0);
+    distribution_ = storage_.data();
+    symbol_count_ = distribution_ + symbols;
+    decoder_table_ = table_size_ ? symbol_count_ + symbols : nullptr;
+    for (uint32_t k = 0; k < symbols; ++k) symbol_count_[k] = 1;
     update_cycle_ = symbols;
     update();
     symbols_until_update_ = update_cycle_ = (symbols + 6) >> 1;
   }
+  // Moves keep the heap block and so the pointers into it; copies would not.
+  SymbolModel(SymbolModel&&) noexcept = default;
+  SymbolModel& operator=(SymbolModel&&) noexcept = default;
+  SymbolModel(const SymbolModel&) = delete;
+  SymbolModel& operator=(const SymbolModel&) = delete;
 
   void update() {
     if ((total_count_ += update_cycle_) > kSymMaxCount) {
@@ -95,7 +103,10 @@ class SymbolModel {
   uint32_t symbols_, last_symbol_;
   uint32_t table_size_ = 0, table_shift_ = 0;
   uint32_t total_count_ = 0, update_cycle_ = 0, symbols_until_update_ = 0;
-  std::vector<uint32_t> distribution_, symbol_count_, decoder_table_;
+  std::vector<uint32_t> storage_;
+  uint32_t* distribution_ = nullptr;
+  uint32_t* symbol_count_ = nullptr;
+  uint32_t* decoder_table_ = nullptr;
 };
 
 class ArithmeticDecoder {
