@@ -25,6 +25,9 @@ struct LazDataError : std::runtime_error {
 inline constexpr uint32_t kMinLength = 0x01000000u, kMaxLength = 0xFFFFFFFFu;
 inline constexpr int kBitLengthShift = 13, kSymLengthShift = 15;
 inline constexpr uint32_t kBitMaxCount = 1u << kBitLengthShift, kSymMaxCount = 1u << kSymLengthShift;
+// Decoder look-up table: 2^8 buckets (more for over 1024 symbols). At most 2^9: a valid value
+// can exceed 2^15 by up to 63 after the length's shift, which must not leave the table.
+inline constexpr uint32_t kDecoderTableBits = 8;
 
 // Adaptive binary model.
 struct BitModel {
@@ -45,13 +48,17 @@ struct BitModel {
   }
 };
 
-// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16. Its
+// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16
+// symbols (its size, ours to choose, does not change what is decoded). Its
 // distribution, counts and table sit in one allocation (fewer cache lines per symbol).
 class SymbolModel {
  public:
   explicit SymbolModel(uint32_t symbols) : symbols_(symbols), last_symbol_(symbols - 1) {
     if (symbols > 16) {
-      uint32_t table_bits = 3;
+      // The table only narrows the decoder's search (the symbol is the one whose interval holds
+      // the value, whatever the table), so its size is ours to choose: finer than LASzip's (2^3
+      // to 2^9 buckets), most look-ups land on one symbol without bisection.
+      uint32_t table_bits = kDecoderTableBits;
       while (symbols > (1u << (table_bits + 2))) ++table_bits;
       table_size_ = 1u << table_bits;
       table_shift_ = kSymLengthShift - table_bits;
