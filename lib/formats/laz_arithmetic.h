@@ -63,10 +63,12 @@ class SymbolModel {
       table_size_ = 1u << table_bits;
       table_shift_ = kSymLengthShift - table_bits;
     }
-    storage_.assign(2 * std::size_t{symbols} + (table_size_ ? table_size_ + 2 : 0), 0);
+    storage_.assign(2 * std::size_t{symbols}, 0);
     distribution_ = storage_.data();
     symbol_count_ = distribution_ + symbols;
-    decoder_table_ = table_size_ ? symbol_count_ + symbols : nullptr;
+    // 16-bit entries (symbols < 2^11): half the cache lines.
+    if (table_size_) table_.assign(table_size_ + 2, 0);
+    decoder_table_ = table_size_ ? table_.data() : nullptr;
     for (uint32_t k = 0; k < symbols; ++k) symbol_count_[k] = 1;
     update_cycle_ = symbols;
     update();
@@ -96,10 +98,10 @@ class SymbolModel {
         distribution_[k] = (scale * sum) >> (31 - kSymLengthShift);
         sum += symbol_count_[k];
         const uint32_t w = distribution_[k] >> table_shift_;
-        while (s < w) decoder_table_[++s] = k - 1;
+        while (s < w) decoder_table_[++s] = static_cast<uint16_t>(k - 1);
       }
       decoder_table_[0] = 0;
-      while (s <= table_size_) decoder_table_[++s] = symbols_ - 1;
+      while (s <= table_size_) decoder_table_[++s] = static_cast<uint16_t>(symbols_ - 1);
     }
     update_cycle_ = (5 * update_cycle_) >> 2;
     const uint32_t max_cycle = (symbols_ + 6) << 3;
@@ -111,9 +113,10 @@ class SymbolModel {
   uint32_t table_size_ = 0, table_shift_ = 0;
   uint32_t total_count_ = 0, update_cycle_ = 0, symbols_until_update_ = 0;
   std::vector<uint32_t> storage_;
+  std::vector<uint16_t> table_;
   uint32_t* distribution_ = nullptr;
   uint32_t* symbol_count_ = nullptr;
-  uint32_t* decoder_table_ = nullptr;
+  uint16_t* decoder_table_ = nullptr;
 };
 
 class ArithmeticDecoder {
