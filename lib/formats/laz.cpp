@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <memory>
@@ -185,48 +186,70 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   uint64_t batch_points = kBatchPoints;
   for (std::size_t i = 0; i < chunks.size() && i < 4 * workers; ++i)
     batch_points = std::max(batch_points, chunks[i].points * 4 * workers);
-  // Batches as the loop below forms them, for the buffer's size (allocated once, not zeroed).
+  // Batches of whole chunks, decoded in parallel; while the sink takes one batch, the next one is
+  // decoded into the other buffer (the sink, e.g. the LAS reader's conversion to a cloud, is
+  // serial work the decoding overlaps).
+  struct Batch {
+    std::size_t begin = 0, end = 0;
+    uint64_t points = 0;
+  };
+  std::vector<Batch> batches;
   uint64_t most = 0;
   for (std::size_t begin = 0, end = 0; begin < chunks.size(); begin = end) {
-    uint64_t points = 0;
-    while (end < chunks.size() && (end == begin || points + chunks[end].points <= batch_points))
-      points += chunks[end++].points;
-    most = std::max(most, points);
+    Batch b{begin, begin, 0};
+    while (b.end < chunks.size() &&
+           (b.end == begin || b.points + chunks[b.end].points <= batch_points))
+      b.points += chunks[b.end++].points;
+    end = b.end;
+    most = std::max(most, b.points);
+    batches.push_back(b);
   }
-  const std::unique_ptr<unsigned char[]> records(
-      new unsigned char[static_cast<std::size_t>(most) * rl]);
-  for (std::size_t begin = 0; begin < chunks.size();) {
-    std::size_t end = begin;
-    uint64_t points = 0;
-    while (end < chunks.size() && (end == begin || points + chunks[end].points <= batch_points))
-      points += chunks[end++].points;
-    const uint64_t base = chunks[begin].first_point;
-    std::vector<std::string> errors(end - begin);
-    tbb::parallel_for(begin, end, [&](std::size_t i) {
+  // Allocated once each, not zeroed.
+  std::unique_ptr<unsigned char[]> buffers[2] = {
+      std::unique_ptr<unsigned char[]>(new unsigned char[static_cast<std::size_t>(most) * rl]),
+      std::unique_ptr<unsigned char[]>(
+          batches.size() > 1 ? new unsigned char[static_cast<std::size_t>(most) * rl] : nullptr)};
+  std::vector<std::string> errors(chunks.size());
+  auto decode = [&](const Batch& b, unsigned char* records) {
+    const uint64_t base = chunks[b.begin].first_point;
+    tbb::parallel_for(b.begin, b.end, [&](std::size_t i) {
       const Chunk& c = chunks[i];
       try {
         const std::size_t used =
             laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
-                              records.get() + (c.first_point - base) * rl);
+                              records + (c.first_point - base) * rl);
         if (c.bytes - used > 1)
-          errors[i - begin] = std::to_string(c.bytes - used) + " of its " +
-                              std::to_string(c.bytes) + " bytes are left after its " +
-                              std::to_string(c.points) +
-                              " points (the point count or the chunk table is wrong)";
+          errors[i] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
+                      " bytes are left after its " + std::to_string(c.points) +
+                      " points (the point count or the chunk table is wrong)";
       } catch (const laz::LazDataError& e) {
-        errors[i - begin] = e.what();
+        errors[i] = e.what();
       }
     });
-    for (std::size_t i = begin; i < end; ++i)
-      if (!errors[i - begin].empty())
+  };
+  auto check = [&](const Batch& b) {
+    for (std::size_t i = b.begin; i < b.end; ++i)
+      if (!errors[i].empty())
         throw_bad_input(path,
                         "LAZ chunk " + std::to_string(i) + " of " + std::to_string(chunks.size()) +
                             " (points " + std::to_string(chunks[i].first_point) + " to " +
                             std::to_string(chunks[i].first_point + chunks[i].points - 1) +
                             ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
-                            "): " + errors[i - begin]);
-    sink(records.get(), static_cast<std::size_t>(points));
-    begin = end;
+                            "): " + errors[i]);
+  };
+  decode(batches[0], buffers[0].get());
+  for (std::size_t k = 0; k < batches.size(); ++k) {
+    check(batches[k]);
+    tbb::task_group next;
+    if (k + 1 < batches.size())
+      next.run([&, k] { decode(batches[k + 1], buffers[(k + 1) % 2].get()); });
+    try {
+      sink(buffers[k % 2].get(), static_cast<std::size_t>(batches[k].points));
+    } catch (...) {
+      next.wait();
+      throw;
+    }
+    next.wait();
   }
 }
 
