@@ -671,7 +671,7 @@ class Byte14 {
     Context& c = *ctx_[current_];
     for (std::size_t i = 0; i < n_; ++i) {
       if (in_[i])
-        last[i] = static_cast<unsigned char>(last[i] + in_[i].dec->decode_symbol(c.models[i]));
+        last[i] = static_cast<unsigned char>(last[i] + in_[i].dec->decode_symbol(c.model(i)));
       item[i] = last[i];
     }
   }
@@ -680,7 +680,7 @@ class Byte14 {
     Context& c = *ctx_[current_];
     for (std::size_t i = 0; i < n_; ++i) {
       const unsigned diff = static_cast<unsigned char>(item[i] - last[i]);
-      out_[i].enc.encode_symbol(c.models[i], diff);
+      out_[i].enc.encode_symbol(c.model(i), diff);
       out_[i].changed |= diff != 0;
       last[i] = item[i];
     }
@@ -689,12 +689,14 @@ class Byte14 {
 
  private:
   struct Context {
-    Context(const unsigned char* item, std::size_t n) : last(item, item + n) {
-      models.reserve(n);
-      for (std::size_t i = 0; i < n; ++i) models.emplace_back(256);
+    Context(const unsigned char* item, std::size_t n) : last(item, item + n), models(n) {}
+    // Created on first use: the decoder needs none for an empty layer (a constant byte).
+    SymbolModel& model(std::size_t i) {
+      if (!models[i]) models[i] = std::make_unique<SymbolModel>(256);
+      return *models[i];
     }
     std::vector<unsigned char> last;
-    std::vector<SymbolModel> models;
+    std::vector<std::unique_ptr<SymbolModel>> models;
   };
   unsigned char* switch_context(unsigned context) {
     unsigned char* last = ctx_[current_]->last.data();
