@@ -58,9 +58,12 @@ synth sphere sphere-random.off -n 1000 --seed=4 --random --no-color
 # A scan-line LAZ (point format 0, two LASzip chunks of 50000 points) for the LAZ demo and tests.
 synth cad cad-scan.ply -n 60000 --seed=7 --scan-lines 4 --no-color
 "$bin/splat-convert" -q "$tmp/cad-scan.ply" "$tmp/cad-scan.laz"
+# A LAS 1.4 LAZ (point format 7, LASzip layered chunks).
+synth two-spheres two-spheres-scan.ply -n 20000 --seed=7 --scan-lines 4 --noise 0.001
+"$bin/splat-convert" -q --las-format 7 "$tmp/two-spheres-scan.ply" "$tmp/two-spheres-las14.laz"
 
 made=(sphere.ply torus.ply cad.ply two-spheres.ply cube.ply torus-ascii.ply torus-big-endian.ply
-  cad-noisy.xyz sphere-random.off cad-scan.laz)
+  cad-noisy.xyz sphere-random.off cad-scan.laz two-spheres-las14.laz)
 
 if command -v pcl_ply2pcd > /dev/null; then
   synth cad cad-pcl.ply -n 1000 --seed=5 --no-color

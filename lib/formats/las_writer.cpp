@@ -20,8 +20,8 @@ using le::put16;
 using le::put32;
 using le::put64;
 
-constexpr std::size_t kHeaderSize = 227, kVlrHeaderSize = 54;
-constexpr uint16_t kFormatSize[4] = {20, 28, 26, 34};
+constexpr std::size_t kHeaderSize12 = 227, kHeaderSize14 = 375, kVlrHeaderSize = 54;
+constexpr uint16_t kFormatSize[9] = {20, 28, 26, 34, 0, 0, 30, 36, 38};
 
 void putf64(unsigned char* p, double v) { put64(p, std::bit_cast<uint64_t>(v)); }
 int32_t get_i32(const unsigned char* p) {
@@ -38,15 +38,24 @@ void put_text(unsigned char* p, std::size_t n, const std::string& s) {
 void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
                        const unsigned char* records, uint64_t count, bool compressed,
                        uint32_t chunk_size, bool variable_chunks) {
-  if (count > 0xFFFFFFFFu)
+  const bool v14 = layout.format >= 6;
+  if (!v14 && count > 0xFFFFFFFFu)
     throw_unsupported(out.path(), "LAS 1.2 holds at most 4294967295 points, the cloud has " +
-                                      std::to_string(count));
+                                      std::to_string(count) +
+                                      " (point data formats 6-8 write LAS 1.4)");
   const std::size_t rl = layout.record_length;
+  const std::size_t header_size = v14 ? kHeaderSize14 : kHeaderSize12;
   std::vector<unsigned char> vlr;
   if (compressed) {
     laz::LaszipVlr v;
     v.chunk_size = variable_chunks ? laz::kVariableChunkSize : chunk_size;
     v.items = laz::items_for_format(layout.format, layout.record_length);
+    if (v14) {  // what LASzip 3.4 writes for LAS 1.4 point types
+      v.compressor = laz::kLayeredChunked;
+      v.version_major = 3;
+      v.version_minor = 4;
+      v.revision = 3;
+    }
     const std::vector<unsigned char> payload = laz::laszip_vlr_payload(v);
     vlr.assign(kVlrHeaderSize, 0);
     put_text(&vlr[2], 16, laz::kLaszipUserId);
@@ -55,19 +64,20 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
     put_text(&vlr[22], 32, "by splatkit");
     vlr.insert(vlr.end(), payload.begin(), payload.end());
   }
-  unsigned char h[kHeaderSize] = {};
+  unsigned char h[kHeaderSize14] = {};
   std::memcpy(h, "LASF", 4);
+  if (v14) put16(h + 6, 16);  // global encoding: coordinate system as WKT (required for 6-10)
   h[24] = 1;
-  h[25] = 2;
+  h[25] = v14 ? 4 : 2;
   put_text(h + 26, 32, "splatkit");
   put_text(h + 58, 32, layout.generating_software);
-  put16(h + 94, kHeaderSize);
-  put32(h + 96, static_cast<uint32_t>(kHeaderSize + vlr.size()));
+  put16(h + 94, static_cast<uint32_t>(header_size));
+  put32(h + 96, static_cast<uint32_t>(header_size + vlr.size()));
   put32(h + 100, compressed ? 1 : 0);
   h[104] = static_cast<unsigned char>(layout.format | (compressed ? 0x80 : 0));
   put16(h + 105, layout.record_length);
-  put32(h + 107, static_cast<uint32_t>(count));
-  uint32_t by_return[5] = {};
+  put32(h + 107, v14 ? 0 : static_cast<uint32_t>(count));  // LAS 1.4: legacy count 0 for 6-10
+  uint64_t by_return[15] = {};
   int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
   for (uint64_t i = 0; i < count; ++i) {
     const unsigned char* r = records + i * rl;
@@ -75,17 +85,22 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
       lo[k] = std::min(lo[k], get_i32(r + 4 * k));
       hi[k] = std::max(hi[k], get_i32(r + 4 * k));
     }
-    const int ret = r[14] & 7;
-    if (ret >= 1 && ret <= 5) ++by_return[ret - 1];
+    const int ret = r[14] & (v14 ? 15 : 7);
+    if (ret >= 1 && ret <= (v14 ? 15 : 5)) ++by_return[ret - 1];
   }
-  for (int k = 0; k < 5; ++k) put32(h + 111 + 4 * k, by_return[k]);
+  if (v14) {
+    put64(h + 247, count);
+    for (int k = 0; k < 15; ++k) put64(h + 255 + 8 * k, by_return[k]);
+  } else {
+    for (int k = 0; k < 5; ++k) put32(h + 111 + 4 * k, static_cast<uint32_t>(by_return[k]));
+  }
   for (int k = 0; k < 3; ++k) {
     putf64(h + 131 + 8 * k, layout.scale[k]);
     putf64(h + 155 + 8 * k, layout.offset[k]);
     putf64(h + 179 + 16 * k, count ? hi[k] * layout.scale[k] + layout.offset[k] : 0);
     putf64(h + 187 + 16 * k, count ? lo[k] * layout.scale[k] + layout.offset[k] : 0);
   }
-  out.write(h, kHeaderSize);
+  out.write(h, header_size);
   out.write(vlr.data(), vlr.size());
   if (!compressed) {
     out.write(records, count * rl);
@@ -101,19 +116,26 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
                       laz::items_for_format(layout.format, layout.record_length), data);
     table.push_back({n, data.size() - before});
   }
-  put64(data.data(), kHeaderSize + vlr.size() + data.size());
+  put64(data.data(), header_size + vlr.size() + data.size());
   laz::encode_chunk_table(table, variable_chunks, data);
   out.write(data.data(), data.size());
 }
 
-void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
+void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las_format) {
   const SplatCloud& c = doc.cloud;
   auto extra = [&](const char* name) { return c.find_extra(name); };
   const ExtraAttribute* gps = extra("gps_time");
   LasRecordsLayout layout;
   layout.format = (c.has_colors() ? 2 : 0) + (gps ? 1 : 0);
-  if (layout.format == 2 && gps) layout.format = 3;
+  if (las_format >= 0) {
+    layout.format = las_format;
+  } else if ((doc.format == "las" || doc.format == "laz") && doc.header.contains("point_format") &&
+             doc.header["point_format"].is_number_integer() &&
+             doc.header["point_format"].get<int>() >= 6) {
+    layout.format = !c.has_colors() ? 6 : extra("nir") ? 8 : 7;
+  }
   layout.record_length = kFormatSize[layout.format];
+  const bool v14 = layout.format >= 6;
   // Scale and offset: the source's when it was LAS, so that LAS -> LAZ keeps every integer.
   bool from_las = false;
   if (doc.header.contains("scale") && doc.header.contains("offset") &&
@@ -163,22 +185,40 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed) {
       put32(r + 4 * k, static_cast<uint32_t>(static_cast<int32_t>(q)));
     }
     put16(r + 12, static_cast<uint32_t>(value(intensity, i, 0, 65535)));
-    r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7)) |
-                                       static_cast<int>(value(rets, i, 0, 7)) << 3);
-    r[15] = static_cast<unsigned char>(value(cls, i, 0, 31));
-    r[16] = static_cast<unsigned char>(static_cast<int8_t>(value(angle, i, -128, 127)));
-    r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
-    put16(r + 18, static_cast<uint32_t>(value(source, i, 0, 65535)));
-    std::size_t at = 20;
-    if (gps) {
-      putf64(r + at, gps->values[i]);
-      at += 8;
+    std::size_t at;
+    if (v14) {
+      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 15)) |
+                                         static_cast<int>(value(rets, i, 0, 15)) << 4);
+      r[16] = static_cast<unsigned char>(value(cls, i, 0, 255));
+      r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
+      // Degrees to LAS 1.4's 0.006 degree steps (the int16 range: files beyond +-30000 read back).
+      const double steps = angle && std::isfinite(angle->values[i])
+                               ? std::clamp(std::round(angle->values[i] / 0.006), -32768.0, 32767.0)
+                               : 0.0;
+      put16(r + 18, static_cast<uint16_t>(static_cast<int16_t>(steps)));
+      put16(r + 20, static_cast<uint32_t>(value(source, i, 0, 65535)));
+      putf64(r + 22, gps ? gps->values[i] : 0.0);
+      at = 30;
+    } else {
+      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7)) |
+                                         static_cast<int>(value(rets, i, 0, 7)) << 3);
+      r[15] = static_cast<unsigned char>(value(cls, i, 0, 31));
+      r[16] = static_cast<unsigned char>(static_cast<int8_t>(value(angle, i, -128, 127)));
+      r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
+      put16(r + 18, static_cast<uint32_t>(value(source, i, 0, 65535)));
+      at = 20;
+      if (layout.format == 1 || layout.format == 3) {
+        putf64(r + at, gps ? gps->values[i] : 0.0);
+        at += 8;
+      }
     }
-    if (c.has_colors()) {
+    const bool rgb = v14 ? layout.format >= 7 : layout.format >= 2;
+    if (rgb && c.has_colors()) {
       const int mul = c.color_bits == 8 ? 257 : 1;
       for (int k = 0; k < 3; ++k)
         put16(r + at + 2 * k, static_cast<uint32_t>(c.colors[i][k] * mul));
     }
+    if (layout.format == 8) put16(r + 36, static_cast<uint32_t>(value(extra("nir"), i, 0, 65535)));
   }
   write_las_records(out, layout, records.data(), c.size(), compressed);
 }

@@ -1,5 +1,6 @@
-// Writing LAS 1.2 and LAZ (LASzip point-wise chunked, point data formats 0-3). Spec:
-// formats/las.md (writer section) and formats/laz.md.
+// Writing LAS 1.2 (point data formats 0-3), LAS 1.4 (formats 6-8) and LAZ (LASzip point-wise
+// chunked for 0-3, layered chunked for 6-8). Spec: formats/las.md (writer section) and
+// formats/laz.md.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +11,7 @@
 namespace splatkit {
 
 struct LasRecordsLayout {
-  int format = 0;              // point data format 0-3
+  int format = 0;              // point data format 0-3 or 6-8
   uint16_t record_length = 20; // at least the format's size; the rest are extra bytes
   double scale[3] = {0.001, 0.001, 0.001};
   double offset[3] = {0, 0, 0};
@@ -18,19 +19,22 @@ struct LasRecordsLayout {
 };
 
 // Writes `count` LAS records (record_length bytes each, as in an uncompressed file) as a LAS 1.2
-// file, or, when `compressed`, as LAZ with chunks of `chunk_size` points. The header's bounds
-// and returns-by-number counts are computed from the records. Throws Error(kUnsupported) for more
-// than 2^32 - 1 points. variable_chunks: the LASzip VLR says "variable" and the chunk table
-// stores each chunk's point count (chunks then hold chunk_size, chunk_size + 1, chunk_size + 2,
+// file (formats 0-3) or LAS 1.4 file (formats 6-8, 64-bit point counts), or, when `compressed`,
+// as LAZ with chunks of `chunk_size` points. The header's bounds and returns-by-number counts are
+// computed from the records. Throws Error(kUnsupported) for more than 2^32 - 1 points in LAS 1.2.
+// variable_chunks: the LASzip VLR says "variable" and the chunk table stores each chunk's point
+// count (chunks then hold chunk_size, chunk_size + 1, chunk_size + 2,
 // ... points, to exercise it).
 void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const unsigned char* records,
                        uint64_t count, bool compressed, uint32_t chunk_size = 50000,
                        bool variable_chunks = false);
 
-// Writes a cloud as LAS/LAZ: point data format 0-3 by what the cloud has (RGB: 2/3, gps_time: 1/3);
+// Writes a cloud as LAS/LAZ: point data format `las_format` (0-3, 6-8), or when -1 the source's
+// when it was LAS/LAZ of format 6-8 (7 and 8 only with colours), else 0-3 by what the cloud has
+// (RGB: 2/3, gps_time: 1/3);
 // the LAS extras the LAS reader makes (intensity, return numbers, classification, scan_angle,
 // user_data, point_source_id, gps_time) go back to their fields. Scale and offset are the source
 // file's when it was LAS/LAZ, else 0.001 (coarser when the extent needs it) and the cloud's origin.
-void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed);
+void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las_format = -1);
 
 }  // namespace splatkit

@@ -1,8 +1,11 @@
 #include "formats/laz.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,8 +24,10 @@ using le::get64;
 // adaptive models about 0.01 bit each (about 800 per byte), so a larger claim is a corrupt table.
 // Also what bounds the memory a forged count can make the decoder allocate.
 constexpr uint64_t kMaxPointsPerByte = 1024;
-// Points decoded per batch (the chunks of a batch are decoded in parallel).
-constexpr uint64_t kBatchPoints = uint64_t{1} << 21;
+// Points decoded per batch (the chunks of a batch are decoded in parallel): at least this many,
+// and at least 4 chunks per worker thread. Small enough that the batch's records stay mostly in
+// cache on their way to the sink, and that the buffer costs few page faults.
+constexpr uint64_t kBatchPoints = uint64_t{1} << 19;
 
 std::vector<unsigned char> read_rest(InputStream& in) {
   std::vector<unsigned char> data;
@@ -129,12 +134,16 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
   laz::LaszipVlr vlr;
   std::string error;
   if (!laz::parse_laszip_vlr(info.laszip_vlr, vlr, error)) throw_bad_input(path, error);
-  if (vlr.compressor == laz::kLayeredChunked || info.format >= 6)
-    throw_unsupported(path, "LAZ point data format " + std::to_string(info.format) +
-                                " (LASzip layered compressor, version 3/4 items) is not supported; "
-                                "LAZ formats 0-3 are. Decompress it first, e.g. 'laszip -i in.laz "
-                                "-o out.las' or 'pdal translate in.laz out.las'");
-  if (vlr.compressor != laz::kPointWiseChunked)
+  const bool v14 = info.format >= 6;
+  if (!v14 && vlr.compressor == laz::kLayeredChunked)
+    throw_unsupported(path, "LASzip layered compressor (3) for point data format " +
+                                std::to_string(info.format) +
+                                " is not supported (LASzip writes formats 0-3 with compressor 2)");
+  if (v14 && vlr.compressor != laz::kLayeredChunked)
+    throw_unsupported(path, "LASzip compressor " + std::to_string(vlr.compressor) +
+                                " for point data format " + std::to_string(info.format) +
+                                " is not supported (3, layered chunked, is)");
+  if (!v14 && vlr.compressor != laz::kPointWiseChunked)
     throw_unsupported(path, "LASzip compressor " + std::to_string(vlr.compressor) +
                                 " is not supported (2, point-wise chunked, is)");
   if (vlr.coder != 0)
@@ -155,9 +164,10 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info) {
                                 std::to_string(info.format) + " needs " +
                                 laz::item_name(want[i].type) + " of " +
                                 std::to_string(want[i].size) + " bytes there");
-    if (got.version != 2)
+    if (got.version != want[i].version)
       throw_unsupported(path, "LASzip item " + laz::item_name(got.type) + " version " +
-                                  std::to_string(got.version) + " is not supported (2 is)");
+                                  std::to_string(got.version) + " is not supported (" +
+                                  std::to_string(want[i].version) + " is)");
   }
 }
 
@@ -171,40 +181,75 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   if (info.count == 0) return;
   const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data);
   const std::size_t rl = info.record_length;
-  std::vector<unsigned char> records;
-  for (std::size_t begin = 0; begin < chunks.size();) {
-    std::size_t end = begin;
+  const uint64_t workers =
+      static_cast<uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  uint64_t batch_points = kBatchPoints;
+  for (std::size_t i = 0; i < chunks.size() && i < 4 * workers; ++i)
+    batch_points = std::max(batch_points, chunks[i].points * 4 * workers);
+  // Batches of whole chunks, decoded in parallel; while the sink takes one batch, the next one is
+  // decoded into the other buffer (the sink, e.g. the LAS reader's conversion to a cloud, is
+  // serial work the decoding overlaps).
+  struct Batch {
+    std::size_t begin = 0, end = 0;
     uint64_t points = 0;
-    while (end < chunks.size() && (end == begin || points + chunks[end].points <= kBatchPoints))
-      points += chunks[end++].points;
-    records.resize(static_cast<std::size_t>(points) * rl);
-    const uint64_t base = chunks[begin].first_point;
-    std::vector<std::string> errors(end - begin);
-    tbb::parallel_for(begin, end, [&](std::size_t i) {
+  };
+  std::vector<Batch> batches;
+  uint64_t most = 0;
+  for (std::size_t begin = 0, end = 0; begin < chunks.size(); begin = end) {
+    Batch b{begin, begin, 0};
+    while (b.end < chunks.size() &&
+           (b.end == begin || b.points + chunks[b.end].points <= batch_points))
+      b.points += chunks[b.end++].points;
+    end = b.end;
+    most = std::max(most, b.points);
+    batches.push_back(b);
+  }
+  // Allocated once each, not zeroed.
+  std::unique_ptr<unsigned char[]> buffers[2] = {
+      std::unique_ptr<unsigned char[]>(new unsigned char[static_cast<std::size_t>(most) * rl]),
+      std::unique_ptr<unsigned char[]>(
+          batches.size() > 1 ? new unsigned char[static_cast<std::size_t>(most) * rl] : nullptr)};
+  std::vector<std::string> errors(chunks.size());
+  auto decode = [&](const Batch& b, unsigned char* records) {
+    const uint64_t base = chunks[b.begin].first_point;
+    tbb::parallel_for(b.begin, b.end, [&](std::size_t i) {
       const Chunk& c = chunks[i];
       try {
         const std::size_t used =
             laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
-                              records.data() + (c.first_point - base) * rl);
+                              records + (c.first_point - base) * rl);
         if (c.bytes - used > 1)
-          errors[i - begin] = std::to_string(c.bytes - used) + " of its " +
-                              std::to_string(c.bytes) + " bytes are left after its " +
-                              std::to_string(c.points) +
-                              " points (the point count or the chunk table is wrong)";
+          errors[i] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
+                      " bytes are left after its " + std::to_string(c.points) +
+                      " points (the point count or the chunk table is wrong)";
       } catch (const laz::LazDataError& e) {
-        errors[i - begin] = e.what();
+        errors[i] = e.what();
       }
     });
-    for (std::size_t i = begin; i < end; ++i)
-      if (!errors[i - begin].empty())
+  };
+  auto check = [&](const Batch& b) {
+    for (std::size_t i = b.begin; i < b.end; ++i)
+      if (!errors[i].empty())
         throw_bad_input(path,
                         "LAZ chunk " + std::to_string(i) + " of " + std::to_string(chunks.size()) +
                             " (points " + std::to_string(chunks[i].first_point) + " to " +
                             std::to_string(chunks[i].first_point + chunks[i].points - 1) +
                             ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
-                            "): " + errors[i - begin]);
-    sink(records.data(), static_cast<std::size_t>(points));
-    begin = end;
+                            "): " + errors[i]);
+  };
+  decode(batches[0], buffers[0].get());
+  for (std::size_t k = 0; k < batches.size(); ++k) {
+    check(batches[k]);
+    tbb::task_group next;
+    if (k + 1 < batches.size())
+      next.run([&, k] { decode(batches[k + 1], buffers[(k + 1) % 2].get()); });
+    try {
+      sink(buffers[k % 2].get(), static_cast<std::size_t>(batches[k].points));
+    } catch (...) {
+      next.wait();
+      throw;
+    }
+    next.wait();
   }
 }
 

@@ -1,6 +1,7 @@
-// LAZ (LASzip-compressed LAS) point data: point data formats 0-3, point-wise chunked compressor
-// (version 2 items). Spec: formats/laz.md. read_las calls read_laz_points for a file whose point
-// format byte has the compression bit; the header and VLRs are LAS's.
+// LAZ (LASzip-compressed LAS) point data: point data formats 0-3 (point-wise chunked compressor,
+// version 2 items) and 6-8 (layered chunked compressor, version 3 items). Spec: formats/laz.md.
+// read_las calls read_laz_points for a file whose point format byte has the compression bit; the
+// header and VLRs are LAS's.
 #pragma once
 
 #include <cstddef>

@@ -25,6 +25,9 @@ struct LazDataError : std::runtime_error {
 inline constexpr uint32_t kMinLength = 0x01000000u, kMaxLength = 0xFFFFFFFFu;
 inline constexpr int kBitLengthShift = 13, kSymLengthShift = 15;
 inline constexpr uint32_t kBitMaxCount = 1u << kBitLengthShift, kSymMaxCount = 1u << kSymLengthShift;
+// Decoder look-up table: 2^8 buckets (more for over 1024 symbols). At most 2^9: a valid value
+// can exceed 2^15 by up to 63 after the length's shift, which must not leave the table.
+inline constexpr uint32_t kDecoderTableBits = 8;
 
 // Adaptive binary model.
 struct BitModel {
@@ -45,23 +48,37 @@ struct BitModel {
   }
 };
 
-// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16.
+// Adaptive model of `symbols` symbols (2..2048), with the decoder's look-up table above 16
+// symbols (its size, ours to choose, does not change what is decoded). Its
+// distribution, counts and table sit in one allocation (fewer cache lines per symbol).
 class SymbolModel {
  public:
   explicit SymbolModel(uint32_t symbols) : symbols_(symbols), last_symbol_(symbols - 1) {
     if (symbols > 16) {
-      uint32_t table_bits = 3;
+      // The table only narrows the decoder's search (the symbol is the one whose interval holds
+      // the value, whatever the table), so its size is ours to choose: finer than LASzip's (2^3
+      // to 2^9 buckets), most look-ups land on one symbol without bisection.
+      uint32_t table_bits = kDecoderTableBits;
       while (symbols > (1u << (table_bits + 2))) ++table_bits;
       table_size_ = 1u << table_bits;
       table_shift_ = kSymLengthShift - table_bits;
-      decoder_table_.resize(table_size_ + 2);
     }
-    distribution_.resize(symbols);
-    symbol_count_.assign(symbols, 1);
+    storage_.assign(2 * std::size_t{symbols}, 0);
+    distribution_ = storage_.data();
+    symbol_count_ = distribution_ + symbols;
+    // 16-bit entries (symbols < 2^11): half the cache lines.
+    if (table_size_) table_.assign(table_size_ + 2, 0);
+    decoder_table_ = table_size_ ? table_.data() : nullptr;
+    for (uint32_t k = 0; k < symbols; ++k) symbol_count_[k] = 1;
     update_cycle_ = symbols;
     update();
     symbols_until_update_ = update_cycle_ = (symbols + 6) >> 1;
   }
+  // Moves keep the heap block and so the pointers into it; copies would not.
+  SymbolModel(SymbolModel&&) noexcept = default;
+  SymbolModel& operator=(SymbolModel&&) noexcept = default;
+  SymbolModel(const SymbolModel&) = delete;
+  SymbolModel& operator=(const SymbolModel&) = delete;
 
   void update() {
     if ((total_count_ += update_cycle_) > kSymMaxCount) {
@@ -81,10 +98,10 @@ class SymbolModel {
         distribution_[k] = (scale * sum) >> (31 - kSymLengthShift);
         sum += symbol_count_[k];
         const uint32_t w = distribution_[k] >> table_shift_;
-        while (s < w) decoder_table_[++s] = k - 1;
+        while (s < w) decoder_table_[++s] = static_cast<uint16_t>(k - 1);
       }
       decoder_table_[0] = 0;
-      while (s <= table_size_) decoder_table_[++s] = symbols_ - 1;
+      while (s <= table_size_) decoder_table_[++s] = static_cast<uint16_t>(symbols_ - 1);
     }
     update_cycle_ = (5 * update_cycle_) >> 2;
     const uint32_t max_cycle = (symbols_ + 6) << 3;
@@ -95,7 +112,11 @@ class SymbolModel {
   uint32_t symbols_, last_symbol_;
   uint32_t table_size_ = 0, table_shift_ = 0;
   uint32_t total_count_ = 0, update_cycle_ = 0, symbols_until_update_ = 0;
-  std::vector<uint32_t> distribution_, symbol_count_, decoder_table_;
+  std::vector<uint32_t> storage_;
+  std::vector<uint16_t> table_;
+  uint32_t* distribution_ = nullptr;
+  uint32_t* symbol_count_ = nullptr;
+  uint16_t* decoder_table_ = nullptr;
 };
 
 class ArithmeticDecoder {

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <memory>
 
+#include "formats/laz_models.h"
 #include "formats/little_endian.h"
 
 namespace splatkit::laz {
@@ -28,82 +29,6 @@ constexpr uint8_t kReturnLevel[8][8] = {{0, 1, 2, 3, 4, 5, 6, 7}, {1, 0, 1, 2, 3
                                         {2, 1, 0, 1, 2, 3, 4, 5}, {3, 2, 1, 0, 1, 2, 3, 4},
                                         {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2},
                                         {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0}};
-
-// Median of the last five values, updated in O(1) (LASzip's StreamingMedian5).
-struct Median5 {
-  std::array<int32_t, 5> v{};
-  bool high = true;
-  int32_t get() const { return v[2]; }
-  void add(int32_t x) {
-    if (high) {
-      if (x < v[2]) {
-        v[4] = v[3];
-        v[3] = v[2];
-        if (x < v[0]) {
-          v[2] = v[1];
-          v[1] = v[0];
-          v[0] = x;
-        } else if (x < v[1]) {
-          v[2] = v[1];
-          v[1] = x;
-        } else {
-          v[2] = x;
-        }
-      } else {
-        if (x < v[3]) {
-          v[4] = v[3];
-          v[3] = x;
-        } else {
-          v[4] = x;
-        }
-        high = false;
-      }
-    } else {
-      if (v[2] < x) {
-        v[0] = v[1];
-        v[1] = v[2];
-        if (v[4] < x) {
-          v[2] = v[3];
-          v[3] = v[4];
-          v[4] = x;
-        } else if (v[3] < x) {
-          v[2] = v[3];
-          v[3] = x;
-        } else {
-          v[2] = x;
-        }
-      } else {
-        if (v[1] < x) {
-          v[0] = v[1];
-          v[1] = x;
-        } else {
-          v[0] = x;
-        }
-        high = true;
-      }
-    }
-  }
-};
-
-// Lazily created 256-symbol models indexed by a byte (LASzip creates them on first use).
-struct LazyModels {
-  std::array<std::unique_ptr<SymbolModel>, 256> m;
-  SymbolModel& operator[](unsigned i) {
-    if (!m[i]) m[i] = std::make_unique<SymbolModel>(256);
-    return *m[i];
-  }
-};
-
-int32_t wrap_add(int32_t a, int32_t b) {
-  return static_cast<int32_t>(static_cast<uint32_t>(a) + static_cast<uint32_t>(b));
-}
-int32_t wrap_sub(int32_t a, int32_t b) {
-  return static_cast<int32_t>(static_cast<uint32_t>(a) - static_cast<uint32_t>(b));
-}
-int32_t wrap_mul(int32_t a, int32_t b) {
-  return static_cast<int32_t>(static_cast<uint32_t>(static_cast<int64_t>(a) * b));
-}
-unsigned clamp_u8(int v) { return v < 0 ? 0u : v > 255 ? 255u : static_cast<unsigned>(v); }
 
 // POINT10 version 2: x, y, z, intensity, flags, classification, scan angle, user data, source.
 class Point10 {
@@ -625,6 +550,15 @@ std::vector<unsigned char> laszip_vlr_payload(const LaszipVlr& vlr) {
 }
 
 std::vector<Item> items_for_format(int format, uint16_t record_length) {
+  if (format >= 6) {
+    static constexpr uint16_t kBase14[3] = {30, 36, 38};
+    std::vector<Item> items{{kItemPoint14, 30, 3}};
+    if (format == 7) items.push_back({kItemRgb14, 6, 3});
+    if (format == 8) items.push_back({kItemRgbNir14, 8, 3});
+    if (record_length > kBase14[format - 6])
+      items.push_back({kItemByte14, static_cast<uint16_t>(record_length - kBase14[format - 6]), 3});
+    return items;
+  }
   static constexpr uint16_t kBase[4] = {20, 28, 26, 34};
   std::vector<Item> items{{kItemPoint10, 20, 2}};
   if (format == 1 || format == 3) items.push_back({kItemGpsTime11, 8, 2});
@@ -636,6 +570,8 @@ std::vector<Item> items_for_format(int format, uint16_t record_length) {
 
 std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector<Item>& items,
                          uint64_t count, unsigned char* out) {
+  if (!items.empty() && items[0].type == kItemPoint14)
+    return decode_layered_chunk(bytes, items, count, out);
   ChunkCoders coders(items);
   const std::size_t rl = coders.record_length;
   if (bytes.size() < rl) throw LazDataError("chunk is shorter than its first (raw) point");
@@ -649,6 +585,10 @@ std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector
 
 void encode_chunk(const unsigned char* records, uint64_t count, const std::vector<Item>& items,
                   std::vector<unsigned char>& out) {
+  if (!items.empty() && items[0].type == kItemPoint14) {
+    encode_layered_chunk(records, count, items, out);
+    return;
+  }
   ChunkCoders coders(items);
   const std::size_t rl = coders.record_length;
   out.insert(out.end(), records, records + rl);

@@ -1,5 +1,6 @@
 // LASzip chunks of point data formats 0-3: the point-wise version 2 models (POINT10, GPSTIME11,
-// RGB12, BYTE), the chunk table and the LASzip VLR. Layout and models: formats/laz.md.
+// RGB12, BYTE); of formats 6-8: the layered version 3 models (laz_layered.cpp); the chunk table
+// and the LASzip VLR. Layout and models: formats/laz.md.
 //
 // Records are LAS point records as in an uncompressed file (little-endian, record_length bytes
 // each). Decoders are safe for untrusted input: they throw laz::LazDataError (no file name; the
@@ -58,8 +59,9 @@ std::string item_name(uint16_t type);
 bool parse_laszip_vlr(std::span<const unsigned char> payload, LaszipVlr& vlr, std::string& error);
 std::vector<unsigned char> laszip_vlr_payload(const LaszipVlr& vlr);
 
-// The items LASzip uses for point data format 0-3 with `record_length` bytes (extra bytes become
-// one BYTE item), all version 2.
+// The items LASzip uses for point data format 0-3 (POINT10, GPSTIME11, RGB12, BYTE; version 2)
+// or 6-8 (POINT14, RGB14 or RGBNIR14, BYTE14; version 3) with `record_length` bytes (extra bytes
+// become one BYTE or BYTE14 item).
 std::vector<Item> items_for_format(int format, uint16_t record_length);
 
 // Decodes `count` (>= 1) records of `items` from one chunk's bytes into `out`
@@ -68,6 +70,14 @@ std::vector<Item> items_for_format(int format, uint16_t record_length);
 // reads 2 or 3). Supports exactly the version-2 items that items_for_format gives.
 std::size_t decode_chunk(std::span<const unsigned char> bytes, const std::vector<Item>& items,
                          uint64_t count, unsigned char* out);
+
+// The same for layered chunks (compressor 3: POINT14, RGB14/RGBNIR14, BYTE14, version 3), which
+// decode_chunk and encode_chunk call for such items. The bytes consumed are the chunk's exact size.
+std::size_t decode_layered_chunk(std::span<const unsigned char> bytes,
+                                 const std::vector<Item>& items, uint64_t count,
+                                 unsigned char* out);
+void encode_layered_chunk(const unsigned char* records, uint64_t count,
+                          const std::vector<Item>& items, std::vector<unsigned char>& out);
 
 // Appends one chunk holding `count` (>= 1) records to `out`.
 void encode_chunk(const unsigned char* records, uint64_t count, const std::vector<Item>& items,

@@ -53,7 +53,7 @@ void write_cloud(const LoadedCloud& doc, OutputFile& out, const WriteOptions& op
       break;
     case FileFormat::kLas:
     case FileFormat::kLaz:
-      write_las(doc, out, f == FileFormat::kLaz);
+      write_las(doc, out, f == FileFormat::kLaz, options.las_format);
       break;
     default:
       write_splk(doc, out);

@@ -13,6 +13,9 @@ struct WriteOptions {
   FileFormat format = FileFormat::kUnknown;  // kUnknown = from the extension; "-" => .splk
   bool ascii = false;                        // PLY: ascii instead of binary_little_endian
   bool big_endian = false;                   // PLY: binary_big_endian
+  // LAS/LAZ point data format: 0-3 or 6-8 (LAS 1.4), or -1: the source's when it was LAS/LAZ of
+  // format 6-8 (6, 7 with colours, 8 with colours and NIR), else 0-3 by the cloud's fields.
+  int las_format = -1;
 };
 
 // Format for an output path: by extension; "-" and unknown extensions give .splk.

@@ -156,6 +156,15 @@ open(f"{sys.argv[2]}/laz-cut.laz", "wb").write(d[:len(d) // 2])
 b = bytearray(d); struct.pack_into("<I", b, table + 4, 0x7FFFFFFF); open(f"{sys.argv[2]}/laz-table.laz", "wb").write(b)
 b = bytearray(d); struct.pack_into("<I", b, 107, 4000000000); open(f"{sys.argv[2]}/laz-count.laz", "wb").write(b)
 PY
+# The same as LAS 1.4 format 7 (LASzip layered chunks): a layer size beyond the chunk.
+"$BIN/splat-convert" -q --las-format 7 "$IN/torus.splk" "$WORK/torus7.laz"
+python3 - "$WORK/torus7.laz" "$IN" <<'PY'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+off = struct.unpack_from("<I", d, 96)[0]
+struct.pack_into("<I", d, off + 8 + 36 + 4 + 4, 0x7FFFFFF0)  # the Z layer's size
+open(f"{sys.argv[2]}/laz14-layer.laz", "wb").write(d)
+PY
 cp -a "$IN" "$WORK/in.orig"
 
 # ---- 1. crashes and hangs ------------------------------------------------------------------------
@@ -180,6 +189,7 @@ hostile 2 "many-chunks.splk.*chunks" -- "$BIN/splat-info" "$IN/many-chunks.splk"
 hostile 2 "laz-cut.laz: LAZ chunk table offset" -- "$BIN/splat-info" "$IN/laz-cut.laz"
 hostile 2 "laz-table.laz: LAZ chunk table lists" -- "$BIN/estimate-normals" "$IN/laz-table.laz" "$OUT/l.splk"
 hostile 2 "laz-count.laz: header says 4000000000 points" -- "$BIN/splat-convert" "$IN/laz-count.laz" "$OUT/l.ply"
+hostile 2 "laz14-layer.laz: LAZ chunk 0 of 1 .*layers claim" -- "$BIN/splat-info" "$IN/laz14-layer.laz"
 
 # ---- 2. data loss --------------------------------------------------------------------------------
 hostile 1 "report|input" -- "$BIN/estimate-normals" "$IN/torus.ply" "$OUT/n.ply" --report "$IN/torus.ply"

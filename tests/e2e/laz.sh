@@ -1,4 +1,5 @@
-# LAZ (LASzip) reading and writing, point data formats 0-3.
+# LAZ (LASzip) reading and writing, point data formats 0-3 (point-wise chunks) and 6-8 (layered
+# chunks, LAS 1.4).
 #  1. Random scan-like records of every format (with and without extra bytes, one chunk and many,
 #     a last chunk of one point, fixed and variable chunk sizes) written as LAS and as LAZ by
 #     splatkit's writer: splatkit's decoder
@@ -34,7 +35,9 @@ lazperf_dump() { NODE_PATH=$SPLATKIT_LAZ_PERF_DIR node "$SRC/tests/laz/lazperf_d
 
 # ---- 1. records, every format ------------------------------------------------------------------
 for spec in "0 20000 6000 0" "0 1 50000 0" "1 15001 5000 3" "2 9000 50000 0" "2 12001 4000 7" \
-            "3 25000 7000 0" "3 10001 5000 2" "1 2 1 0" "1 20000 v3000 0" "3 9000 v100 1"; do
+            "3 25000 7000 0" "3 10001 5000 2" "1 2 1 0" "1 20000 v3000 0" "3 9000 v100 1" \
+            "6 20000 6000 0" "6 15001 5000 0" "7 12001 4000 2" "7 9000 v300 1" "8 10000 50000 3" \
+            "8 7001 3000 0" "6 1 50000 0" "8 2 1 1"; do
   read -r fmt n chunk extra <<<"$spec"
   tag="format $fmt, $n points, chunks of $chunk, $extra extra bytes"
   "$R" make "$fmt" "$n" "$chunk" "$((n + fmt))" "$extra" r.las r.laz || { fail "make: $tag"; continue; }
@@ -50,6 +53,44 @@ for spec in "0 20000 6000 0" "0 1 50000 0" "1 15001 5000 3" "2 9000 50000 0" "2 
   "$BIN/splat-convert" -q r.las a.ply && "$BIN/splat-convert" -q r.laz b.ply
   cmp -s a.ply b.ply && pass || fail "LAZ and LAS give different clouds: $tag"
 done
+
+# ---- 1b. layered chunks: the fields the records exercise, and splat-convert's LAS 1.4 output ------
+# (odd seeds keep intensity, user data and point source constant: empty layers; even seeds vary)
+"$R" make 8 20000 5000 21 2 l.las l.laz
+python3 - l.las l.laz <<'PY' && pass || fail "format 8 records do not exercise the layered models"
+import struct, sys
+d = open(sys.argv[1], "rb").read(); z = open(sys.argv[2], "rb").read()
+assert d[24:26] == bytes([1, 4]) and struct.unpack_from("<H", d, 94)[0] == 375
+assert struct.unpack_from("<I", d, 107)[0] == 0 and struct.unpack_from("<Q", d, 247)[0] == 20000
+assert z[104] == 0x88 and struct.unpack_from("<H", z, 375 + 54)[0] == 3   # compressor 3
+o = struct.unpack_from("<I", d, 96)[0]; rl = struct.unpack_from("<H", d, 105)[0]
+recs = [d[o + i * rl:o + (i + 1) * rl] for i in range(20000)]
+chans = {(r[15] >> 4) & 3 for r in recs}; rets = {r[14] >> 4 for r in recs}
+assert chans == {0, 1, 2, 3}, chans
+assert max(rets) > 7, rets
+assert len({r[36:38] for r in recs}) > 100 and len({r[18:20] for r in recs}) > 100
+PY
+# splat-convert keeps a LAS 1.4 file's point format family; --las-format picks one.
+"$BIN/splat-convert" -q l.las l2.laz && "$BIN/splat-convert" -q l2.laz l2.ply && "$BIN/splat-convert" -q l.las l.ply
+cmp -s l.ply l2.ply && pass || fail "LAS 1.4 format 8 -> LAZ -> cloud changed the cloud"
+expect_eq "splat-convert keeps format 8" "$(python3 -c 'import sys; print(open(sys.argv[1],"rb").read()[104])' l2.laz)" 136
+"$BIN/splat-convert" -q --las-format 7 "$S/torus-las12.las" t7.laz && "$BIN/splat-convert" -q t7.laz t7.las
+expect_eq "--las-format 7" "$(python3 -c 'import sys; print(open(sys.argv[1],"rb").read()[104])' t7.laz)" 135
+"$BIN/splat-convert" -q "$S/torus-las12.las" t2.ply && "$BIN/splat-convert" -q t7.las t7.ply
+python3 - t2.ply t7.ply <<'PY' && pass || fail "--las-format 7 changed positions or colours"
+import sys
+def body(p):
+    d = open(p, "rb").read(); return d, d.index(b"end_header\n") + 11
+a, ia = body(sys.argv[1]); b, ib = body(sys.argv[2])
+# Same vertex count and the same first 12 bytes (x, y, z float32) of the first vertex.
+import re
+na = int(re.search(rb"element vertex (\d+)", a).group(1)); nb = int(re.search(rb"element vertex (\d+)", b).group(1))
+assert na == nb and a[ia:ia + 12] == b[ib:ib + 12], (na, nb)
+PY
+if [ -n "$lazperf" ]; then
+  las_records t7.las a.bin && lazperf_dump t7.laz b.bin
+  cmp -s a.bin b.bin && pass || fail "laz-perf reads splat-convert's format 7 LAZ differently"
+fi
 
 # ---- 2. threads, stdin, LAS -> LAZ -> LAS -------------------------------------------------------
 "$R" make 3 60000 5000 11 0 m.las m.laz
@@ -133,5 +174,48 @@ bounded 3 "layered compressor.* is not supported" layered.laz
 bounded 3 "LASzip compressor 1 is not supported" pointwise.laz
 bounded 3 "LASzip item POINT10 version 1 is not supported" item-v1.laz
 bounded 2 "without the LASzip VLR" no-vlr.laz
+
+# Layered chunks (format 7, 3 extra bytes): a truncated layer, a layer size beyond the chunk, wrong
+# point counts in the chunk, the header and the table, garbage layers; formats 9/10 and LASzip
+# variants the decoder lacks exit 3.
+"$R" make 7 30000 5000 2 3 h7.las h7.laz
+"$R" cut h7.laz cut7.laz 2 40
+bounded 2 "LAZ chunk 2 of 6 .*layers claim [0-9]+ bytes, [0-9]+ follow" cut7.laz
+python3 - h7.laz <<'PY'
+import struct, sys, random
+d = bytearray(open(sys.argv[1], "rb").read())
+off = struct.unpack_from("<I", d, 96)[0]
+table = struct.unpack_from("<Q", d, off)[0]
+rl = 39; chunk0 = off + 8; sizes0 = chunk0 + rl + 4        # 9 POINT14 + 1 RGB14 + 3 BYTE14 sizes
+def w(name, b): open(name, "wb").write(b)
+b = bytearray(d); struct.pack_into("<I", b, chunk0 + rl, 5001); w("l-count.laz", b)
+b = bytearray(d); struct.pack_into("<I", b, chunk0 + rl, 0xFFFFFFFF); w("l-count-huge.laz", b)
+b = bytearray(d); struct.pack_into("<I", b, sizes0 + 4, 0x7FFFFFFF); w("l-size.laz", b)
+b = bytearray(d); struct.pack_into("<I", b, sizes0, 0); w("l-xy-empty.laz", b)
+b = bytearray(d); struct.pack_into("<I", b, sizes0 + 8, 2); w("l-size-small.laz", b)
+b = bytearray(d); s = sizes0 + 13 * 4 + 50
+b[s:s + 3000] = bytes(random.Random(3).randrange(256) for _ in range(3000)); w("l-garbage.laz", b)
+b = bytearray(d); struct.pack_into("<Q", b, 247, 10 ** 12); w("l-header-count.laz", b)
+b = bytearray(d); struct.pack_into("<Q", b, 247, 29999); w("l-header-less.laz", b)
+b = bytearray(d); b[104] = 0x80 | 10; struct.pack_into("<H", b, 105, 67 + 3); w("l-format10.laz", b)
+b = bytearray(d); b[104] = 0x80 | 9; struct.pack_into("<H", b, 105, 59 + 3); w("l-format9.laz", b)
+vlr = 375 + 54
+b = bytearray(d); struct.pack_into("<H", b, vlr, 2); w("l-pointwise.laz", b)
+b = bytearray(d); struct.pack_into("<H", b, vlr + 34 + 4, 4); w("l-item-v4.laz", b)
+b = bytearray(d); struct.pack_into("<H", b, vlr + 34 + 6, 12); w("l-item-nir.laz", b)
+PY
+bounded 2 "LAZ chunk 0 of 6 .*chunk says it holds 5001 points, the chunk table 5000" l-count.laz
+bounded 2 "LAZ chunk 0 of 6 .*chunk says it holds 4294967295 points" l-count-huge.laz
+bounded 2 "LAZ chunk 0 of 6 .*layers claim" l-size.laz
+bounded 2 "LAZ chunk 0 of 6 .*(X/Y or Z layer of POINT14 is empty|layers claim)" l-xy-empty.laz
+bounded 2 "LAZ chunk 0 of 6" l-size-small.laz
+bounded 2 "LAZ chunk 0 of 6" l-garbage.laz
+bounded 2 "header says 1000000000000 points, 200000000 chunks of 5000 points, but the chunk table lists 6" l-header-count.laz
+bounded 2 "LAZ chunk 5 of 6 .*chunk says it holds 5000 points, the chunk table 4999" l-header-less.laz
+bounded 3 "point data format 10 .*waveform.* is not supported" l-format10.laz
+bounded 3 "point data format 9 .*waveform.* is not supported" l-format9.laz
+bounded 3 "LASzip compressor 2 for point data format 7 is not supported \(3, layered chunked, is\)" l-pointwise.laz
+bounded 3 "LASzip item POINT14 version 4 is not supported \(3 is\)" l-item-v4.laz
+bounded 2 "LASzip item 1 is RGBNIR14 of 6 bytes; point data format 7 needs RGB14" l-item-nir.laz
 
 finish

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
                       "(.ply .xyz .txt .csv .off .las .laz .splk; '-' writes .splk to stdout).",
                       "  $ splat-convert scan.las scan.splk\n"
                       "  $ splat-convert scan.laz scan.las\n"
+                      "  $ splat-convert --las-format 7 scan.ply scan.laz\n"
                       "  $ splat-convert --ascii model.splk model.ply\n"
                       "  $ cat points.xyz | splat-convert --columns x,y,z,nx,ny,nz - out.ply\n"
                       "  $ for f in scans/*.ply; do splat-convert -q \"$f\" \"out/$(basename "
@@ -20,6 +21,11 @@ int main(int argc, char** argv) {
   tool.add_columns_option(o.read.columns);
   app.add_option("--format", o.format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk", "las", "laz"}));
+  app.add_option("--las-format", o.write.las_format,
+                 "LAS/LAZ output: point data format 0-3 (LAS 1.2) or 6-8 (LAS 1.4; LAZ with "
+                 "LASzip's layered compressor). Default: the input's when it is LAS/LAZ of format "
+                 "6-8, else 0-3 by the fields the cloud has (colours, GPS time)")
+      ->check(CLI::IsMember({0, 1, 2, 3, 6, 7, 8}));
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
   tool.add_threads_option();  // LAZ chunks are decoded in parallel
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
