@@ -23,11 +23,9 @@ namespace splatkit::render {
 namespace {
 
 RenderScene spt_scene_of(const SplatCloud& cloud, bool full = false) {
-  const spt::SptInput in{cloud.positions, cloud.normals, cloud.radii, cloud.colors,
-                         cloud.color_bits};
   spt::EncodeSptOptions o;
   o.full = full;
-  const spt::EncodedSpt e = spt::encode_spt(spt::build_spt_tree(in, 1.0f), in, o);
+  const spt::SptBytes e = spt::build_spt_bytes(cloud, 1.0f, o);
   return make_spt_scene(parse_spt(e.bytes, "test.spt"), "test.spt");
 }
 
