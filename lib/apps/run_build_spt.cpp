@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <malloc.h>
+
 #include <cmath>
 #include <sstream>
 #include <string_view>
@@ -21,6 +23,7 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
     throw_usage("--epsilon must be a positive number of radians");
   if (!(o.color_weight >= 0) || !std::isfinite(o.color_weight))
     throw_usage("--color-weight must be zero or positive");
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   Stage stage("build-spt", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   SplatCloud& cloud = doc.cloud;
@@ -28,19 +31,21 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");
   check_splats(cloud, stage.input_name());
-  cloud.extras = {};  // not part of an .spt: the memory goes to the tree
-  cloud.axes = {};
-  cloud.minor_radii = {};
+  // Not part of an .spt: the memory goes to the tree (swapped out: `= {}` keeps the capacity).
+  std::vector<ExtraAttribute>().swap(cloud.extras);
+  std::vector<Vec3f>().swap(cloud.axes);
+  std::vector<float>().swap(cloud.minor_radii);
   const std::size_t points = cloud.size();
   const bool has_color = !cloud.colors.empty();
   // The splats in the tree's order, moved out of the cloud (colours made 8-bit).
   spt::SptSplats splats = spt::take_spt_splats(cloud);
-  const spt::SptOrder order = stage.phase("order", "sorting the splats",
+  spt::SptOrder order = stage.phase("order", "sorting the splats",
                                           [&] { return spt::sort_spt_splats(splats); });
   progress(0.3, "building the tree");
   spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
     return spt::build_spt_tree(splats, order, {o.color_weight, o.full});
   });
+  std::vector<uint8_t>().swap(order.levels);
   const nlohmann::json options = {{"epsilon", o.epsilon},
                                   {"color_weight", o.color_weight},
                                   {"precision", o.full ? "full" : "compact"}};

@@ -141,9 +141,12 @@ struct Sorter {
   }
 };
 
-// A subtree over a sorted range, built sequentially into its own slots.
+// A subtree over a sorted range, built sequentially: slot s is stored at recs[s] (a scratch
+// buffer, copied into the tree afterwards, or the tree's own records for the top).
 struct Subtree {
-  uint32_t base = 0, next = 0;  // slots [base, next) used
+  SptRecord* recs = nullptr;
+  SptFullRecord* fulls = nullptr;
+  uint32_t next = 0;  // the next slot
   uint32_t depth = 0;
   float error_lo = INFINITY, error_hi = 0, radius_lo = INFINITY, radius_hi = 0;
 };
@@ -197,7 +200,7 @@ struct Builder {
                                       std::span<const SptDisc> discs) const {
     const uint32_t slot = t.next++;
     const SptDisc d = fit_spt_disc(discs, color_weight, has_color);
-    store(slot, d);
+    store(t, slot, d);
     if (d.error > 0) {
       t.error_lo = std::min(t.error_lo, d.error);
       t.error_hi = std::max(t.error_hi, d.error);
@@ -207,18 +210,16 @@ struct Builder {
       t.radius_hi = std::max(t.radius_hi, d.radius);
     }
     const uint32_t id = static_cast<uint32_t>(in.size() + slot);
-    for (uint32_t c : ids) set_parent(c, id);
+    for (uint32_t c : ids) {
+      if (c < in.size())
+        tree.leaf_parent[c] = id;
+      else
+        t.recs[c - in.size()].parent = id;
+    }
     return {id, d};
   }
 
-  void set_parent(uint32_t child, uint32_t parent) const {
-    if (child < in.size())
-      tree.leaf_parent[child] = parent;
-    else
-      tree.records[child - in.size()].parent = parent;
-  }
-
-  void store(uint32_t slot, const SptDisc& d) const {
+  void store(Subtree& t, uint32_t slot, const SptDisc& d) const {
     std::array<uint8_t, 3> rgb{0, 0, 0};
     if (has_color) {
       auto q = [](float v) {
@@ -226,7 +227,7 @@ struct Builder {
       };
       rgb = {q(d.color.x), q(d.color.y), q(d.color.z)};
     }
-    SptRecord& r = tree.records[slot];
+    SptRecord& r = t.recs[slot];
     r.q = {encode_position(d.centre.x, tree.box_min.x, tree.step.x),
            encode_position(d.centre.y, tree.box_min.y, tree.step.y),
            encode_position(d.centre.z, tree.box_min.z, tree.step.z)};
@@ -236,7 +237,7 @@ struct Builder {
     r.radius = d.radius;
     r.error = d.error;
     r.parent = kNoParent;
-    if (full) tree.full_records[slot] = {d.centre, d.normal, rgb};
+    if (full) t.fulls[slot] = {d.centre, d.normal, rgb};
   }
 };
 
@@ -286,11 +287,8 @@ SptSplats take_spt_splats(SplatCloud& cloud) {
                           for (int k = 0; k < 3; ++k)
                             s.colors[i][k] = static_cast<uint8_t>(cloud.colors[i][k] >> shift);
                       });
-    cloud.colors = {};
+    std::vector<std::array<uint16_t, 3>>().swap(cloud.colors);
   }
-  cloud.positions = {};
-  cloud.normals = {};
-  cloud.radii = {};
   return s;
 }
 
@@ -349,7 +347,7 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   permute_all(s.normals, keys, mask, same);
   permute_all(s.radii, keys, mask, same);
   permute_all(s.colors, keys, mask, same);
-  keys = {};
+  std::vector<uint64_t>().swap(keys);
   order.levels.resize(n - 1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
     uint64_t next = frame.code(s.positions[r.begin()]);
@@ -398,35 +396,65 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   };
   split_top(split_top, 0, n, 0);
 
-  // Slots: each subtree one fewer than its splats (at most that many interior nodes), then the
-  // top nodes.
-  std::vector<Subtree> subtrees(ranges.size());
-  uint32_t slots = 0;
-  for (std::size_t k = 0; k < ranges.size(); ++k) {
-    subtrees[k].base = subtrees[k].next = slots;
-    slots += static_cast<uint32_t>(ranges[k].second - ranges[k].first - 1);
-  }
-  const uint32_t top_base = slots;
-  slots += static_cast<uint32_t>(top.size());
-  tree.records.allocate(slots);
-  if (o.full) tree.full_records.allocate(slots);
+  // Subtrees in batches: built in parallel into scratch buffers, then copied into the tree in
+  // order (so the records take exactly their memory) with their numbers shifted.
+  tree.records.allocate(n);
+  if (o.full) tree.full_records.allocate(n);
   std::vector<std::pair<uint32_t, SptDisc>> roots(ranges.size());
-  tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
-    std::vector<std::size_t> local_cuts;
-    roots[k] =
-        builder.build(subtrees[k], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
-  });
+  constexpr std::size_t kBatch = 64;
+  std::vector<std::vector<SptRecord>> scratch(kBatch);
+  std::vector<std::vector<SptFullRecord>> full_scratch(o.full ? kBatch : 0);
+  std::vector<Subtree> batch(kBatch);
+  std::vector<uint32_t> base(kBatch);
   Subtree sum;
-  sum.base = sum.next = top_base;
-  for (const Subtree& t : subtrees) {
-    if (t.next > t.base) tree.spans.push_back({t.base, t.next});
-    tree.interiors += t.next - t.base;
-    sum.depth = std::max(sum.depth, t.depth);
-    sum.error_lo = std::min(sum.error_lo, t.error_lo);
-    sum.error_hi = std::max(sum.error_hi, t.error_hi);
-    sum.radius_lo = std::min(sum.radius_lo, t.radius_lo);
-    sum.radius_hi = std::max(sum.radius_hi, t.radius_hi);
+  for (std::size_t b0 = 0; b0 < ranges.size(); b0 += kBatch) {
+    const std::size_t count = std::min(kBatch, ranges.size() - b0);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t j) {
+      const std::size_t k = b0 + j;
+      scratch[j].resize(ranges[k].second - ranges[k].first);
+      if (o.full) full_scratch[j].resize(scratch[j].size());
+      batch[j] = {};
+      batch[j].recs = scratch[j].data();
+      batch[j].fulls = o.full ? full_scratch[j].data() : nullptr;
+      std::vector<std::size_t> local_cuts;
+      roots[k] =
+          builder.build(batch[j], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
+    });
+    for (std::size_t j = 0; j < count; ++j) {
+      base[j] = sum.next;
+      if (batch[j].next > 0) tree.spans.push_back({sum.next, sum.next + batch[j].next});
+      sum.next += batch[j].next;
+    }
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t j) {
+      const std::size_t k = b0 + j;
+      const uint32_t shift = base[j];
+      for (uint32_t s = 0; s < batch[j].next; ++s) {
+        SptRecord r = scratch[j][s];
+        if (r.parent != kNoParent) r.parent += shift;
+        tree.records[shift + s] = r;
+        if (o.full) tree.full_records[shift + s] = full_scratch[j][s];
+      }
+      if (batch[j].next > 0) {
+        for (std::size_t i = ranges[k].first; i < ranges[k].second; ++i)
+          tree.leaf_parent[i] += shift;
+        roots[k].first += shift;
+      }
+    });
+    for (std::size_t j = 0; j < count; ++j) {
+      const Subtree& t = batch[j];
+      sum.depth = std::max(sum.depth, t.depth);
+      sum.error_lo = std::min(sum.error_lo, t.error_lo);
+      sum.error_hi = std::max(sum.error_hi, t.error_hi);
+      sum.radius_lo = std::min(sum.radius_lo, t.radius_lo);
+      sum.radius_hi = std::max(sum.radius_hi, t.radius_hi);
+    }
   }
+  std::vector<std::vector<SptRecord>>().swap(scratch);
+  std::vector<std::vector<SptFullRecord>>().swap(full_scratch);
+  tree.interiors = sum.next;
+  const uint32_t top_base = sum.next;
+  sum.recs = tree.records.data.get();
+  sum.fulls = o.full ? tree.full_records.data.get() : nullptr;
   auto finish_top = [&](auto&& self, uint32_t id) -> std::pair<uint32_t, SptDisc> {
     std::vector<uint32_t> ids;
     std::vector<SptDisc> discs;
@@ -444,7 +472,7 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   };
   if (!top.empty()) finish_top(finish_top, 0);
   if (sum.next > top_base) tree.spans.push_back({top_base, sum.next});
-  tree.interiors += sum.next - top_base;
+  tree.interiors = sum.next;
   tree.depth = sum.depth;
   tree.error_lo = sum.error_lo;
   tree.error_hi = sum.error_hi;

@@ -55,7 +55,12 @@ struct NodeSequence {
 
 }  // namespace
 
-EncodedSpt encode_spt(SptTree& tree, const SptSplats& in, const EncodeSptOptions& o,
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
+EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o,
                       const SptSink& sink, bool keep_map) {
   const std::size_t n = tree.leaves;
   const NodeSequence seq(tree);
@@ -122,6 +127,47 @@ EncodedSpt encode_spt(SptTree& tree, const SptSplats& in, const EncodeSptOptions
     });
   }
 
+  // Compact: the leaves' codes, each array made and its source released in turn, so that
+  // the splats' floats (31 bytes a splat) shrink to 14 bytes of codes without a peak.
+  const bool has_color = !in.colors.empty();
+  std::vector<uint16_t> leaf_normal, leaf_diameter, leaf_rgb, leaf_r_max;
+  std::vector<std::array<uint16_t, 3>> leaf_q;
+  if (!o.full) {
+    auto each_leaf = [&](auto&& f) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
+      });
+    };
+    leaf_r_max.resize(n);
+    each_leaf([&](std::size_t i) { leaf_r_max[i] = static_cast<uint16_t>(tree.leaf_parent[i]); });
+    release(tree.leaf_parent);
+    leaf_normal.resize(n);
+    each_leaf([&](std::size_t i) { leaf_normal[i] = encode_normal(in.normals[i]); });
+    release(in.normals);
+    leaf_q.resize(n);
+    each_leaf([&](std::size_t i) {
+      const Vec3f& c = in.positions[i];
+      leaf_q[i] = {encode_position(c.x, h.box_min.x, h.step.x),
+                   encode_position(c.y, h.box_min.y, h.step.y),
+                   encode_position(c.z, h.box_min.z, h.step.z)};
+    });
+    release(in.positions);
+    leaf_diameter.resize(n);
+    each_leaf([&](std::size_t i) {
+      const float radius = in.radii[i];
+      leaf_diameter[i] = encode_diameter(radius > 0 ? 2 * radius + 2 * slack : 0.0f, ds);
+    });
+    release(in.radii);
+    if (has_color) {
+      leaf_rgb.resize(n);
+      each_leaf([&](std::size_t i) { leaf_rgb[i] = encode_rgb565(in.colors[i]); });
+      release(in.colors);
+    }
+  }
+  auto leaf_key = [&](uint32_t i) -> uint32_t {
+    return leaf_r_max[i];
+  };
+
   // One entry's bytes.
   auto encode = [&](bool leaf, uint32_t i, unsigned char* e) {
     if (o.full) {
@@ -152,29 +198,26 @@ EncodedSpt encode_spt(SptTree& tree, const SptSplats& in, const EncodeSptOptions
       e[39] = 0;
       return;
     }
-    float radius;
     if (leaf) {
-      const Vec3f& c = in.positions[i];
-      put_u16(e, encode_position(c.x, h.box_min.x, h.step.x));
-      put_u16(e + 2, encode_position(c.y, h.box_min.y, h.step.y));
-      put_u16(e + 4, encode_position(c.z, h.box_min.z, h.step.z));
-      put_u16(e + 6, encode_normal(in.normals[i]));
-      radius = in.radii[i];
+      put_u16(e, leaf_q[i][0]);
+      put_u16(e + 2, leaf_q[i][1]);
+      put_u16(e + 4, leaf_q[i][2]);
+      put_u16(e + 6, leaf_normal[i]);
+      put_u16(e + 8, leaf_diameter[i]);
       put_u16(e + 10, 0);
-      put_u16(e + 12, static_cast<uint16_t>(tree.leaf_parent[i]));
-      put_u16(e + 14, in.colors.empty() ? 0 : encode_rgb565(in.colors[i]));
+      put_u16(e + 12, leaf_r_max[i]);
+      put_u16(e + 14, has_color ? leaf_rgb[i] : 0);
     } else {
       const SptRecord& r = tree.records[i];
       put_u16(e, r.q[0]);
       put_u16(e + 2, r.q[1]);
       put_u16(e + 4, r.q[2]);
       put_u16(e + 6, r.normal);
-      radius = r.radius;
+      put_u16(e + 8, encode_diameter(r.radius > 0 ? 2 * r.radius + 2 * slack : 0.0f, ds));
       put_u16(e + 10, r.r_min);
       put_u16(e + 12, static_cast<uint16_t>(r.parent));
       put_u16(e + 14, r.rgb565);
     }
-    put_u16(e + 8, encode_diameter(radius > 0 ? 2 * radius + 2 * slack : 0.0f, ds));
   };
 
   // Pieces of the node sequence, placed in parallel (their number does not depend on threads).
@@ -189,7 +232,7 @@ EncodedSpt encode_spt(SptTree& tree, const SptSplats& in, const EncodeSptOptions
     tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
       uint32_t* count = start.data() + c * 65536;
       seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
-        const uint32_t r_max = leaf ? tree.leaf_parent[i] : tree.records[i].parent;
+        const uint32_t r_max = leaf ? leaf_key(i) : tree.records[i].parent;
         const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
         if (r_max > r_min) ++count[65535 - r_max];
       });
@@ -250,7 +293,7 @@ EncodedSpt encode_spt(SptTree& tree, const SptSplats& in, const EncodeSptOptions
           d = dest[q++];
           if (d == kNoParent) return;
         } else {
-          const uint32_t r_max = leaf ? tree.leaf_parent[i] : tree.records[i].parent;
+          const uint32_t r_max = leaf ? leaf_key(i) : tree.records[i].parent;
           const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
           if (!(r_max > r_min)) return;
           d = next[65535 - r_max]++;

@@ -46,8 +46,9 @@ struct EncodedSpt {
 };
 
 // Encodes and writes the list. The tree's r codes are worked out in place (SptRecord::r_min, and
-// parent numbers become r_max codes). `keep_map`: fill entry_of_node and parent.
-EncodedSpt encode_spt(SptTree& tree, const SptSplats& splats, const EncodeSptOptions& options,
+// parent numbers become r_max codes); compact lists release the tree's leaf_parent and the
+// splats' arrays as their codes are made. `keep_map`: fill entry_of_node and parent.
+EncodedSpt encode_spt(SptTree& tree, SptSplats& splats, const EncodeSptOptions& options,
                       const SptSink& sink, bool keep_map = false);
 
 // The whole build in memory (tests and small clouds): sort, tree, list. With `keep_map`, the
