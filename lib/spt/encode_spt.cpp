@@ -270,7 +270,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o,
   write_spt_header(h, header);
   uint32_t crc = crc32c(0, header, 124);
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
-  const std::size_t slab_count = patch ? 4 : 1;
+  const std::size_t slab_count = patch ? 2 : 1;
   const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
   std::vector<unsigned char> buffer(std::min(slab, std::max<std::size_t>(kept, 1)) *
                                     h.entry_bytes);

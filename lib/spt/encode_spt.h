@@ -7,7 +7,7 @@
 // the bytes are the same for any thread count.
 //
 // Compact entries are placed by a counting sort on the 16-bit r_max code and written in slabs
-// of a quarter of the list each (every slab pass places all nodes but encodes only its own), so
+// of half the list each (every slab pass places all nodes but encodes only its own), so
 // the list is never whole in memory when the sink can patch the header's checksum afterwards;
 // otherwise (a pipe) it is one slab. Full-precision lists are sorted and held whole.
 #pragma once
