@@ -2,7 +2,6 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
@@ -95,6 +94,28 @@ void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t 
     for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = convert(v[keys[i] & mask]);
   });
   v.swap(out);
+}
+
+// Sorts keys by their bits from `low` up, keeping the order of keys equal there (least
+// significant digit first, 11 bits a pass; keys that start in index order end in (high bits,
+// index) order). Linear, and cheaper than a comparison sort for millions of keys.
+void radix_sort_high(std::vector<uint64_t>& keys, int low) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  const int passes = (64 - low + kBits - 1) / kBits;
+  std::vector<std::size_t> count(static_cast<std::size_t>(passes) * kBuckets, 0);
+  for (uint64_t k : keys)
+    for (int p = 0; p < passes; ++p) ++count[p * kBuckets + ((k >> (low + p * kBits)) & (kBuckets - 1))];
+  std::vector<uint64_t> other(keys.size());
+  for (int p = 0; p < passes; ++p) {
+    std::size_t* c = count.data() + p * kBuckets;
+    if (std::find(c, c + kBuckets, keys.size()) != c + kBuckets) continue;  // one digit value
+    std::size_t sum = 0;
+    for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
+    const int shift = low + p * kBits;
+    for (uint64_t k : keys) other[c[(k >> shift) & (kBuckets - 1)]++] = k;
+    keys.swap(other);
+  }
 }
 
 struct Sorter {
@@ -310,7 +331,7 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       keys[i] = (frame.code(s.positions[i]) >> shift) << index_bits | i;
   });
-  if (!std::is_sorted(keys.begin(), keys.end())) tbb::parallel_sort(keys.begin(), keys.end());
+  radix_sort_high(keys, index_bits);
   if (shift > 0) {
     constexpr std::size_t kBlock = 1 << 16;
     tbb::parallel_for(std::size_t{0}, (n + kBlock - 1) / kBlock, [&](std::size_t blk) {
