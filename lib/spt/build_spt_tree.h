@@ -8,7 +8,7 @@
 // more than 8 splats with one code (a cluster far smaller than the cube's cells, beside a far
 // outlier) is ordered again by codes over its own bounding cube; only coincident centres stay
 // one code. Deterministic: the same input gives the same tree for any thread count (subtrees of
-// at most a few thousand splats are built in parallel into slots fixed in advance).
+// at most a few thousand splats are built in parallel, then numbered in Morton order).
 //
 // Memory is what build-spt's peak is made of, so the tree is lean: one byte per splat says where
 // the Morton order splits (the highest differing octree level of neighbouring codes), each splat
@@ -77,7 +77,8 @@ struct SptFullRecord {
   std::array<uint8_t, 3> color;
 };
 
-// Uninitialised storage: pages never written take no memory.
+// Uninitialised storage (malloc: large blocks are fresh pages): pages never written take no
+// memory.
 template <class T>
 struct SlotArray {
   struct Free {
@@ -95,11 +96,11 @@ struct SptTreeOptions {
 };
 
 struct SptTree {
-  // Node i < N is splat i (a leaf); node N + s is the interior node in slot s of `records`.
-  // Slots are reserved per subtree (one fewer than its splats), so some stay unused; the used
-  // ones are `spans`, in node order: each subtree's nodes in post-order, subtrees in Morton
-  // order, then the nodes above them in post-order (the root last). Children have smaller
-  // numbers than their parent.
+  // Node i < N is splat i (a leaf); node N + s is the interior node in slot s of `records`
+  // (allocated for N, written densely from slot 0: the pages beyond are never touched). The
+  // slots in use are `spans`, in node order: each subtree's nodes in post-order, subtrees in
+  // Morton order, then the nodes above them in post-order (the root last). Children have
+  // smaller numbers than their parent.
   std::size_t leaves = 0;
   std::vector<uint32_t> leaf_parent;  // #N node numbers (kNoParent: a single splat is the root);
                                       // r_max codes after encode_spt
