@@ -42,8 +42,8 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   const bool has_color = !cloud.colors.empty();
   // The splats in the tree's order, moved out of the cloud (colours made 8-bit).
   spt::SptSplats splats = spt::take_spt_splats(cloud);
-  spt::SptOrder order = stage.phase("order", "sorting the splats",
-                                          [&] { return spt::sort_spt_splats(splats); });
+  spt::SptOrder order =
+      stage.phase("order", "sorting the splats", [&] { return spt::sort_spt_splats(splats); });
   progress(0.3, "building the tree");
   spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
     return spt::build_spt_tree(splats, order, {o.color_weight, o.full});
@@ -65,7 +65,9 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   spt::SptSink sink;
   sink.write = [&](const unsigned char* p, std::size_t k) { out.write(p, k); };
   if (!out.is_direct())
-    sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) { out.write_at(at, p, k); };
+    sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+      out.write_at(at, p, k);
+    };
   const Clock::time_point t0 = Clock::now();
   const spt::EncodedSpt file = spt::encode_spt(tree, splats, eo, sink);
   const double encode_s = seconds_since(t0);

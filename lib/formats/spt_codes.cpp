@@ -108,9 +108,7 @@ LogScale::LogScale(double l, double h, int n) : lo(l), hi(h), steps(n) {
     to_value = std::log(h / l) / (n - 1);
   }
 }
-double LogScale::position(double v) const {
-  return hi > lo ? std::log(v / lo) * to_position : 0.0;
-}
+double LogScale::position(double v) const { return hi > lo ? std::log(v / lo) * to_position : 0.0; }
 double LogScale::value(double pos) const { return hi > lo ? lo * std::exp(pos * to_value) : lo; }
 
 LogScale r_scale(float r_lo, float r_hi) { return {r_lo, r_hi, 65534}; }

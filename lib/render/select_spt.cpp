@@ -91,8 +91,7 @@ SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bound
           bool drawn;
           if (rp <= point_radius_px) {
             drawn = zbuffer_point(buffer, p.cx + p.focal_px * cam.x * inv,
-                                  p.cy + p.focal_px * cam.y * inv, cam.z,
-                                  static_cast<uint32_t>(i));
+                                  p.cy + p.focal_px * cam.y * inv, cam.z, static_cast<uint32_t>(i));
             acc.points += drawn;
           } else {
             drawn = zbuffer_splat(buffer, p, cam, radius, static_cast<uint32_t>(i));

@@ -24,8 +24,8 @@ DrawList select_spt(const SptModel& model, const BoundingSphere& bounds,
 
 struct SptZBufferCounts {
   uint64_t prefix = 0, selected = 0;
-  uint64_t drawn = 0;   // of the selected, those that cover a pixel
-  uint64_t points = 0;  // of the drawn, those written as one pixel
+  uint64_t drawn = 0;          // of the selected, those that cover a pixel
+  uint64_t points = 0;         // of the drawn, those written as one pixel
   double diameter_px_sum = 0;  // projected diameters of the drawn, pixels
   double cpu_s = 0;            // CPU time of the selection and drawing, all threads
 };

@@ -105,7 +105,8 @@ void radix_sort_high(std::vector<uint64_t>& keys, int low) {
   const int passes = (64 - low + kBits - 1) / kBits;
   std::vector<std::size_t> count(static_cast<std::size_t>(passes) * kBuckets, 0);
   for (uint64_t k : keys)
-    for (int p = 0; p < passes; ++p) ++count[p * kBuckets + ((k >> (low + p * kBits)) & (kBuckets - 1))];
+    for (int p = 0; p < passes; ++p)
+      ++count[p * kBuckets + ((k >> (low + p * kBits)) & (kBuckets - 1))];
   std::vector<uint64_t> other(keys.size());
   for (int p = 0; p < passes; ++p) {
     std::size_t* c = count.data() + p * kBuckets;
@@ -503,7 +504,8 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
       tbb::blocked_range<std::size_t>(0, n, 1 << 16), MinMax{INFINITY, 0.0f},
       [&](const auto& r, MinMax m) {
         for (std::size_t i = r.begin(); i < r.end(); ++i)
-          if (in.radii[i] > 0) m = {std::min(m.first, in.radii[i]), std::max(m.second, in.radii[i])};
+          if (in.radii[i] > 0)
+            m = {std::min(m.first, in.radii[i]), std::max(m.second, in.radii[i])};
         return m;
       },
       [](MinMax a, const MinMax& b) {

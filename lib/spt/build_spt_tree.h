@@ -64,10 +64,10 @@ struct SptRecord {
   std::array<uint16_t, 3> q;  // position code per axis (spt_codes.h)
   uint16_t normal;            // octahedral code
   uint16_t rgb565;
-  uint16_t r_min = 0;    // r_min code (set by encode_spt)
-  float radius;          // scene units
-  float error;           // e_g, monotone up the tree
-  uint32_t parent;       // node number, kNoParent for the root; r_max code after encode_spt
+  uint16_t r_min = 0;  // r_min code (set by encode_spt)
+  float radius;        // scene units
+  float error;         // e_g, monotone up the tree
+  uint32_t parent;     // node number, kNoParent for the root; r_max code after encode_spt
 };
 static_assert(sizeof(SptRecord) == 24);
 
@@ -105,13 +105,13 @@ struct SptTree {
   std::vector<uint32_t> leaf_parent;  // #N node numbers (kNoParent: a single splat is the root);
                                       // r_max codes after encode_spt
   SlotArray<SptRecord> records;
-  SlotArray<SptFullRecord> full_records;                // slots as records, when options.full
-  std::vector<std::pair<uint32_t, uint32_t>> spans;     // used slots [begin, end), node order
-  std::size_t interiors = 0;                            // used slots
-  uint32_t depth = 0;                                   // edges from the root to the deepest leaf
-  Vec3f box_min{0, 0, 0}, step{0, 0, 0};                // frame of the records' position codes
-  float error_lo = INFINITY, error_hi = 0;              // positive errors of interior nodes
-  float radius_lo = INFINITY, radius_hi = 0;            // positive radii of every node
+  SlotArray<SptFullRecord> full_records;             // slots as records, when options.full
+  std::vector<std::pair<uint32_t, uint32_t>> spans;  // used slots [begin, end), node order
+  std::size_t interiors = 0;                         // used slots
+  uint32_t depth = 0;                                // edges from the root to the deepest leaf
+  Vec3f box_min{0, 0, 0}, step{0, 0, 0};             // frame of the records' position codes
+  float error_lo = INFINITY, error_hi = 0;           // positive errors of interior nodes
+  float radius_lo = INFINITY, radius_hi = 0;         // positive radii of every node
   std::size_t size() const { return leaves + interiors; }
 };
 

@@ -38,8 +38,8 @@ struct NodeSequence {
     std::size_t q = q0;
     for (; q < std::min(q1, n); ++q) f(true, static_cast<uint32_t>(q));
     if (q >= q1) return;
-    std::size_t k = static_cast<std::size_t>(
-        std::upper_bound(before.begin(), before.end(), q - n) - before.begin() - 1);
+    std::size_t k = static_cast<std::size_t>(std::upper_bound(before.begin(), before.end(), q - n) -
+                                             before.begin() - 1);
     for (; q < q1; ++k) {
       const std::size_t off = q - n - before[k];
       const std::size_t len = spans[k].second - spans[k].first;
@@ -60,8 +60,8 @@ void release(std::vector<T>& v) {
   std::vector<T>().swap(v);
 }
 
-EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o,
-                      const SptSink& sink, bool keep_map) {
+EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, const SptSink& sink,
+                      bool keep_map) {
   const std::size_t n = tree.leaves;
   const NodeSequence seq(tree);
   const std::size_t total = seq.total;
@@ -164,9 +164,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o,
       release(in.colors);
     }
   }
-  auto leaf_key = [&](uint32_t i) -> uint32_t {
-    return leaf_r_max[i];
-  };
+  auto leaf_key = [&](uint32_t i) -> uint32_t { return leaf_r_max[i]; };
 
   // One entry's bytes.
   auto encode = [&](bool leaf, uint32_t i, unsigned char* e) {
@@ -272,8 +270,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o,
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
   const std::size_t slab_count = patch ? 2 : 1;
   const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
-  std::vector<unsigned char> buffer(std::min(slab, std::max<std::size_t>(kept, 1)) *
-                                    h.entry_bytes);
+  std::vector<unsigned char> buffer(std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes);
   double write_s = 0;
   auto emit = [&](const unsigned char* p, std::size_t bytes) {
     const auto t0 = Clock::now();
@@ -334,7 +331,9 @@ SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
   SptBytes out;
   out.depth = tree.depth;
   SptSink sink;
-  sink.write = [&](const unsigned char* p, std::size_t k) { out.bytes.insert(out.bytes.end(), p, p + k); };
+  sink.write = [&](const unsigned char* p, std::size_t k) {
+    out.bytes.insert(out.bytes.end(), p, p + k);
+  };
   sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) {
     std::copy(p, p + k, out.bytes.begin() + static_cast<std::ptrdiff_t>(at));
   };

@@ -62,10 +62,10 @@ DiscErrors disc_errors(const SptDisc& p, std::span<const SptDisc> children) {
     const __m128 one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps();
     for (int k = 0; k < 8; k += 4) {
       const __m128 x = _mm_loadu_ps(ux + k), y = _mm_loadu_ps(uy + k), z = _mm_loadu_ps(uz + k);
-      const __m128 along = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, vx), _mm_mul_ps(y, vy)),
-                                      _mm_mul_ps(z, vz));
-      const __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, nx), _mm_mul_ps(y, ny)),
-                                  _mm_mul_ps(z, nz));
+      const __m128 along =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, vx), _mm_mul_ps(y, vy)), _mm_mul_ps(z, vz));
+      const __m128 t =
+          _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, nx), _mm_mul_ps(y, ny)), _mm_mul_ps(z, nz));
       const __m128 rest = _mm_sqrt_ps(_mm_max_ps(zero, _mm_sub_ps(one, _mm_mul_ps(t, t))));
       const __m128 reach = _mm_add_ps(along, _mm_mul_ps(r, rest));
       // max(h, reach) keeping h when they are equal or reach is NaN, as std::max

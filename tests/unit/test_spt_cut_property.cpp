@@ -21,8 +21,8 @@ namespace splatkit::spt {
 namespace {
 
 // Checks every leaf's path at `distances`; returns the number of (leaf, distance) failures.
-std::size_t cut_failures(const EncodedSpt& file, const SptModel& m,
-                         std::size_t n, const std::vector<float>& distances) {
+std::size_t cut_failures(const EncodedSpt& file, const SptModel& m, std::size_t n,
+                         const std::vector<float>& distances) {
   std::size_t failures = 0;
   for (std::size_t leaf = 0; leaf < n; ++leaf)
     for (float r : distances) {
