@@ -444,7 +444,6 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
     });
     for (std::size_t j = 0; j < count; ++j) {
       base[j] = sum.next;
-      if (batch[j].next > 0) tree.spans.push_back({sum.next, sum.next + batch[j].next});
       sum.next += batch[j].next;
     }
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t j) {
@@ -493,7 +492,6 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
     return builder.attach(sum, ids, discs);
   };
   if (!top.empty()) finish_top(finish_top, 0);
-  if (sum.next > top_base) tree.spans.push_back({top_base, sum.next});
   tree.interiors = sum.next;
   tree.depth = sum.depth;
   tree.error_lo = sum.error_lo;

@@ -96,18 +96,16 @@ struct SptTreeOptions {
 };
 
 struct SptTree {
-  // Node i < N is splat i (a leaf); node N + s is the interior node in slot s of `records`
-  // (allocated for N, written densely from slot 0: the pages beyond are never touched). The
-  // slots in use are `spans`, in node order: each subtree's nodes in post-order, subtrees in
-  // Morton order, then the nodes above them in post-order (the root last). Children have
-  // smaller numbers than their parent.
+  // Node i < N is splat i (a leaf); node N + s is the interior node in slot s < interiors of
+  // `records` (allocated for N, written densely from slot 0: the pages beyond are never
+  // touched): each subtree's nodes in post-order, subtrees in Morton order, then the nodes above
+  // them in post-order (the root last). Children have smaller numbers than their parent.
   std::size_t leaves = 0;
   std::vector<uint32_t> leaf_parent;  // #N node numbers (kNoParent: a single splat is the root);
                                       // r_max codes after encode_spt
   SlotArray<SptRecord> records;
   SlotArray<SptFullRecord> full_records;             // slots as records, when options.full
-  std::vector<std::pair<uint32_t, uint32_t>> spans;  // used slots [begin, end), node order
-  std::size_t interiors = 0;                         // used slots
+  std::size_t interiors = 0;                         // slots in use
   uint32_t depth = 0;                                // edges from the root to the deepest leaf
   Vec3f box_min{0, 0, 0}, step{0, 0, 0};             // frame of the records' position codes
   float error_lo = INFINITY, error_hi = 0;           // positive errors of interior nodes

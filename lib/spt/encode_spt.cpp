@@ -19,34 +19,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The nodes in node order as a sequence q = 0, 1, ...: the leaves, then the used slots.
+// The nodes in node order as a sequence q = 0, 1, ...: the leaves, then the interior slots.
 struct NodeSequence {
   std::size_t n = 0, total = 0;
-  std::vector<std::pair<uint32_t, uint32_t>> spans;
-  std::vector<std::size_t> before;  // #spans: used slots before span k
 
-  explicit NodeSequence(const SptTree& t) : n(t.leaves), total(t.size()), spans(t.spans) {
-    std::size_t sum = 0;
-    for (const auto& s : spans) {
-      before.push_back(sum);
-      sum += s.second - s.first;
-    }
-  }
+  explicit NodeSequence(const SptTree& t) : n(t.leaves), total(t.size()) {}
   // f(is_leaf, index: leaf or slot) for q in [q0, q1), in order.
   template <class F>
   void each(std::size_t q0, std::size_t q1, F&& f) const {
-    std::size_t q = q0;
-    for (; q < std::min(q1, n); ++q) f(true, static_cast<uint32_t>(q));
-    if (q >= q1) return;
-    std::size_t k = static_cast<std::size_t>(std::upper_bound(before.begin(), before.end(), q - n) -
-                                             before.begin() - 1);
-    for (; q < q1; ++k) {
-      const std::size_t off = q - n - before[k];
-      const std::size_t len = spans[k].second - spans[k].first;
-      const std::size_t stop = std::min(len, off + (q1 - q));
-      for (std::size_t i = off; i < stop; ++i) f(false, static_cast<uint32_t>(spans[k].first + i));
-      q += stop - off;
-    }
+    for (std::size_t q = q0; q < std::min(q1, n); ++q) f(true, static_cast<uint32_t>(q));
+    for (std::size_t q = std::max(q0, n); q < q1; ++q) f(false, static_cast<uint32_t>(q - n));
   }
   uint32_t node(bool leaf, uint32_t index) const {
     return leaf ? index : static_cast<uint32_t>(n + index);
@@ -97,18 +79,19 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   const LogScale rs = r_scale(h.r_lo, h.r_hi), ds = d_scale(h.d_lo, h.d_hi);
 
   EncodedSpt out;
-  const std::size_t slots = tree.records.size;
   if (keep_map) {
-    out.parent.assign(n + slots, kNoParent);
+    out.parent.assign(total, kNoParent);
     std::copy(tree.leaf_parent.begin(), tree.leaf_parent.end(), out.parent.begin());
     seq.each(n, total, [&](bool, uint32_t s) { out.parent[n + s] = tree.records[s].parent; });
   }
   // r_min codes, then r_max codes in place of the parents (compact); full lists keep parents.
-  const auto& spans = tree.spans;
-  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t k) {
-    for (uint32_t s = spans[k].first; s < spans[k].second; ++s)
-      tree.records[s].r_min = encode_r(r_of(tree.records[s].error), rs);
-  });
+  const std::size_t interiors = tree.interiors;
+  auto each_slot = [&](auto&& f) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, interiors, 1 << 14), [&](const auto& r) {
+      for (std::size_t s = r.begin(); s < r.end(); ++s) f(s);
+    });
+  };
+  each_slot([&](std::size_t s) { tree.records[s].r_min = encode_r(r_of(tree.records[s].error), rs); });
   auto parent_code = [&](uint32_t p) -> uint32_t {
     return p == kNoParent ? kRInfinity : tree.records[p - n].r_min;
   };
@@ -121,10 +104,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       for (std::size_t i = r.begin(); i < r.end(); ++i)
         tree.leaf_parent[i] = parent_code(tree.leaf_parent[i]);
     });
-    tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t k) {
-      for (uint32_t s = spans[k].first; s < spans[k].second; ++s)
-        tree.records[s].parent = parent_code(tree.records[s].parent);
-    });
+    each_slot([&](std::size_t s) { tree.records[s].parent = parent_code(tree.records[s].parent); });
   }
 
   // Compact: the leaves' codes, each array made and its source released in turn, so that
@@ -164,7 +144,6 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       release(in.colors);
     }
   }
-  auto leaf_key = [&](uint32_t i) -> uint32_t { return leaf_r_max[i]; };
 
   // One entry's bytes.
   auto encode = [&](bool leaf, uint32_t i, unsigned char* e) {
@@ -230,7 +209,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
       uint32_t* count = start.data() + c * 65536;
       seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
-        const uint32_t r_max = leaf ? leaf_key(i) : tree.records[i].parent;
+        const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
         const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
         if (r_max > r_min) ++count[65535 - r_max];
       });
@@ -262,7 +241,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   h.entries = kept;
   out.bytes = kSptHeaderBytes + kept * h.entry_bytes;
   if (keep_map) {
-    out.entry_of_node.assign(n + slots, kNoParent);
+    out.entry_of_node.assign(total, kNoParent);
   }
   unsigned char header[kSptHeaderBytes];
   write_spt_header(h, header);
@@ -290,7 +269,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
           d = dest[q++];
           if (d == kNoParent) return;
         } else {
-          const uint32_t r_max = leaf ? leaf_key(i) : tree.records[i].parent;
+          const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
           const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
           if (!(r_max > r_min)) return;
           d = next[65535 - r_max]++;
