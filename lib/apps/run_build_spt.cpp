@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <malloc.h>
+
 #include <cmath>
 #include <sstream>
 #include <string_view>
@@ -13,19 +15,6 @@
 
 namespace splatkit::apps {
 
-namespace {
-
-// v[i] = v[order[i]], one array at a time (so the extra memory is one array's).
-template <class T>
-void permute(std::vector<T>& v, const std::vector<uint32_t>& order) {
-  if (v.empty()) return;
-  std::vector<T> out(v.size());
-  tbb::parallel_for(std::size_t{0}, v.size(), [&](std::size_t i) { out[i] = v[order[i]]; });
-  v.swap(out);
-}
-
-}  // namespace
-
 StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
   if (output != "-" && !std::string_view(output).ends_with(".spt"))
@@ -34,6 +23,10 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
     throw_usage("--epsilon must be a positive number of radians");
   if (!(o.color_weight >= 0) || !std::isfinite(o.color_weight))
     throw_usage("--color-weight must be zero or positive");
+  // Arrays of a megabyte or more get pages of their own, returned to the system when freed (by
+  // default the threshold rises to 32 MiB after the first large free and later arrays below it
+  // stay in the heap when released): the peak is the sum of what is alive, not of what was.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   Stage stage("build-spt", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   SplatCloud& cloud = doc.cloud;
@@ -41,23 +34,21 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");
   check_splats(cloud, stage.input_name());
-  cloud.extras = {};  // not part of an .spt: the memory goes to the tree
-  cloud.axes = {};
-  cloud.minor_radii = {};
-  for (Vec3f& n : cloud.normals) n = normalized(n);
-  // The splats in the tree's order: building and encoding then read memory in order.
-  stage.phase("order", "sorting the splats", [&] {
-    const std::vector<uint32_t> order = spt::morton_order(cloud.positions);
-    permute(cloud.positions, order);
-    permute(cloud.normals, order);
-    permute(cloud.radii, order);
-    permute(cloud.colors, order);
-  });
-  const spt::SptInput input{cloud.positions, cloud.normals, cloud.radii, cloud.colors,
-                            cloud.color_bits};
+  // Not part of an .spt: the memory goes to the tree (swapped out: `= {}` keeps the capacity).
+  std::vector<ExtraAttribute>().swap(cloud.extras);
+  std::vector<Vec3f>().swap(cloud.axes);
+  std::vector<float>().swap(cloud.minor_radii);
+  const std::size_t points = cloud.size();
+  const bool has_color = !cloud.colors.empty();
+  // The splats in the tree's order, moved out of the cloud (colours made 8-bit).
+  spt::SptSplats splats = spt::take_spt_splats(cloud);
+  spt::SptOrder order =
+      stage.phase("order", "sorting the splats", [&] { return spt::sort_spt_splats(splats); });
   progress(0.3, "building the tree");
-  const spt::SptTree tree = stage.phase("tree", "building the point tree",
-                                        [&] { return spt::build_spt_tree(input, o.color_weight); });
+  spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
+    return spt::build_spt_tree(splats, order, {o.color_weight, o.full});
+  });
+  std::vector<uint8_t>().swap(order.levels);
   const nlohmann::json options = {{"epsilon", o.epsilon},
                                   {"color_weight", o.color_weight},
                                   {"precision", o.full ? "full" : "compact"}};
@@ -68,27 +59,35 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   eo.color_weight = o.color_weight;
   eo.full = o.full;
   eo.origin = cloud.origin;
-  spt::EncodedSpt file = stage.phase("sequentialise", "sorting and quantising the list",
-                                     [&] { return spt::encode_spt(tree, input, eo); });
-  const Clock::time_point t0 = Clock::now();
+  // Written as encoded: the list is never whole in memory when the output can be patched (a
+  // file: the checksum goes into the header at the end).
   OutputFile out(output);
-  out.write(file.bytes.data(), file.bytes.size());
-  stage.record("write", seconds_since(t0));
+  spt::SptSink sink;
+  sink.write = [&](const unsigned char* p, std::size_t k) { out.write(p, k); };
+  if (!out.is_direct())
+    sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+      out.write_at(at, p, k);
+    };
+  const Clock::time_point t0 = Clock::now();
+  const spt::EncodedSpt file = spt::encode_spt(tree, splats, eo, sink);
+  const double encode_s = seconds_since(t0);
+  stage.record("sequentialise", encode_s - file.write_seconds);
+  stage.record("write", file.write_seconds);
 
   nlohmann::json report;
-  const double n = static_cast<double>(cloud.size());
+  const double n = static_cast<double>(points);
   if (!o.paths.report.empty()) {
-    report = {{"input_points", cloud.size()},
+    report = {{"input_points", points},
               {"tree_nodes", tree.size()},
-              {"interior_nodes", tree.interiors.size()},
+              {"interior_nodes", tree.interiors},
               {"entries", file.entries},
               {"entries_dropped_empty_interval", file.dropped_empty},
               {"entries_per_input_point", static_cast<double>(file.entries) / n},
               {"depth", tree.depth},
               {"precision", o.full ? "full" : "compact"},
-              {"color", !cloud.colors.empty()},
-              {"file_bytes", file.bytes.size()},
-              {"bytes_per_input_point", static_cast<double>(file.bytes.size()) / n},
+              {"color", has_color},
+              {"file_bytes", file.bytes},
+              {"bytes_per_input_point", static_cast<double>(file.bytes) / n},
               {"peak_rss_bytes_per_point", static_cast<double>(peak_rss_bytes()) / n}};
     const double work = stage.seconds("read") + stage.seconds("order") + stage.seconds("tree") +
                         stage.seconds("sequentialise") + stage.seconds("write");
@@ -98,8 +97,8 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   stage.commit(outputs, std::move(report));
   std::ostringstream extra;
   extra << file.entries << " entries (" << static_cast<double>(file.entries) / n
-        << " per point), depth " << tree.depth << ", " << file.bytes.size() << " bytes";
-  return {cloud.size(), "points", extra.str()};
+        << " per point), depth " << tree.depth << ", " << file.bytes << " bytes";
+  return {points, "points", extra.str()};
 }
 
 }  // namespace splatkit::apps

@@ -290,7 +290,15 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
         {"splats_selected", s.splats_in},
         {"splats_drawn", s.splats_drawn},
         {"select_ms", std::round(s.select_s * 1e6) / 1e3},
+
         {"selected_per_second", s.select_s > 0 ? std::round(s.splats_in / s.select_s) : 0.0}};
+    if (s.lod.spt_cpu_s > 0) {  // --blend zbuffer: selection and drawing in one pass
+      j["spt"]["drawn_as_points"] = s.lod.spt_points;
+      j["spt"]["mean_diameter_px"] =
+          s.splats_drawn > 0 ? s.lod.spt_diameter_px_sum / static_cast<double>(s.splats_drawn)
+                             : 0.0;
+      j["spt"]["select_cpu_ms"] = std::round(s.lod.spt_cpu_s * 1e6) / 1e3;
+    }
   }
   return j;
 }

@@ -82,6 +82,7 @@ SptModel parse_spt(std::span<const unsigned char> b, const std::string& name) {
   m.r_max.resize(n);
   if (h.has_color()) m.colors.resize(n);
   float previous = INFINITY;
+  const LogScale rs = r_scale(h.r_lo, h.r_hi), ds = d_scale(h.d_lo, h.d_hi);
   for (std::size_t i = 0; i < n; ++i) {
     const unsigned char* e = b.data() + kSptHeaderBytes + i * h.entry_bytes;
     const uint64_t at = kSptHeaderBytes + i * uint64_t{h.entry_bytes};
@@ -108,12 +109,12 @@ SptModel parse_spt(std::span<const unsigned char> b, const std::string& name) {
         (&x.position.x)[k] = decode_position(get_u16(e + 2 * k), lo, step);
       }
       x.normal = decode_normal(get_u16(e + 6));
-      x.diameter = decode_diameter(get_u16(e + 8), h.d_lo, h.d_hi);
+      x.diameter = decode_diameter(get_u16(e + 8), ds);
       const uint16_t rmin = get_u16(e + 10), rmax = get_u16(e + 12);
       if (rmin == kRInfinity) fail(name, at + 10, "r_min is infinite");
       if (rmax < rmin) fail(name, at + 12, "r_max is below r_min");
-      x.r_min = decode_r(rmin, h.r_lo, h.r_hi);
-      x.r_max = decode_r(rmax, h.r_lo, h.r_hi);
+      x.r_min = decode_r(rmin, rs);
+      x.r_max = decode_r(rmax, rs);
       x.color = decode_rgb565(get_u16(e + 14));
       if (!finite3(x.position)) fail(name, at, "position is not finite");
     }

@@ -17,34 +17,6 @@ uint64_t get_u64(const unsigned char* p) { return get_u32(p) | uint64_t{get_u32(
 void put_f64(unsigned char* p, double v) { put_u64(p, std::bit_cast<uint64_t>(v)); }
 double get_f64(const unsigned char* p) { return std::bit_cast<double>(get_u64(p)); }
 
-// Position on a log scale of `steps` codes from lo (code 0) to hi (code steps − 1), as a real.
-// The scale's constant is kept from one call to the next (the writer encodes millions of values
-// on one scale).
-double log_position(double v, double lo, double hi, int steps) {
-  if (!(hi > lo)) return 0;
-  thread_local double last_lo = 0, last_hi = 0, last_factor = 0;
-  thread_local int last_steps = 0;
-  if (lo != last_lo || hi != last_hi || steps != last_steps) {
-    last_lo = lo;
-    last_hi = hi;
-    last_steps = steps;
-    last_factor = (steps - 1) / std::log(hi / lo);
-  }
-  return std::log(v / lo) * last_factor;
-}
-double log_value(double pos, double lo, double hi, int steps) {
-  if (!(hi > lo)) return lo;
-  thread_local double last_lo = 0, last_hi = 0, last_factor = 0;
-  thread_local int last_steps = 0;
-  if (lo != last_lo || hi != last_hi || steps != last_steps) {
-    last_lo = lo;
-    last_hi = hi;
-    last_steps = steps;
-    last_factor = std::log(hi / lo) / (steps - 1);
-  }
-  return lo * std::exp(pos * last_factor);
-}
-
 }  // namespace
 
 void put_u32(unsigned char* p, uint32_t v) {
@@ -130,28 +102,42 @@ Vec3f decode_normal(uint16_t code) {
   return normalized(n);
 }
 
-uint16_t encode_r(float r, float lo, float hi) {
+LogScale::LogScale(double l, double h, int n) : lo(l), hi(h), steps(n) {
+  if (h > l) {
+    to_position = (n - 1) / std::log(h / l);
+    to_value = std::log(h / l) / (n - 1);
+  }
+}
+double LogScale::position(double v) const { return hi > lo ? std::log(v / lo) * to_position : 0.0; }
+double LogScale::value(double pos) const { return hi > lo ? lo * std::exp(pos * to_value) : lo; }
+
+LogScale r_scale(float r_lo, float r_hi) { return {r_lo, r_hi, 65534}; }
+LogScale d_scale(float d_lo, float d_hi) { return {d_lo, d_hi, 65535}; }
+
+uint16_t encode_r(float r, const LogScale& s) {
   if (std::isinf(r)) return kRInfinity;
   if (!(r > 0)) return 0;
-  const double pos = std::floor(log_position(std::clamp(r, lo, hi), lo, hi, 65534) + 0.5);
+  const float lo = static_cast<float>(s.lo), hi = static_cast<float>(s.hi);
+  const double pos = std::floor(s.position(std::clamp(r, lo, hi)) + 0.5);
   return static_cast<uint16_t>(1 + std::clamp(pos, 0.0, 65533.0));
 }
-float decode_r(uint16_t code, float lo, float hi) {
+float decode_r(uint16_t code, const LogScale& s) {
   if (code == 0) return 0;
   if (code == kRInfinity) return INFINITY;
-  return static_cast<float>(log_value(code - 1, lo, hi, 65534));
+  return static_cast<float>(s.value(code - 1));
 }
 
-uint16_t encode_diameter(float d, float lo, float hi) {
+uint16_t encode_diameter(float d, const LogScale& s) {
   if (!(d > 0)) return 0;
-  double pos = std::ceil(log_position(std::max(d, lo), lo, hi, 65535) - 1e-9);
+  const float lo = static_cast<float>(s.lo);
+  double pos = std::ceil(s.position(std::max(d, lo)) - 1e-9);
   pos = std::clamp(pos, 0.0, 65534.0);
-  while (pos < 65534 && decode_diameter(static_cast<uint16_t>(1 + pos), lo, hi) < d) ++pos;
+  while (pos < 65534 && decode_diameter(static_cast<uint16_t>(1 + pos), s) < d) ++pos;
   return static_cast<uint16_t>(1 + pos);
 }
-float decode_diameter(uint16_t code, float lo, float hi) {
+float decode_diameter(uint16_t code, const LogScale& s) {
   if (code == 0) return 0;
-  return static_cast<float>(log_value(code - 1, lo, hi, 65535));
+  return static_cast<float>(s.value(code - 1));
 }
 
 uint16_t encode_rgb565(const std::array<uint8_t, 3>& c) {

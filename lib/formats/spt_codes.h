@@ -71,10 +71,26 @@ uint16_t encode_position(float p, float lo, float step);
 float decode_position(uint16_t q, float lo, float step);
 uint16_t encode_normal(const Vec3f& n);  // n unit
 Vec3f decode_normal(uint16_t code);
-uint16_t encode_r(float r, float lo, float hi);  // r >= 0 or infinity
-float decode_r(uint16_t code, float lo, float hi);
-uint16_t encode_diameter(float d, float lo, float hi);  // d in [0, hi]: decoded >= d
-float decode_diameter(uint16_t code, float lo, float hi);
+// A logarithmic code scale from lo (first code) to hi (last code) over `steps` codes, with its
+// constants worked out once: built once per file by the writer and the reader (the r scale of
+// the header's r_lo, r_hi and the diameter scale of d_lo, d_hi) and passed to the coders below.
+struct LogScale {
+  double lo = 1, hi = 1;
+  int steps = 2;
+  double to_position = 0;  // (steps − 1) / ln(hi / lo), 0 when hi <= lo
+  double to_value = 0;     // ln(hi / lo) / (steps − 1)
+  LogScale() = default;
+  LogScale(double lo, double hi, int steps);
+  double position(double v) const;  // of v in [lo, hi], as a real in [0, steps − 1]
+  double value(double position) const;
+};
+LogScale r_scale(float r_lo, float r_hi);  // 65534 codes (1..65534)
+LogScale d_scale(float d_lo, float d_hi);  // 65535 codes (1..65535)
+
+uint16_t encode_r(float r, const LogScale& s);  // r >= 0 or infinity; s from r_scale
+float decode_r(uint16_t code, const LogScale& s);
+uint16_t encode_diameter(float d, const LogScale& s);  // d in [0, hi]: decoded >= d; s: d_scale
+float decode_diameter(uint16_t code, const LogScale& s);
 uint16_t encode_rgb565(const std::array<uint8_t, 3>& c);
 std::array<uint8_t, 3> decode_rgb565(uint16_t c);
 

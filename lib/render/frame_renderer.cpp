@@ -358,6 +358,9 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
         draw_spt_zbuffer(*scene.spt, scene.bounds, projection, options.spt_error_px, zb);
     stats.lod.spt_prefix = c.prefix;
     stats.lod.spt_culled = c.prefix - c.selected;
+    stats.lod.spt_points = c.points;
+    stats.lod.spt_diameter_px_sum = c.diameter_px_sum;
+    stats.lod.spt_cpu_s = c.cpu_s;
     stats.splats_in = c.selected;
     stats.splats_drawn = c.drawn;
     stats.select_s = seconds(cleared, Clock::now());

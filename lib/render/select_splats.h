@@ -45,6 +45,12 @@ struct LodStats {
   // nearest distance, and the entries of that prefix whose own distance is outside [r_min, r_max).
   uint64_t spt_prefix = 0;
   uint64_t spt_culled = 0;
+  // `--blend zbuffer` on an SPT scene: drawn splats written as one pixel (projected diameter at
+  // most kSptPointDiameterPx, select_spt.h), and the sum of every drawn splat's projected
+  // diameter in pixels (for the mean).
+  uint64_t spt_points = 0;
+  double spt_diameter_px_sum = 0;
+  double spt_cpu_s = 0;  // CPU time of the selection and drawing, all threads
 };
 
 // Every splat of a plain scene; for a QSplat scene (RenderScene::qsplat) the nodes the QSplat

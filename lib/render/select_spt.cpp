@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <ctime>
 
 #include "render/render_scene.h"
 
@@ -47,6 +48,13 @@ Prefix find_prefix(const SptModel& m, const BoundingSphere& bounds, const Projec
 
 constexpr std::size_t kChunk = 1 << 15;  // prefix entries per task
 
+// CPU time of the calling thread (the machine may be shared: wall time includes waiting).
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 }  // namespace
 
 Vec3f spt_linear_color(const std::array<uint8_t, 3>& rgb) {
@@ -60,23 +68,51 @@ SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bound
   const Prefix found = find_prefix(m, bounds, proj, error_px);
   const float k = found.k;  // named copies: clang 14 lambdas cannot capture structured bindings
   const std::size_t prefix = found.length;
-  struct Counts {
-    uint64_t selected = 0, drawn = 0;
-  };
-  const Counts c = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, prefix, kChunk), Counts{},
-      [&](const auto& range, Counts acc) {
+  const float point_radius_px = 0.5f * kSptPointDiameterPx;
+  const Vec3f* positions = m.positions.data();
+  const float* r_min = m.r_min.data();
+  const float* r_max = m.r_max.data();
+  const float* diameters = m.diameters.data();
+  const SptZBufferCounts c = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, prefix, kChunk), SptZBufferCounts{},
+      [&](const auto& range, SptZBufferCounts acc) {
+        const double cpu0 = thread_cpu_seconds();
+        const Projection p = proj;  // a local copy: the stores into the buffer cannot alias it
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
-          const float r = norm(m.positions[i] - proj.eye) * k;
-          if (!(m.r_min[i] <= r && r < m.r_max[i])) continue;
+          const Vec3f d = positions[i] - p.eye;
+          const float r = norm(d) * k;
+          if (!(r_min[i] <= r && r < r_max[i])) continue;
           ++acc.selected;
-          acc.drawn += zbuffer_splat(buffer, proj, proj.to_camera(m.positions[i]),
-                                     0.5f * m.diameters[i], static_cast<uint32_t>(i));
+          const Vec3f cam{dot(d, p.right), dot(d, p.down), dot(d, p.forward)};  // to_camera
+          const float radius = 0.5f * diameters[i];
+          if (!(cam.z - radius >= p.near)) continue;  // as zbuffer_splat: not drawn
+          const float inv = 1.0f / cam.z;
+          const float rp = p.focal_px * radius * inv;
+          bool drawn;
+          if (rp <= point_radius_px) {
+            drawn = zbuffer_point(buffer, p.cx + p.focal_px * cam.x * inv,
+                                  p.cy + p.focal_px * cam.y * inv, cam.z, static_cast<uint32_t>(i));
+            acc.points += drawn;
+          } else {
+            drawn = zbuffer_splat(buffer, p, cam, radius, static_cast<uint32_t>(i));
+          }
+          acc.drawn += drawn;
+          if (drawn) acc.diameter_px_sum += 2 * rp;
         }
+        acc.cpu_s += thread_cpu_seconds() - cpu0;
         return acc;
       },
-      [](Counts a, const Counts& b) { return Counts{a.selected + b.selected, a.drawn + b.drawn}; });
-  return {prefix, c.selected, c.drawn};
+      [](SptZBufferCounts a, const SptZBufferCounts& b) {
+        a.selected += b.selected;
+        a.drawn += b.drawn;
+        a.points += b.points;
+        a.diameter_px_sum += b.diameter_px_sum;
+        a.cpu_s += b.cpu_s;
+        return a;
+      });
+  SptZBufferCounts out = c;
+  out.prefix = prefix;
+  return out;
 }
 
 DrawList select_spt(const SptModel& m, const BoundingSphere& bounds, const Projection& proj,

@@ -38,6 +38,25 @@ struct DepthKeyBuffer {
   }
 };
 
+// Writes the key of splat `index` at depth z (> 0) into the pixel under (px, py), if that pixel
+// is in the image: a splat drawn as a point. Safe to call from several threads at once.
+inline bool zbuffer_point(DepthKeyBuffer& b, float px, float py, float z, uint32_t index) {
+  if (!(px >= 0.0f && py >= 0.0f && px < static_cast<float>(b.width) &&
+        py < static_cast<float>(b.height)))
+    return false;
+  const std::size_t at =
+      static_cast<std::size_t>(static_cast<int>(py)) * static_cast<std::size_t>(b.width) +
+      static_cast<std::size_t>(static_cast<int>(px));
+  uint32_t bits;
+  std::memcpy(&bits, &z, 4);  // positive floats order like their bit patterns
+  const uint64_t key = (uint64_t{bits} << 32) | index;
+  std::atomic_ref<uint64_t> slot(b.keys[at]);
+  uint64_t cur = slot.load(std::memory_order_relaxed);
+  while (key < cur && !slot.compare_exchange_weak(cur, key, std::memory_order_relaxed)) {
+  }
+  return true;
+}
+
 // Draws splat `index` with camera-space centre `c` (Projection::to_camera) and radius `r` (scene
 // units). Not drawn (returns false) when any part of it is nearer than projection.near or when it
 // covers no pixel of the image. Safe to call from several threads at once.

@@ -184,6 +184,23 @@ void OutputFile::write(const void* data, std::size_t n) {
   used_ += n;
 }
 
+void OutputFile::write_at(uint64_t offset, const void* data, std::size_t n) {
+  if (committed_) fail("write after commit");
+  if (is_direct()) fail("cannot rewrite bytes already sent");
+  if (offset > written_ || n > written_ - offset) fail("rewrite past the bytes written");
+  flush();
+  const char* p = static_cast<const char*>(data);
+  std::size_t off = 0;
+  while (off < n) {
+    const ssize_t k = ::pwrite(fd_, p + off, n - off, static_cast<off_t>(offset + off));
+    if (k < 0) {
+      if (errno == EINTR) continue;
+      fail("write failed: " + errno_text(errno));
+    }
+    off += static_cast<std::size_t>(k);
+  }
+}
+
 void OutputFile::commit() {
   if (committed_) return;
   flush();

@@ -46,6 +46,9 @@ class OutputFile {
 
   void write(const void* data, std::size_t n);
   void write(std::string_view s) { write(s.data(), s.size()); }
+  // Overwrites n of the bytes already written, from `offset` on (e.g. a header's checksum known
+  // only at the end). Only when !is_direct(): a temporary file can be written anywhere.
+  void write_at(uint64_t offset, const void* data, std::size_t n);
   uint64_t bytes_written() const { return written_; }
   const std::string& path() const { return path_; }
   bool is_stdout() const { return path_ == "-"; }

@@ -1,19 +1,20 @@
 #include "spt/build_spt_tree.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <span>
+#include <new>
 #include <tuple>
 #include <utility>
+
+#include "formats/spt_codes.h"
 
 namespace splatkit::spt {
 
 namespace {
-
-using Keyed = std::pair<uint64_t, uint32_t>;  // (Morton code, splat)
 
 // Spreads the low 21 bits of v to every third bit.
 uint64_t spread(uint64_t v) {
@@ -26,101 +27,168 @@ uint64_t spread(uint64_t v) {
   return v;
 }
 
-// Morton codes of splats keys[b, e) over the bounding cube of their own centres.
-void assign_codes(const SptInput& in, std::span<Keyed> keys) {
-  Vec3f lo = in.positions[keys[0].second], hi = lo;
-  for (const Keyed& k : keys) {
-    const Vec3f& p = in.positions[k.second];
+// Morton codes (21 bits per axis) over the bounding cube of a box.
+struct MortonFrame {
+  Vec3f lo;
+  double scale;
+  MortonFrame(const Vec3f& l, const Vec3f& h) : lo(l) {
+    const double extent = std::max({double(h.x) - l.x, double(h.y) - l.y, double(h.z) - l.z});
+    scale = extent > 0 ? 2097151.0 / extent : 0.0;
+  }
+  uint64_t code(const Vec3f& p) const {
+    auto q = [&](float v, float l) {
+      return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
+    };
+    return spread(q(p.x, lo.x)) << 2 | spread(q(p.y, lo.y)) << 1 | spread(q(p.z, lo.z));
+  }
+};
+
+struct Box {
+  Vec3f lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  void add(const Vec3f& p) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  const double extent = std::max({double(hi.x) - lo.x, double(hi.y) - lo.y, double(hi.z) - lo.z});
-  const double scale = extent > 0 ? 2097151.0 / extent : 0.0;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const Vec3f& p = in.positions[keys[i].second];
-      auto q = [&](float v, float l) {
-        return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
-      };
-      keys[i].first = spread(q(p.x, lo.x)) << 2 | spread(q(p.y, lo.y)) << 1 | spread(q(p.z, lo.z));
-    }
+  void add(const Box& b) {
+    add(b.lo);
+    add(b.hi);
+  }
+};
+
+Box box_of(std::span<const Vec3f> p) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, p.size(), 1 << 16), Box{},
+      [&](const auto& r, Box b) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) b.add(p[i]);
+        return b;
+      },
+      [](Box a, const Box& b) {
+        a.add(b);
+        return a;
+      });
+}
+
+// Levels: a run ordered again over its own cube (a cluster) ranks below every level outside it.
+constexpr int kMaxClusterDepth = 10;
+uint8_t level_of(uint64_t x, int depth) {
+  if (x == 0 || depth > kMaxClusterDepth) return 0;
+  return static_cast<uint8_t>(1 + (63 - std::countl_zero(x)) / 3 + 22 * (kMaxClusterDepth - depth));
+}
+
+// v[b + i] = old v[b + from[i]] for the range [b, b + from.size()).
+template <class T>
+void permute_range(std::vector<T>& v, std::size_t b, const std::vector<uint32_t>& from) {
+  if (v.empty()) return;
+  std::vector<T> tmp(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) tmp[i] = v[b + from[i]];
+  std::copy(tmp.begin(), tmp.end(), v.begin() + static_cast<std::ptrdiff_t>(b));
+}
+
+// v[i] = v[key[i] & mask], the whole array (the extra memory is one array's).
+template <class T, class Convert>
+void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t mask,
+                 Convert convert) {
+  if (v.empty()) return;
+  std::vector<T> out(v.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1 << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = convert(v[keys[i] & mask]);
   });
+  v.swap(out);
 }
 
-std::vector<Keyed> sorted_by_morton(const SptInput& in) {
-  std::vector<Keyed> keys(in.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) keys[i].second = static_cast<uint32_t>(i);
-  assign_codes(in, keys);
-  if (!std::is_sorted(keys.begin(), keys.end()))  // the caller may have sorted the splats already
-    tbb::parallel_sort(keys.begin(), keys.end());
-  return keys;
+// Sorts keys by their bits from `low` up, keeping the order of keys equal there (least
+// significant digit first, 11 bits a pass; keys that start in index order end in (high bits,
+// index) order). Linear, and cheaper than a comparison sort for millions of keys.
+void radix_sort_high(std::vector<uint64_t>& keys, int low) {
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  const int passes = (64 - low + kBits - 1) / kBits;
+  std::vector<std::size_t> count(static_cast<std::size_t>(passes) * kBuckets, 0);
+  for (uint64_t k : keys)
+    for (int p = 0; p < passes; ++p)
+      ++count[p * kBuckets + ((k >> (low + p * kBits)) & (kBuckets - 1))];
+  std::vector<uint64_t> other(keys.size());
+  for (int p = 0; p < passes; ++p) {
+    std::size_t* c = count.data() + p * kBuckets;
+    if (std::find(c, c + kBuckets, keys.size()) != c + kBuckets) continue;  // one digit value
+    std::size_t sum = 0;
+    for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
+    const int shift = low + p * kBits;
+    for (uint64_t k : keys) other[c[(k >> shift) & (kBuckets - 1)]++] = k;
+    keys.swap(other);
+  }
 }
 
-// The child ranges of the sorted range [b, e) (size >= 2), appended to `cuts` as boundaries
-// b = cuts[0] < cuts[1] < ... < cuts.back() = e: at the first octree digit where the codes differ,
-// or one splat each when every code is equal. A range of more than 8 splats with one code (a
-// cluster far smaller than the cube's cells, beside a far outlier) gets codes over its own
-// bounding cube first, sorted again in place; only coincident centres stay one code.
-void split_range(const SptInput& in, std::vector<Keyed>& keys, std::size_t b, std::size_t e,
-                 std::vector<std::size_t>& cuts) {
-  cuts.clear();
-  uint64_t x = keys[b].first ^ keys[e - 1].first;
-  if (x == 0 && e - b > 8) {
-    const std::span<Keyed> range(keys.data() + b, e - b);
-    assign_codes(in, range);
-    std::sort(range.begin(), range.end());
-    x = keys[b].first ^ keys[e - 1].first;
+struct Sorter {
+  SptSplats& s;
+  std::vector<uint8_t>& levels;
+  std::vector<uint32_t>* old_index;
+
+  // Orders the cluster [b, e) by codes over its own bounding cube (ties in place), sets its
+  // levels for `depth`, and does the same for the clusters inside it.
+  void recode(std::size_t b, std::size_t e, int depth) {
+    if (depth > kMaxClusterDepth) return;
+    Box box;
+    for (std::size_t i = b; i < e; ++i) box.add(s.positions[i]);
+    const MortonFrame frame(box.lo, box.hi);
+    std::vector<std::pair<uint64_t, uint32_t>> keys(e - b);
+    for (std::size_t i = b; i < e; ++i)
+      keys[i - b] = {frame.code(s.positions[i]), static_cast<uint32_t>(i - b)};
+    std::sort(keys.begin(), keys.end());
+    if (keys.front().first == keys.back().first) return;  // coincident: one node
+    std::vector<uint32_t> from(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) from[i] = keys[i].second;
+    permute_range(s.positions, b, from);
+    permute_range(s.normals, b, from);
+    permute_range(s.radii, b, from);
+    permute_range(s.colors, b, from);
+    if (old_index) permute_range(*old_index, b, from);
+    for (std::size_t i = b; i + 1 < e; ++i)
+      levels[i] = level_of(keys[i - b].first ^ keys[i + 1 - b].first, depth);
+    clusters(b, e, depth + 1);
   }
-  if (x == 0) {
-    for (std::size_t i = b; i <= e; ++i) cuts.push_back(i);
-    return;
-  }
-  const int shift = (63 - std::countl_zero(x)) / 3 * 3;
-  cuts.push_back(b);
-  std::size_t from = b;
-  for (uint64_t digit = ((keys[b].first >> shift) & 7) + 1; digit < 8; ++digit) {
-    const auto it =
-        std::partition_point(keys.begin() + static_cast<std::ptrdiff_t>(from),
-                             keys.begin() + static_cast<std::ptrdiff_t>(e),
-                             [&](const Keyed& k) { return ((k.first >> shift) & 7) < digit; });
-    const std::size_t at = static_cast<std::size_t>(it - keys.begin());
-    if (at > from && at < e) {
-      cuts.push_back(at);
-      from = at;
+
+  // Every run of more than 8 equal codes in [b, e) ordered again.
+  void clusters(std::size_t b, std::size_t e, int depth) {
+    for (std::size_t i = b; i + 1 < e;) {
+      if (levels[i] != 0) {
+        ++i;
+        continue;
+      }
+      std::size_t j = i;
+      while (j + 1 < e && levels[j] == 0) ++j;  // splats i..j have one code
+      if (j - i + 1 > 8) recode(i, j + 1, depth);
+      i = j + 1;
     }
   }
-  cuts.push_back(e);
-}
+};
 
-// A subtree over a sorted range, built sequentially; its interiors take the numbers from `next`
-// on, in post-order (counted beforehand, so every subtree writes straight into the tree).
+// A subtree over a sorted range, built sequentially: slot s is stored at recs[s] (a scratch
+// buffer, copied into the tree afterwards, or the tree's own records for the top).
 struct Subtree {
-  uint32_t next = 0;
+  SptRecord* recs = nullptr;
+  SptFullRecord* fulls = nullptr;
+  uint32_t next = 0;  // the next slot
   uint32_t depth = 0;
+  float error_lo = INFINITY, error_hi = 0, radius_lo = INFINITY, radius_hi = 0;
 };
 
 struct Builder {
-  const SptInput& in;
-  std::vector<Keyed>& keys;
-  float color_weight;
-  bool has_color;
+  const SptSplats& in;
+  const uint8_t* levels;
   SptTree& tree;
+  float color_weight;
+  bool has_color, full;
 
-  // Interior nodes over [b, e), splitting exactly as build will: a cluster that split_range
-  // re-codes is put back as it was afterwards, so that build re-codes it the same way.
-  uint32_t count(std::size_t b, std::size_t e, std::vector<std::size_t>& cuts) const {
-    if (e - b == 1) return 0;
-    std::vector<Keyed> saved;
-    if (e - b > 8 && keys[b].first == keys[e - 1].first)
-      saved.assign(keys.begin() + static_cast<std::ptrdiff_t>(b),
-                   keys.begin() + static_cast<std::ptrdiff_t>(e));
-    split_range(in, keys, b, e, cuts);
-    const std::vector<std::size_t> mine = cuts;
-    uint32_t sum = 1;
-    for (std::size_t k = 0; k + 1 < mine.size(); ++k) sum += count(mine[k], mine[k + 1], cuts);
-    if (!saved.empty())
-      std::copy(saved.begin(), saved.end(), keys.begin() + static_cast<std::ptrdiff_t>(b));
-    return sum;
+  // The child ranges of [b, e) (size >= 2) as boundaries b = cuts[0] < ... < cuts.back() = e:
+  // at the highest level in the range, or one splat each when every code is equal.
+  void split(std::size_t b, std::size_t e, std::vector<std::size_t>& cuts) const {
+    cuts.clear();
+    const uint8_t top = *std::max_element(levels + b, levels + e - 1);
+    cuts.push_back(b);
+    for (std::size_t i = b; i + 1 < e; ++i)
+      if (levels[i] == top) cuts.push_back(i + 1);
+    cuts.push_back(e);
   }
 
   // Builds [b, e) into the tree; returns (node number, disc).
@@ -128,11 +196,9 @@ struct Builder {
                                      std::vector<std::size_t>& cuts) const {
     if (e - b == 1) {
       t.depth = std::max(t.depth, depth);
-      const uint32_t s = keys[b].second;
-      return {s, in.leaf(s)};
+      return {static_cast<uint32_t>(b), in.leaf(b)};
     }
-    if (e - b <= 32) prefetch(b, e);
-    split_range(in, keys, b, e, cuts);
+    split(b, e, cuts);
     const std::size_t kids = cuts.size() - 1;
     if (kids <= 8) {  // the usual case, without allocating
       std::array<std::size_t, 9> mine;
@@ -151,26 +217,49 @@ struct Builder {
     return attach(t, ids, discs);
   }
 
-  // The splats of a small range are scattered in memory (input order): ask for all of them at
-  // once instead of missing the cache one leaf at a time.
-  void prefetch(std::size_t b, std::size_t e) const {
-    for (std::size_t i = b; i < e; ++i) {
-      const uint32_t s = keys[i].second;
-      __builtin_prefetch(&in.positions[s]);
-      __builtin_prefetch(&in.normals[s]);
-      __builtin_prefetch(&in.radii[s]);
-      if (has_color) __builtin_prefetch(&in.colors[s]);
-    }
-  }
-
   // The next interior node of `t` over children `ids` with discs `discs`.
   std::pair<uint32_t, SptDisc> attach(Subtree& t, std::span<const uint32_t> ids,
                                       std::span<const SptDisc> discs) const {
-    const uint32_t id = t.next++;
-    SptDisc& d = tree.interiors[id - in.size()];
-    d = fit_spt_disc(discs, color_weight, has_color);
-    for (uint32_t c : ids) tree.parent[c] = id;
+    const uint32_t slot = t.next++;
+    const SptDisc d = fit_spt_disc(discs, color_weight, has_color);
+    store(t, slot, d);
+    if (d.error > 0) {
+      t.error_lo = std::min(t.error_lo, d.error);
+      t.error_hi = std::max(t.error_hi, d.error);
+    }
+    if (d.radius > 0) {
+      t.radius_lo = std::min(t.radius_lo, d.radius);
+      t.radius_hi = std::max(t.radius_hi, d.radius);
+    }
+    const uint32_t id = static_cast<uint32_t>(in.size() + slot);
+    for (uint32_t c : ids) {
+      if (c < in.size())
+        tree.leaf_parent[c] = id;
+      else
+        t.recs[c - in.size()].parent = id;
+    }
     return {id, d};
+  }
+
+  void store(Subtree& t, uint32_t slot, const SptDisc& d) const {
+    std::array<uint8_t, 3> rgb{0, 0, 0};
+    if (has_color) {
+      auto q = [](float v) {
+        return static_cast<uint8_t>(std::clamp(std::floor(v + 0.5f), 0.0f, 255.0f));
+      };
+      rgb = {q(d.color.x), q(d.color.y), q(d.color.z)};
+    }
+    SptRecord& r = t.recs[slot];
+    r.q = {encode_position(d.centre.x, tree.box_min.x, tree.step.x),
+           encode_position(d.centre.y, tree.box_min.y, tree.step.y),
+           encode_position(d.centre.z, tree.box_min.z, tree.step.z)};
+    r.normal = encode_normal(d.normal);
+    r.rgb565 = has_color ? encode_rgb565(rgb) : 0;
+    r.r_min = 0;
+    r.radius = d.radius;
+    r.error = d.error;
+    r.parent = kNoParent;
+    if (full) t.fulls[slot] = {d.centre, d.normal, rgb};
   }
 };
 
@@ -181,34 +270,128 @@ struct TopNode {
 
 }  // namespace
 
-std::vector<uint32_t> morton_order(std::span<const Vec3f> positions) {
-  const SptInput in{positions, {}, {}, {}, 8};
-  const std::vector<Keyed> keys = sorted_by_morton(in);
-  std::vector<uint32_t> order(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
-  return order;
+template <class T>
+void SlotArray<T>::allocate(std::size_t n) {
+  data.reset(static_cast<T*>(std::malloc(std::max<std::size_t>(n, 1) * sizeof(T))));
+  if (!data) throw std::bad_alloc();
+  size = n;
 }
+template struct SlotArray<SptRecord>;
+template struct SlotArray<SptFullRecord>;
 
-SptDisc SptInput::leaf(std::size_t i) const {
+SptDisc SptSplats::leaf(std::size_t i) const {
   SptDisc d;
   d.centre = positions[i];
   d.normal = normals[i];
   d.radius = radii[i];
-  if (!colors.empty()) {
-    const int shift = color_bits > 8 ? 8 : 0;
-    d.color = {static_cast<float>(colors[i][0] >> shift), static_cast<float>(colors[i][1] >> shift),
-               static_cast<float>(colors[i][2] >> shift)};
-  }
+  if (!colors.empty())
+    d.color = {static_cast<float>(colors[i][0]), static_cast<float>(colors[i][1]),
+               static_cast<float>(colors[i][2])};
   return d;
 }
 
-SptTree build_spt_tree(const SptInput& in, float color_weight) {
+SptSplats take_spt_splats(SplatCloud& cloud) {
+  SptSplats s;
+  s.positions = std::move(cloud.positions);
+  s.normals = std::move(cloud.normals);
+  s.radii = std::move(cloud.radii);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.normals.size(), 1 << 14),
+                    [&](const auto& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i)
+                        s.normals[i] = normalized(s.normals[i]);
+                    });
+  if (!cloud.colors.empty()) {
+    const int shift = cloud.color_bits > 8 ? 8 : 0;
+    s.colors.resize(cloud.colors.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.colors.size(), 1 << 14),
+                      [&](const auto& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i)
+                          for (int k = 0; k < 3; ++k)
+                            s.colors[i][k] = static_cast<uint8_t>(cloud.colors[i][k] >> shift);
+                      });
+    std::vector<std::array<uint16_t, 3>>().swap(cloud.colors);
+  }
+  return s;
+}
+
+SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
+  const std::size_t n = s.size();
+  SptOrder order;
+  const Box box = box_of(s.positions);
+  order.lo = box.lo;
+  order.hi = box.hi;
+  const MortonFrame frame(box.lo, box.hi);
+  // Keys of 8 bytes: the code's high bits, then the splat's index; runs of equal high bits are
+  // then ordered by the whole code (rare: the cells they tell apart are 2^-13 of the cube or
+  // finer up to 2^24 splats).
+  const int index_bits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
+  const int shift = index_bits - 1;
+  const uint64_t mask = (uint64_t{1} << index_bits) - 1;
+  std::vector<uint64_t> keys(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      keys[i] = (frame.code(s.positions[i]) >> shift) << index_bits | i;
+  });
+  radix_sort_high(keys, index_bits);
+  if (shift > 0) {
+    constexpr std::size_t kBlock = 1 << 16;
+    tbb::parallel_for(std::size_t{0}, (n + kBlock - 1) / kBlock, [&](std::size_t blk) {
+      // Runs that start in this block.
+      const std::size_t end = std::min(n, (blk + 1) * kBlock);
+      std::vector<std::pair<uint64_t, uint32_t>> run;
+      for (std::size_t i = blk * kBlock; i < end;) {
+        const uint64_t high = keys[i] >> index_bits;
+        if (i > 0 && keys[i - 1] >> index_bits == high) {
+          ++i;
+          continue;
+        }
+        std::size_t j = i + 1;
+        while (j < n && keys[j] >> index_bits == high) ++j;
+        if (j - i > 1) {
+          run.clear();
+          for (std::size_t k = i; k < j; ++k) {
+            const uint32_t at = static_cast<uint32_t>(keys[k] & mask);
+            run.push_back({frame.code(s.positions[at]), at});
+          }
+          std::sort(run.begin(), run.end());
+          for (std::size_t k = i; k < j; ++k) keys[k] = high << index_bits | run[k - i].second;
+        }
+        i = j;
+      }
+    });
+  }
+  if (old_index) {
+    old_index->resize(n);
+    for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = static_cast<uint32_t>(keys[i] & mask);
+  }
+  auto same = [](const auto& v) { return v; };
+  permute_all(s.positions, keys, mask, same);
+  permute_all(s.normals, keys, mask, same);
+  permute_all(s.radii, keys, mask, same);
+  permute_all(s.colors, keys, mask, same);
+  std::vector<uint64_t>().swap(keys);
+  order.levels.resize(n - 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
+    uint64_t next = frame.code(s.positions[r.begin()]);
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const uint64_t c = next;
+      next = frame.code(s.positions[i + 1]);
+      order.levels[i] = level_of(c ^ next, 0);
+    }
+  });
+  Sorter{s, order.levels, old_index}.clusters(0, n, 1);
+  return order;
+}
+
+SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTreeOptions& o) {
   const std::size_t n = in.size();
   SptTree tree;
-  std::vector<uint32_t>& parent = tree.parent;
-  parent.assign(n, kNoParent);
-  std::vector<Keyed> keys = sorted_by_morton(in);
-  const Builder builder{in, keys, color_weight, !in.colors.empty(), tree};
+  tree.leaves = n;
+  tree.leaf_parent.assign(n, kNoParent);
+  tree.box_min = order.lo;
+  tree.step = {(order.hi.x - order.lo.x) / 65535.0f, (order.hi.y - order.lo.y) / 65535.0f,
+               (order.hi.z - order.lo.z) / 65535.0f};
+  const Builder builder{in, order.levels.data(), tree, o.color_weight, !in.colors.empty(), o.full};
 
   // The top: ranges above the grain split sequentially; the rest become subtrees.
   constexpr std::size_t kGrain = 4096;
@@ -223,7 +406,7 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
       range_depth.push_back(depth);
       return {false, static_cast<uint32_t>(ranges.size() - 1)};
     }
-    split_range(in, keys, b, e, cuts);
+    builder.split(b, e, cuts);
     const std::vector<std::size_t> mine = cuts;
     const uint32_t id = static_cast<uint32_t>(top.size());
     top.emplace_back();
@@ -235,25 +418,64 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
   };
   split_top(split_top, 0, n, 0);
 
-  // Numbers: the subtrees' interiors in order, then the top nodes in post-order.
-  std::vector<uint32_t> offset(ranges.size() + 1, static_cast<uint32_t>(n));
-  tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
-    std::vector<std::size_t> local_cuts;
-    offset[k + 1] = builder.count(ranges[k].first, ranges[k].second, local_cuts);
-  });
-  for (std::size_t k = 0; k < ranges.size(); ++k) offset[k + 1] += offset[k];
-  tree.interiors.resize(offset.back() - n + top.size());
-  parent.resize(offset.back() + top.size(), kNoParent);
-  std::vector<Subtree> subtrees(ranges.size());
+  // Subtrees in batches: built in parallel into scratch buffers, then copied into the tree in
+  // order (so the records take exactly their memory) with their numbers shifted.
+  tree.records.allocate(n);
+  if (o.full) tree.full_records.allocate(n);
   std::vector<std::pair<uint32_t, SptDisc>> roots(ranges.size());
-  tbb::parallel_for(std::size_t{0}, ranges.size(), [&](std::size_t k) {
-    std::vector<std::size_t> local_cuts;
-    subtrees[k].next = offset[k];
-    roots[k] =
-        builder.build(subtrees[k], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
-  });
-  for (const Subtree& t : subtrees) tree.depth = std::max(tree.depth, t.depth);
-  uint32_t next_top = offset.back();
+  constexpr std::size_t kBatch = 64;
+  std::vector<std::vector<SptRecord>> scratch(kBatch);
+  std::vector<std::vector<SptFullRecord>> full_scratch(o.full ? kBatch : 0);
+  std::vector<Subtree> batch(kBatch);
+  std::vector<uint32_t> base(kBatch);
+  Subtree sum;
+  for (std::size_t b0 = 0; b0 < ranges.size(); b0 += kBatch) {
+    const std::size_t count = std::min(kBatch, ranges.size() - b0);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t j) {
+      const std::size_t k = b0 + j;
+      scratch[j].resize(ranges[k].second - ranges[k].first);
+      if (o.full) full_scratch[j].resize(scratch[j].size());
+      batch[j] = {};
+      batch[j].recs = scratch[j].data();
+      batch[j].fulls = o.full ? full_scratch[j].data() : nullptr;
+      std::vector<std::size_t> local_cuts;
+      roots[k] =
+          builder.build(batch[j], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
+    });
+    for (std::size_t j = 0; j < count; ++j) {
+      base[j] = sum.next;
+      sum.next += batch[j].next;
+    }
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t j) {
+      const std::size_t k = b0 + j;
+      const uint32_t shift = base[j];
+      for (uint32_t s = 0; s < batch[j].next; ++s) {
+        SptRecord r = scratch[j][s];
+        if (r.parent != kNoParent) r.parent += shift;
+        tree.records[shift + s] = r;
+        if (o.full) tree.full_records[shift + s] = full_scratch[j][s];
+      }
+      if (batch[j].next > 0) {
+        for (std::size_t i = ranges[k].first; i < ranges[k].second; ++i)
+          tree.leaf_parent[i] += shift;
+        roots[k].first += shift;
+      }
+    });
+    for (std::size_t j = 0; j < count; ++j) {
+      const Subtree& t = batch[j];
+      sum.depth = std::max(sum.depth, t.depth);
+      sum.error_lo = std::min(sum.error_lo, t.error_lo);
+      sum.error_hi = std::max(sum.error_hi, t.error_hi);
+      sum.radius_lo = std::min(sum.radius_lo, t.radius_lo);
+      sum.radius_hi = std::max(sum.radius_hi, t.radius_hi);
+    }
+  }
+  std::vector<std::vector<SptRecord>>().swap(scratch);
+  std::vector<std::vector<SptFullRecord>>().swap(full_scratch);
+  tree.interiors = sum.next;
+  const uint32_t top_base = sum.next;
+  sum.recs = tree.records.data.get();
+  sum.fulls = o.full ? tree.full_records.data.get() : nullptr;
   auto finish_top = [&](auto&& self, uint32_t id) -> std::pair<uint32_t, SptDisc> {
     std::vector<uint32_t> ids;
     std::vector<SptDisc> discs;
@@ -267,12 +489,28 @@ SptTree build_spt_tree(const SptInput& in, float color_weight) {
         discs.push_back(roots[index].second);
       }
     }
-    const uint32_t g = next_top++;
-    tree.interiors[g - n] = fit_spt_disc(discs, color_weight, !in.colors.empty());
-    for (uint32_t c : ids) parent[c] = g;
-    return {g, tree.interiors[g - n]};
+    return builder.attach(sum, ids, discs);
   };
   if (!top.empty()) finish_top(finish_top, 0);
+  tree.interiors = sum.next;
+  tree.depth = sum.depth;
+  tree.error_lo = sum.error_lo;
+  tree.error_hi = sum.error_hi;
+  // The leaves' radii.
+  using MinMax = std::pair<float, float>;
+  const MinMax leaf_radii = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 1 << 16), MinMax{INFINITY, 0.0f},
+      [&](const auto& r, MinMax m) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i)
+          if (in.radii[i] > 0)
+            m = {std::min(m.first, in.radii[i]), std::max(m.second, in.radii[i])};
+        return m;
+      },
+      [](MinMax a, const MinMax& b) {
+        return MinMax{std::min(a.first, b.first), std::max(a.second, b.second)};
+      });
+  tree.radius_lo = std::min(sum.radius_lo, leaf_radii.first);
+  tree.radius_hi = std::max(sum.radius_hi, leaf_radii.second);
   return tree;
 }
 

@@ -4,7 +4,9 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -15,30 +17,36 @@ namespace splatkit::spt {
 
 namespace {
 
-struct NodeView {
-  const SptTree& tree;
-  const SptInput& in;
-  std::size_t n;
-  Vec3f centre(std::size_t i) const {
-    return i < n ? in.positions[i] : tree.interiors[i - n].centre;
+using Clock = std::chrono::steady_clock;
+
+// The nodes in node order as a sequence q = 0, 1, ...: the leaves, then the interior slots.
+struct NodeSequence {
+  std::size_t n = 0, total = 0;
+
+  explicit NodeSequence(const SptTree& t) : n(t.leaves), total(t.size()) {}
+  // f(is_leaf, index: leaf or slot) for q in [q0, q1), in order.
+  template <class F>
+  void each(std::size_t q0, std::size_t q1, F&& f) const {
+    for (std::size_t q = q0; q < std::min(q1, n); ++q) f(true, static_cast<uint32_t>(q));
+    for (std::size_t q = std::max(q0, n); q < q1; ++q) f(false, static_cast<uint32_t>(q - n));
   }
-  Vec3f normal(std::size_t i) const { return i < n ? in.normals[i] : tree.interiors[i - n].normal; }
-  float radius(std::size_t i) const { return i < n ? in.radii[i] : tree.interiors[i - n].radius; }
-  std::array<uint8_t, 3> color(std::size_t i) const {
-    const Vec3f c = i < n ? in.leaf(i).color : tree.interiors[i - n].color;
-    auto q = [](float v) {
-      return static_cast<uint8_t>(std::clamp(std::floor(v + 0.5f), 0.0f, 255.0f));
-    };
-    return {q(c.x), q(c.y), q(c.z)};
+  uint32_t node(bool leaf, uint32_t index) const {
+    return leaf ? index : static_cast<uint32_t>(n + index);
   }
 };
 
 }  // namespace
 
-EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOptions& o,
+template <class T>
+void release(std::vector<T>& v) {
+  std::vector<T>().swap(v);
+}
+
+EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, const SptSink& sink,
                       bool keep_map) {
-  const std::size_t n = in.size(), total = tree.size();
-  const NodeView v{tree, in, n};
+  const std::size_t n = tree.leaves;
+  const NodeSequence seq(tree);
+  const std::size_t total = seq.total;
   SptHeader h;
   h.flags = (o.full ? kSptFlagFull : 0u) | (in.colors.empty() ? 0u : kSptFlagColor);
   h.entry_bytes = o.full ? kSptFullEntryBytes : kSptCompactEntryBytes;
@@ -47,129 +55,277 @@ EncodedSpt encode_spt(const SptTree& tree, const SptInput& in, const EncodeSptOp
   h.origin = o.origin;
   h.epsilon = o.epsilon;
   h.color_weight = o.color_weight;
+  h.box_min = tree.box_min;
+  h.step = tree.step;
 
-  // Quantisation frame and scales.
-  Vec3f lo = v.centre(0), hi = lo;
-  float r_lo = INFINITY, r_hi = 0;
-  for (std::size_t i = 0; i < total; ++i) {
-    const Vec3f c = v.centre(i);
-    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
-  }
   // r = e_g / epsilon, kept finite (a far outlier can push it past the float range).
   auto r_of = [&](float error) {
     return std::min(error / o.epsilon, std::numeric_limits<float>::max());
   };
-  for (const SptDisc& d : tree.interiors)
-    if (d.error > 0) {
-      r_lo = std::min(r_lo, r_of(d.error));
-      r_hi = std::max(r_hi, r_of(d.error));
-    }
-  if (!(r_lo <= r_hi)) r_lo = r_hi = 1;
-  h.r_lo = r_lo;
-  h.r_hi = r_hi;
-  h.box_min = lo;
-  h.step = {(hi.x - lo.x) / 65535.0f, (hi.y - lo.y) / 65535.0f, (hi.z - lo.z) / 65535.0f};
+  h.r_lo = tree.error_lo <= tree.error_hi ? r_of(tree.error_lo) : 1.0f;
+  h.r_hi = tree.error_lo <= tree.error_hi ? r_of(tree.error_hi) : 1.0f;
   // The decoded centre is within half a step per axis: the disc grows by that much.
   const float slack =
       o.full ? 0.0f
              : static_cast<float>(
                    0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
-  float d_lo = INFINITY, d_hi = 0;
-  for (std::size_t i = 0; i < total; ++i) {
-    const float d = 2 * v.radius(i);
-    if (d > 0) {
-      d_lo = std::min(d_lo, d + 2 * slack);
-      d_hi = std::max(d_hi, d + 2 * slack);
-    }
+  if (tree.radius_lo <= tree.radius_hi) {
+    h.d_lo = 2 * tree.radius_lo + 2 * slack;
+    h.d_hi = (2 * tree.radius_hi + 2 * slack) * 1.000001f;
+  } else {
+    h.d_lo = 1;
+    h.d_hi = 1.000001f;
   }
-  if (!(d_lo <= d_hi)) d_lo = d_hi = 1;
-  h.d_lo = d_lo;
-  h.d_hi = d_hi * 1.000001f;
-
-  // r_min per node, as stored (a code, or the float itself).
-  auto r_min_of = [&](std::size_t i) { return i < n ? 0.0f : r_of(tree.interiors[i - n].error); };
-  std::vector<uint16_t> code;
-  if (!o.full) {
-    code.resize(total);
-    tbb::parallel_for(std::size_t{0}, total,
-                      [&](std::size_t i) { code[i] = encode_r(r_min_of(i), r_lo, r_hi); });
-  }
-  auto rmin_key = [&](std::size_t i) -> float { return o.full ? r_min_of(i) : code[i]; };
-  auto rmax_key = [&](std::size_t i) -> float {
-    const uint32_t p = tree.parent[i];
-    if (p == kNoParent) return o.full ? INFINITY : kRInfinity;
-    return rmin_key(p);
-  };
-
-  // Non-empty intervals, sorted by r_max descending, ties by node number: dest[i] is node i's
-  // place in the list (kNoParent when left out). Entries are then encoded in node order and
-  // scattered to their places (the node data is read in order, which is what keeps this fast).
-  std::vector<uint32_t> dest(total, kNoParent);
-  std::size_t kept = 0;
-  if (o.full) {
-    std::vector<uint32_t> order;
-    for (std::size_t i = 0; i < total; ++i)
-      if (rmax_key(i) > rmin_key(i)) order.push_back(static_cast<uint32_t>(i));
-    tbb::parallel_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-      const float ka = rmax_key(a), kb = rmax_key(b);
-      return ka != kb ? ka > kb : a < b;
-    });
-    for (std::size_t k = 0; k < order.size(); ++k) dest[order[k]] = static_cast<uint32_t>(k);
-    kept = order.size();
-  } else {  // counting sort on the 16-bit r_max code (stable: node order within a code)
-    std::vector<uint32_t> next(65536, 0);
-    auto bucket = [&](std::size_t i) { return 65535u - static_cast<uint32_t>(rmax_key(i)); };
-    for (std::size_t i = 0; i < total; ++i)
-      if (rmax_key(i) > rmin_key(i)) ++next[bucket(i)];
-    uint32_t sum = 0;
-    for (uint32_t& c : next) sum += std::exchange(c, sum);
-    for (std::size_t i = 0; i < total; ++i)
-      if (rmax_key(i) > rmin_key(i)) dest[i] = next[bucket(i)]++;
-    kept = sum;
-  }
+  const LogScale rs = r_scale(h.r_lo, h.r_hi), ds = d_scale(h.d_lo, h.d_hi);
 
   EncodedSpt out;
+  if (keep_map) {
+    out.parent.assign(total, kNoParent);
+    std::copy(tree.leaf_parent.begin(), tree.leaf_parent.end(), out.parent.begin());
+    seq.each(n, total, [&](bool, uint32_t s) { out.parent[n + s] = tree.records[s].parent; });
+  }
+  // r_min codes, then r_max codes in place of the parents (compact); full lists keep parents.
+  const std::size_t interiors = tree.interiors;
+  auto each_slot = [&](auto&& f) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, interiors, 1 << 14), [&](const auto& r) {
+      for (std::size_t s = r.begin(); s < r.end(); ++s) f(s);
+    });
+  };
+  each_slot([&](std::size_t s) { tree.records[s].r_min = encode_r(r_of(tree.records[s].error), rs); });
+  auto parent_code = [&](uint32_t p) -> uint32_t {
+    return p == kNoParent ? kRInfinity : tree.records[p - n].r_min;
+  };
+  auto parent_r = [&](uint32_t p) -> float {
+    return p == kNoParent ? INFINITY : r_of(tree.records[p - n].error);
+  };
+  if (!o.full) {
+    // Reads r_min only, writes parent only: no two tasks touch one field.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i)
+        tree.leaf_parent[i] = parent_code(tree.leaf_parent[i]);
+    });
+    each_slot([&](std::size_t s) { tree.records[s].parent = parent_code(tree.records[s].parent); });
+  }
+
+  // Compact: the leaves' codes, each array made and its source released in turn, so that
+  // the splats' floats (31 bytes a splat) shrink to 14 bytes of codes without a peak.
+  const bool has_color = !in.colors.empty();
+  std::vector<uint16_t> leaf_normal, leaf_diameter, leaf_rgb, leaf_r_max;
+  std::vector<std::array<uint16_t, 3>> leaf_q;
+  if (!o.full) {
+    auto each_leaf = [&](auto&& f) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
+      });
+    };
+    leaf_r_max.resize(n);
+    each_leaf([&](std::size_t i) { leaf_r_max[i] = static_cast<uint16_t>(tree.leaf_parent[i]); });
+    release(tree.leaf_parent);
+    leaf_normal.resize(n);
+    each_leaf([&](std::size_t i) { leaf_normal[i] = encode_normal(in.normals[i]); });
+    release(in.normals);
+    leaf_q.resize(n);
+    each_leaf([&](std::size_t i) {
+      const Vec3f& c = in.positions[i];
+      leaf_q[i] = {encode_position(c.x, h.box_min.x, h.step.x),
+                   encode_position(c.y, h.box_min.y, h.step.y),
+                   encode_position(c.z, h.box_min.z, h.step.z)};
+    });
+    release(in.positions);
+    leaf_diameter.resize(n);
+    each_leaf([&](std::size_t i) {
+      const float radius = in.radii[i];
+      leaf_diameter[i] = encode_diameter(radius > 0 ? 2 * radius + 2 * slack : 0.0f, ds);
+    });
+    release(in.radii);
+    if (has_color) {
+      leaf_rgb.resize(n);
+      each_leaf([&](std::size_t i) { leaf_rgb[i] = encode_rgb565(in.colors[i]); });
+      release(in.colors);
+    }
+  }
+
+  // One entry's bytes.
+  auto encode = [&](bool leaf, uint32_t i, unsigned char* e) {
+    if (o.full) {
+      Vec3f c, nn;
+      float radius, r_min, r_max;
+      std::array<uint8_t, 3> col{0, 0, 0};
+      if (leaf) {
+        c = in.positions[i];
+        nn = in.normals[i];
+        radius = in.radii[i];
+        r_min = 0;
+        r_max = parent_r(tree.leaf_parent[i]);
+        if (!in.colors.empty()) col = in.colors[i];
+      } else {
+        const SptFullRecord& f = tree.full_records[i];
+        c = f.centre;
+        nn = f.normal;
+        radius = tree.records[i].radius;
+        r_min = r_of(tree.records[i].error);
+        r_max = parent_r(tree.records[i].parent);
+        col = f.color;
+      }
+      const float f[9] = {c.x, c.y, c.z, nn.x, nn.y, nn.z, 2 * radius, r_min, r_max};
+      for (int j = 0; j < 9; ++j) put_f32(e + 4 * j, f[j]);
+      e[36] = col[0];
+      e[37] = col[1];
+      e[38] = col[2];
+      e[39] = 0;
+      return;
+    }
+    if (leaf) {
+      put_u16(e, leaf_q[i][0]);
+      put_u16(e + 2, leaf_q[i][1]);
+      put_u16(e + 4, leaf_q[i][2]);
+      put_u16(e + 6, leaf_normal[i]);
+      put_u16(e + 8, leaf_diameter[i]);
+      put_u16(e + 10, 0);
+      put_u16(e + 12, leaf_r_max[i]);
+      put_u16(e + 14, has_color ? leaf_rgb[i] : 0);
+    } else {
+      const SptRecord& r = tree.records[i];
+      put_u16(e, r.q[0]);
+      put_u16(e + 2, r.q[1]);
+      put_u16(e + 4, r.q[2]);
+      put_u16(e + 6, r.normal);
+      put_u16(e + 8, encode_diameter(r.radius > 0 ? 2 * r.radius + 2 * slack : 0.0f, ds));
+      put_u16(e + 10, r.r_min);
+      put_u16(e + 12, static_cast<uint16_t>(r.parent));
+      put_u16(e + 14, r.rgb565);
+    }
+  };
+
+  // Pieces of the node sequence, placed in parallel (their number does not depend on threads).
+  const std::size_t piece = std::max<std::size_t>(std::size_t{1} << 16, (total + 15) / 16);
+  const std::size_t pieces = (total + piece - 1) / piece;
+  std::size_t kept = 0;
+  // Compact: per piece and r_max code, where its first entry goes (a stable counting sort).
+  std::vector<uint32_t> start;
+  std::vector<uint32_t> dest;  // full: per node of the sequence, its place or kNoParent
+  if (!o.full) {
+    start.assign(pieces * 65536, 0);
+    tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
+      uint32_t* count = start.data() + c * 65536;
+      seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
+        const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
+        const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
+        if (r_max > r_min) ++count[65535 - r_max];
+      });
+    });
+    uint64_t sum = 0;
+    for (std::size_t b = 0; b < 65536; ++b)
+      for (std::size_t c = 0; c < pieces; ++c)
+        sum += std::exchange(start[c * 65536 + b], static_cast<uint32_t>(sum));
+    kept = sum;
+  } else {
+    std::vector<std::pair<float, uint32_t>> order;  // (r_max, sequence index)
+    std::size_t q = 0;
+    seq.each(0, total, [&](bool leaf, uint32_t i) {
+      const float r_max = parent_r(leaf ? tree.leaf_parent[i] : tree.records[i].parent);
+      const float r_min = leaf ? 0.0f : r_of(tree.records[i].error);
+      if (r_max > r_min) order.push_back({r_max, static_cast<uint32_t>(q)});
+      ++q;
+    });
+    tbb::parallel_sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    dest.assign(total, kNoParent);
+    for (std::size_t k = 0; k < order.size(); ++k) dest[order[k].second] = static_cast<uint32_t>(k);
+    kept = order.size();
+  }
+
   out.entries = kept;
   out.dropped_empty = total - kept;
   h.entries = kept;
-  out.bytes.resize(kSptHeaderBytes + kept * h.entry_bytes);
-  unsigned char* base = out.bytes.data() + kSptHeaderBytes;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, total, 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      if (dest[i] == kNoParent) continue;
-      unsigned char* e = base + std::size_t{dest[i]} * h.entry_bytes;
-      const Vec3f c = v.centre(i), nn = v.normal(i);
-      const std::array<uint8_t, 3> col =
-          in.colors.empty() ? std::array<uint8_t, 3>{0, 0, 0} : v.color(i);
-      if (o.full) {
-        const float f[9] = {c.x,         c.y,        c.z, nn.x, nn.y, nn.z, 2 * v.radius(i),
-                            rmin_key(i), rmax_key(i)};
-        for (int j = 0; j < 9; ++j) put_f32(e + 4 * j, f[j]);
-        e[36] = col[0];
-        e[37] = col[1];
-        e[38] = col[2];
-        e[39] = 0;
-      } else {
-        put_u16(e, encode_position(c.x, lo.x, h.step.x));
-        put_u16(e + 2, encode_position(c.y, lo.y, h.step.y));
-        put_u16(e + 4, encode_position(c.z, lo.z, h.step.z));
-        put_u16(e + 6, encode_normal(nn));
-        const float d = v.radius(i) > 0 ? 2 * v.radius(i) + 2 * slack : 0.0f;
-        put_u16(e + 8, encode_diameter(d, h.d_lo, h.d_hi));
-        put_u16(e + 10, static_cast<uint16_t>(rmin_key(i)));
-        put_u16(e + 12, static_cast<uint16_t>(rmax_key(i)));
-        put_u16(e + 14, encode_rgb565(col));
-      }
-    }
-  });
-  write_spt_header(h, out.bytes.data());
-  uint32_t crc = crc32c(0, out.bytes.data(), 124);
-  crc = crc32c(crc, base, out.bytes.size() - kSptHeaderBytes);
-  h.checksum = crc;
-  write_spt_header(h, out.bytes.data());
+  out.bytes = kSptHeaderBytes + kept * h.entry_bytes;
   if (keep_map) {
-    out.entry_of_node = std::move(dest);
+    out.entry_of_node.assign(total, kNoParent);
+  }
+  unsigned char header[kSptHeaderBytes];
+  write_spt_header(h, header);
+  uint32_t crc = crc32c(0, header, 124);
+  const bool patch = static_cast<bool>(sink.patch) && !o.full;
+  const std::size_t slab_count = patch ? 2 : 1;
+  const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
+  std::vector<unsigned char> buffer(std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes);
+  double write_s = 0;
+  auto emit = [&](const unsigned char* p, std::size_t bytes) {
+    const auto t0 = Clock::now();
+    sink.write(p, bytes);
+    write_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  if (patch) emit(header, kSptHeaderBytes);
+  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab) {
+    const std::size_t hi = std::min(kept, lo + slab);
+    tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
+      std::vector<uint32_t> next;
+      if (!o.full) next.assign(start.begin() + c * 65536, start.begin() + (c + 1) * 65536);
+      std::size_t q = c * piece;
+      seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
+        uint32_t d;
+        if (o.full) {
+          d = dest[q++];
+          if (d == kNoParent) return;
+        } else {
+          const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
+          const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
+          if (!(r_max > r_min)) return;
+          d = next[65535 - r_max]++;
+        }
+        if (d < lo || d >= hi) return;
+        encode(leaf, i, buffer.data() + (d - lo) * h.entry_bytes);
+        if (keep_map) out.entry_of_node[seq.node(leaf, i)] = d;
+      });
+    });
+    const std::size_t bytes = (hi - lo) * h.entry_bytes;
+    crc = crc32c(crc, buffer.data(), bytes);
+    if (patch) emit(buffer.data(), bytes);
+  }
+  h.checksum = crc;
+  write_spt_header(h, header);
+  if (patch) {
+    sink.patch(124, header + 124, 4);
+  } else {
+    emit(header, kSptHeaderBytes);
+    emit(buffer.data(), kept * h.entry_bytes);
+  }
+  out.write_seconds = write_s;
+  return out;
+}
+
+SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
+                         const EncodeSptOptions& options, bool keep_map) {
+  SplatCloud copy;
+  copy.positions = cloud.positions;
+  copy.normals = cloud.normals;
+  copy.radii = cloud.radii;
+  copy.colors = cloud.colors;
+  copy.color_bits = cloud.color_bits;
+  SptSplats splats = take_spt_splats(copy);
+  std::vector<uint32_t> old_index;
+  const SptOrder order = sort_spt_splats(splats, keep_map ? &old_index : nullptr);
+  SptTree tree = build_spt_tree(splats, order, {color_weight, options.full});
+  SptBytes out;
+  out.depth = tree.depth;
+  SptSink sink;
+  sink.write = [&](const unsigned char* p, std::size_t k) {
+    out.bytes.insert(out.bytes.end(), p, p + k);
+  };
+  sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+    std::copy(p, p + k, out.bytes.begin() + static_cast<std::ptrdiff_t>(at));
+  };
+  out.info = encode_spt(tree, splats, options, sink, keep_map);
+  if (keep_map) {  // leaves by their index in `cloud`
+    const std::size_t n = cloud.size();
+    std::vector<uint32_t> entry(n), parent(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      entry[old_index[i]] = out.info.entry_of_node[i];
+      parent[old_index[i]] = out.info.parent[i];
+    }
+    std::copy(entry.begin(), entry.end(), out.info.entry_of_node.begin());
+    std::copy(parent.begin(), parent.end(), out.info.parent.begin());
   }
   return out;
 }

@@ -5,12 +5,19 @@
 // interval is empty after quantisation (r_min = r_max: a node with the error of its parent) are
 // never drawn and are left out. The list is sorted by r_max descending, ties by node number, so
 // the bytes are the same for any thread count.
+//
+// Compact entries are placed by a counting sort on the 16-bit r_max code and written in slabs
+// of half the list each (every slab pass places all nodes but encodes only its own), so
+// the list is never whole in memory when the sink can patch the header's checksum afterwards;
+// otherwise (a pipe) it is one slab. Full-precision lists are sorted and held whole.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "splatkit/splat_cloud.h"
 #include "spt/build_spt_tree.h"
 
 namespace splatkit::spt {
@@ -22,16 +29,36 @@ struct EncodeSptOptions {
   std::array<double, 3> origin{0, 0, 0};
 };
 
-struct EncodedSpt {
-  std::vector<unsigned char> bytes;
-  uint64_t entries = 0;
-  uint64_t dropped_empty = 0;           // nodes left out (empty interval)
-  std::vector<uint32_t> entry_of_node;  // #nodes: entry index, or kNoParent when left out
-                                        // (filled only when asked for, for tests)
+// Where the bytes go, in order; `patch` (optional) overwrites bytes already written.
+struct SptSink {
+  std::function<void(const unsigned char*, std::size_t)> write;
+  std::function<void(uint64_t offset, const unsigned char*, std::size_t)> patch;
 };
 
-// `keep_map`: fill entry_of_node.
-EncodedSpt encode_spt(const SptTree& tree, const SptInput& input, const EncodeSptOptions& options,
-                      bool keep_map = false);
+struct EncodedSpt {
+  uint64_t entries = 0;
+  uint64_t dropped_empty = 0;  // nodes left out (empty interval)
+  uint64_t bytes = 0;
+  double write_seconds = 0;  // of the time in encode_spt, spent in sink.write
+  // Filled only when asked for (tests), indexed by node number (SptTree): the entry of each node
+  // (kNoParent when left out) and each node's parent (kNoParent for the root).
+  std::vector<uint32_t> entry_of_node, parent;
+};
+
+// Encodes and writes the list. The tree's r codes are worked out in place (SptRecord::r_min, and
+// parent numbers become r_max codes); compact lists release the tree's leaf_parent and the
+// splats' arrays as their codes are made. `keep_map`: fill entry_of_node and parent.
+EncodedSpt encode_spt(SptTree& tree, SptSplats& splats, const EncodeSptOptions& options,
+                      const SptSink& sink, bool keep_map = false);
+
+// The whole build in memory (tests and small clouds): sort, tree, list. With `keep_map`, the
+// map's leaves are numbered by their index in `cloud`.
+struct SptBytes {
+  std::vector<unsigned char> bytes;
+  EncodedSpt info;
+  uint32_t depth = 0;
+};
+SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
+                         const EncodeSptOptions& options, bool keep_map = false);
 
 }  // namespace splatkit::spt

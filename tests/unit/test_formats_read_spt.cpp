@@ -36,21 +36,22 @@ TEST(SptCodes, NormalErrorIsBounded) {
 
 TEST(SptCodes, RCodesAreMonotoneAndCloseDiametersNeverShrink) {
   const float lo = 0.01f, hi = 1e4f;
+  const LogScale rs = r_scale(lo, hi), ds = d_scale(lo, hi);
   uint16_t last = 0;
   double worst = 0;
   for (float r = lo; r <= hi; r *= 1.001f) {
-    const uint16_t c = encode_r(r, lo, hi);
+    const uint16_t c = encode_r(r, rs);
     EXPECT_GE(c, last);
     last = c;
-    worst = std::max(worst, std::fabs(double(decode_r(c, lo, hi)) / r - 1));
-    const uint16_t d = encode_diameter(r, lo, hi);
-    EXPECT_GE(decode_diameter(d, lo, hi), r);
-    EXPECT_LE(decode_diameter(d, lo, hi), r * 1.0005f);
+    worst = std::max(worst, std::fabs(double(decode_r(c, rs)) / r - 1));
+    const uint16_t d = encode_diameter(r, ds);
+    EXPECT_GE(decode_diameter(d, ds), r);
+    EXPECT_LE(decode_diameter(d, ds), r * 1.0005f);
   }
   EXPECT_LE(worst, std::pow(hi / lo, 1.0 / 65533) - 1);  // half a step, rounded to nearest
-  EXPECT_EQ(encode_r(0, lo, hi), 0);
-  EXPECT_EQ(encode_r(INFINITY, lo, hi), kRInfinity);
-  EXPECT_TRUE(std::isinf(decode_r(kRInfinity, lo, hi)));
+  EXPECT_EQ(encode_r(0, rs), 0);
+  EXPECT_EQ(encode_r(INFINITY, rs), kRInfinity);
+  EXPECT_TRUE(std::isinf(decode_r(kRInfinity, rs)));
 }
 
 SplatCloud small_cloud() {
@@ -61,21 +62,19 @@ SplatCloud small_cloud() {
 }
 
 Bytes encode(const SplatCloud& c, bool full) {
-  const SptInput in{c.positions, c.normals, c.radii, c.colors, c.color_bits};
   EncodeSptOptions o;
   o.full = full;
-  return encode_spt(build_spt_tree(in, 1.0f), in, o).bytes;
+  return build_spt_bytes(c, 1.0f, o).bytes;
 }
 
 TEST(ReadSpt, RoundTripStaysWithinTheStatedErrors) {
   const SplatCloud c = small_cloud();
-  const SptInput in{c.positions, c.normals, c.radii, c.colors, c.color_bits};
-  const SptTree tree = build_spt_tree(in, 1.0f);
   for (bool full : {false, true}) {
     EncodeSptOptions o;
     o.full = full;
-    const EncodedSpt f = encode_spt(tree, in, o, true);
-    const SptModel m = parse_spt(f.bytes, "t.spt");
+    const SptBytes built = build_spt_bytes(c, 1.0f, o, true);
+    const EncodedSpt& f = built.info;
+    const SptModel m = parse_spt(built.bytes, "t.spt");
     EXPECT_EQ(m.header.full(), full);
     EXPECT_TRUE(m.header.has_color());
     EXPECT_EQ(m.header.input_points, c.size());

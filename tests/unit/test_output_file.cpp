@@ -101,6 +101,29 @@ TEST_F(OutputFileTest, NewFileGetsTheUmaskMode) {
   EXPECT_EQ(names_in(dir_), std::vector<std::string>{"new.bin"});
 }
 
+TEST_F(OutputFileTest, WriteAtRewritesBytesAlreadyWrittenAndRefusesPastThem) {
+  OutputFile out(at("patched.bin"));
+  out.write(std::string("header...."));
+  out.write(std::string(3 << 20, 'x'));  // past the buffer: some bytes are on disk already
+  out.write(std::string("tail"));
+  out.write_at(6, "HEAD", 4);
+  out.write_at((3 << 20) + 10, "TA", 2);
+  EXPECT_THROW(out.write_at((3 << 20) + 12, "tail!", 5), Error);
+  out.write(std::string("!"));
+  out.commit();
+  const std::string got = slurp(at("patched.bin"));
+  ASSERT_EQ(got.size(), std::size_t{(3 << 20) + 15});
+  EXPECT_EQ(got.substr(0, 10), "headerHEAD");
+  EXPECT_EQ(got.substr(got.size() - 5), "TAil!");
+  EXPECT_EQ(std::count(got.begin(), got.end(), 'x'), 3 << 20);
+}
+
+TEST_F(OutputFileTest, WriteAtIsRefusedForDirectTargets) {
+  OutputFile out("/dev/null");
+  out.write(std::string("abc"));
+  EXPECT_THROW(out.write_at(0, "x", 1), Error);
+}
+
 TEST_F(OutputFileTest, ReplacingAFileKeepsItsMode) {
   put(at("old.bin"), "old contents");
   ASSERT_EQ(::chmod(at("old.bin").c_str(), 0604), 0);

@@ -6,6 +6,7 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -23,11 +24,9 @@ namespace splatkit::render {
 namespace {
 
 RenderScene spt_scene_of(const SplatCloud& cloud, bool full = false) {
-  const spt::SptInput in{cloud.positions, cloud.normals, cloud.radii, cloud.colors,
-                         cloud.color_bits};
   spt::EncodeSptOptions o;
   o.full = full;
-  const spt::EncodedSpt e = spt::encode_spt(spt::build_spt_tree(in, 1.0f), in, o);
+  const spt::SptBytes e = spt::build_spt_bytes(cloud, 1.0f, o);
   return make_spt_scene(parse_spt(e.bytes, "test.spt"), "test.spt");
 }
 
@@ -155,6 +154,44 @@ TEST(RenderSpt, LargerErrorsDrawFewerSplatsAndTheOrderIsTheSameForAnyThreadCount
     ASSERT_EQ(one.positions[i], two.positions[i]);
     ASSERT_EQ(one.radii[i], two.radii[i]);
   }
+}
+
+// The z-buffer fast path: entries below 1 px drawn as points give exactly the keys of drawing
+// each selected entry as a disc, and the buffer is the same for any thread count.
+TEST(RenderSpt, ZBufferPointsMatchDiscsBelowOnePixelForAnyThreadCount) {
+  const RenderScene sp = spt_scene_of(testing::sample_shape(testing::Shape::kTorus, 30000));
+  const SptModel& m = *sp.spt;
+  const Projection p = make_projection(camera_at(30.0f, 400, 320));
+  const float error = 0.02f;
+  DepthKeyBuffer a, b, ref;
+  a.reset(p.width, p.height);
+  b.reset(p.width, p.height);
+  ref.reset(p.width, p.height);
+  SptZBufferCounts ca, cb;
+  tbb::task_arena(1).execute([&] { ca = draw_spt_zbuffer(m, sp.bounds, p, error, a); });
+  tbb::task_arena(2).execute([&] { cb = draw_spt_zbuffer(m, sp.bounds, p, error, b); });
+  EXPECT_EQ(a.keys, b.keys);
+  EXPECT_EQ(ca.drawn, cb.drawn);
+  // Every entry of the list tested and drawn as a disc.
+  const float k = error / p.focal_px / m.header.epsilon;
+  float widest = 0;
+  uint64_t selected = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const float r = norm(m.positions[i] - p.eye) * k;
+    if (!(m.r_min[i] <= r && r < m.r_max[i])) continue;
+    ++selected;
+    const Vec3f cam = p.to_camera(m.positions[i]);
+    const float radius = 0.5f * m.diameters[i];
+    zbuffer_splat(ref, p, cam, radius, static_cast<uint32_t>(i));
+    widest = std::max(widest, 2 * p.focal_px * radius / cam.z);
+  }
+  EXPECT_EQ(selected, ca.selected);
+  ASSERT_LT(widest, 1.0f);  // the view's precondition: every selected entry below a pixel
+  EXPECT_GT(ca.drawn, 1000u);
+  EXPECT_EQ(ca.points, ca.drawn);
+  EXPECT_EQ(a.keys, ref.keys);
+  std::printf("points drawn: %llu, widest %.2f px\n", static_cast<unsigned long long>(ca.points),
+              widest);
 }
 
 }  // namespace

@@ -21,13 +21,13 @@ namespace splatkit::spt {
 namespace {
 
 // Checks every leaf's path at `distances`; returns the number of (leaf, distance) failures.
-std::size_t cut_failures(const SptTree& tree, const EncodedSpt& file, const SptModel& m,
-                         std::size_t n, const std::vector<float>& distances) {
+std::size_t cut_failures(const EncodedSpt& file, const SptModel& m, std::size_t n,
+                         const std::vector<float>& distances) {
   std::size_t failures = 0;
   for (std::size_t leaf = 0; leaf < n; ++leaf)
     for (float r : distances) {
       int covered = 0;
-      for (uint32_t i = static_cast<uint32_t>(leaf); i != kNoParent; i = tree.parent[i]) {
+      for (uint32_t i = static_cast<uint32_t>(leaf); i != kNoParent; i = file.parent[i]) {
         const uint32_t e = file.entry_of_node[i];
         if (e != kNoParent && m.r_min[e] <= r && r < m.r_max[e]) ++covered;
       }
@@ -37,12 +37,11 @@ std::size_t cut_failures(const SptTree& tree, const EncodedSpt& file, const SptM
 }
 
 void check_cut(const SplatCloud& cloud, bool full, uint64_t seed) {
-  const SptInput in{cloud.positions, cloud.normals, cloud.radii, cloud.colors, cloud.color_bits};
-  const SptTree tree = build_spt_tree(in, 1.0f);
   EncodeSptOptions o;
   o.full = full;
-  const EncodedSpt file = encode_spt(tree, in, o, true);
-  const SptModel m = parse_spt(file.bytes, "t.spt");
+  const SptBytes built = build_spt_bytes(cloud, 1.0f, o, true);
+  const EncodedSpt& file = built.info;
+  const SptModel m = parse_spt(built.bytes, "t.spt");
   ASSERT_EQ(m.size(), file.entries);
   // Random distances: log-uniform over the stored range and beyond, plus every 97th stored r_min
   // exactly (the boundaries, where a hole or a double cover would show).
@@ -52,7 +51,7 @@ void check_cut(const SplatCloud& cloud, bool full, uint64_t seed) {
   std::vector<float> distances = {0.0f};
   for (int k = 0; k < 100; ++k) distances.push_back(static_cast<float>(std::exp(u(rng))));
   for (std::size_t e = 0; e < m.size(); e += 97) distances.push_back(m.r_min[e]);
-  EXPECT_EQ(cut_failures(tree, file, m, cloud.size(), distances), 0u);
+  EXPECT_EQ(cut_failures(file, m, cloud.size(), distances), 0u);
   // The intervals are not all trivial: some distance draws interior entries.
   std::size_t interior_drawn = 0;
   const float mid = std::sqrt(m.header.r_lo * m.header.r_hi);
@@ -108,14 +107,12 @@ TEST(SptCutProperty, SameBytesForAnyThreadCountAndSortedByRMax) {
   s.points = 20000;
   s.random = true;
   const SplatCloud c = make_shape(s);
-  const SptInput in{c.positions, c.normals, c.radii, c.colors, c.color_bits};
-  SptTree a, b;
-  tbb::task_arena(1).execute([&] { a = build_spt_tree(in, 1.0f); });
-  tbb::task_arena(2).execute([&] { b = build_spt_tree(in, 1.0f); });
-  EXPECT_EQ(a.parent, b.parent);
-  const EncodedSpt fa = encode_spt(a, in, {}), fb = encode_spt(b, in, {});
-  EXPECT_EQ(fa.bytes, fb.bytes);
-  const SptModel m = parse_spt(fa.bytes, "t.spt");
+  SptBytes a, b;
+  tbb::task_arena(1).execute([&] { a = build_spt_bytes(c, 1.0f, {}, true); });
+  tbb::task_arena(2).execute([&] { b = build_spt_bytes(c, 1.0f, {}, true); });
+  EXPECT_EQ(a.info.parent, b.info.parent);
+  EXPECT_EQ(a.bytes, b.bytes);
+  const SptModel m = parse_spt(a.bytes, "t.spt");
   for (std::size_t e = 1; e < m.size(); ++e) ASSERT_GE(m.r_max[e - 1], m.r_max[e]);
   EXPECT_EQ(m.leaves, c.size());  // leaves have r_min = 0 and a parent with an error
   EXPECT_TRUE(std::isinf(m.r_max[0]));
