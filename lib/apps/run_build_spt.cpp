@@ -2,8 +2,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <malloc.h>
-
 #include <cmath>
 #include <sstream>
 #include <string_view>
@@ -23,10 +21,6 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
     throw_usage("--epsilon must be a positive number of radians");
   if (!(o.color_weight >= 0) || !std::isfinite(o.color_weight))
     throw_usage("--color-weight must be zero or positive");
-  // Arrays of a megabyte or more get pages of their own, returned to the system when freed (by
-  // default the threshold rises to 32 MiB after the first large free and later arrays below it
-  // stay in the heap when released): the peak is the sum of what is alive, not of what was.
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   Stage stage("build-spt", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   SplatCloud& cloud = doc.cloud;

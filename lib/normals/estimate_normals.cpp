@@ -301,7 +301,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     report.unresolved_points = stats.unresolved;
     if (cover) refit.insert(refit.end(), points.begin(), points.end());
   });
-  flags = {};
+  std::vector<uint8_t>().swap(flags);  // (`= {}` would keep the capacity)
 
   if (robust) {
     progress(0.65, "robust");
@@ -314,7 +314,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
       report.robust =
           robust_stats_json(robust_normals(index, cloud.positions, variation, cloud.normals, ro));
     });
-    variation = {};
+    std::vector<float>().swap(variation);
     for (std::size_t i = 0; i < before.size(); ++i)
       if (!(before[i] == cloud.normals[i])) refit.push_back(static_cast<uint32_t>(i));
   }

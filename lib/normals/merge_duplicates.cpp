@@ -86,7 +86,7 @@ std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
     for (std::size_t i = 0; i < n; ++i)
       keys[fill[bucket_of(hashes[i])]++] = uint64_t{hashes[i]} << 32 | i;
   }
-  hashes = {};
+  std::vector<uint32_t>().swap(hashes);  // (`= {}` would keep the capacity)
   std::vector<uint32_t> first(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 16), [&](const auto& r) {
     std::vector<uint32_t> table;
