@@ -307,8 +307,12 @@ nlohmann::json occlusion_json(const OcclusionStats& s) {
       {"nodes_culled_occlusion", s.culled_occlusion},
       {"leaves_drawn", s.leaves_drawn},
       {"splats_drawn", s.splats_drawn},
+      {"splats_culled", s.splats_culled},
       {"time_ms",
-       {{"traversal", ms(s.traversal_s)}, {"queries", ms(s.query_s)}, {"depth", ms(s.depth_s)}}}};
+       {{"traversal", ms(s.traversal_s)},
+        {"queries", ms(s.query_s)},
+        {"depth", ms(s.depth_s)},
+        {"splat_test", ms(s.splat_test_s)}}}};
 }
 
 std::string read_text_file(const std::string& path) {

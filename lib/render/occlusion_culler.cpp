@@ -52,6 +52,8 @@ void OcclusionStats::add(const OcclusionStats& o) {
   traversal_s += o.traversal_s;
   query_s += o.query_s;
   depth_s += o.depth_s;
+  splats_culled += o.splats_culled;
+  splat_test_s += o.splat_test_s;
 }
 
 namespace {
@@ -158,6 +160,43 @@ OcclusionCuller::Query OcclusionCuller::project(const Box3& box) const {
   return q;
 }
 
+// The splat's bounding sphere (centre c, radius r in camera space): depths in [c.z − r, c.z + r],
+// and x / z, y / z bounded by their values at the ends of that range (x / z is monotone in z).
+OcclusionCuller::Query OcclusionCuller::project_splat(uint32_t i) const {
+  Query q;
+  const Projection& p = projection_;
+  float r = scene_.radii[i];
+  if (!scene_.minor_radii.empty()) r = std::max(r, scene_.minor_radii[i]);
+  const Vec3f c = p.to_camera(scene_.positions[i]);
+  const float z0 = c.z - r, z1 = c.z + r;
+  if (z1 < p.near) return q;  // as project(): nothing reaches beyond the near plane
+  q.in_frustum = true;
+  if (z0 <= p.near) {  // straddles the near plane: kept
+    q.rect = {0, 0, p.width - 1, p.height - 1};
+    return q;
+  }
+  const float i0 = 1.0f / z0, i1 = 1.0f / z1;
+  const float xmin = p.cx + p.focal_px * std::min((c.x - r) * i0, (c.x - r) * i1),
+              xmax = p.cx + p.focal_px * std::max((c.x + r) * i0, (c.x + r) * i1),
+              ymin = p.cy + p.focal_px * std::min((c.y - r) * i0, (c.y - r) * i1),
+              ymax = p.cy + p.focal_px * std::max((c.y + r) * i0, (c.y + r) * i1);
+  // Pixel centres in [min, max], one pixel more on each side for round-off (as project()).
+  auto lo = [](float v, int size) {
+    return int(std::floor(std::clamp(v - 0.5f, -4.0f, float(size) + 4))) - 1;
+  };
+  auto hi = [](float v, int size) {
+    return int(std::ceil(std::clamp(v - 0.5f, -4.0f, float(size) + 4))) + 1;
+  };
+  q.rect = {std::max(0, lo(xmin, p.width)), std::max(0, lo(ymin, p.height)),
+            std::min(p.width - 1, hi(xmax, p.width)), std::min(p.height - 1, hi(ymax, p.height))};
+  if (q.rect.empty()) {
+    q.in_frustum = false;
+    return q;
+  }
+  q.near = z0 * 0.999f;
+  return q;
+}
+
 bool OcclusionCuller::hidden(const Query& q) const {
   if (!q.in_frustum) return true;
   const float front = pyramid_.max_depth(cells_of(q.rect));
@@ -195,11 +234,10 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves) {
   if (leaves.empty()) return;
   const auto t0 = Clock::now();
   std::vector<PixelRect> dirty(leaves.size());
-  tbb::enumerable_thread_specific<DepthPassScratch> scratch;
   tbb::parallel_for(std::size_t{0}, leaves.size(), [&](std::size_t k) {
     const ChunkBvhNode& n = bvh_.nodes[leaves[k]];
     dirty[k] = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                          cull_backfaces_, pyramid_, scratch.local());
+                          cull_backfaces_, pyramid_, thread_scratch_.local());
   });
   // One update over the union when the leaves overlap on screen, else one per leaf.
   PixelRect all;
@@ -413,18 +451,31 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
   tight_bounds_ = false;
 }
 
-void OcclusionCuller::collect() {
+void OcclusionCuller::collect(bool test_splats) {
   const std::size_t n = scene_.size();
   mask_.assign((n + 63) / 64, 0);
+  if (test_splats) {
+    const auto t0 = Clock::now();
+    keep_.resize(bvh_.order.size());
+    tbb::parallel_for(std::size_t{0}, drawn_leaves_.size(), [&](std::size_t k) {
+      const ChunkBvhNode& x = bvh_.nodes[drawn_leaves_[k]];
+      for (uint32_t e = x.left; e < x.right; ++e)
+        keep_[e] = !hidden(project_splat(bvh_.order[e]));
+    });
+    stats_->splat_test_s += seconds_since(t0);
+  }
   uint64_t splats = 0;
   for (uint32_t leaf : drawn_leaves_) {
     const ChunkBvhNode& x = bvh_.nodes[leaf];
     for (uint32_t k = x.left; k < x.right; ++k) {
+      if (test_splats && !keep_[k]) continue;
       const uint32_t i = bvh_.order[k];
       mask_[i >> 6] |= uint64_t{1} << (i & 63);
+      ++splats;
     }
-    splats += x.size();
+    if (test_splats) stats_->splats_culled += x.size();
   }
+  if (test_splats) stats_->splats_culled -= splats;
   stats_->leaves_drawn += drawn_leaves_.size();
   stats_->splats_drawn += splats;
   splats_.clear();
@@ -438,7 +489,7 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
                                                    float margin, bool cull_backfaces,
                                                    OcclusionStats& stats) {
   const auto t0 = Clock::now();
-  const double query0 = stats.query_s, depth0 = stats.depth_s;
+  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
   ++frame_;
   projection_ = projection;
   margin_ = margin;
@@ -466,8 +517,9 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
       run_chc(true, true);
       break;
   }
-  collect();
-  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0);
+  collect(mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum);
+  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0) -
+                       (stats.splat_test_s - test0);
   stats_ = nullptr;
   return splats_;
 }
