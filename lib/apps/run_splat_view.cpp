@@ -297,22 +297,21 @@ nlohmann::json frame_json(const FrameStats& s, double write_s) {
 
 nlohmann::json occlusion_json(const OcclusionStats& s) {
   auto ms = [](double sec) { return std::round(sec * 1e6) / 1e3; };
-  return {
-      {"nodes_traversed", s.nodes_traversed},
-      {"queries", s.queries},
-      {"multiqueries", s.multiqueries},
-      {"queries_per_multiquery",
-       s.multiqueries ? std::round(100.0 * s.multiquery_nodes / s.multiqueries) / 100 : 0.0},
-      {"nodes_culled_frustum", s.culled_frustum},
-      {"nodes_culled_occlusion", s.culled_occlusion},
-      {"leaves_drawn", s.leaves_drawn},
-      {"splats_drawn", s.splats_drawn},
-      {"splats_culled", s.splats_culled},
-      {"time_ms",
-       {{"traversal", ms(s.traversal_s)},
-        {"queries", ms(s.query_s)},
-        {"depth", ms(s.depth_s)},
-        {"splat_test", ms(s.splat_test_s)}}}};
+  return {{"nodes_traversed", s.nodes_traversed},
+          {"queries", s.queries},
+          {"multiqueries", s.multiqueries},
+          {"queries_per_multiquery",
+           s.multiqueries ? std::round(100.0 * s.multiquery_nodes / s.multiqueries) / 100 : 0.0},
+          {"nodes_culled_frustum", s.culled_frustum},
+          {"nodes_culled_occlusion", s.culled_occlusion},
+          {"leaves_drawn", s.leaves_drawn},
+          {"splats_drawn", s.splats_drawn},
+          {"splats_culled", s.splats_culled},
+          {"time_ms",
+           {{"traversal", ms(s.traversal_s)},
+            {"queries", ms(s.query_s)},
+            {"depth", ms(s.depth_s)},
+            {"splat_test", ms(s.splat_test_s)}}}};
 }
 
 std::string read_text_file(const std::string& path) {

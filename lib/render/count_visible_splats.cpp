@@ -38,7 +38,8 @@ std::vector<uint64_t> visible_mask(const RenderScene& scene, const Projection& p
 uint64_t count_visible_splats(const RenderScene& scene, const Projection& projection,
                               bool cull_backfaces) {
   uint64_t count = 0;
-  for (uint64_t w : visible_mask(scene, projection, cull_backfaces)) count += __builtin_popcountll(w);
+  for (uint64_t w : visible_mask(scene, projection, cull_backfaces))
+    count += __builtin_popcountll(w);
   return count;
 }
 

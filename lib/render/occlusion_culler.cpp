@@ -459,8 +459,7 @@ void OcclusionCuller::collect(bool test_splats) {
     keep_.resize(bvh_.order.size());
     tbb::parallel_for(std::size_t{0}, drawn_leaves_.size(), [&](std::size_t k) {
       const ChunkBvhNode& x = bvh_.nodes[drawn_leaves_[k]];
-      for (uint32_t e = x.left; e < x.right; ++e)
-        keep_[e] = !hidden(project_splat(bvh_.order[e]));
+      for (uint32_t e = x.left; e < x.right; ++e) keep_[e] = !hidden(project_splat(bvh_.order[e]));
     });
     stats_->splat_test_s += seconds_since(t0);
   }

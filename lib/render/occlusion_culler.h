@@ -83,7 +83,7 @@ class OcclusionCuller {
   };
   Query project(const Box3& box) const;
   bool hidden(const Query& q) const;
-  Query project_splat(uint32_t splat) const;  // the splat's bounding sphere
+  Query project_splat(uint32_t splat) const;              // the splat's bounding sphere
   bool query_node(uint32_t node);                         // counts one query; true when visible
   void draw_leaf(uint32_t leaf);                          // at once, into the pyramid
   void draw_leaves(const std::vector<uint32_t>& leaves);  // in parallel
