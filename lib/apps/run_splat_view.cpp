@@ -452,9 +452,18 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     summary.frame_seconds += stats.total_s;
     summary.occlusion.add(occlusion);
     nlohmann::json oj = culling ? occlusion_json(occlusion) : nlohmann::json::object();
-    if (o.count_visible && !scene.qsplat && !scene.spt)
-      oj["splats_visible"] =
-          count_visible_splats(scene, make_projection(camera), render.cull_backfaces);
+    if (o.count_visible && !scene.qsplat && !scene.spt) {
+      // The floor of any culler with this renderer: the frame drawn from the shown splats alone
+      // (not the same image: the splats that only blend are missing).
+      const std::vector<uint32_t> shown =
+          visible_splats(scene, make_projection(camera), render.cull_backfaces);
+      oj["splats_visible"] = shown.size();
+      RenderScene visible;
+      subset_scene(scene, shown, visible);
+      Framebuffer floor_image;
+      const FrameStats f = renderer.render(visible, camera, render, floor_image);
+      oj["floor_ms"] = std::round(f.total_s * 1e6) / 1e3;
+    }
     per_frame_occlusion.push_back(oj);
     last = stats;
   }

@@ -5,8 +5,8 @@
 namespace splatkit::render {
 
 PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::size_t count,
-                     const Projection& projection, bool cull_backfaces, DepthPyramid& pyramid,
-                     DepthPassScratch& s) {
+                     const Projection& projection, bool cull_backfaces, DepthPyramid* target,
+                     DepthPassScratch& s, SplatBounds* bounds) {
   s.positions.resize(count);
   s.normals.resize(count);
   s.radii.resize(count);
@@ -36,7 +36,14 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
   }
   s.rasters.resize(count);
   setup_splats(d, projection, SetupOptions{cull_backfaces}, 0, count, s.rasters.data());
+  if (bounds)
+    for (std::size_t k = 0; k < count; ++k) {
+      const SplatRaster& r = s.rasters[k];
+      bounds[k] = {r.x0, r.y0, r.x1, r.y1, r.zmin};
+    }
   PixelRect dirty;
+  if (!target) return dirty;
+  DepthPyramid& pyramid = *target;
   const int width = projection.width, height = projection.height;
   for (const SplatRaster& r : s.rasters) {
     if (!r.drawn()) continue;

@@ -30,6 +30,14 @@ inline PixelRect cells_of(const PixelRect& r) {
           r.y1 >> kDepthCellShift};
 }
 
+// A splat's pixel box and nearest depth as the renderer's setup finds them (SplatRaster): the
+// per-splat occlusion test's input. Empty box: the renderer draws no fragment of the splat.
+struct SplatBounds {
+  int16_t x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive, clipped to the image
+  float zmin = 0;
+  bool drawn() const { return x0 <= x1; }
+};
+
 // Reused buffers of one thread.
 struct DepthPassScratch {
   std::vector<Vec3f> positions, normals, axes;
@@ -40,9 +48,10 @@ struct DepthPassScratch {
 // Draws splats `indices[0..count)` of `scene` into `pyramid` level 0 (cells; the pyramid sized
 // for the image's cells; safe from several threads at once) and returns the cells written (for
 // DepthPyramid::update). Splats are skipped as the renderer skips them: too near, off screen, or
-// back-facing with `cull_backfaces`.
+// back-facing with `cull_backfaces`. `bounds[k]` (when not null) receives splat k's SplatBounds;
+// with `pyramid` null, only those are computed.
 PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::size_t count,
-                     const Projection& projection, bool cull_backfaces, DepthPyramid& pyramid,
-                     DepthPassScratch& scratch);
+                     const Projection& projection, bool cull_backfaces, DepthPyramid* pyramid,
+                     DepthPassScratch& scratch, SplatBounds* bounds = nullptr);
 
 }  // namespace splatkit::render

@@ -107,7 +107,8 @@ OcclusionCuller::OcclusionCuller(const RenderScene& scene, const ChunkBvh& bvh)
       bvh_(bvh),
       visible_frame_(bvh.nodes.size(), 0),
       hidden_run_(bvh.nodes.size(), 0),
-      tight_(bvh.nodes.size()) {
+      tight_(bvh.nodes.size()),
+      bounds_at_(bvh.nodes.size(), 0) {
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
     if (!bvh.nodes[n].leaf) tight_[n] = tight_set(bvh, n);
   frame_ = 1;
@@ -160,43 +161,6 @@ OcclusionCuller::Query OcclusionCuller::project(const Box3& box) const {
   return q;
 }
 
-// The splat's bounding sphere (centre c, radius r in camera space): depths in [c.z − r, c.z + r],
-// and x / z, y / z bounded by their values at the ends of that range (x / z is monotone in z).
-OcclusionCuller::Query OcclusionCuller::project_splat(uint32_t i) const {
-  Query q;
-  const Projection& p = projection_;
-  float r = scene_.radii[i];
-  if (!scene_.minor_radii.empty()) r = std::max(r, scene_.minor_radii[i]);
-  const Vec3f c = p.to_camera(scene_.positions[i]);
-  const float z0 = c.z - r, z1 = c.z + r;
-  if (z1 < p.near) return q;  // as project(): nothing reaches beyond the near plane
-  q.in_frustum = true;
-  if (z0 <= p.near) {  // straddles the near plane: kept
-    q.rect = {0, 0, p.width - 1, p.height - 1};
-    return q;
-  }
-  const float i0 = 1.0f / z0, i1 = 1.0f / z1;
-  const float xmin = p.cx + p.focal_px * std::min((c.x - r) * i0, (c.x - r) * i1),
-              xmax = p.cx + p.focal_px * std::max((c.x + r) * i0, (c.x + r) * i1),
-              ymin = p.cy + p.focal_px * std::min((c.y - r) * i0, (c.y - r) * i1),
-              ymax = p.cy + p.focal_px * std::max((c.y + r) * i0, (c.y + r) * i1);
-  // Pixel centres in [min, max], one pixel more on each side for round-off (as project()).
-  auto lo = [](float v, int size) {
-    return int(std::floor(std::clamp(v - 0.5f, -4.0f, float(size) + 4))) - 1;
-  };
-  auto hi = [](float v, int size) {
-    return int(std::ceil(std::clamp(v - 0.5f, -4.0f, float(size) + 4))) + 1;
-  };
-  q.rect = {std::max(0, lo(xmin, p.width)), std::max(0, lo(ymin, p.height)),
-            std::min(p.width - 1, hi(xmax, p.width)), std::min(p.height - 1, hi(ymax, p.height))};
-  if (q.rect.empty()) {
-    q.in_frustum = false;
-    return q;
-  }
-  q.near = z0 * 0.999f;
-  return q;
-}
-
 bool OcclusionCuller::hidden(const Query& q) const {
   if (!q.in_frustum) return true;
   const float front = pyramid_.max_depth(cells_of(q.rect));
@@ -223,21 +187,29 @@ bool OcclusionCuller::query_node(uint32_t node) {
 void OcclusionCuller::draw_leaf(uint32_t leaf) {
   const auto t0 = Clock::now();
   const ChunkBvhNode& n = bvh_.nodes[leaf];
+  bounds_at_[leaf] = bounds_.size();
+  bounds_.resize(bounds_.size() + n.size());
   const PixelRect dirty = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                                     cull_backfaces_, pyramid_, scratch_);
+                                     cull_backfaces_, &pyramid_, scratch_,
+                                     bounds_.data() + bounds_at_[leaf]);
   pyramid_.update(dirty);
   drawn_leaves_.push_back(leaf);
   stats_->depth_s += seconds_since(t0);
 }
 
-void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves) {
+void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool depth) {
   if (leaves.empty()) return;
   const auto t0 = Clock::now();
+  for (uint32_t leaf : leaves) {
+    bounds_at_[leaf] = bounds_.size();
+    bounds_.resize(bounds_.size() + bvh_.nodes[leaf].size());
+  }
   std::vector<PixelRect> dirty(leaves.size());
   tbb::parallel_for(std::size_t{0}, leaves.size(), [&](std::size_t k) {
     const ChunkBvhNode& n = bvh_.nodes[leaves[k]];
     dirty[k] = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                          cull_backfaces_, pyramid_, thread_scratch_.local());
+                          cull_backfaces_, depth ? &pyramid_ : nullptr, thread_scratch_.local(),
+                          bounds_.data() + bounds_at_[leaves[k]]);
   });
   // One update over the union when the leaves overlap on screen, else one per leaf.
   PixelRect all;
@@ -297,12 +269,9 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
   std::vector<uint32_t> still_visible;
   for (uint32_t leaf : pending)
     if (!retest_due(leaf) || query_node(leaf)) still_visible.push_back(leaf);
-  if (invisible.empty() && frontier_empty_) {
-    // The last batch: no query will read the pyramid again, so the leaves need no depth pass.
-    drawn_leaves_.insert(drawn_leaves_.end(), pending.begin(), pending.end());
-  } else {
-    draw_leaves(pending);
-  }
+  // The last batch: no query will read the pyramid again, so the leaves need no depth pass (only
+  // their splats' bounds, for the splat test).
+  draw_leaves(pending, !(invisible.empty() && frontier_empty_));
   for (uint32_t leaf : still_visible) mark_visible(leaf);
   pending.clear();
 
@@ -388,7 +357,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     i = end;
   }
   invisible.clear();
-  draw_leaves(newly);
+  draw_leaves(newly, true);
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
 
@@ -456,18 +425,28 @@ void OcclusionCuller::collect(bool test_splats) {
   mask_.assign((n + 63) / 64, 0);
   if (test_splats) {
     const auto t0 = Clock::now();
-    keep_.resize(bvh_.order.size());
+    keep_.resize(bounds_.size());
     tbb::parallel_for(std::size_t{0}, drawn_leaves_.size(), [&](std::size_t k) {
-      const ChunkBvhNode& x = bvh_.nodes[drawn_leaves_[k]];
-      for (uint32_t e = x.left; e < x.right; ++e) keep_[e] = !hidden(project_splat(bvh_.order[e]));
+      const uint32_t leaf = drawn_leaves_[k];
+      const SplatBounds* b = bounds_.data() + bounds_at_[leaf];
+      uint8_t* keep = keep_.data() + bounds_at_[leaf];
+      for (uint32_t e = 0, size = bvh_.nodes[leaf].size(); e < size; ++e) {
+        // Not drawn by the renderer (its setup is the same arithmetic), or hidden.
+        Query q;
+        q.in_frustum = b[e].drawn();
+        q.rect = {b[e].x0, b[e].y0, b[e].x1, b[e].y1};
+        q.near = b[e].zmin * 0.999f;
+        keep[e] = !hidden(q);
+      }
     });
     stats_->splat_test_s += seconds_since(t0);
   }
   uint64_t splats = 0;
   for (uint32_t leaf : drawn_leaves_) {
     const ChunkBvhNode& x = bvh_.nodes[leaf];
+    const uint8_t* keep = test_splats ? keep_.data() + bounds_at_[leaf] : nullptr;
     for (uint32_t k = x.left; k < x.right; ++k) {
-      if (test_splats && !keep_[k]) continue;
+      if (keep && !keep[k - x.left]) continue;
       const uint32_t i = bvh_.order[k];
       mask_[i >> 6] |= uint64_t{1} << (i & 63);
       ++splats;
@@ -495,6 +474,7 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
   cull_backfaces_ = cull_backfaces;
   stats_ = &stats;
   drawn_leaves_.clear();
+  bounds_.clear();
   if (mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum)
     pyramid_.reset((projection.width + kDepthCell - 1) >> kDepthCellShift,
                    (projection.height + kDepthCell - 1) >> kDepthCellShift);

@@ -23,11 +23,13 @@
 //     queries each member alone; a batch is grouped in hierarchy order, so that a group's
 //     members lie close together), and tight bounds. A batch of previously visible leaves that
 //     no later query reads gets no depth pass.
-// The pyramid modes then test each splat of the drawn leaves alone (its bounding sphere against
-// the final pyramid, the same test as a node's): a leaf partly in view or partly hidden draws
-// only the splats that can show. Exact as the node test is: every value of the final pyramid
-// comes from a splat that passes (a splat is dropped only when it lies beyond the pyramid plus
-// the margin everywhere it covers, so beyond its own depth-pass values).
+// The pyramid modes then test each splat of the drawn leaves alone against the final pyramid
+// (the same test as a node's, with the pixel box and nearest depth the renderer's setup gives
+// it, computed by the depth pass): a leaf partly in view or partly hidden draws only the splats
+// that can show, and no splat the renderer would not draw (off screen, too near). Exact as the
+// node test is: every value of the final pyramid comes from a splat that passes (a splat is
+// dropped only when it lies beyond the pyramid plus the margin everywhere it covers, so beyond
+// its own depth-pass values).
 // Not thread safe; the depth pass of a batch runs in parallel in the caller's TBB arena.
 #pragma once
 
@@ -86,7 +88,8 @@ class OcclusionCuller {
   Query project_splat(uint32_t splat) const;              // the splat's bounding sphere
   bool query_node(uint32_t node);                         // counts one query; true when visible
   void draw_leaf(uint32_t leaf);                          // at once, into the pyramid
-  void draw_leaves(const std::vector<uint32_t>& leaves);  // in parallel
+  // In parallel; with `depth` false only the splats' bounds are computed (no depth pass).
+  void draw_leaves(const std::vector<uint32_t>& leaves, bool depth);
   void mark_visible(uint32_t node);                       // this frame, pulled up
   bool was_visible(uint32_t node) const;
   bool retest_due(uint32_t node) const;
@@ -109,7 +112,9 @@ class OcclusionCuller {
   std::vector<std::vector<uint32_t>> tight_;  // per node: descendants whose boxes bound it
   std::vector<uint32_t> drawn_leaves_;
   std::vector<uint64_t> mask_;
-  std::vector<uint8_t> keep_;  // per entry of bvh_.order: the splat test's answer this frame
+  std::vector<SplatBounds> bounds_;  // this frame's drawn leaves' splats, a leaf at a time
+  std::vector<std::size_t> bounds_at_;  // per leaf drawn this frame: its first entry in bounds_
+  std::vector<uint8_t> keep_;           // per entry of bounds_: the splat test's answer
   std::vector<uint32_t> splats_;
   DepthPassScratch scratch_;
   tbb::enumerable_thread_specific<DepthPassScratch> thread_scratch_;
