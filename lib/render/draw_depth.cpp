@@ -67,10 +67,13 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
         const float dj = float(y - r.y0);
         float l = r.l[1] * dj + r.l[2], u = r.u[1] * dj + r.u[2], v = r.v[1] * dj + r.v[2];
         bool any = false;
+        // The splat's far depth at every pixel it covers, not the plane's depth there: one
+        // bound per splat spares a division per pixel, and loses at most the splat's own depth
+        // extent, small beside the margin a query adds (the renderer's depth window).
         for (int x = r.x0; x <= r.x1; ++x) {
           const float l2 = l * l;
           if (l2 >= 1e-6f && u * u + v * v <= 0.98f * l2) {
-            pyramid.lower(x, y, std::min(far, r.nc / l * 1.001f));
+            pyramid.lower(x, y, far);
             any = true;
           }
           l += r.l[0];
