@@ -87,7 +87,7 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
         while (b > a && !at(b, dj, lb)) --b;
         if (b == a) lb = la;
         if ((la > 0) == (lb > 0)) {
-          for (int x = a; x <= b; ++x) pyramid.lower(x, y, far);
+          pyramid.lower_run(a, b, y, far);
         } else {
           for (int x = a; x <= b; ++x)
             if (at(x, dj, la)) pyramid.lower(x, y, far);
