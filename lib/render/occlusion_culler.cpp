@@ -370,8 +370,10 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
   auto push_children = [&](const ChunkBvhNode& n) {
     for (uint32_t c : {n.left, n.right}) heap.push({project(bvh_.nodes[c].box).near, c});
   };
+  bool fresh = false;  // chc++: `invisible` holds a node no query has found hidden before
   while (true) {
-    if (heap.empty() || invisible.size() >= std::size_t(kBatchSize)) {
+    if (heap.empty() || invisible.size() >= std::size_t(kBatchSize) || fresh) {
+      fresh = false;
       if (!plus || (pending.empty() && invisible.empty())) {
         if (heap.empty()) break;
       } else {
@@ -403,7 +405,12 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
       continue;
     }
     if (plus) {
+      // A node without history joins no multiquery: on the CPU its answer costs no latency, so
+      // it is queried at once (after the batch of visible leaves is drawn), as the hierarchical
+      // traversal does; a batch would query it against a pyramid without the leaves found
+      // visible meanwhile, and find more visible (the first frame of a walk).
       invisible.push_back(node);
+      fresh = hidden_run_[node] == 0;
       continue;
     }
     if (!query_node(node)) {
