@@ -185,33 +185,37 @@ bool OcclusionCuller::query_node(uint32_t node) {
 }
 
 void OcclusionCuller::draw_leaf(uint32_t leaf) {
-  const auto t0 = Clock::now();
-  const ChunkBvhNode& n = bvh_.nodes[leaf];
-  bounds_at_[leaf] = bounds_.size();
-  bounds_.resize(bounds_.size() + n.size());
-  const PixelRect dirty = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                                     cull_backfaces_, &pyramid_, scratch_,
-                                     bounds_.data() + bounds_at_[leaf]);
-  pyramid_.update(dirty);
-  drawn_leaves_.push_back(leaf);
-  stats_->depth_s += seconds_since(t0);
+  leaf_.assign(1, leaf);
+  draw_leaves(leaf_, true);
 }
 
 void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool depth) {
   if (leaves.empty()) return;
   const auto t0 = Clock::now();
+  // Pieces of at most kDepthPiece splats, so that a batch of a few leaves (or one) still
+  // spreads over the threads.
+  constexpr uint32_t kDepthPiece = 512;
+  struct Piece {
+    uint32_t first;        // entry in bvh_.order
+    uint32_t count;        // splats
+    std::size_t bounds;    // entry in bounds_
+  };
+  std::vector<Piece> pieces;
   for (uint32_t leaf : leaves) {
+    const ChunkBvhNode& n = bvh_.nodes[leaf];
     bounds_at_[leaf] = bounds_.size();
-    bounds_.resize(bounds_.size() + bvh_.nodes[leaf].size());
+    for (uint32_t k = 0; k < n.size(); k += kDepthPiece)
+      pieces.push_back({n.left + k, std::min(kDepthPiece, n.size() - k), bounds_.size() + k});
+    bounds_.resize(bounds_.size() + n.size());
   }
-  std::vector<PixelRect> dirty(leaves.size());
-  tbb::parallel_for(std::size_t{0}, leaves.size(), [&](std::size_t k) {
-    const ChunkBvhNode& n = bvh_.nodes[leaves[k]];
-    dirty[k] = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
+  std::vector<PixelRect> dirty(pieces.size());
+  tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t k) {
+    const Piece& p = pieces[k];
+    dirty[k] = draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_,
                           cull_backfaces_, depth ? &pyramid_ : nullptr, thread_scratch_.local(),
-                          bounds_.data() + bounds_at_[leaves[k]]);
+                          bounds_.data() + p.bounds);
   });
-  // One update over the union when the leaves overlap on screen, else one per leaf.
+  // One update over the union when the pieces overlap on screen, else one per piece.
   PixelRect all;
   std::size_t area = 0;
   for (const PixelRect& r : dirty) {

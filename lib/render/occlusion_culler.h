@@ -87,7 +87,7 @@ class OcclusionCuller {
   bool hidden(const Query& q) const;
   Query project_splat(uint32_t splat) const;              // the splat's bounding sphere
   bool query_node(uint32_t node);                         // counts one query; true when visible
-  void draw_leaf(uint32_t leaf);                          // at once, into the pyramid
+  void draw_leaf(uint32_t leaf);  // at once, into the pyramid (draw_leaves of one)
   // In parallel; with `depth` false only the splats' bounds are computed (no depth pass).
   void draw_leaves(const std::vector<uint32_t>& leaves, bool depth);
   void mark_visible(uint32_t node);                       // this frame, pulled up
@@ -116,7 +116,7 @@ class OcclusionCuller {
   std::vector<std::size_t> bounds_at_;  // per leaf drawn this frame: its first entry in bounds_
   std::vector<uint8_t> keep_;           // per entry of bounds_: the splat test's answer
   std::vector<uint32_t> splats_;
-  DepthPassScratch scratch_;
+  std::vector<uint32_t> leaf_;  // draw_leaf's list of one
   tbb::enumerable_thread_specific<DepthPassScratch> thread_scratch_;
   bool tight_bounds_ = false;
   bool frontier_empty_ = false;  // chc++: the traversal queue is empty at this flush
