@@ -196,9 +196,9 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool dept
   // spreads over the threads.
   constexpr uint32_t kDepthPiece = 512;
   struct Piece {
-    uint32_t first;        // entry in bvh_.order
-    uint32_t count;        // splats
-    std::size_t bounds;    // entry in bounds_
+    uint32_t first;      // entry in bvh_.order
+    uint32_t count;      // splats
+    std::size_t bounds;  // entry in bounds_
   };
   std::vector<Piece> pieces;
   for (uint32_t leaf : leaves) {
@@ -211,9 +211,9 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool dept
   std::vector<PixelRect> dirty(pieces.size());
   tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t k) {
     const Piece& p = pieces[k];
-    dirty[k] = draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_,
-                          cull_backfaces_, depth ? &pyramid_ : nullptr, thread_scratch_.local(),
-                          bounds_.data() + p.bounds);
+    dirty[k] =
+        draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_, cull_backfaces_,
+                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds);
   });
   // One update over the union when the pieces overlap on screen, else one per piece.
   PixelRect all;

@@ -112,7 +112,7 @@ class OcclusionCuller {
   std::vector<std::vector<uint32_t>> tight_;  // per node: descendants whose boxes bound it
   std::vector<uint32_t> drawn_leaves_;
   std::vector<uint64_t> mask_;
-  std::vector<SplatBounds> bounds_;  // this frame's drawn leaves' splats, a leaf at a time
+  std::vector<SplatBounds> bounds_;     // this frame's drawn leaves' splats, a leaf at a time
   std::vector<std::size_t> bounds_at_;  // per leaf drawn this frame: its first entry in bounds_
   std::vector<uint8_t> keep_;           // per entry of bounds_: the splat test's answer
   std::vector<uint32_t> splats_;

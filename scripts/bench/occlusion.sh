@@ -10,8 +10,10 @@
 # hierarchical, and splats chc++ draws against the splats truly visible (distinct nearest splat
 # ids of a z-buffer pass: splat-view --count-visible). The floor: the same frames rendered from
 # the truly visible splats alone (no culling cost; the least any culler could reach with this
-# renderer), and how far chc++ and none are from it. Process CPU time (user + system) and the
-# load average are printed beside the wall times: the machine may be shared.
+# renderer), and how far chc++ and none are from it. Each frame's process CPU time (all threads,
+# splat-view's time_ms.frame_cpu), the whole process's CPU time and the load average are printed
+# beside the wall times: on a shared machine the wall times of modes run one after another see
+# different loads, and the CPU times are the steadier comparison.
 # usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=2048]
 #        (build dir: $BUILD_DIR, default build-bench)
 set -euo pipefail
@@ -82,8 +84,10 @@ for i in range(n):
                                    fr("chc++", i)["occlusion"]["floor_ms"])
     print(row)
 tot = {m: sum(f["time_ms"]["frame"] for f in r[m]["frames"]) for m in modes}
+cpu = {m: sum(f["time_ms"]["frame_cpu"] for f in r[m]["frames"]) for m in modes}
 for m in modes:
-    print("%-12s %8.1f ms/frame  %6.2f frames/s" % (m, tot[m] / n, 1000.0 * n / tot[m]))
+    print("%-12s %8.1f ms/frame  %6.2f frames/s   CPU %7.1f ms/frame (all threads)"
+          % (m, tot[m] / n, 1000.0 * n / tot[m], cpu[m] / n))
 floor = sum(f["occlusion"]["floor_ms"] for f in r["chc++"]["frames"])
 print("%-12s %8.1f ms/frame  %6.2f frames/s  (the truly visible splats alone)"
       % ("floor", floor / n, 1000.0 * n / floor))
@@ -107,6 +111,8 @@ def line(name, value, target, ok):
     print("%-44s %8.2f   (target %s: %s)" % (name, value, target, "met" if ok else "NOT met"))
 line("fps ratio chc++ / frustum", tot["frustum"] / tot["chc++"], ">= 4", tot["frustum"] / tot["chc++"] >= 4)
 line("fps ratio chc++ / none", tot["none"] / tot["chc++"], ">= 8", tot["none"] / tot["chc++"] >= 8)
+line("CPU time ratio frustum / chc++", cpu["frustum"] / cpu["chc++"], ">= 4", cpu["frustum"] / cpu["chc++"] >= 4)
+line("CPU time ratio none / chc++", cpu["none"] / cpu["chc++"], ">= 8", cpu["none"] / cpu["chc++"] >= 8)
 line("fps ratio chc++ / hierarchical", tot["hierarchical"] / tot["chc++"], "-", True)
 line("queries chc++ / hierarchical", q["chc++"] / max(1, q["hierarchical"]), "<= 1/3",
      q["chc++"] <= q["hierarchical"] / 3)
