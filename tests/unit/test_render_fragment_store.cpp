@@ -19,8 +19,8 @@ struct Frag {
 };
 
 // The (depth, splat, weight) of the fragments stored at pixel 0, sorted.
-std::vector<std::tuple<float, uint32_t, float>> stored(const std::vector<Frag>& frags,
-                                                       int capacity, float window) {
+std::vector<std::tuple<float, uint32_t, float>> stored(const std::vector<Frag>& frags, int capacity,
+                                                       float window) {
   FragmentStore store;
   store.reset(1, capacity, window);
   for (const Frag& f : frags) store.add(0, f.depth, f.weight, f.splat);

@@ -194,8 +194,8 @@ TEST(OcclusionCuller, WallHidesTheBoxesBehindIt) {
       {
         std::vector<SplatBounds> bounds(shown.size());
         DepthPassScratch scratch;
-        draw_depth(scene, shown.data(), shown.size(), make_projection(cam), false, nullptr,
-                   scratch, bounds.data());
+        draw_depth(scene, shown.data(), shown.size(), make_projection(cam), false, nullptr, scratch,
+                   bounds.data());
         std::size_t kept = 0;
         for (std::size_t k = 0; k < shown.size(); ++k)
           if (bounds[k].drawn()) shown[kept++] = shown[k];
