@@ -24,8 +24,7 @@ struct LazDataError : std::runtime_error {
 
 inline constexpr uint32_t kMinLength = 0x01000000u, kMaxLength = 0xFFFFFFFFu;
 inline constexpr int kBitLengthShift = 13, kSymLengthShift = 15;
-inline constexpr uint32_t kBitMaxCount = 1u << kBitLengthShift,
-                          kSymMaxCount = 1u << kSymLengthShift;
+inline constexpr uint32_t kBitMaxCount = 1u << kBitLengthShift, kSymMaxCount = 1u << kSymLengthShift;
 
 // Adaptive binary model.
 struct BitModel {

@@ -17,8 +17,7 @@ namespace {
 using splatkit::OutlierOptions;
 using splatkit::OutlierRule;
 
-std::vector<splatkit::Vec3f> scan(splatkit::ShapeKind kind, std::size_t n, double noise,
-                                  uint64_t seed) {
+std::vector<splatkit::Vec3f> scan(splatkit::ShapeKind kind, std::size_t n, double noise, uint64_t seed) {
   splatkit::ShapeOptions s;
   s.kind = kind;
   s.points = n;

@@ -244,10 +244,8 @@ TEST(TerrainFillVoids, RunsBecomeLinesBetweenTheirNeighbours) {
 TEST(TerrainComputeHam, RealSrtmWithVoids) {
   for (const char* name : {"mt_fuji_90m.tif", "mt_rainier_90m.tif", "mt_everest_90m.tif"}) {
     const std::string path = std::string("/work/shared/data/dem/") + name;
-    if (FILE* f = std::fopen(path.c_str(), "rb"))
-      std::fclose(f);
-    else
-      GTEST_SKIP() << path << " not present";
+    if (FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
+    else GTEST_SKIP() << path << " not present";
     auto src = open_image_heightmap(path);
     const int64_t w = src->info().width, h = src->info().height;
     ASSERT_TRUE(src->info().has_nodata);
@@ -274,8 +272,7 @@ TEST(TerrainComputeHam, RealSrtmWithVoids) {
     std::vector<float> clean(t.size(), 0.0f), filled_max(t.size(), 0.0f);
     for (int64_t y = 0; y < h; ++y)
       for (int64_t x = 0; x < w; ++x) {
-        const std::size_t i = std::size_t(y * w + x),
-                          k = std::size_t((y / 64) * t.tiles_x + x / 64);
+        const std::size_t i = std::size_t(y * w + x), k = std::size_t((y / 64) * t.tiles_x + x / 64);
         float& m = affected[i] ? filled_max[k] : clean[k];
         m = std::max(m, r.ham[i]);
       }
@@ -288,7 +285,8 @@ TEST(TerrainComputeHam, RealSrtmWithVoids) {
         ++void_tiles;
         float around = 0;
         for (int64_t y = std::max<int64_t>(0, ty - 1); y <= std::min(t.tiles_y - 1, ty + 1); ++y)
-          for (int64_t x = std::max<int64_t>(0, tx - 1); x <= std::min(t.tiles_x - 1, tx + 1); ++x)
+          for (int64_t x = std::max<int64_t>(0, tx - 1); x <= std::min(t.tiles_x - 1, tx + 1);
+               ++x)
             around = std::max(around, clean[std::size_t(y * t.tiles_x + x)]);
         if (around > 0) worst = std::max(worst, double(filled_max[i]) / double(around));
       }

@@ -6,8 +6,7 @@ int main(int argc, char** argv) {
   splatkit::Tool tool(
       "build-ham",
       "Compute the height acceleration map (HAM) of a heightmap for terrain tessellation "
-      "[Sobel68; Valdetaro10]: the Sobel gradient magnitude of the heights, then the Sobel "
-      "magnitude "
+      "[Sobel68; Valdetaro10]: the Sobel gradient magnitude of the heights, then the Sobel magnitude "
       "of that (clamp-to-edge borders), summarised per tile as an EXR with the float channels "
       "ham_max, h_max and the uint32 channels x, y (texel of h_max, first in row-major order) and "
       "voids (no-data texels filled). IN: TIFF/GeoTIFF (8/16/32-bit integer or float, stripped "
