@@ -42,7 +42,9 @@ struct SplatViewOptions {
   std::string bvh_split = "median";  // median | sah (render/chunk_bvh.h)
   uint32_t bvh_leaf = 2048;          // splats per hierarchy leaf, at most
   // Diagnostic: count the splats each frame truly shows (render/count_visible_splats.h) into
-  // the report as splats_visible; costs a z-buffer pass per frame, not counted in frame times.
+  // the report as splats_visible, and render them alone (floor_ms: what any culling could at
+  // best leave of a frame); costs a z-buffer pass and a render per frame, not counted in frame
+  // times.
   bool count_visible = false;
   // render.max_fragments, cull_backfaces, clip (use the file's CLIP), surface_ids (use the file's
   // surface ids); blend, shade and background come from the texts above.

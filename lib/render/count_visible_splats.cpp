@@ -8,8 +8,11 @@
 
 namespace splatkit::render {
 
-uint64_t count_visible_splats(const RenderScene& scene, const Projection& projection,
-                              bool cull_backfaces) {
+namespace {
+
+// One bit per splat: set when some pixel shows it.
+std::vector<uint64_t> visible_mask(const RenderScene& scene, const Projection& projection,
+                                   bool cull_backfaces) {
   DepthKeyBuffer zb;
   zb.reset(projection.width, projection.height);
   const std::size_t n = scene.size();
@@ -22,15 +25,32 @@ uint64_t count_visible_splats(const RenderScene& scene, const Projection& projec
     }
   });
   std::vector<uint64_t> seen((n + 63) / 64, 0);
-  uint64_t count = 0;
   for (uint64_t key : zb.keys) {
     if (key == kNoSplatKey) continue;
     const uint32_t i = DepthKeyBuffer::index_of(key);
-    const uint64_t bit = uint64_t{1} << (i & 63);
-    count += (seen[i >> 6] & bit) == 0;
-    seen[i >> 6] |= bit;
+    seen[i >> 6] |= uint64_t{1} << (i & 63);
   }
+  return seen;
+}
+
+}  // namespace
+
+uint64_t count_visible_splats(const RenderScene& scene, const Projection& projection,
+                              bool cull_backfaces) {
+  uint64_t count = 0;
+  for (uint64_t w : visible_mask(scene, projection, cull_backfaces))
+    count += __builtin_popcountll(w);
   return count;
+}
+
+std::vector<uint32_t> visible_splats(const RenderScene& scene, const Projection& projection,
+                                     bool cull_backfaces) {
+  std::vector<uint32_t> ids;
+  const std::vector<uint64_t> seen = visible_mask(scene, projection, cull_backfaces);
+  for (std::size_t w = 0; w < seen.size(); ++w)
+    for (uint64_t bits = seen[w]; bits != 0; bits &= bits - 1)
+      ids.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
+  return ids;
 }
 
 }  // namespace splatkit::render

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "render/camera.h"
 #include "render/render_scene.h"
@@ -15,5 +16,8 @@ namespace splatkit::render {
 // Plain scenes only (positions and radii). `cull_backfaces` as the renderer.
 uint64_t count_visible_splats(const RenderScene& scene, const Projection& projection,
                               bool cull_backfaces);
+// The same splats' indices, ascending.
+std::vector<uint32_t> visible_splats(const RenderScene& scene, const Projection& projection,
+                                     bool cull_backfaces);
 
 }  // namespace splatkit::render

@@ -48,6 +48,18 @@ class DepthPyramid {
     while (bits < old && !cell.compare_exchange_weak(old, bits, std::memory_order_relaxed)) {
     }
   }
+  // Lowers pixels x0..x1 of row y of level 0 to `depth` where that is less.
+  void lower_run(int x0, int x1, int y, float depth) {
+    uint32_t bits;
+    std::memcpy(&bits, &depth, 4);
+    uint32_t* row = levels_[0].data() + std::size_t(y) * width_;
+    for (int x = x0; x <= x1; ++x) {
+      std::atomic_ref<uint32_t> cell(row[x]);
+      uint32_t old = cell.load(std::memory_order_relaxed);
+      while (bits < old && !cell.compare_exchange_weak(old, bits, std::memory_order_relaxed)) {
+      }
+    }
+  }
   // Recomputes the upper levels over the level-0 pixels of `r` (clipped to the image).
   void update(PixelRect r);
   // The largest depth over the pixels of `r` (clipped to the image; must not be empty after

@@ -5,8 +5,8 @@
 namespace splatkit::render {
 
 PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::size_t count,
-                     const Projection& projection, bool cull_backfaces, DepthPyramid& pyramid,
-                     DepthPassScratch& s) {
+                     const Projection& projection, bool cull_backfaces, DepthPyramid* target,
+                     DepthPassScratch& s, SplatBounds* bounds) {
   s.positions.resize(count);
   s.normals.resize(count);
   s.radii.resize(count);
@@ -36,7 +36,14 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
   }
   s.rasters.resize(count);
   setup_splats(d, projection, SetupOptions{cull_backfaces}, 0, count, s.rasters.data());
+  if (bounds)
+    for (std::size_t k = 0; k < count; ++k) {
+      const SplatRaster& r = s.rasters[k];
+      bounds[k] = {r.x0, r.y0, r.x1, r.y1, r.zmin};
+    }
   PixelRect dirty;
+  if (!target) return dirty;
+  DepthPyramid& pyramid = *target;
   const int width = projection.width, height = projection.height;
   for (const SplatRaster& r : s.rasters) {
     if (!r.drawn()) continue;
@@ -51,26 +58,41 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
       if (!(l2 >= 1e-6f && u * u + v * v <= 0.98f * l2)) return -1.0f;
       return std::min(far, r.nc / l * 1.001f);
     };
-    // Nothing to lower when the splat's nearest point lies beyond every depth already there
+    // Nothing to lower when every depth already there is at most what the splat would write
     // (the upper levels may be stale, but stale cells only overstate).
-    if (r.zmin > pyramid.max_depth(cells_of(PixelRect{r.x0, r.y0, r.x1, r.y1}))) continue;
+    const float lowest = kDepthCellShift == 0 ? far : r.zmin;
+    if (lowest >= pyramid.max_depth(cells_of(PixelRect{r.x0, r.y0, r.x1, r.y1}))) continue;
     PixelRect written;
     if constexpr (kDepthCellShift == 0) {
+      // Per row, the pixels inside the disc form one run (the disc's rays are a convex cone,
+      // and a row a line): found from each end, then every pixel between written. Tests only
+      // the pixels outside the run. The ends are tested directly (not accumulated along the
+      // row); a run whose ends disagree on the sign of L (a grazing disc, the cone's two
+      // halves) is tested pixel by pixel.
+      auto at = [&](int x, float dj, float& l) {
+        const float di = float(x - r.x0);
+        l = r.l[0] * di + r.l[1] * dj + r.l[2];
+        const float u = r.u[0] * di + r.u[1] * dj + r.u[2];
+        const float v = r.v[0] * di + r.v[1] * dj + r.v[2];
+        const float l2 = l * l;
+        return l2 >= 1e-6f && u * u + v * v <= 0.98f * l2;
+      };
       for (int y = r.y0; y <= r.y1; ++y) {
         const float dj = float(y - r.y0);
-        float l = r.l[1] * dj + r.l[2], u = r.u[1] * dj + r.u[2], v = r.v[1] * dj + r.v[2];
-        bool any = false;
-        for (int x = r.x0; x <= r.x1; ++x) {
-          const float l2 = l * l;
-          if (l2 >= 1e-6f && u * u + v * v <= 0.98f * l2) {
-            pyramid.lower(x, y, std::min(far, r.nc / l * 1.001f));
-            any = true;
-          }
-          l += r.l[0];
-          u += r.u[0];
-          v += r.v[0];
+        float la = 0, lb = 0;
+        int a = r.x0;
+        while (a <= r.x1 && !at(a, dj, la)) ++a;
+        if (a > r.x1) continue;
+        int b = r.x1;
+        while (b > a && !at(b, dj, lb)) --b;
+        if (b == a) lb = la;
+        if ((la > 0) == (lb > 0)) {
+          pyramid.lower_run(a, b, y, far);
+        } else {
+          for (int x = a; x <= b; ++x)
+            if (at(x, dj, la)) pyramid.lower(x, y, far);
         }
-        if (any) written.extend(PixelRect{r.x0, y, r.x1, y});
+        written.extend(PixelRect{a, y, b, y});
       }
       dirty.extend(written);
       continue;

@@ -4,9 +4,11 @@
 // id), which keeps a slot at 12 bytes and a 32×32 tile with 8 slots at 96 KiB.
 //
 // Overflow: when a pixel's slots are full, the new fragment replaces the farthest stored one if it
-// is nearer, else it is dropped (ties keep the earlier splat); the pixel is flagged as
-// overflowed. So the K nearest fragments survive, which is all an opaque front surface needs
-// unless more than K fragments lie in front of its far side.
+// is nearer, else it is dropped (equal depths ordered by splat index: the lower index stays); the
+// pixel is flagged as overflowed. So the K least (depth, splat index) fragments survive whatever
+// the arrival order, which is all an opaque front surface needs unless more than K fragments lie
+// in front of its far side; and fragments beyond the depth window (below) change nothing, so a
+// renderer given fewer of them (occlusion culling) stores the same front fragments.
 //
 // Depth window: a fragment deeper than `window` behind the nearest fragment stored so far is
 // dropped at once, and reconstruction ignores those deeper than `window` behind the final
@@ -53,10 +55,13 @@ class FragmentStore {
       slot = base + n++;
     } else {
       overflowed_[pixel] = 1;
+      // The farthest by (depth, splat index), so that equal depths too are decided by the
+      // fragments alone, not by the slots they landed in.
       slot = base;
       for (std::size_t k = base + 1; k < base + capacity_; ++k)
-        if (depth_[k] > depth_[slot]) slot = k;
-      if (!(depth < depth_[slot])) return false;
+        if (depth_[k] > depth_[slot] || (depth_[k] == depth_[slot] && splat_[k] > splat_[slot]))
+          slot = k;
+      if (!(depth < depth_[slot] || (depth == depth_[slot] && splat < splat_[slot]))) return false;
     }
     depth_[slot] = depth;
     weight_[slot] = weight;

@@ -52,6 +52,8 @@ void OcclusionStats::add(const OcclusionStats& o) {
   traversal_s += o.traversal_s;
   query_s += o.query_s;
   depth_s += o.depth_s;
+  splats_culled += o.splats_culled;
+  splat_test_s += o.splat_test_s;
 }
 
 namespace {
@@ -105,7 +107,8 @@ OcclusionCuller::OcclusionCuller(const RenderScene& scene, const ChunkBvh& bvh)
       bvh_(bvh),
       visible_frame_(bvh.nodes.size(), 0),
       hidden_run_(bvh.nodes.size(), 0),
-      tight_(bvh.nodes.size()) {
+      tight_(bvh.nodes.size()),
+      bounds_at_(bvh.nodes.size(), 0) {
   for (uint32_t n = 0; n < bvh.nodes.size(); ++n)
     if (!bvh.nodes[n].leaf) tight_[n] = tight_set(bvh, n);
   frame_ = 1;
@@ -182,26 +185,37 @@ bool OcclusionCuller::query_node(uint32_t node) {
 }
 
 void OcclusionCuller::draw_leaf(uint32_t leaf) {
-  const auto t0 = Clock::now();
-  const ChunkBvhNode& n = bvh_.nodes[leaf];
-  const PixelRect dirty = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                                     cull_backfaces_, pyramid_, scratch_);
-  pyramid_.update(dirty);
-  drawn_leaves_.push_back(leaf);
-  stats_->depth_s += seconds_since(t0);
+  leaf_.assign(1, leaf);
+  draw_leaves(leaf_, true);
 }
 
-void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves) {
+void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool depth) {
   if (leaves.empty()) return;
   const auto t0 = Clock::now();
-  std::vector<PixelRect> dirty(leaves.size());
-  tbb::enumerable_thread_specific<DepthPassScratch> scratch;
-  tbb::parallel_for(std::size_t{0}, leaves.size(), [&](std::size_t k) {
-    const ChunkBvhNode& n = bvh_.nodes[leaves[k]];
-    dirty[k] = draw_depth(scene_, bvh_.order.data() + n.left, n.size(), projection_,
-                          cull_backfaces_, pyramid_, scratch.local());
+  // Pieces of at most kDepthPiece splats, so that a batch of a few leaves (or one) still
+  // spreads over the threads.
+  constexpr uint32_t kDepthPiece = 512;
+  struct Piece {
+    uint32_t first;      // entry in bvh_.order
+    uint32_t count;      // splats
+    std::size_t bounds;  // entry in bounds_
+  };
+  std::vector<Piece> pieces;
+  for (uint32_t leaf : leaves) {
+    const ChunkBvhNode& n = bvh_.nodes[leaf];
+    bounds_at_[leaf] = bounds_.size();
+    for (uint32_t k = 0; k < n.size(); k += kDepthPiece)
+      pieces.push_back({n.left + k, std::min(kDepthPiece, n.size() - k), bounds_.size() + k});
+    bounds_.resize(bounds_.size() + n.size());
+  }
+  std::vector<PixelRect> dirty(pieces.size());
+  tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t k) {
+    const Piece& p = pieces[k];
+    dirty[k] =
+        draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_, cull_backfaces_,
+                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds);
   });
-  // One update over the union when the leaves overlap on screen, else one per leaf.
+  // One update over the union when the pieces overlap on screen, else one per piece.
   PixelRect all;
   std::size_t area = 0;
   for (const PixelRect& r : dirty) {
@@ -259,12 +273,9 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
   std::vector<uint32_t> still_visible;
   for (uint32_t leaf : pending)
     if (!retest_due(leaf) || query_node(leaf)) still_visible.push_back(leaf);
-  if (invisible.empty() && frontier_empty_) {
-    // The last batch: no query will read the pyramid again, so the leaves need no depth pass.
-    drawn_leaves_.insert(drawn_leaves_.end(), pending.begin(), pending.end());
-  } else {
-    draw_leaves(pending);
-  }
+  // The last batch: no query will read the pyramid again, so the leaves need no depth pass (only
+  // their splats' bounds, for the splat test).
+  draw_leaves(pending, !(invisible.empty() && frontier_empty_));
   for (uint32_t leaf : still_visible) mark_visible(leaf);
   pending.clear();
 
@@ -350,7 +361,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     i = end;
   }
   invisible.clear();
-  draw_leaves(newly);
+  draw_leaves(newly, true);
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
 
@@ -363,8 +374,11 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
   auto push_children = [&](const ChunkBvhNode& n) {
     for (uint32_t c : {n.left, n.right}) heap.push({project(bvh_.nodes[c].box).near, c});
   };
+  const bool coherent_frame = was_visible(0);  // the previous frame saw something
+  bool fresh = false;  // chc++, no previous frame: `invisible` holds a node, query it now
   while (true) {
-    if (heap.empty() || invisible.size() >= std::size_t(kBatchSize)) {
+    if (heap.empty() || invisible.size() >= std::size_t(kBatchSize) || fresh) {
+      fresh = false;
       if (!plus || (pending.empty() && invisible.empty())) {
         if (heap.empty()) break;
       } else {
@@ -396,7 +410,15 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
       continue;
     }
     if (plus) {
+      // Without a previous frame (the first of a walk), nothing is drawn before the queries and
+      // no node has a history to join a multiquery: a batch would query its nodes against a
+      // pyramid without the leaves found visible meanwhile, and find more visible. Each node is
+      // then queried at once, as the hierarchical traversal does (on the CPU an answer costs
+      // no latency). With a previous frame, batches: flushing at each node without history
+      // (there are ~100 a frame on the city walk) costs a parallel depth pass each and saves no
+      // query.
       invisible.push_back(node);
+      fresh = !coherent_frame;
       continue;
     }
     if (!query_node(node)) {
@@ -413,18 +435,40 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
   tight_bounds_ = false;
 }
 
-void OcclusionCuller::collect() {
+void OcclusionCuller::collect(bool test_splats) {
   const std::size_t n = scene_.size();
   mask_.assign((n + 63) / 64, 0);
+  if (test_splats) {
+    const auto t0 = Clock::now();
+    keep_.resize(bounds_.size());
+    tbb::parallel_for(std::size_t{0}, drawn_leaves_.size(), [&](std::size_t k) {
+      const uint32_t leaf = drawn_leaves_[k];
+      const SplatBounds* b = bounds_.data() + bounds_at_[leaf];
+      uint8_t* keep = keep_.data() + bounds_at_[leaf];
+      for (uint32_t e = 0, size = bvh_.nodes[leaf].size(); e < size; ++e) {
+        // Not drawn by the renderer (its setup is the same arithmetic), or hidden.
+        Query q;
+        q.in_frustum = b[e].drawn();
+        q.rect = {b[e].x0, b[e].y0, b[e].x1, b[e].y1};
+        q.near = b[e].zmin * 0.999f;
+        keep[e] = !hidden(q);
+      }
+    });
+    stats_->splat_test_s += seconds_since(t0);
+  }
   uint64_t splats = 0;
   for (uint32_t leaf : drawn_leaves_) {
     const ChunkBvhNode& x = bvh_.nodes[leaf];
+    const uint8_t* keep = test_splats ? keep_.data() + bounds_at_[leaf] : nullptr;
     for (uint32_t k = x.left; k < x.right; ++k) {
+      if (keep && !keep[k - x.left]) continue;
       const uint32_t i = bvh_.order[k];
       mask_[i >> 6] |= uint64_t{1} << (i & 63);
+      ++splats;
     }
-    splats += x.size();
+    if (test_splats) stats_->splats_culled += x.size();
   }
+  if (test_splats) stats_->splats_culled -= splats;
   stats_->leaves_drawn += drawn_leaves_.size();
   stats_->splats_drawn += splats;
   splats_.clear();
@@ -438,13 +482,14 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
                                                    float margin, bool cull_backfaces,
                                                    OcclusionStats& stats) {
   const auto t0 = Clock::now();
-  const double query0 = stats.query_s, depth0 = stats.depth_s;
+  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
   ++frame_;
   projection_ = projection;
   margin_ = margin;
   cull_backfaces_ = cull_backfaces;
   stats_ = &stats;
   drawn_leaves_.clear();
+  bounds_.clear();
   if (mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum)
     pyramid_.reset((projection.width + kDepthCell - 1) >> kDepthCellShift,
                    (projection.height + kDepthCell - 1) >> kDepthCellShift);
@@ -466,8 +511,9 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
       run_chc(true, true);
       break;
   }
-  collect();
-  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0);
+  collect(mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum);
+  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0) -
+                       (stats.splat_test_s - test0);
   stats_ = nullptr;
   return splats_;
 }

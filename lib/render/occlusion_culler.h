@@ -23,8 +23,17 @@
 //     queries each member alone; a batch is grouped in hierarchy order, so that a group's
 //     members lie close together), and tight bounds. A batch of previously visible leaves that
 //     no later query reads gets no depth pass.
+// The pyramid modes then test each splat of the drawn leaves alone against the final pyramid
+// (the same test as a node's, with the pixel box and nearest depth the renderer's setup gives
+// it, computed by the depth pass): a leaf partly in view or partly hidden draws only the splats
+// that can show, and no splat the renderer would not draw (off screen, too near). Exact as the
+// node test is: every value of the final pyramid comes from a splat that passes (a splat is
+// dropped only when it lies beyond the pyramid plus the margin everywhere it covers, so beyond
+// its own depth-pass values).
 // Not thread safe; the depth pass of a batch runs in parallel in the caller's TBB arena.
 #pragma once
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
 
 #include <cstdint>
 #include <string>
@@ -50,7 +59,9 @@ struct OcclusionStats {
   uint64_t culled_frustum = 0;    // nodes outside the frustum
   uint64_t culled_occlusion = 0;  // nodes found hidden
   uint64_t leaves_drawn = 0, splats_drawn = 0;
-  double traversal_s = 0, query_s = 0, depth_s = 0;  // wall time (depth pass = drawing leaves)
+  uint64_t splats_culled = 0;  // splats of drawn leaves found hidden (or off screen) one by one
+  // Wall time (depth pass = drawing leaves; splat test = the per-splat test of drawn leaves).
+  double traversal_s = 0, query_s = 0, depth_s = 0, splat_test_s = 0;
   void add(const OcclusionStats& o);
 };
 
@@ -74,9 +85,11 @@ class OcclusionCuller {
   };
   Query project(const Box3& box) const;
   bool hidden(const Query& q) const;
+  Query project_splat(uint32_t splat) const;              // the splat's bounding sphere
   bool query_node(uint32_t node);                         // counts one query; true when visible
-  void draw_leaf(uint32_t leaf);                          // at once, into the pyramid
-  void draw_leaves(const std::vector<uint32_t>& leaves);  // in parallel
+  void draw_leaf(uint32_t leaf);  // at once, into the pyramid (draw_leaves of one)
+  // In parallel; with `depth` false only the splats' bounds are computed (no depth pass).
+  void draw_leaves(const std::vector<uint32_t>& leaves, bool depth);
   void mark_visible(uint32_t node);                       // this frame, pulled up
   bool was_visible(uint32_t node) const;
   bool retest_due(uint32_t node) const;
@@ -84,7 +97,7 @@ class OcclusionCuller {
   void run_chc(bool coherent, bool plus);
   void flush(std::vector<uint32_t>& pending, std::vector<uint32_t>& invisible,
              std::vector<uint32_t>& queue_out);
-  void collect();
+  void collect(bool test_splats);  // drawn_leaves_ -> splats_
 
   const RenderScene& scene_;
   const ChunkBvh& bvh_;
@@ -99,8 +112,12 @@ class OcclusionCuller {
   std::vector<std::vector<uint32_t>> tight_;  // per node: descendants whose boxes bound it
   std::vector<uint32_t> drawn_leaves_;
   std::vector<uint64_t> mask_;
+  std::vector<SplatBounds> bounds_;     // this frame's drawn leaves' splats, a leaf at a time
+  std::vector<std::size_t> bounds_at_;  // per leaf drawn this frame: its first entry in bounds_
+  std::vector<uint8_t> keep_;           // per entry of bounds_: the splat test's answer
   std::vector<uint32_t> splats_;
-  DepthPassScratch scratch_;
+  std::vector<uint32_t> leaf_;  // draw_leaf's list of one
+  tbb::enumerable_thread_specific<DepthPassScratch> thread_scratch_;
   bool tight_bounds_ = false;
   bool frontier_empty_ = false;  // chc++: the traversal queue is empty at this flush
 };

@@ -8,7 +8,12 @@
 # compared byte for byte with none. Prints the per-frame table (ms per frame, splats drawn,
 # queries) and the ratios: chc++ frames/s against frustum and none, chc++ queries against
 # hierarchical, and splats chc++ draws against the splats truly visible (distinct nearest splat
-# ids of a z-buffer pass: splat-view --count-visible).
+# ids of a z-buffer pass: splat-view --count-visible). The floor: the same frames rendered from
+# the truly visible splats alone (no culling cost; the least any culler could reach with this
+# renderer), and how far chc++ and none are from it. Each frame's process CPU time (all threads,
+# splat-view's time_ms.frame_cpu), the whole process's CPU time and the load average are printed
+# beside the wall times: on a shared machine the wall times of modes run one after another see
+# different loads, and the CPU times are the steadier comparison.
 # usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=2048]
 #        (build dir: $BUILD_DIR, default build-bench)
 set -euo pipefail
@@ -34,7 +39,7 @@ for m in $modes; do
   mkdir -p "$work/$m"
   extra=()
   [ "$m" = "chc++" ] && extra=(--count-visible)
-  /usr/bin/time -f "%e %M" -o "$work/$m.time" "$build/tools/splat-view" -q "$work/city.splk" \
+  /usr/bin/time -f "%e %M %U %S" -o "$work/$m.time" "$build/tools/splat-view" -q "$work/city.splk" \
     -o "$work/$m/%04d.png" --path "$work/walk.json" --width 1920 --height 1080 \
     --threads "$threads" --occlusion "$m" --bvh-leaf "$leaf" --stats "$work/$m.json" "${extra[@]}"
 done
@@ -47,6 +52,7 @@ for m in frustum hierarchical chc chc++; do
 done
 echo "city: $splats splats requested, $frames frames, 1920x1080, $threads threads, leaves of $leaf"
 echo "byte-identical to none: $identical of $total frames"
+echo "load average: $(cut -d' ' -f1-3 /proc/loadavg) ($(nproc) cores)"
 python3 - "$work" $modes <<'PY'
 import json, sys, os
 work, modes = sys.argv[1], sys.argv[2:]
@@ -56,24 +62,45 @@ print("scene splats: %d" % r["none"]["frames"][0]["splats_in"])
 for m in modes:
     b = r[m].get("bvh")
     if b:
-        print("%-12s load %.0f ms, bvh %s split, %d leaves, build %.0f ms, process %s s, %s KB peak"
-              % (m, r[m]["load_ms"], b["split"], b["leaves"], b["build_ms"], wall[m][0], wall[m][1]))
+        print("%-12s load %.0f ms, bvh %s split, %d leaves, build %.0f ms, process %s s "
+              "(CPU %.2f s), %s KB peak"
+              % (m, r[m]["load_ms"], b["split"], b["leaves"], b["build_ms"], wall[m][0],
+                 float(wall[m][2]) + float(wall[m][3]), wall[m][1]))
+    else:
+        print("%-12s load %.0f ms, process %s s (CPU %.2f s), %s KB peak"
+              % (m, r[m]["load_ms"], wall[m][0], float(wall[m][2]) + float(wall[m][3]), wall[m][1]))
 hdr = "frame " + " ".join("%10s" % (m + " ms") for m in modes) + \
       " " + " ".join("%12s" % (m + " drawn") for m in modes) + \
-      "   q(hier)  q(chc++)  visible"
+      "   q(hier)  q(chc++)  visible  floor ms"
 print(hdr)
 n = len(r["none"]["frames"])
 def fr(m, i): return r[m]["frames"][i]
 for i in range(n):
     row = "%5d " % i + " ".join("%10.1f" % fr(m, i)["time_ms"]["frame"] for m in modes)
     row += " " + " ".join("%12d" % fr(m, i)["splats_in"] for m in modes)
-    row += " %9d %9d %8d" % (fr("hierarchical", i)["occlusion"]["queries"],
-                             fr("chc++", i)["occlusion"]["queries"],
-                             fr("chc++", i)["occlusion"]["splats_visible"])
+    row += " %9d %9d %8d %9.1f" % (fr("hierarchical", i)["occlusion"]["queries"],
+                                   fr("chc++", i)["occlusion"]["queries"],
+                                   fr("chc++", i)["occlusion"]["splats_visible"],
+                                   fr("chc++", i)["occlusion"]["floor_ms"])
     print(row)
 tot = {m: sum(f["time_ms"]["frame"] for f in r[m]["frames"]) for m in modes}
+cpu = {m: sum(f["time_ms"]["frame_cpu"] for f in r[m]["frames"]) for m in modes}
 for m in modes:
-    print("%-12s %8.1f ms/frame  %6.2f frames/s" % (m, tot[m] / n, 1000.0 * n / tot[m]))
+    print("%-12s %8.1f ms/frame  %6.2f frames/s   CPU %7.1f ms/frame (all threads)"
+          % (m, tot[m] / n, 1000.0 * n / tot[m], cpu[m] / n))
+floor = sum(f["occlusion"]["floor_ms"] for f in r["chc++"]["frames"])
+print("%-12s %8.1f ms/frame  %6.2f frames/s  (the truly visible splats alone)"
+      % ("floor", floor / n, 1000.0 * n / floor))
+ph = lambda m, k: sum(f["time_ms"][k] for f in r[m]["frames"]) / n
+oc = lambda m, k: sum(f["occlusion"]["time_ms"][k] for f in r[m]["frames"]) / n
+for m in ("none", "chc++"):
+    line_ = "%-12s phases ms/frame: select+cull %.1f, setup %.1f, binning %.1f, rasterize %.1f, " \
+            "reconstruct %.1f, shade %.1f" % (m, ph(m, "select"), ph(m, "setup"), ph(m, "binning"),
+                                             ph(m, "rasterize"), ph(m, "reconstruct"), ph(m, "shade"))
+    if m != "none":
+        line_ += " (cull: traversal %.1f, queries %.1f, depth pass %.1f, splat test %.1f)" % (
+            oc(m, "traversal"), oc(m, "queries"), oc(m, "depth"), oc(m, "splat_test"))
+    print(line_)
 q = {m: r[m].get("occlusion_total", {}).get("queries", 0) for m in modes}
 drawn = sum(f["splats_in"] for f in r["chc++"]["frames"])
 visible = sum(f["occlusion"]["splats_visible"] for f in r["chc++"]["frames"])
@@ -84,9 +111,13 @@ def line(name, value, target, ok):
     print("%-44s %8.2f   (target %s: %s)" % (name, value, target, "met" if ok else "NOT met"))
 line("fps ratio chc++ / frustum", tot["frustum"] / tot["chc++"], ">= 4", tot["frustum"] / tot["chc++"] >= 4)
 line("fps ratio chc++ / none", tot["none"] / tot["chc++"], ">= 8", tot["none"] / tot["chc++"] >= 8)
+line("CPU time ratio frustum / chc++", cpu["frustum"] / cpu["chc++"], ">= 4", cpu["frustum"] / cpu["chc++"] >= 4)
+line("CPU time ratio none / chc++", cpu["none"] / cpu["chc++"], ">= 8", cpu["none"] / cpu["chc++"] >= 8)
 line("fps ratio chc++ / hierarchical", tot["hierarchical"] / tot["chc++"], "-", True)
 line("queries chc++ / hierarchical", q["chc++"] / max(1, q["hierarchical"]), "<= 1/3",
      q["chc++"] <= q["hierarchical"] / 3)
 line("queries chc / hierarchical", q["chc"] / max(1, q["hierarchical"]), "-", True)
 line("splats drawn by chc++ / truly visible", drawn / max(1, visible), "<= 2", drawn <= 2 * visible)
+line("chc++ ms/frame / floor ms/frame", tot["chc++"] / floor, "-", True)
+line("best possible fps ratio: none / floor", tot["none"] / floor, "-", True)
 PY

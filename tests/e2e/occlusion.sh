@@ -21,8 +21,10 @@ expect_stderr "--blocks must be in 2..64"
 
 for mode in none frustum hierarchical chc chc++; do
   mkdir -p "$WORK/$mode"
+  extra=()
+  [ "$mode" = "chc++" ] && extra=(--count-visible)
   expect_exit 0 "$V" -q "$WORK/city.splk" -o "$WORK/$mode/f_%02d.png" --path "$WORK/walk.json" \
-    --width 192 --height 108 --occlusion "$mode" --stats "$WORK/$mode.json"
+    --width 192 --height 108 --occlusion "$mode" --stats "$WORK/$mode.json" "${extra[@]}"
   [ -f "$WORK/$mode/f_04.png" ] && pass || fail "$mode: frame 4 missing"
 done
 for mode in frustum hierarchical chc chc++; do
@@ -44,6 +46,16 @@ PY
 done
 python3 -c "import json,sys; j=json.load(open(sys.argv[1])); assert j['occlusion_total']['multiqueries'] >= 0 and j['bvh']['leaves'] > 1" \
   "$WORK/chc++.json" && pass || fail "chc++ report"
+# --count-visible: the splats shown and the floor (those rendered alone) per frame; the splat
+# test culled splats inside drawn leaves.
+python3 - "$WORK/chc++.json" <<'PY' && pass || fail "chc++: --count-visible report"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["occlusion_total"]["splats_culled"] > 0
+for f in j["frames"]:
+    o = f["occlusion"]
+    assert 0 < o["splats_visible"] and o["floor_ms"] > 0 and o["splats_drawn"] == f["splats_in"]
+PY
 
 # The SAH split gives the same images.
 expect_exit 0 "$V" -q "$WORK/city.splk" -o "$WORK/sah_%02d.png" --path "$WORK/walk.json" \

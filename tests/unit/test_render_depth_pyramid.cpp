@@ -52,6 +52,14 @@ TEST(DepthPyramid, LowerOnlyLowers) {
   EXPECT_EQ(p.pixel(1, 2), 5);
   p.lower(1, 2, 2);
   EXPECT_EQ(p.pixel(1, 2), 2);
+  // A run lowers its pixels, where that is less, and no other.
+  p.lower_run(0, 2, 2, 3);
+  EXPECT_EQ(p.pixel(0, 2), 3);
+  EXPECT_EQ(p.pixel(1, 2), 2);
+  EXPECT_EQ(p.pixel(2, 2), 3);
+  EXPECT_EQ(p.pixel(3, 2), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(p.pixel(0, 1), std::numeric_limits<float>::infinity());
+  EXPECT_EQ(p.pixel(0, 3), std::numeric_limits<float>::infinity());
 }
 
 }  // namespace

@@ -119,7 +119,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 1u << 24));
   app.add_flag("--count-visible", o.count_visible,
                "Diagnostic: count the splats each frame truly shows (nearest splat ids of a "
-               "z-buffer pass) into the --stats report as occlusion.splats_visible");
+               "z-buffer pass) into the --stats report as occlusion.splats_visible, and the time "
+               "to render those splats alone as occlusion.floor_ms (the least any culling could "
+               "leave)");
   app.add_option("--stats", o.stats_path, "Write a JSON report (counts, time per stage)");
   splatkit::apps::TerrainViewOptions terrain;
   app.add_option("--terrain", terrain.heightmap,
