@@ -8,6 +8,14 @@
 //  - radius: point i is an outlier iff fewer than N other points lie within distance R of it
 //    (squared distance <= R * R, in float).
 //
+// Passes: the filters can be chained, each applied to the points the previous passes kept, with
+// its own statistics over those points only (PCL's filter run again on its own output). A first
+// statistical pass removes the far outliers that inflate the standard deviation; a second one,
+// whose mean and deviation then describe the scan, reaches nearer ones (scripts/bench/
+// outliers.sh: sor:12,3 then sor:6,3.5 removes 87.6 % of injected outliers on average over its
+// 11 scans, against 84.4 % for sor:12,1 alone, at up to 0.22 % of a scan's own points against
+// 0.05 %; neither reaches the points within about 1.5 sampling spacings of the surface).
+//
 // Positions are the cloud's (local frame, finite). A cloud of at most K points is left whole
 // (statistical). Deterministic: the result does not depend on the thread count. Cost: one kNN pass
 // (K + 1 per row, streamed) or one fixed-radius query per point, in parallel (TBB).
@@ -59,6 +67,18 @@ struct OutlierResult {
 };
 
 OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptions& options);
+
+// Up to kMaxOutlierPasses passes, in order, each over the points the previous ones kept.
+inline constexpr std::size_t kMaxOutlierPasses = 8;
+struct OutlierPassesResult {
+  std::vector<uint8_t> outlier;  // #N: 0 = kept, p = removed by pass p (1-based)
+  std::size_t removed = 0;       // by all passes
+  std::vector<OutlierResult> passes;  // each pass's statistics and count (its `outlier` emptied)
+  // {"removed": all passes, "passes": [each pass as OutlierResult::to_json]}
+  nlohmann::json to_json(std::span<const OutlierOptions> options) const;
+};
+OutlierPassesResult find_outliers(std::span<const Vec3f> positions,
+                                  std::span<const OutlierOptions> passes);
 
 // Moves the points marked in `remove` (#N) out of `cloud` into the returned cloud (same origin,
 // same attributes, relative order kept in both). Faces that use a removed point are dropped; the
