@@ -15,11 +15,12 @@
 # scans. Deterministic (fixed seeds); about 3 CPU minutes.
 # The goal: >= 95 % of the injected points, <= 0.5 % of the scan.
 # usage: scripts/bench/outliers.sh [K=12 SIGMA=1: the default to check] [scale=1: point counts x]
+#   [CHAIN=12,3+6,3.5: passes K1,SIGMA1+K2,SIGMA2... also run through find_outliers]
 #   (build dir: $BUILD_DIR, default build-bench)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
-k=${1:-12} sigma=${2:-1} scale=${3:-1}
+k=${1:-12} sigma=${2:-1} scale=${3:-1} chain=${4:-12,3+6,3.5}
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON \
   -DSPLATKIT_BUILD_TESTS=OFF >/dev/null
 ninja -C "$build" -j2 bench_outliers splat-synth >/dev/null
@@ -48,7 +49,7 @@ for scan in "cad --scan-lines 4:cad-lines.ply" "torus --random --noise 0.002:tor
   "cad scan lines (data-samples/cad-scan.laz):$root/data-samples/cad-scan.laz"; do
   file=${scan##*:}
   [ "${file#/}" = "$file" ] && file=$work/$file
-  "$bench" "${scan%%:*}" "$file" 1 "$k" "$sigma" "$work/cells.tsv"
+  "$bench" "${scan%%:*}" "$file" 1 "$k" "$sigma" "$work/cells.tsv" "$chain" | tee -a "$work/out.txt"
   echo
 done
 
@@ -90,3 +91,8 @@ if d:
           f"{len(d)} scans), scan removed at most {worst:.3f} % (goal <= 0.5: "
           f"{'met' if worst <= 0.5 else 'NOT met'})")
 PY
+echo "chain sor:$chain through find_outliers, per scan (injected removed %, scan removed %):"
+grep '^chain' "$work/out.txt" |
+  sed 's/.*removes \([0-9.]*\) % of the injected points, \([0-9.]*\) % of the scan.*/\1 \2/' |
+  awk '{ printf "  %s/%s", $1, $2; f = NR == 1 || $1 < f ? $1 : f; l = $2 > l ? $2 : l; s += $1 }
+       END { printf "\n  mean %.1f %%, min %.1f %% of the injected points; at most %.3f %% of a scan\n", s / NR, f, l }'

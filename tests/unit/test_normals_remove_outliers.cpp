@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "splatkit/deterministic_rng.h"
@@ -86,7 +87,7 @@ struct Removal {
   double injected = 0, scan = 0, off_surface = 0, near_surface = 0;  // near: within 1.5 s (share)
 };
 
-Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
+Removal measure(const Injected& in, const std::vector<OutlierOptions>& passes, double off_s = 3) {
   const std::span<const Vec3f> scan(in.cloud.positions.data(), in.true_points);
   const SpatialIndex index(scan);
   std::vector<float> r8(in.true_points);
@@ -96,14 +97,15 @@ Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
       });
   std::nth_element(r8.begin(), r8.begin() + static_cast<std::ptrdiff_t>(r8.size() / 2), r8.end());
   const double s = r8[r8.size() / 2] * std::sqrt(3.14159265358979 / 8);
-  const OutlierResult r = find_outliers(in.cloud.positions, o);
+  const OutlierPassesResult r = find_outliers(in.cloud.positions, passes);
   std::size_t lost = 0, found = 0, off = 0, off_found = 0, near = 0;
   for (std::size_t i = 0; i < in.cloud.size(); ++i) {
+    const bool removed = r.outlier[i] != 0;
     if (i < in.true_points) {
-      lost += r.outlier[i];
+      lost += removed;
       continue;
     }
-    found += r.outlier[i];
+    found += removed;
     uint32_t nearest;
     float sq;
     index.knn(in.cloud.positions[i], 1, &nearest, &sq);
@@ -111,7 +113,7 @@ Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
     near += d < 1.5;
     if (d > off_s) {
       ++off;
-      off_found += r.outlier[i];
+      off_found += removed;
     }
   }
   EXPECT_EQ(r.removed, found + lost);
@@ -121,11 +123,25 @@ Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
   m.scan = 100.0 * static_cast<double>(lost) / static_cast<double>(in.true_points);
   m.off_surface = 100.0 * static_cast<double>(off_found) / static_cast<double>(off);
   m.near_surface = 100.0 * static_cast<double>(near) / injected;
+  std::string name;
+  for (const OutlierOptions& o : passes)
+    name += (name.empty() ? "sor:" : "+sor:") + std::to_string(o.k) + "," +
+            std::to_string(o.sigma).substr(0, 4);
   std::printf(
-      "%zu scan points, sor:%zu,%g: removed %.1f %% of the injected points (%.1f %% of "
+      "%zu scan points, %s: removed %.1f %% of the injected points (%.1f %% of "
       "those farther than %g s; %.1f %% of them lie within 1.5 s), %.3f %% of the scan\n",
-      in.true_points, o.k, o.sigma, m.injected, m.off_surface, off_s, m.near_surface, m.scan);
+      in.true_points, name.c_str(), m.injected, m.off_surface, off_s, m.near_surface, m.scan);
   return m;
+}
+Removal measure(const Injected& in, const OutlierOptions& o, double off_s = 3) {
+  return measure(in, std::vector<OutlierOptions>{o}, off_s);
+}
+
+OutlierOptions sor(std::size_t k, double sigma) {
+  OutlierOptions o;
+  o.k = k;
+  o.sigma = sigma;
+  return o;
 }
 
 // A dense i.i.d. scan of a sphere, where few injected points land on the surface (2.7 % within
@@ -160,6 +176,53 @@ TEST(NormalsRemoveOutliers, StatisticalDefaultsRemoveEveryOutlierOffTheSurface) 
     EXPECT_GE(m.off_surface, 99.0);
     EXPECT_LE(m.scan, 0.5);
     EXPECT_GE(m.injected, 80.0);
+  }
+}
+
+// Passes run in turn, each over the points the previous ones kept, with its own statistics: the
+// same as running find_outliers again on the survivors, and each point marked with its pass.
+TEST(NormalsRemoveOutliers, PassesRunOnThePreviousPassesOutput) {
+  const Injected in = with_outliers(ShapeKind::kTorus, 20000, 0.002, 0, 7);
+  const std::vector<OutlierOptions> chain = {sor(12, 3), sor(6, 3.5)};
+  const OutlierPassesResult r = find_outliers(in.cloud.positions, chain);
+  const OutlierResult first = find_outliers(in.cloud.positions, chain[0]);
+  std::vector<Vec3f> kept;
+  std::vector<std::size_t> kept_ids;
+  for (std::size_t i = 0; i < in.cloud.size(); ++i)
+    if (!first.outlier[i]) kept.push_back(in.cloud.positions[i]), kept_ids.push_back(i);
+  const OutlierResult second = find_outliers(kept, chain[1]);
+  ASSERT_EQ(r.passes.size(), 2u);
+  EXPECT_EQ(r.passes[0].removed, first.removed);
+  EXPECT_EQ(r.passes[1].removed, second.removed);
+  EXPECT_DOUBLE_EQ(r.passes[1].threshold, second.threshold);
+  EXPECT_LT(r.passes[1].stddev, r.passes[0].stddev);  // the far outliers no longer inflate it
+  EXPECT_GT(second.removed, 0u);
+  std::vector<uint8_t> expected(in.cloud.size(), 0);
+  for (std::size_t i = 0; i < in.cloud.size(); ++i) expected[i] = first.outlier[i];
+  for (std::size_t j = 0; j < kept.size(); ++j)
+    if (second.outlier[j]) expected[kept_ids[j]] = 2;
+  EXPECT_EQ(r.outlier, expected);
+  EXPECT_EQ(r.removed, first.removed + second.removed);
+  const nlohmann::json j = r.to_json(chain);
+  EXPECT_EQ(j["removed"], r.removed);
+  EXPECT_EQ(j["passes"][1]["removed"], second.removed);
+  EXPECT_EQ(j["passes"][1]["k"], 6);
+}
+
+// The measured chain (scripts/bench/outliers.sh) on scan lines and noise: every injected point
+// off the surface, at most 0.5 % of the scan, and about as many injected points as the default
+// single pass or more (here 85.0 against 86.0 % on the scan lines, 83.8 against 82.5 % with
+// noise; over the bench's 11 scans 3 points more on average). Neither reaches 95 %: the
+// injected points within about 1.5 s are in the surface's sampling and noise band.
+TEST(NormalsRemoveOutliers, ChainedPassesReachNearerOutliers) {
+  for (const Injected& in : {with_outliers(ShapeKind::kCadPart, 40000, 0, 4, 1),
+                             with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 2)}) {
+    const Removal one = measure(in, OutlierOptions{});
+    const Removal two = measure(in, {sor(12, 3), sor(6, 3.5)});
+    EXPECT_GE(two.off_surface, 99.0);
+    EXPECT_LE(two.scan, 0.5);
+    EXPECT_GE(two.injected, one.injected - 2.0);
+    EXPECT_GE(two.injected, 80.0);
   }
 }
 

@@ -77,7 +77,11 @@ int main(int argc, char** argv) {
                  "most 0.05 % of the scan's own points on every scan measured; README); "
                  "radius[:R,N] drops points "
                  "with fewer than N neighbours within R (default: R = 2x the median mean distance "
-                 "to the 8 nearest, N = 6); none (default)")
+                 "to the 8 nearest, N = 6); none (default). Passes joined by + run in turn, "
+                 "each on what the previous kept, e.g. sor:12,3+sor:6,3.5 (a loose pass removes "
+                 "the far outliers that inflate the deviation, then a second reaches nearer ones: "
+                 "88 % of injected outliers on average instead of 84 %, at up to 0.22 % of the "
+                 "scan's own points instead of 0.05 %)")
       ->default_str("none");
   app.add_option("--outliers-out", o.outliers_out,
                  "Write the removed outliers here (any writable format, by extension)");

@@ -8,9 +8,10 @@
 // surface are not outliers any rule can see. Then iterated SOR over a grid of first passes and
 // later passes (each pass PCL's rule over the previous pass's survivors).
 //
-// usage: bench_outliers NAME FILE [SEED=1] [DEFAULT_K=8] [DEFAULT_SIGMA=1] [CELLS.tsv]
+// usage: bench_outliers NAME FILE [SEED=1] [DEFAULT_K=8] [DEFAULT_SIGMA=1] [CELLS.tsv] [CHAIN]
 //   prints text tables (see outliers.sh); with CELLS.tsv, appends one line per grid cell:
-//   NAME RULE K PARAMETER injected% scan% (for the summary over scans).
+//   NAME RULE K PARAMETER injected% scan% (for the summary over scans); with CHAIN
+//   ("K1,SIGMA1+K2,SIGMA2..."), also runs those passes through find_outliers.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -361,6 +362,40 @@ int main(int argc, char** argv) {
       std::printf("  %g-: %.0f%%", kBands[b],
                   100.0 * double(band_removed[b]) / double(band_count[b]));
   std::printf("\n");
+
+  // A chain of passes "K1,SIGMA1+K2,SIGMA2+...", through find_outliers itself (checked against
+  // PCL's filter run on its own output).
+  if (argc > 7) {
+    std::vector<OutlierOptions> chain;
+    for (const char* c = argv[7]; *c;) {
+      char* end;
+      OutlierOptions pass;
+      pass.k = std::strtoull(c, &end, 10);
+      pass.sigma = std::strtod(end + 1, &end);
+      chain.push_back(pass);
+      c = *end == '+' ? end + 1 : end;
+    }
+    const OutlierPassesResult rc = find_outliers(p, chain);
+    std::size_t found_c = 0, lost_c = 0;
+    std::vector<std::size_t> band_c(band_count.size(), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!rc.outlier[i]) continue;
+      if (i < n_true) {
+        ++lost_c;
+      } else {
+        ++found_c;
+        ++band_c[band_of(off[i - n_true])];
+      }
+    }
+    std::printf("chain sor:%s (find_outliers, removed", argv[7]);
+    for (const OutlierResult& pass : rc.passes) std::printf(" %zu", pass.removed);
+    std::printf(" per pass): removes %.1f %% of the injected points, %.3f %% of the scan; per band:",
+                100.0 * double(found_c) / double(n_out), 100.0 * double(lost_c) / double(n_true));
+    for (std::size_t b = 0; b < band_count.size(); ++b)
+      if (band_count[b])
+        std::printf("  %g-: %.0f%%", kBands[b], 100.0 * double(band_c[b]) / double(band_count[b]));
+    std::printf("\n");
+  }
   if (cells) std::fclose(cells);
   return 0;
 }
