@@ -96,3 +96,5 @@ grep '^chain' "$work/out.txt" |
   sed 's/.*removes \([0-9.]*\) % of the injected points, \([0-9.]*\) % of the scan.*/\1 \2/' |
   awk '{ printf "  %s/%s", $1, $2; f = NR == 1 || $1 < f ? $1 : f; l = $2 > l ? $2 : l; s += $1 }
        END { printf "\n  mean %.1f %%, min %.1f %% of the injected points; at most %.3f %% of a scan\n", s / NR, f, l }'
+echo "the same on each scan alone, without injected points (share of the clean scan removed):"
+grep '^clean scan' "$work/out.txt" | sed 's/^clean scan (no injected points): /  /'

@@ -396,6 +396,27 @@ int main(int argc, char** argv) {
         std::printf("  %g-: %.0f%%", kBands[b], 100.0 * double(band_c[b]) / double(band_count[b]));
     std::printf("\n");
   }
+  // The same rules on the scan alone (no outliers to inflate the deviation): what they remove of
+  // a clean scan.
+  {
+    const std::span<const Vec3f> clean(p.data(), n_true);
+    std::printf("clean scan (no injected points): default sor:%zu,%g removes %.3f %%", default_k,
+                default_sigma, 100.0 * double(find_outliers(clean, o).removed) / double(n_true));
+    if (argc > 7) {
+      std::vector<OutlierOptions> chain;
+      for (const char* c = argv[7]; *c;) {
+        char* end;
+        OutlierOptions pass;
+        pass.k = std::strtoull(c, &end, 10);
+        pass.sigma = std::strtod(end + 1, &end);
+        chain.push_back(pass);
+        c = *end == '+' ? end + 1 : end;
+      }
+      std::printf(", chain sor:%s %.3f %%", argv[7],
+                  100.0 * double(find_outliers(clean, chain).removed) / double(n_true));
+    }
+    std::printf("\n");
+  }
   if (cells) std::fclose(cells);
   return 0;
 }
