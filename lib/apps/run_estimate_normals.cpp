@@ -120,7 +120,12 @@ std::vector<OutlierOptions> parse_outliers(const std::string& text) {
   if (text.empty() || text == "none") return passes;
   for (std::size_t begin = 0;;) {
     const std::size_t plus = text.find('+', begin);
-    passes.push_back(parse_outlier_pass(text.substr(begin, plus - begin), text));
+    const std::string pass = text.substr(begin, plus - begin);
+    if (pass == "sor") {
+      for (const OutlierOptions& o : default_statistical_passes()) passes.push_back(o);
+    } else {
+      passes.push_back(parse_outlier_pass(pass, text));
+    }
     if (passes.size() > kMaxOutlierPasses)
       throw_usage("--outliers " + text + ": at most " + std::to_string(kMaxOutlierPasses) +
                   " passes");

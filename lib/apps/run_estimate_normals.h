@@ -28,7 +28,8 @@ struct EstimateNormalsOptions {
   std::string viewpoint;  // "x,y,z" in file coordinates, or empty
   std::string format;     // ply | splk, or empty: OUT's extension
   // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" joined by '+', each
-  // applied to what the previous kept (normals/remove_outliers.h); the points removed before
+  // applied to what the previous kept ("sor" alone: the default passes, sor:12,3+sor:6,3.5;
+  // normals/remove_outliers.h); the points removed before
   // anything else, all passes' written to `outliers_out` when it is not empty.
   std::string outliers;
   std::string outliers_out;

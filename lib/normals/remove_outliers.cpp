@@ -88,6 +88,15 @@ OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptio
   return r;
 }
 
+std::vector<OutlierOptions> default_statistical_passes() {
+  std::vector<OutlierOptions> passes(std::size(kDefaultStatisticalK));
+  for (std::size_t p = 0; p < passes.size(); ++p) {
+    passes[p].k = kDefaultStatisticalK[p];
+    passes[p].sigma = kDefaultStatisticalSigma[p];
+  }
+  return passes;
+}
+
 OutlierPassesResult find_outliers(std::span<const Vec3f> positions,
                                   std::span<const OutlierOptions> passes) {
   if (passes.size() > kMaxOutlierPasses)

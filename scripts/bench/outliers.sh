@@ -14,8 +14,10 @@
 # remove at most 0.5 % of every scan, best first, and the cells meeting both goals on the most
 # scans. Deterministic (fixed seeds); about 3 CPU minutes.
 # The goal: >= 95 % of the injected points, <= 0.5 % of the scan.
-# usage: scripts/bench/outliers.sh [K=12 SIGMA=1: the default to check] [scale=1: point counts x]
-#   [CHAIN=12,3+6,3.5: passes K1,SIGMA1+K2,SIGMA2... also run through find_outliers]
+# estimate-normals `--outliers sor` is the chain sor:12,3+sor:6,3.5 chosen here.
+# usage: scripts/bench/outliers.sh [K=12 SIGMA=1: a single pass to check] [scale=1: point counts x]
+#   [CHAIN=12,3+6,3.5: passes K1,SIGMA1+K2,SIGMA2... to check, default: estimate-normals'
+#   `--outliers sor`], both run through find_outliers, with outliers and on each scan alone.
 #   (build dir: $BUILD_DIR, default build-bench)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -86,15 +88,15 @@ table(sorted(cells, key=lambda key: (-sum(f >= 95 and l <= 0.5 for _, f, l in ce
 d = cells.get(f"sor:{int(sys.argv[2])},{float(sys.argv[3]):g}")
 if d:
     worst = max(l for _, _, l in d)
-    print(f"default sor:{sys.argv[2]},{sys.argv[3]}: injected removed {min(f for _, f, _ in d):.1f}-"
+    print(f"single pass sor:{sys.argv[2]},{sys.argv[3]}: injected removed {min(f for _, f, _ in d):.1f}-"
           f"{max(f for _, f, _ in d):.1f} % (goal >= 95: met on {sum(f >= 95 for _, f, _ in d)} of "
           f"{len(d)} scans), scan removed at most {worst:.3f} % (goal <= 0.5: "
           f"{'met' if worst <= 0.5 else 'NOT met'})")
 PY
-echo "chain sor:$chain through find_outliers, per scan (injected removed %, scan removed %):"
-grep '^chain' "$work/out.txt" |
+echo "passes sor:$chain through find_outliers, per scan (injected removed %, scan removed %):"
+grep '^passes' "$work/out.txt" |
   sed 's/.*removes \([0-9.]*\) % of the injected points, \([0-9.]*\) % of the scan.*/\1 \2/' |
   awk '{ printf "  %s/%s", $1, $2; f = NR == 1 || $1 < f ? $1 : f; l = $2 > l ? $2 : l; s += $1 }
        END { printf "\n  mean %.1f %%, min %.1f %% of the injected points; at most %.3f %% of a scan\n", s / NR, f, l }'
 echo "the same on each scan alone, without injected points (share of the clean scan removed):"
-grep '^clean scan' "$work/out.txt" | sed 's/^clean scan (no injected points): /  /'
+grep '^clean scan' "$work/out.txt" | sed 's/^clean scan /  /; s/ (no injected points)//'

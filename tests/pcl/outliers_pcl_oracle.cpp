@@ -115,7 +115,7 @@ int main() {
                         {splatkit::ShapeKind::kCadPart, 40000, 0, 1, 4}};
   for (const Case& c : cases) {
     const std::vector<splatkit::Vec3f> p = scan(c.kind, c.n, c.noise, c.seed, c.scan_lines);
-    std::vector<OutlierOptions> variants{OutlierOptions{}};  // the defaults, sor:12,1
+    std::vector<OutlierOptions> variants{OutlierOptions{}};  // sor:12,1
     for (auto [k, sigma] :
          {std::pair<std::size_t, double>{8, 1.0}, {16, 2.0}, {30, 0.5}, {6, 0.4}}) {
       OutlierOptions o;
@@ -149,12 +149,13 @@ int main() {
                   differ);
       if (differ) ++failures;
     }
-    // Chained passes: a loose pass then a tighter one; the defaults twice; radius then sor.
+    // Chained passes: the defaults (a loose pass then a tighter one); sor:12,1 twice; three
+    // passes; radius then sor.
     OutlierOptions radius;
     radius.rule = OutlierRule::kRadius;
     radius.radius = r;
     const std::vector<std::vector<OutlierOptions>> chains = {
-        {sor(12, 3), sor(6, 3.5)}, {OutlierOptions{}, OutlierOptions{}},
+        splatkit::default_statistical_passes(), {OutlierOptions{}, OutlierOptions{}},
         {sor(16, 2), sor(8, 2), sor(8, 2)}, {radius, sor(12, 1)}};
     for (const std::vector<OutlierOptions>& chain : chains) {
       const splatkit::OutlierPassesResult ours = splatkit::find_outliers(p, chain);

@@ -336,7 +336,8 @@ int main(int argc, char** argv) {
     std::printf("\n");
   }
 
-  // The default, through find_outliers itself (the rule PCL's filter is checked against).
+  // The single pass K, SIGMA, through find_outliers itself (the rule PCL's filter is checked
+  // against).
   OutlierOptions o;
   o.k = default_k;
   o.sigma = default_sigma;
@@ -353,7 +354,7 @@ int main(int argc, char** argv) {
     }
   }
   std::printf(
-      "default sor:%zu,%g (find_outliers): removes %.1f %% of the injected points, %.3f %% "
+      "single pass sor:%zu,%g (find_outliers): removes %.1f %% of the injected points, %.3f %% "
       "of the scan; per band:",
       default_k, default_sigma, 100.0 * double(found) / double(n_out),
       100.0 * double(lost) / double(n_true));
@@ -387,7 +388,7 @@ int main(int argc, char** argv) {
         ++band_c[band_of(off[i - n_true])];
       }
     }
-    std::printf("chain sor:%s (find_outliers, removed", argv[7]);
+    std::printf("passes sor:%s (find_outliers, removed", argv[7]);
     for (const OutlierResult& pass : rc.passes) std::printf(" %zu", pass.removed);
     std::printf(" per pass): removes %.1f %% of the injected points, %.3f %% of the scan; per band:",
                 100.0 * double(found_c) / double(n_out), 100.0 * double(lost_c) / double(n_true));
@@ -400,8 +401,8 @@ int main(int argc, char** argv) {
   // a clean scan.
   {
     const std::span<const Vec3f> clean(p.data(), n_true);
-    std::printf("clean scan (no injected points): default sor:%zu,%g removes %.3f %%", default_k,
-                default_sigma, 100.0 * double(find_outliers(clean, o).removed) / double(n_true));
+    std::printf("clean scan %s (no injected points): single pass sor:%zu,%g removes %.3f %%",
+                name.c_str(), default_k, default_sigma, 100.0 * double(find_outliers(clean, o).removed) / double(n_true));
     if (argc > 7) {
       std::vector<OutlierOptions> chain;
       for (const char* c = argv[7]; *c;) {
@@ -412,7 +413,7 @@ int main(int argc, char** argv) {
         chain.push_back(pass);
         c = *end == '+' ? end + 1 : end;
       }
-      std::printf(", chain sor:%s %.3f %%", argv[7],
+      std::printf(", passes sor:%s %.3f %%", argv[7],
                   100.0 * double(find_outliers(clean, chain).removed) / double(n_true));
     }
     std::printf("\n");
