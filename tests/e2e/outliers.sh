@@ -9,7 +9,7 @@ awk '!/^#/ { print $1, $2, $3 }' scan.xyz >points.xyz
 awk 'NR % 100 == 0 { printf "%s %s %.4f\n", $1, $2, $3 + 3 + (NR % 7) }' points.xyz >stray.xyz
 cat points.xyz stray.xyz >in.xyz
 strays=$(wc -l <stray.xyz)
-for spec in sor sor:8,1 radius sor:12,3+sor:6,3.5; do
+for spec in sor sor:8,1 radius sor:16,2+sor:8,3; do
   expect_exit 0 "$BIN/estimate-normals" -q in.xyz out.splk --outliers "$spec" --outliers-out removed.ply \
     --report r.json
   removed=$(jq .outliers.removed r.json)

@@ -154,9 +154,10 @@ int main() {
     OutlierOptions radius;
     radius.rule = OutlierRule::kRadius;
     radius.radius = r;
-    const std::vector<std::vector<OutlierOptions>> chains = {
-        splatkit::default_statistical_passes(), {OutlierOptions{}, OutlierOptions{}},
-        {sor(16, 2), sor(8, 2), sor(8, 2)}, {radius, sor(12, 1)}};
+    const std::vector<std::vector<OutlierOptions>> chains = {splatkit::default_statistical_passes(),
+                                                             {OutlierOptions{}, OutlierOptions{}},
+                                                             {sor(16, 2), sor(8, 2), sor(8, 2)},
+                                                             {radius, sor(12, 1)}};
     for (const std::vector<OutlierOptions>& chain : chains) {
       const splatkit::OutlierPassesResult ours = splatkit::find_outliers(p, chain);
       const std::vector<uint8_t> theirs = pcl_outliers(p, chain);

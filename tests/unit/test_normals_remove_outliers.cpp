@@ -181,7 +181,8 @@ TEST(NormalsRemoveOutliers, StatisticalDefaultsKeepACleanScan) {
                              with_outliers(ShapeKind::kTorus, 40000, 0.002, 0, 2)}) {
     const std::span<const Vec3f> clean(in.cloud.positions.data(), in.true_points);
     const auto n = static_cast<double>(in.true_points);
-    const double chain = 100.0 * static_cast<double>(find_outliers(clean, default_statistical_passes()).removed) / n;
+    const double chain =
+        100.0 * static_cast<double>(find_outliers(clean, default_statistical_passes()).removed) / n;
     const double single = 100.0 * static_cast<double>(find_outliers(clean, sor(12, 1)).removed) / n;
     std::printf("clean scan of %zu points: the defaults remove %.3f %%, sor:12,1 %.2f %%\n",
                 in.true_points, chain, single);
