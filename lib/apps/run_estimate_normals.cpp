@@ -91,8 +91,9 @@ OutlierOptions parse_outlier_pass(const std::string& text, const std::string& wh
   if (rule == "sor") o.rule = OutlierRule::kStatistical;
   else if (rule == "radius") o.rule = OutlierRule::kRadius;
   else
-    throw_usage("--outliers must be none, sor[:K,SIGMA] or radius[:R,N] (passes joined by +), got '" +
-                whole + "'");
+    throw_usage(
+        "--outliers must be none, sor[:K,SIGMA] or radius[:R,N] (passes joined by +), got '" +
+        whole + "'");
   if (colon == std::string::npos) return o;
   const std::string args = text.substr(colon + 1);
   const std::size_t comma = args.find(',');
@@ -174,7 +175,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   }
   stage.write(doc, write, std::move(report));
   return {doc.cloud.size(), "points",
-          (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, " : std::string()) +
+          (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, "
+                             : std::string()) +
               std::to_string(result.duplicates_merged) + " duplicates merged, " +
               std::to_string(result.degenerate_points) + " degenerate"};
 }

@@ -12,7 +12,7 @@
 // its own statistics over those points only (PCL's filter run again on its own output). A first
 // statistical pass with a loose threshold removes the far outliers that inflate the standard
 // deviation; a second one, whose mean and deviation then describe the scan, reaches nearer ones.
-// The default statistical filter is such a chain (kDefaultStatisticalPasses).
+// The default statistical filter is such a chain (default_statistical_passes()).
 //
 // Positions are the cloud's (local frame, finite). A cloud of at most K points is left whole
 // (statistical). Deterministic: the result does not depend on the thread count. Cost: one kNN pass
@@ -34,19 +34,20 @@ enum class OutlierRule { kStatistical, kRadius };
 
 struct OutlierOptions {
   OutlierRule rule = OutlierRule::kStatistical;
-  // One pass's K and SIGMA; `sor` without parameters is kDefaultStatisticalPasses below. This
-  // single pass, k = 12, sigma = 1, was the previous default, chosen by measurement (scripts/bench/outliers.sh: 1 % of the point count injected
-  // uniformly in the bounding box of 11 scans, synthetic and real; s = the square root of the
-  // scan's area per point): k = 12, sigma = 1 is the only cell of the K x SIGMA grid that removes
-  // at most 0.5 % of every scan's own points (at most 0.05 %); it removes 70-95 % of the injected
-  // points (84 % on average; k = 8, sigma = 1 removes 1 % more but 0.52 % of a 40 000-point scan
-  // with scan lines; sigma = 0.75, 2 % more but 0.6-0.7 % of some scans). It removes every
-  // injected point farther than 3-5 s from the scan and none within 1 s: those lie in the
-  // surface's own sampling and noise band, and their share (5-30 % within 1.5 s, depending on
-  // how much surface the box holds at that density) decides the total. SIGMA multiplies a
-  // deviation that the outliers themselves inflate (1 % of the points, tens of s away), so the
-  // threshold in units of s grows with the scan's density. But on a scan without outliers the
-  // same sigma = 1 removes 15-17 % of the scan (the upper tail of its own distances).
+  // One pass's K and SIGMA; `sor` without parameters is default_statistical_passes() below. This
+  // single pass, k = 12, sigma = 1, was the previous default, chosen by measurement
+  // (scripts/bench/outliers.sh: 1 % of the point count injected uniformly in the bounding box of 11
+  // scans, synthetic and real; s = the square root of the scan's area per point): k = 12, sigma = 1
+  // is the only cell of the K x SIGMA grid that removes at most 0.5 % of every scan's own points
+  // (at most 0.05 %); it removes 70-95 % of the injected points (84 % on average; k = 8, sigma = 1
+  // removes 1 % more but 0.52 % of a 40 000-point scan with scan lines; sigma = 0.75, 2 % more but
+  // 0.6-0.7 % of some scans). It removes every injected point farther than 3-5 s from the scan and
+  // none within 1 s: those lie in the surface's own sampling and noise band, and their share
+  // (5-30 % within 1.5 s, depending on how much surface the box holds at that density) decides
+  // the total.
+  // SIGMA multiplies a deviation that the outliers themselves inflate (1 % of the points, tens of s
+  // away), so the threshold in units of s grows with the scan's density. But on a scan without
+  // outliers the same sigma = 1 removes 15-17 % of the scan (the upper tail of its own distances).
   std::size_t k = 12;       // statistical: neighbours averaged (>= 1)
   double sigma = 1.0;       // statistical: standard deviations above the mean (finite)
   double radius = 0;        // radius rule: R in the cloud's units; 0 = automatic (see below)
@@ -59,10 +60,11 @@ struct OutlierOptions {
 // each scan alone, without injected points, 0.04-0.71 % of the synthetic and real scans and 3.9 %
 // of the terrain (its steep slopes, where grid points lie far apart in 3D), where sor:12,1 alone
 // removes 15-17 % (9 % of the terrain; 0.4-0.6 % of the city blocks, whose own sparse points
-// inflate the deviation as outliers do). The chain was the best of first passes K1 in {8, 12, 16}, SIGMA1 in {1, 2, 3}
-// then one or two passes K2 in {6, 8, 12, 16, 24}, SIGMA2 in {1 .. 5} keeping <= 0.5 % loss on
-// every scan with outliers while losing little of clean ones. No rule reaches 95 % on most scans:
-// 3-22 % of uniform points land within 1 sampling spacing of the surface, in its own sampling.
+// inflate the deviation as outliers do). The chain was the best of first passes K1 in {8, 12, 16},
+// SIGMA1 in {1, 2, 3} then one or two passes K2 in {6, 8, 12, 16, 24}, SIGMA2 in {1 .. 5} keeping
+// <= 0.5 % loss on every scan with outliers while losing little of clean ones. No rule reaches 95 %
+// on most scans: 3-22 % of uniform points land within 1 sampling spacing of the surface, in its own
+// sampling.
 inline constexpr std::size_t kDefaultStatisticalK[] = {12, 6};
 inline constexpr double kDefaultStatisticalSigma[] = {3.0, 3.5};
 std::vector<OutlierOptions> default_statistical_passes();
@@ -86,8 +88,8 @@ OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptio
 // Up to kMaxOutlierPasses passes, in order, each over the points the previous ones kept.
 inline constexpr std::size_t kMaxOutlierPasses = 8;
 struct OutlierPassesResult {
-  std::vector<uint8_t> outlier;  // #N: 0 = kept, p = removed by pass p (1-based)
-  std::size_t removed = 0;       // by all passes
+  std::vector<uint8_t> outlier;       // #N: 0 = kept, p = removed by pass p (1-based)
+  std::size_t removed = 0;            // by all passes
   std::vector<OutlierResult> passes;  // each pass's statistics and count (its `outlier` emptied)
   // {"removed": all passes, "passes": [each pass as OutlierResult::to_json]}
   nlohmann::json to_json(std::span<const OutlierOptions> options) const;

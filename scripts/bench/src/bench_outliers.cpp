@@ -270,8 +270,10 @@ int main(int argc, char** argv) {
       std::size_t lost = 0, found = 0;
       for (std::size_t i = 0; i < n; ++i) {
         if (!removed[i]) continue;
-        if (i < n_true) ++lost;
-        else ++found, ++s.band_removed[band_of(off[i - n_true])];
+        if (i < n_true)
+          ++lost;
+        else
+          ++found, ++s.band_removed[band_of(off[i - n_true])];
       }
       s.outliers_pct = 100.0 * double(found) / double(n_out);
       s.true_pct = 100.0 * double(lost) / double(n_true);
@@ -324,9 +326,10 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("best iterated with <= 0.5 %% of the scan removed: %s removes %.1f %% of the "
-              "injected points (%.3f %% of the scan)\n",
-              iter_best.cell.c_str(), iter_best.s.outliers_pct, iter_best.s.true_pct);
+  std::printf(
+      "best iterated with <= 0.5 %% of the scan removed: %s removes %.1f %% of the "
+      "injected points (%.3f %% of the scan)\n",
+      iter_best.cell.c_str(), iter_best.s.outliers_pct, iter_best.s.true_pct);
   if (!iter_best.s.band_removed.empty()) {
     std::printf("  removed per distance band:");
     for (std::size_t b = 0; b < band_count.size(); ++b)
@@ -390,8 +393,9 @@ int main(int argc, char** argv) {
     }
     std::printf("passes sor:%s (find_outliers, removed", argv[7]);
     for (const OutlierResult& pass : rc.passes) std::printf(" %zu", pass.removed);
-    std::printf(" per pass): removes %.1f %% of the injected points, %.3f %% of the scan; per band:",
-                100.0 * double(found_c) / double(n_out), 100.0 * double(lost_c) / double(n_true));
+    std::printf(
+        " per pass): removes %.1f %% of the injected points, %.3f %% of the scan; per band:",
+        100.0 * double(found_c) / double(n_out), 100.0 * double(lost_c) / double(n_true));
     for (std::size_t b = 0; b < band_count.size(); ++b)
       if (band_count[b])
         std::printf("  %g-: %.0f%%", kBands[b], 100.0 * double(band_c[b]) / double(band_count[b]));
@@ -402,7 +406,8 @@ int main(int argc, char** argv) {
   {
     const std::span<const Vec3f> clean(p.data(), n_true);
     std::printf("clean scan %s (no injected points): single pass sor:%zu,%g removes %.3f %%",
-                name.c_str(), default_k, default_sigma, 100.0 * double(find_outliers(clean, o).removed) / double(n_true));
+                name.c_str(), default_k, default_sigma,
+                100.0 * double(find_outliers(clean, o).removed) / double(n_true));
     if (argc > 7) {
       std::vector<OutlierOptions> chain;
       for (const char* c = argv[7]; *c;) {
