@@ -81,14 +81,19 @@ T outlier_number(std::string_view text, const std::string& option) {
 
 }  // namespace
 
-std::optional<OutlierOptions> parse_outliers(const std::string& text) {
-  if (text.empty() || text == "none") return std::nullopt;
+namespace {
+
+// One pass of --outliers: sor[:K,SIGMA] or radius[:R,N].
+OutlierOptions parse_outlier_pass(const std::string& text, const std::string& whole) {
   const std::size_t colon = text.find(':');
   const std::string rule = text.substr(0, colon);
   OutlierOptions o;
   if (rule == "sor") o.rule = OutlierRule::kStatistical;
   else if (rule == "radius") o.rule = OutlierRule::kRadius;
-  else throw_usage("--outliers must be none, sor[:K,SIGMA] or radius[:R,N], got '" + text + "'");
+  else
+    throw_usage(
+        "--outliers must be none, sor[:K,SIGMA] or radius[:R,N] (passes joined by +), got '" +
+        whole + "'");
   if (colon == std::string::npos) return o;
   const std::string args = text.substr(colon + 1);
   const std::size_t comma = args.find(',');
@@ -109,13 +114,35 @@ std::optional<OutlierOptions> parse_outliers(const std::string& text) {
   return o;
 }
 
+}  // namespace
+
+std::vector<OutlierOptions> parse_outliers(const std::string& text) {
+  std::vector<OutlierOptions> passes;
+  if (text.empty() || text == "none") return passes;
+  for (std::size_t begin = 0;;) {
+    const std::size_t plus = text.find('+', begin);
+    const std::string pass = text.substr(begin, plus - begin);
+    if (pass == "sor") {
+      for (const OutlierOptions& o : default_statistical_passes()) passes.push_back(o);
+    } else {
+      passes.push_back(parse_outlier_pass(pass, text));
+    }
+    if (passes.size() > kMaxOutlierPasses)
+      throw_usage("--outliers " + text + ": at most " + std::to_string(kMaxOutlierPasses) +
+                  " passes");
+    if (plus == std::string::npos) break;
+    begin = plus + 1;
+  }
+  return passes;
+}
+
 StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const ProgressFn& progress) {
   WriteOptions write;
   write.format = output_format(o.paths.output, o.format);
   const NormalOptions options = normal_options(o);
-  const std::optional<OutlierOptions> outliers = parse_outliers(o.outliers);
+  const std::vector<OutlierOptions> outliers = parse_outliers(o.outliers);
   if (!o.outliers_out.empty()) {
-    if (!outliers) throw_usage("--outliers-out needs --outliers sor or radius");
+    if (outliers.empty()) throw_usage("--outliers-out needs --outliers sor or radius");
     if (o.outliers_out == o.paths.input || o.outliers_out == o.paths.output)
       throw_usage("--outliers-out must differ from IN and OUT: " + o.outliers_out);
     writable_format(o.outliers_out, {});
@@ -123,10 +150,10 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   Stage stage("estimate-normals", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   // Outliers go first, on the cloud as read (duplicates included), as PCL's filters see it.
-  OutlierResult removed;
-  if (outliers) {
+  OutlierPassesResult removed;
+  if (!outliers.empty()) {
     removed = stage.phase(nullptr, "removing outliers",
-                          [&] { return find_outliers(doc.cloud.positions, *outliers); });
+                          [&] { return find_outliers(doc.cloud.positions, outliers); });
     LoadedCloud aside;
     aside.cloud = split_cloud(doc.cloud, removed.outlier);
     aside.format = doc.format;
@@ -136,19 +163,20 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
     return estimate_normals(doc.cloud, options, progress);
   });
   nlohmann::json stamp = provenance_options(options);
-  if (outliers) stamp["outliers"] = o.outliers;
+  if (!outliers.empty()) stamp["outliers"] = o.outliers;
   stage.stamp(doc, stamp);
   nlohmann::json report;
   if (!o.paths.report.empty()) {
     report = result.to_json();
-    if (outliers) report["outliers"] = removed.to_json(*outliers);
+    if (!outliers.empty()) report["outliers"] = removed.to_json(outliers);
     const uint64_t rss = peak_rss_bytes();
     report["peak_rss_bytes_per_point"] =
         result.input_points > 0 ? static_cast<double>(rss) / result.input_points : 0.0;
   }
   stage.write(doc, write, std::move(report));
   return {doc.cloud.size(), "points",
-          (outliers ? std::to_string(removed.removed) + " outliers removed, " : std::string()) +
+          (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, "
+                             : std::string()) +
               std::to_string(result.duplicates_merged) + " duplicates merged, " +
               std::to_string(result.degenerate_points) + " degenerate"};
 }

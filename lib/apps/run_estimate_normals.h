@@ -27,14 +27,17 @@ struct EstimateNormalsOptions {
   std::string orient;     // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
   std::string viewpoint;  // "x,y,z" in file coordinates, or empty
   std::string format;     // ply | splk, or empty: OUT's extension
-  // --outliers: "" or "none", "sor[:K,SIGMA]" or "radius[:R,N]" (normals/remove_outliers.h);
-  // the points removed before anything else, written to `outliers_out` when it is not empty.
+  // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" joined by '+', each
+  // applied to what the previous kept ("sor" alone: the default passes, sor:12,3+sor:6,3.5;
+  // normals/remove_outliers.h); the points removed before
+  // anything else, all passes' written to `outliers_out` when it is not empty.
   std::string outliers;
   std::string outliers_out;
 };
 
-// Parses --outliers (nullopt for "" and "none"); throws Error(kUsage) naming the option.
-std::optional<OutlierOptions> parse_outliers(const std::string& text);
+// Parses --outliers into its passes (none for "" and "none"); throws Error(kUsage) naming the
+// option.
+std::vector<OutlierOptions> parse_outliers(const std::string& text);
 
 // Throws Error(kUsage) for bad or conflicting options and unusable paths (before reading),
 // Error(kBadInput) / Error(kUnsupported) for the input, Error(kOutput) when writing fails,

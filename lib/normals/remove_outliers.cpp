@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "splatkit/spatial_index.h"
 
@@ -85,6 +86,50 @@ OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptio
   }
   r.removed = static_cast<std::size_t>(std::count(r.outlier.begin(), r.outlier.end(), 1));
   return r;
+}
+
+std::vector<OutlierOptions> default_statistical_passes() {
+  std::vector<OutlierOptions> passes(std::size(kDefaultStatisticalK));
+  for (std::size_t p = 0; p < passes.size(); ++p) {
+    passes[p].k = kDefaultStatisticalK[p];
+    passes[p].sigma = kDefaultStatisticalSigma[p];
+  }
+  return passes;
+}
+
+OutlierPassesResult find_outliers(std::span<const Vec3f> positions,
+                                  std::span<const OutlierOptions> passes) {
+  if (passes.size() > kMaxOutlierPasses)
+    throw std::invalid_argument("find_outliers: more than kMaxOutlierPasses passes");
+  OutlierPassesResult r;
+  r.outlier.assign(positions.size(), 0);
+  std::vector<uint32_t> kept(positions.size());  // kept[j]: point j of the current pass's cloud
+  for (std::size_t i = 0; i < kept.size(); ++i) kept[i] = static_cast<uint32_t>(i);
+  std::vector<Vec3f> cloud(positions.begin(), positions.end());
+  for (std::size_t p = 0; p < passes.size(); ++p) {
+    OutlierResult pass = find_outliers(cloud, passes[p]);
+    std::size_t next = 0;
+    for (std::size_t j = 0; j < kept.size(); ++j) {
+      if (pass.outlier[j]) {
+        r.outlier[kept[j]] = static_cast<uint8_t>(p + 1);
+        continue;
+      }
+      kept[next] = kept[j];
+      cloud[next++] = cloud[j];
+    }
+    kept.resize(next);
+    cloud.resize(next);
+    r.removed += pass.removed;
+    pass.outlier = {};
+    r.passes.push_back(std::move(pass));
+  }
+  return r;
+}
+
+nlohmann::json OutlierPassesResult::to_json(std::span<const OutlierOptions> options) const {
+  nlohmann::json each = nlohmann::json::array();
+  for (std::size_t p = 0; p < passes.size(); ++p) each.push_back(passes[p].to_json(options[p]));
+  return {{"removed", removed}, {"passes", each}};
 }
 
 SplatCloud split_cloud(SplatCloud& cloud, const std::vector<uint8_t>& remove) {

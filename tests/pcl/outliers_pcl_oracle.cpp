@@ -1,11 +1,14 @@
 // PCL as the oracle of remove_outliers: on clouds with injected outliers, PCL 1.13's
 // StatisticalOutlierRemoval and RadiusOutlierRemoval (the same K, SIGMA, R, N) must remove exactly
-// the points find_outliers marks. Prints one line per case; exits 1 on any difference.
+// the points find_outliers marks; chained passes must remove exactly the points PCL's filters
+// remove when each is run on the previous one's output. Prints one line per case; exits 1 on any
+// difference.
 #include <pcl/filters/radius_outlier_removal.h>
 #include <pcl/filters/statistical_outlier_removal.h>
 #include <pcl/point_types.h>
 
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "normals/remove_outliers.h"
@@ -63,6 +66,38 @@ std::vector<uint8_t> pcl_outliers(const std::vector<splatkit::Vec3f>& p, const O
   return out;
 }
 
+// PCL's filters run in turn, each on the cloud the previous one output: 1 = removed by any.
+std::vector<uint8_t> pcl_outliers(const std::vector<splatkit::Vec3f>& p,
+                                  const std::vector<OutlierOptions>& passes) {
+  std::vector<uint8_t> out(p.size(), 0);
+  std::vector<std::size_t> kept(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) kept[i] = i;
+  std::vector<splatkit::Vec3f> cloud = p;
+  for (const OutlierOptions& o : passes) {
+    const std::vector<uint8_t> removed = pcl_outliers(cloud, o);
+    std::vector<std::size_t> next_kept;
+    std::vector<splatkit::Vec3f> next_cloud;
+    for (std::size_t j = 0; j < cloud.size(); ++j) {
+      if (removed[j]) {
+        out[kept[j]] = 1;
+      } else {
+        next_kept.push_back(kept[j]);
+        next_cloud.push_back(cloud[j]);
+      }
+    }
+    kept = std::move(next_kept);
+    cloud = std::move(next_cloud);
+  }
+  return out;
+}
+
+OutlierOptions sor(std::size_t k, double sigma) {
+  OutlierOptions o;
+  o.k = k;
+  o.sigma = sigma;
+  return o;
+}
+
 }  // namespace
 
 int main() {
@@ -80,7 +115,7 @@ int main() {
                         {splatkit::ShapeKind::kCadPart, 40000, 0, 1, 4}};
   for (const Case& c : cases) {
     const std::vector<splatkit::Vec3f> p = scan(c.kind, c.n, c.noise, c.seed, c.scan_lines);
-    std::vector<OutlierOptions> variants{OutlierOptions{}};  // the defaults, sor:12,1
+    std::vector<OutlierOptions> variants{OutlierOptions{}};  // sor:12,1
     for (auto [k, sigma] :
          {std::pair<std::size_t, double>{8, 1.0}, {16, 2.0}, {30, 0.5}, {6, 0.4}}) {
       OutlierOptions o;
@@ -113,6 +148,40 @@ int main() {
                   sor ? o.sigma : static_cast<double>(o.min_neighbors), ours.removed, pcl_removed,
                   differ);
       if (differ) ++failures;
+    }
+    // Chained passes: the defaults (a loose pass then a tighter one); sor:12,1 twice; three
+    // passes; radius then sor.
+    OutlierOptions radius;
+    radius.rule = OutlierRule::kRadius;
+    radius.radius = r;
+    const std::vector<std::vector<OutlierOptions>> chains = {splatkit::default_statistical_passes(),
+                                                             {OutlierOptions{}, OutlierOptions{}},
+                                                             {sor(16, 2), sor(8, 2), sor(8, 2)},
+                                                             {radius, sor(12, 1)}};
+    for (const std::vector<OutlierOptions>& chain : chains) {
+      const splatkit::OutlierPassesResult ours = splatkit::find_outliers(p, chain);
+      const std::vector<uint8_t> theirs = pcl_outliers(p, chain);
+      std::size_t differ = 0, pcl_removed = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        differ += (ours.outlier[i] != 0) != (theirs[i] != 0);
+        pcl_removed += theirs[i];
+      }
+      std::string name;
+      for (const OutlierOptions& o : chain) {
+        char pass[64];
+        if (o.rule == OutlierRule::kStatistical)
+          std::snprintf(pass, sizeof pass, "sor:%zu,%g", o.k, o.sigma);
+        else
+          std::snprintf(pass, sizeof pass, "radius:%g,%zu", o.radius, o.min_neighbors);
+        name += (name.empty() ? "" : "+") + std::string(pass);
+      }
+      std::string per_pass;
+      for (const splatkit::OutlierResult& pass : ours.passes)
+        per_pass += (per_pass.empty() ? "" : "+") + std::to_string(pass.removed);
+      std::printf("%s %zu points: %s: splatkit removes %zu (%s), PCL %zu, %zu differ\n",
+                  splatkit::shape_kind_name(c.kind).c_str(), p.size(), name.c_str(), ours.removed,
+                  per_pass.c_str(), pcl_removed, differ);
+      if (differ || ours.passes.size() != chain.size()) ++failures;
     }
   }
   return failures ? 1 : 0;

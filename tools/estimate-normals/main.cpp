@@ -70,14 +70,17 @@ int main(int argc, char** argv) {
       ->default_val(splatkit::kDefaultMaxRadiusRatio);
   app.add_flag("--keep-duplicates", o.normals.keep_duplicates, "Do not merge exact duplicates");
   app.add_option("--outliers", o.outliers,
-                 "Remove outliers first, as PCL's filters do: sor[:K,SIGMA] drops points whose "
+                 "Remove outliers first, as PCL's filters do: sor:K,SIGMA drops points whose "
                  "mean distance to their K nearest neighbours is more than SIGMA standard "
-                 "deviations above the cloud's mean (default sor:12,1, chosen by measurement: it "
-                 "removed every outlier farther than 5 sampling spacings from the surface and at "
-                 "most 0.05 % of the scan's own points on every scan measured; README); "
-                 "radius[:R,N] drops points "
-                 "with fewer than N neighbours within R (default: R = 2x the median mean distance "
-                 "to the 8 nearest, N = 6); none (default)")
+                 "deviations above the cloud's mean; radius[:R,N] drops points with fewer than N "
+                 "neighbours within R (default: R = 2x the median mean distance to the 8 "
+                 "nearest, N = 6); passes joined by + run in turn, each on what the previous "
+                 "kept. sor alone is sor:12,3+sor:6,3.5, chosen by measurement (README): the "
+                 "loose first pass removes the far outliers that inflate the deviation, the "
+                 "second reaches nearer ones; with 1 % outliers in the box it removed 75-96 % of "
+                 "them and at most 0.22 % of the scan on every scan measured, and 0.04-0.7 % of "
+                 "clean scans, 3.9 % of a steep terrain (a single sor:12,1 removes 9-17 % of most "
+                 "clean scans); none (default)")
       ->default_str("none");
   app.add_option("--outliers-out", o.outliers_out,
                  "Write the removed outliers here (any writable format, by extension)");
