@@ -33,6 +33,11 @@ class Tool {
   void add_ply_encoding_options(bool& ascii, bool& big_endian);
   // Declares the required positionals IN and OUT into paths.input and paths.output.
   void add_in_out(apps::StagePaths& paths, const std::string& in_help, const std::string& out_help);
+  // By default run() has blocks of 1 MiB and more mapped on their own and handed back when freed,
+  // so that the per-point arrays of a finished phase leave the peak RSS (glibc otherwise keeps
+  // them in the heap once a large block has been freed). A tool that allocates the same large
+  // buffers over and over (splat-view's frames) turns that off: fresh pages each time cost more.
+  void reuse_freed_blocks() { map_large_blocks_ = false; }
 
   // Parses argv, applies the thread limit, runs `work` and maps failures to exit codes. An
   // Error thrown while parsing (by an option's callback) is reported like one from `work`.
@@ -48,6 +53,7 @@ class Tool {
   CLI::App app_;
   bool quiet_ = false;
   int threads_ = 0;
+  bool map_large_blocks_ = true;
 };
 
 // A check for a floating-point option: a finite number in [lo, hi] (CLI::Range lets NaN pass).

@@ -141,6 +141,7 @@ int main(int argc, char** argv) {
   app.add_option("--raw", terrain.raw, "With --terrain: the heightmap is headerless RAW")
       ->type_name("W,H,TYPE[,ENDIAN]");
   app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges");
+  tool.reuse_freed_blocks();  // every frame allocates its buffers again
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
     if (!terrain.heightmap.empty())
       return splatkit::apps::run_terrain_view(o, terrain, progress);
