@@ -98,23 +98,41 @@ void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t 
 
 // Sorts keys by their bits from `low` up, keeping the order of keys equal there (least
 // significant digit first, 11 bits a pass; keys that start in index order end in (high bits,
-// index) order). Linear, and cheaper than a comparison sort for millions of keys.
+// index) order). Linear, and cheaper than a comparison sort for millions of keys. Each pass
+// counts and scatters fixed blocks of keys in parallel, every block writing after the earlier
+// blocks' share of each digit, so the result is the serial one for any thread count.
 void radix_sort_high(std::vector<uint64_t>& keys, int low) {
   constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits, kBlock = std::size_t{1} << 16;
+  const std::size_t n = keys.size(), blocks = (n + kBlock - 1) / kBlock;
   const int passes = (64 - low + kBits - 1) / kBits;
-  std::vector<std::size_t> count(static_cast<std::size_t>(passes) * kBuckets, 0);
-  for (uint64_t k : keys)
-    for (int p = 0; p < passes; ++p)
-      ++count[p * kBuckets + ((k >> (low + p * kBits)) & (kBuckets - 1))];
-  std::vector<uint64_t> other(keys.size());
+  std::vector<std::size_t> at(blocks * kBuckets);  // per block and digit: count, then offset
+  std::vector<uint64_t> other(n);
   for (int p = 0; p < passes; ++p) {
-    std::size_t* c = count.data() + p * kBuckets;
-    if (std::find(c, c + kBuckets, keys.size()) != c + kBuckets) continue;  // one digit value
-    std::size_t sum = 0;
-    for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
     const int shift = low + p * kBits;
-    for (uint64_t k : keys) other[c[(k >> shift) & (kBuckets - 1)]++] = k;
+    auto digit = [shift](uint64_t k) { return (k >> shift) & (kBuckets - 1); };
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t blk) {
+      std::size_t* c = at.data() + blk * kBuckets;
+      std::fill(c, c + kBuckets, std::size_t{0});
+      for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i)
+        ++c[digit(keys[i])];
+    });
+    // Digits in order, blocks in order within a digit; a pass where every key has the same
+    // digit changes nothing.
+    std::size_t sum = 0;
+    bool one_digit = false;
+    for (std::size_t d = 0; d < kBuckets && !one_digit; ++d) {
+      const std::size_t first = sum;
+      for (std::size_t blk = 0; blk < blocks; ++blk)
+        sum += std::exchange(at[blk * kBuckets + d], sum);
+      one_digit = sum - first == n;
+    }
+    if (one_digit) continue;
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t blk) {
+      std::size_t* c = at.data() + blk * kBuckets;
+      for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i)
+        other[c[digit(keys[i])]++] = keys[i];
+    });
     keys.swap(other);
   }
 }
@@ -473,7 +491,6 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   std::vector<std::vector<SptRecord>>().swap(scratch);
   std::vector<std::vector<SptFullRecord>>().swap(full_scratch);
   tree.interiors = sum.next;
-  const uint32_t top_base = sum.next;
   sum.recs = tree.records.data.get();
   sum.fulls = o.full ? tree.full_records.data.get() : nullptr;
   auto finish_top = [&](auto&& self, uint32_t id) -> std::pair<uint32_t, SptDisc> {
