@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <utility>
 
@@ -247,18 +248,33 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   write_spt_header(h, header);
   uint32_t crc = crc32c(0, header, 124);
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
-  const std::size_t slab_count = patch ? 2 : 1;
+  // When the header can be patched, the list is encoded in slabs, and each slab is written while
+  // the next one is encoded (two buffers of a quarter of the list: the same memory as one buffer
+  // of half of it). Otherwise it is encoded whole, then written.
+  const std::size_t slab_count = patch ? 4 : 1;
   const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
-  std::vector<unsigned char> buffer(std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes);
-  double write_s = 0;
+  const std::size_t buffer_bytes = std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes;
+  std::vector<unsigned char> buffers[2];
+  buffers[0].resize(buffer_bytes);
+  if (patch && kept > slab) buffers[1].resize(buffer_bytes);
+  std::future<void> writing;  // of the slab before the one being encoded
+  double write_s = 0;         // waiting for the sink
+  auto wait_writing = [&] {
+    if (!writing.valid()) return;
+    const auto t0 = Clock::now();
+    writing.get();
+    write_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  };
   auto emit = [&](const unsigned char* p, std::size_t bytes) {
     const auto t0 = Clock::now();
     sink.write(p, bytes);
     write_s += std::chrono::duration<double>(Clock::now() - t0).count();
   };
   if (patch) emit(header, kSptHeaderBytes);
-  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab) {
+  std::size_t slab_index = 0;
+  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab, ++slab_index) {
     const std::size_t hi = std::min(kept, lo + slab);
+    unsigned char* const buffer = buffers[slab_index % 2].data();
     tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
       std::vector<uint32_t> next;
       if (!o.full) next.assign(start.begin() + c * 65536, start.begin() + (c + 1) * 65536);
@@ -275,21 +291,26 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
           d = next[65535 - r_max]++;
         }
         if (d < lo || d >= hi) return;
-        encode(leaf, i, buffer.data() + (d - lo) * h.entry_bytes);
+        encode(leaf, i, buffer + (d - lo) * h.entry_bytes);
         if (keep_map) out.entry_of_node[seq.node(leaf, i)] = d;
       });
     });
     const std::size_t bytes = (hi - lo) * h.entry_bytes;
-    crc = crc32c(crc, buffer.data(), bytes);
-    if (patch) emit(buffer.data(), bytes);
+    crc = crc32c(crc, buffer, bytes);
+    if (patch) {  // one slab written at a time, in order; the other buffer is then free
+      wait_writing();
+      writing =
+          std::async(std::launch::async, [&sink, buffer, bytes] { sink.write(buffer, bytes); });
+    }
   }
+  wait_writing();
   h.checksum = crc;
   write_spt_header(h, header);
   if (patch) {
     sink.patch(124, header + 124, 4);
   } else {
     emit(header, kSptHeaderBytes);
-    emit(buffer.data(), kept * h.entry_bytes);
+    emit(buffers[0].data(), kept * h.entry_bytes);
   }
   out.write_seconds = write_s;
   return out;

@@ -39,7 +39,7 @@ struct EncodedSpt {
   uint64_t entries = 0;
   uint64_t dropped_empty = 0;  // nodes left out (empty interval)
   uint64_t bytes = 0;
-  double write_seconds = 0;  // of the time in encode_spt, spent in sink.write
+  double write_seconds = 0;  // of the time in encode_spt, spent waiting for sink.write
   // Filled only when asked for (tests), indexed by node number (SptTree): the entry of each node
   // (kNoParent when left out) and each node's parent (kNoParent for the root).
   std::vector<uint32_t> entry_of_node, parent;

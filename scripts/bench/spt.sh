@@ -27,6 +27,9 @@ now() { date +%s.%N; }
 # The machine may be shared: keep the best of several runs.
 best=0 rss=0 cpu=0
 for _ in $(seq "$runs"); do
+  # The input just made, or the previous run's output, is still being written back to the disk:
+  # flushed first, so that this run does not pay for it.
+  sync
   t0=$(now)
   /usr/bin/time -f "%U %S %M" -o "$work/rss" "$bin/build-spt" -q "$work/in.splk" "$work/model.spt" \
     --threads "$threads" --report "$work/report.json"
