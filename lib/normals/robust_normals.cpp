@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "normals/fit_plane.h"
 #include "normals/neighborhood_pca.h"
 #include "splatkit/deterministic_rng.h"
 #include "splatkit/pca_normal.h"
@@ -33,23 +34,6 @@ constexpr int kRefits = 2;
 // variation of wide rows, estimated on every kWideSampleStep-th point.
 constexpr double kNoisyFactor = 2.0;
 constexpr std::size_t kWideSampleStep = 64;
-
-struct Plane {
-  Vec3f n;       // unit
-  float offset;  // n·x = offset, x relative to the query point
-};
-
-// A unit normal through three points, or false when they are (nearly) collinear.
-bool triplet_plane(const Vec3f& a, const Vec3f& b, const Vec3f& c, Plane& out) {
-  const Vec3f u = b - a, v = c - a;
-  const Vec3f n = cross(u, v);
-  const float n2 = squared_norm(n);
-  const float uv = squared_norm(u) * squared_norm(v);
-  if (!(n2 > kMinTripletSine2 * uv)) return false;
-  out.n = n / std::sqrt(n2);
-  out.offset = dot(out.n, a);
-  return true;
-}
 
 // Per-thread scratch for one point's fit.
 struct Scratch {
@@ -95,31 +79,6 @@ float kernel_score(const Plane& plane, float inv_h2, Scratch& s) {
   return score;
 }
 
-// PCA plane of the points of `local` whose residual to `plane` is <= band; false when fewer than
-// 3 or degenerate. The plane goes through the inliers' centroid.
-bool refit(std::span<const Vec3f> local, const Plane& plane, float band, Plane& out) {
-  double s[3] = {0, 0, 0}, c[6] = {0, 0, 0, 0, 0, 0};
-  std::size_t count = 0;
-  for (const Vec3f& q : local) {
-    if (!(std::fabs(dot(plane.n, q) - plane.offset) <= band)) continue;
-    const double x = q.x, y = q.y, z = q.z;
-    s[0] += x, s[1] += y, s[2] += z;
-    c[0] += x * x, c[1] += x * y, c[2] += x * z, c[3] += y * y, c[4] += y * z, c[5] += z * z;
-    ++count;
-  }
-  if (count < 3) return false;
-  const double inv = 1.0 / static_cast<double>(count);
-  c[0] -= s[0] * s[0] * inv, c[1] -= s[0] * s[1] * inv, c[2] -= s[0] * s[2] * inv;
-  c[3] -= s[1] * s[1] * inv, c[4] -= s[1] * s[2] * inv, c[5] -= s[2] * s[2] * inv;
-  const CovarianceEigen e = pca_normal({c[0], c[1], c[2], c[3], c[4], c[5]});
-  if (!(e.eigenvalues[1] > kCollinearRatio * e.eigenvalues[2])) return false;
-  out.n = Vec3f{static_cast<float>(e.normal[0]), static_cast<float>(e.normal[1]),
-                static_cast<float>(e.normal[2])};
-  out.offset = static_cast<float>(e.normal[0] * s[0] * inv + e.normal[1] * s[1] * inv +
-                                  e.normal[2] * s[2] * inv);
-  return true;
-}
-
 // Candidate planes through random triplets of the neighbourhood; every other one passes through
 // the query point itself (local[0] = origin), which raises the odds of a triplet lying wholly on
 // the point's own side when that side holds only a third of the ball.
@@ -132,7 +91,7 @@ void sample_planes(std::span<const Vec3f> local, std::size_t count, Deterministi
     const uint64_t b = rng.next() % m, c = rng.next() % m;
     if (a == b || a == c || b == c) continue;
     Plane p;
-    if (triplet_plane(local[a], local[b], local[c], p)) planes.push_back(p);
+    if (triplet_plane(local[a], local[b], local[c], kMinTripletSine2, p)) planes.push_back(p);
   }
 }
 
@@ -190,7 +149,7 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
   Plane plane = *best;
   for (int pass = 0; pass < kRefits; ++pass) {
     Plane next;
-    if (!refit(local, plane, h, next)) break;
+    if (!refit_plane(local, plane, h, next)) break;
     plane = next;
   }
   if (!(std::fabs(plane.offset) <= 2 * h)) return false;

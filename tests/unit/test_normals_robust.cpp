@@ -12,6 +12,7 @@
 #include <cstring>
 #include <vector>
 
+#include "normals/fit_plane.h"
 #include "normals/neighborhood_pca.h"
 #include "splatkit/deterministic_rng.h"
 #include "splatkit/pca_normal.h"
@@ -51,34 +52,6 @@ float angle_up_to_sign(const Vec3f& a, const Vec3f& b) {
 // for bit (constants as in robust_normals.cpp).
 namespace reference {
 
-struct Plane {
-  Vec3f n;
-  float offset;
-};
-
-bool refit(const std::vector<Vec3f>& local, const Plane& plane, float band, Plane& out) {
-  double s[3] = {0, 0, 0}, c[6] = {0, 0, 0, 0, 0, 0};
-  std::size_t count = 0;
-  for (const Vec3f& q : local) {
-    if (!(std::fabs(dot(plane.n, q) - plane.offset) <= band)) continue;
-    const double x = q.x, y = q.y, z = q.z;
-    s[0] += x, s[1] += y, s[2] += z;
-    c[0] += x * x, c[1] += x * y, c[2] += x * z, c[3] += y * y, c[4] += y * z, c[5] += z * z;
-    ++count;
-  }
-  if (count < 3) return false;
-  const double inv = 1.0 / static_cast<double>(count);
-  c[0] -= s[0] * s[0] * inv, c[1] -= s[0] * s[1] * inv, c[2] -= s[0] * s[2] * inv;
-  c[3] -= s[1] * s[1] * inv, c[4] -= s[1] * s[2] * inv, c[5] -= s[2] * s[2] * inv;
-  const CovarianceEigen e = pca_normal({c[0], c[1], c[2], c[3], c[4], c[5]});
-  if (!(e.eigenvalues[1] > kCollinearRatio * e.eigenvalues[2])) return false;
-  out.n = Vec3f{static_cast<float>(e.normal[0]), static_cast<float>(e.normal[1]),
-                static_cast<float>(e.normal[2])};
-  out.offset = static_cast<float>(e.normal[0] * s[0] * inv + e.normal[1] * s[1] * inv +
-                                  e.normal[2] * s[2] * inv);
-  return true;
-}
-
 // Point i's robust normal from its kNN row; false when the fit fails.
 bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t> ids,
          const RobustNormalOptions& options, Vec3f& normal) {
@@ -95,10 +68,8 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
     const uint64_t a = (attempt % 2 == 0) ? 0 : rng.next() % m;
     const uint64_t b = rng.next() % m, c = rng.next() % m;
     if (a == b || a == c || b == c) continue;
-    const Vec3f u = local[b] - local[a], v = local[c] - local[a], n = cross(u, v);
-    const float n2 = squared_norm(n);
-    if (!(n2 > 0.01f * squared_norm(u) * squared_norm(v))) continue;
-    planes.push_back({n / std::sqrt(n2), dot(n / std::sqrt(n2), local[a])});
+    Plane p;
+    if (triplet_plane(local[a], local[b], local[c], 0.01f, p)) planes.push_back(p);
   }
   if (planes.empty()) return false;
   float radius2 = 0;
@@ -135,7 +106,7 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
   Plane plane = *best;
   for (int pass = 0; pass < 2; ++pass) {
     Plane next;
-    if (!refit(local, plane, h, next)) break;
+    if (!refit_plane(local, plane, h, next)) break;
     plane = next;
   }
   if (!(std::fabs(plane.offset) <= 2 * h)) return false;
