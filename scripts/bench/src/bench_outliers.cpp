@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -176,37 +177,31 @@ int main(int argc, char** argv) {
   auto consider = [&](const std::string& rule, const Scores& s) {
     if (s.true_pct <= 0.5 && s.outliers_pct > best.s.outliers_pct) best = {rule, s};
   };
-  std::printf("sor: injected removed %% / scan points removed %% (K rows, SIGMA columns)\n   K");
-  for (double sg : kSigmas) std::printf(" %12g", sg);
-  std::printf("\n");
-  for (std::size_t ki = 0; ki < std::size(kKs); ++ki) {
-    std::printf("%4zu", kKs[ki]);
-    for (double sg : kSigmas) {
-      const Scores s = score(d[ki], sor_threshold(d[ki], sg));
-      std::printf(" %5.1f/%-6.2f", s.outliers_pct, s.true_pct);
-      consider("sor:" + std::to_string(kKs[ki]) + "," + std::to_string(sg).substr(0, 5), s);
-      if (cells)
-        std::fprintf(cells, "%s\tsor\t%zu\t%g\t%.3f\t%.4f\n", name.c_str(), kKs[ki], sg,
-                     s.outliers_pct, s.true_pct);
-    }
+  // One table: K rows, parameter columns; each cell scored, printed, considered and logged.
+  auto table = [&](const char* rule, std::span<const double> params, std::size_t digits,
+                   auto&& threshold) {
+    for (double v : params) std::printf(" %12g", v);
     std::printf("\n");
-  }
+    for (std::size_t ki = 0; ki < std::size(kKs); ++ki) {
+      std::printf("%4zu", kKs[ki]);
+      for (double v : params) {
+        const Scores s = score(d[ki], threshold(d[ki], v));
+        std::printf(" %5.1f/%-6.2f", s.outliers_pct, s.true_pct);
+        consider(std::string(rule) + ":" + std::to_string(kKs[ki]) + "," +
+                     std::to_string(v).substr(0, digits),
+                 s);
+        if (cells)
+          std::fprintf(cells, "%s\t%s\t%zu\t%g\t%.3f\t%.4f\n", name.c_str(), rule, kKs[ki], v,
+                       s.outliers_pct, s.true_pct);
+      }
+      std::printf("\n");
+    }
+  };
+  std::printf("sor: injected removed %% / scan points removed %% (K rows, SIGMA columns)\n   K");
+  table("sor", kSigmas, 5, sor_threshold);
   std::printf(
       "robust (median + KAPPA * 1.4826 MAD): removed %% / scan %% (K rows, KAPPA columns)\n   K");
-  for (double kp : kKappas) std::printf(" %12g", kp);
-  std::printf("\n");
-  for (std::size_t ki = 0; ki < std::size(kKs); ++ki) {
-    std::printf("%4zu", kKs[ki]);
-    for (double kp : kKappas) {
-      const Scores s = score(d[ki], robust_threshold(d[ki], kp));
-      std::printf(" %5.1f/%-6.2f", s.outliers_pct, s.true_pct);
-      consider("robust:" + std::to_string(kKs[ki]) + "," + std::to_string(kp).substr(0, 4), s);
-      if (cells)
-        std::fprintf(cells, "%s\trobust\t%zu\t%g\t%.3f\t%.4f\n", name.c_str(), kKs[ki], kp,
-                     s.outliers_pct, s.true_pct);
-    }
-    std::printf("\n");
-  }
+  table("robust", kKappas, 4, robust_threshold);
   std::printf(
       "best with <= 0.5 %% of the scan removed: %s removes %.1f %% of the injected points "
       "(%.2f %% of the scan)\n",
