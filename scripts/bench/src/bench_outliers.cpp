@@ -202,18 +202,21 @@ int main(int argc, char** argv) {
   std::printf(
       "robust (median + KAPPA * 1.4826 MAD): removed %% / scan %% (K rows, KAPPA columns)\n   K");
   table("robust", kKappas, 4, robust_threshold);
-  std::printf(
-      "best with <= 0.5 %% of the scan removed: %s removes %.1f %% of the injected points "
-      "(%.2f %% of the scan)\n",
-      best.rule.c_str(), best.s.outliers_pct, best.s.true_pct);
-  if (!best.s.band_removed.empty()) {
+  // The share of each distance band that a rule removed.
+  auto print_bands = [&](const Scores& s) {
+    if (s.band_removed.empty()) return;
     std::printf("  removed per distance band:");
     for (std::size_t b = 0; b < band_count.size(); ++b)
       if (band_count[b])
         std::printf("  %g-: %.0f%%", kBands[b],
-                    100.0 * double(best.s.band_removed[b]) / double(band_count[b]));
+                    100.0 * double(s.band_removed[b]) / double(band_count[b]));
     std::printf("\n");
-  }
+  };
+  std::printf(
+      "best with <= 0.5 %% of the scan removed: %s removes %.1f %% of the injected points "
+      "(%.2f %% of the scan)\n",
+      best.rule.c_str(), best.s.outliers_pct, best.s.true_pct);
+  print_bands(best.s);
 
   // Iterated SOR: PCL's filter applied again to its own output. A first pass (K1, SIGMA1)
   // removes the far outliers that inflate the standard deviation; the later passes (K2, SIGMA2),
@@ -325,14 +328,7 @@ int main(int argc, char** argv) {
       "best iterated with <= 0.5 %% of the scan removed: %s removes %.1f %% of the "
       "injected points (%.3f %% of the scan)\n",
       iter_best.cell.c_str(), iter_best.s.outliers_pct, iter_best.s.true_pct);
-  if (!iter_best.s.band_removed.empty()) {
-    std::printf("  removed per distance band:");
-    for (std::size_t b = 0; b < band_count.size(); ++b)
-      if (band_count[b])
-        std::printf("  %g-: %.0f%%", kBands[b],
-                    100.0 * double(iter_best.s.band_removed[b]) / double(band_count[b]));
-    std::printf("\n");
-  }
+  print_bands(iter_best.s);
 
   // The single pass K, SIGMA, through find_outliers itself (the rule PCL's filter is checked
   // against).
