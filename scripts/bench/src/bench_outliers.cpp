@@ -116,12 +116,13 @@ int main(int argc, char** argv) {
     }
   });
 
-  auto score = [&](const std::vector<float>& dk, double threshold) {
+  // The shares of the injected points and of the scan's own points that `removed(i)` takes.
+  auto score_removed = [&](auto&& removed) {
     Scores s;
     s.band_removed.assign(band_count.size(), 0);
     std::size_t lost = 0, found = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!(dk[i] > threshold)) continue;
+      if (!removed(i)) continue;
       if (i < n_true) {
         ++lost;
       } else {
@@ -132,6 +133,9 @@ int main(int argc, char** argv) {
     s.outliers_pct = 100.0 * double(found) / double(n_out);
     s.true_pct = 100.0 * double(lost) / double(n_true);
     return s;
+  };
+  auto score = [&](const std::vector<float>& dk, double threshold) {
+    return score_removed([&](std::size_t i) { return dk[i] > threshold; });
   };
   auto sor_threshold = [&](const std::vector<float>& dk, double sigma) {
     double sum = 0, sq_sum = 0;
@@ -203,14 +207,17 @@ int main(int argc, char** argv) {
       "robust (median + KAPPA * 1.4826 MAD): removed %% / scan %% (K rows, KAPPA columns)\n   K");
   table("robust", kKappas, 4, robust_threshold);
   // The share of each distance band that a rule removed.
-  auto print_bands = [&](const Scores& s) {
-    if (s.band_removed.empty()) return;
-    std::printf("  removed per distance band:");
+  auto band_list = [&](const Scores& s) {
     for (std::size_t b = 0; b < band_count.size(); ++b)
       if (band_count[b])
         std::printf("  %g-: %.0f%%", kBands[b],
                     100.0 * double(s.band_removed[b]) / double(band_count[b]));
     std::printf("\n");
+  };
+  auto print_bands = [&](const Scores& s) {
+    if (s.band_removed.empty()) return;
+    std::printf("  removed per distance band:");
+    band_list(s);
   };
   std::printf(
       "best with <= 0.5 %% of the scan removed: %s removes %.1f %% of the injected points "
@@ -263,19 +270,7 @@ int main(int argc, char** argv) {
     auto score_alive = [&](const std::vector<uint32_t>& alive) {
       std::vector<uint8_t> removed(n, 1);
       for (uint32_t i : alive) removed[i] = 0;
-      Scores s;
-      s.band_removed.assign(band_count.size(), 0);
-      std::size_t lost = 0, found = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!removed[i]) continue;
-        if (i < n_true)
-          ++lost;
-        else
-          ++found, ++s.band_removed[band_of(off[i - n_true])];
-      }
-      s.outliers_pct = 100.0 * double(found) / double(n_out);
-      s.true_pct = 100.0 * double(lost) / double(n_true);
-      return s;
+      return score_removed([&](std::size_t i) { return removed[i] != 0; });
     };
     auto filter = [](const std::vector<uint32_t>& alive, const std::vector<float>& dk, double t) {
       std::vector<uint32_t> out;
@@ -336,27 +331,12 @@ int main(int argc, char** argv) {
   o.k = default_k;
   o.sigma = default_sigma;
   const OutlierResult r = find_outliers(p, o);
-  std::size_t found = 0, lost = 0;
-  std::vector<std::size_t> band_removed(band_count.size(), 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!r.outlier[i]) continue;
-    if (i < n_true) {
-      ++lost;
-    } else {
-      ++found;
-      ++band_removed[band_of(off[i - n_true])];
-    }
-  }
+  const Scores single = score_removed([&](std::size_t i) { return r.outlier[i] != 0; });
   std::printf(
       "single pass sor:%zu,%g (find_outliers): removes %.1f %% of the injected points, %.3f %% "
       "of the scan; per band:",
-      default_k, default_sigma, 100.0 * double(found) / double(n_out),
-      100.0 * double(lost) / double(n_true));
-  for (std::size_t b = 0; b < band_count.size(); ++b)
-    if (band_count[b])
-      std::printf("  %g-: %.0f%%", kBands[b],
-                  100.0 * double(band_removed[b]) / double(band_count[b]));
-  std::printf("\n");
+      default_k, default_sigma, single.outliers_pct, single.true_pct);
+  band_list(single);
 
   // A chain of passes "K1,SIGMA1+K2,SIGMA2+...", through find_outliers itself (checked against
   // PCL's filter run on its own output).
@@ -371,26 +351,13 @@ int main(int argc, char** argv) {
       c = *end == '+' ? end + 1 : end;
     }
     const OutlierPassesResult rc = find_outliers(p, chain);
-    std::size_t found_c = 0, lost_c = 0;
-    std::vector<std::size_t> band_c(band_count.size(), 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!rc.outlier[i]) continue;
-      if (i < n_true) {
-        ++lost_c;
-      } else {
-        ++found_c;
-        ++band_c[band_of(off[i - n_true])];
-      }
-    }
+    const Scores passes = score_removed([&](std::size_t i) { return rc.outlier[i] != 0; });
     std::printf("passes sor:%s (find_outliers, removed", argv[7]);
     for (const OutlierResult& pass : rc.passes) std::printf(" %zu", pass.removed);
     std::printf(
         " per pass): removes %.1f %% of the injected points, %.3f %% of the scan; per band:",
-        100.0 * double(found_c) / double(n_out), 100.0 * double(lost_c) / double(n_true));
-    for (std::size_t b = 0; b < band_count.size(); ++b)
-      if (band_count[b])
-        std::printf("  %g-: %.0f%%", kBands[b], 100.0 * double(band_c[b]) / double(band_count[b]));
-    std::printf("\n");
+        passes.outliers_pct, passes.true_pct);
+    band_list(passes);
   }
   // The same rules on the scan alone (no outliers to inflate the deviation): what they remove of
   // a clean scan.
