@@ -105,13 +105,42 @@ const std::array<bool, kNormalCodes>& unit_codes() {
 // clamped to [−1, 1], i.e. the number of steps k >= 1 with c >= tan((k / 26 − 1) · π/4): counted
 // against those 51 bounds, without an atan per component.
 int warp_index(float c) {
-  static const std::array<float, kNormalSteps - 1> bounds = [] {
-    std::array<float, kNormalSteps - 1> b{};
+  constexpr int kBounds = kNormalSteps - 1, kBuckets = 256;
+  struct Table {
+    std::array<float, kBounds> bounds;
+    std::array<uint8_t, kBuckets> start;  // the count of bounds below each bucket's lower end
+  };
+  static const Table t = [] {
+    Table w{};
     for (int k = 1; k < kNormalSteps; ++k)
-      b[k - 1] = static_cast<float>(std::tan((2.0 * k / kNormalSteps - 1.0) * M_PI / 4));
-    return b;
+      w.bounds[k - 1] = static_cast<float>(std::tan((2.0 * k / kNormalSteps - 1.0) * M_PI / 4));
+    for (int b = 0; b < kBuckets; ++b) {
+      const float lower = static_cast<float>(b) * (2.0f / kBuckets) - 1.0f;
+      w.start[b] = static_cast<uint8_t>(std::lower_bound(w.bounds.begin(), w.bounds.end(), lower) -
+                                        w.bounds.begin());
+    }
+    return w;
   }();
-  return static_cast<int>(std::upper_bound(bounds.begin(), bounds.end(), c) - bounds.begin());
+  // Bounds stand at least 0.03 apart, buckets 2/256 wide: the bucket's count is within one of
+  // the answer, and the two loops make it exact whatever rounding put c in that bucket.
+  const float at = (c + 1.0f) * (kBuckets / 2);
+  const int b = at >= 0 ? (at < kBuckets ? static_cast<int>(at) : kBuckets - 1) : 0;
+  int k = t.start[b];
+  while (k > 0 && t.bounds[k - 1] > c) --k;
+  while (k < kBounds && t.bounds[k] <= c) ++k;
+  return k;
+}
+
+// std::floor and std::ceil of a value well inside the int range, as ints: the same results
+// without the library's general case (the rounding instructions are not in the x86-64 baseline,
+// and these bounds are computed several times per node).
+int floor_int(double v) {
+  const int i = static_cast<int>(v);
+  return i - (v < i ? 1 : 0);
+}
+int ceil_int(double v) {
+  const int i = static_cast<int>(v);
+  return i + (v > i ? 1 : 0);
 }
 
 double distance(const Vec3f& a, const double b[3]) {
@@ -123,7 +152,16 @@ double distance(const Vec3f& a, const double b[3]) {
 
 const std::array<SphereCell, kSphereCells>& sphere_cells() { return sphere_tables().cells; }
 
-int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
+namespace {
+
+// What one cell offers a child: the cell is not (or cannot be proved) inside the parent, it is
+// too small or too far to contain the child, or it fits at distance `dist` between the centres.
+enum class Offer { kNotInParent, kTooSmall, kFits };
+
+}  // namespace
+
+int encode_sphere(const Sphere& parent, const double centre[3], double radius,
+                  SphereSearch search) {
   const SphereTables& t = sphere_tables();
   const double pr = parent.radius;
   const double pc[3] = {parent.centre.x, parent.centre.y, parent.centre.z};
@@ -135,6 +173,26 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
   // than that (in parent radii) inside or outside the unit sphere needs no exact check.
   const double far = std::max({std::fabs(pc[0]), std::fabs(pc[1]), std::fabs(pc[2])}) + pr;
   const double unsure = 8.0 * far * 0x1p-23 / pr + 1e-9;
+  // The same bound in steps of the cell grid (2/13 parent radii): how far a decoded cell centre
+  // may stand from where exact arithmetic puts it, along one axis.
+  const double unsure_steps = unsure * kN / 2;
+  auto offer = [&](int s, double& dist) {
+    if (s < 0 || t.inside[s] < -unsure) return Offer::kNotInParent;  // clearly outside
+    const Sphere d = decode_sphere(t.cells[s], parent);
+    const double room = d.radius - radius;
+    const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+                 dz = d.centre.z - centre[2];
+    const double dist2 = dx * dx + dy * dy + dz * dz;
+    if (room < 0 || dist2 > room * room * (1 + 1e-9)) return Offer::kTooSmall;  // clearly
+    dist = std::sqrt(dist2);
+    if (dist + radius > d.radius) return Offer::kTooSmall;  // must contain the true sphere
+    // ... and lie inside the parent
+    if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) return Offer::kNotInParent;
+    return Offer::kFits;
+  };
+  auto cell = [&](int size, int x, int y, int z) {
+    return t.index[size - 1 + kN * (x + kN * (y + kN * z))];
+  };
   for (int size = first; size <= kN; ++size) {
     // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
     // ones that can contain it.
@@ -142,30 +200,61 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius) {
     if (slack < 0) continue;
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, static_cast<int>(std::ceil(((rel[k] - slack + 1) * kN - size) / 2)));
-      hi[k] =
-          std::min(kN - size, static_cast<int>(std::floor(((rel[k] + slack + 1) * kN - size) / 2)));
+      lo[k] = std::max(0, ceil_int(((rel[k] - slack + 1) * kN - size) / 2));
+      hi[k] = std::min(kN - size, floor_int(((rel[k] + slack + 1) * kN - size) / 2));
+    }
+    if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) continue;
+    // Nearest first. Whether a cell contains the child depends only on its distance (the cells
+    // of one size share their radius), and along each axis the decoded coordinate depends only
+    // on that axis's index: so unless a cell fails for the parent, the cell that is nearest on
+    // every axis decides. Its candidates per axis: the nearest index, and the second nearest
+    // when the two are too close to tell apart after float rounding. If any of them is not
+    // proved inside the parent (a farther cell might then be the answer), or rounding is too
+    // coarse for the grid, every cell in the box is tried, as the exhaustive search does.
+    bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
+    int near[3][2], count[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && decided; ++k) {
+      const double steps = ((rel[k] + 1) * kN - size) / 2;
+      const int below = floor_int(steps);
+      const double frac = steps - below;
+      const int nearest = below + (frac < 0.5 ? 0 : 1), other = below + (frac < 0.5 ? 1 : 0);
+      if (nearest < lo[k] || nearest > hi[k]) decided = false;
+      near[k][count[k]++] = nearest;
+      if (std::fabs(1 - 2 * frac) <= 4 * unsure_steps && other >= lo[k] && other <= hi[k])
+        near[k][count[k]++] = other;
+      if (count[k] == 2 && near[k][0] > near[k][1]) std::swap(near[k][0], near[k][1]);
     }
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
+    if (decided) {
+      for (int a = 0; a < count[0] && decided; ++a)
+        for (int b = 0; b < count[1] && decided; ++b)
+          for (int c = 0; c < count[2] && decided; ++c) {
+            const int s = cell(size, near[0][a], near[1][b], near[2][c]);
+            double dist = 0;
+            const Offer o = offer(s, dist);
+            if (o == Offer::kNotInParent) decided = false;
+            if (o == Offer::kFits && dist < best_d) {
+              best_d = dist;
+              best = s;
+            }
+          }
+      if (decided) {
+        if (best >= 0) return best;
+        continue;  // the nearest cell is too small: so is every cell of this size
+      }
+      best = -1;
+      best_d = std::numeric_limits<double>::infinity();
+    }
     for (int x = lo[0]; x <= hi[0]; ++x)
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int z = lo[2]; z <= hi[2]; ++z) {
-          const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
-          if (s < 0 || t.inside[s] < -unsure) continue;  // clearly outside the parent
-          const Sphere d = decode_sphere(t.cells[s], parent);
-          const double room = d.radius - radius;
-          const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
-                       dz = d.centre.z - centre[2];
-          const double dist2 = dx * dx + dy * dy + dz * dz;
-          if (room < 0 || dist2 > room * room * (1 + 1e-9)) continue;  // clearly too far
-          const double dist = std::sqrt(dist2);
-          if (dist >= best_d) continue;
-          if (dist + radius > d.radius) continue;  // must contain the true sphere
-          // ... and lie inside the parent
-          if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) continue;
-          best_d = dist;
-          best = s;
+          const int s = cell(size, x, y, z);
+          double dist = 0;
+          if (offer(s, dist) == Offer::kFits && dist < best_d) {
+            best_d = dist;
+            best = s;
+          }
         }
     if (best >= 0) return best;
   }

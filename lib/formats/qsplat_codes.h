@@ -47,11 +47,19 @@ inline Sphere decode_sphere(const SphereCell& cell, const Sphere& parent) {
           parent.radius * cell.r};
 }
 
+// How encode_sphere searches the cells of one size: from the nearest cell outwards (the default;
+// it tries one cell, or up to eight near float-rounding ties, before it falls back to the whole
+// box), or every cell of the box that can contain the child (the reference the tests compare
+// with). Both return the same code.
+enum class SphereSearch { kNearestFirst, kExhaustive };
+
 // The code of the smallest cell whose decoded sphere contains the sphere (centre, radius) (double
 // precision, the true sphere) and lies inside `parent`; among cells of that size, the one whose
-// centre is closest to `centre`. Precondition: the true sphere lies inside `parent` (then the
-// parent's own cell, S = 7620, always qualifies); returns -1 when nothing qualifies.
-int encode_sphere(const Sphere& parent, const double centre[3], double radius);
+// centre is closest to `centre` (the first in the table's x, y, z order among equally close ones).
+// Precondition: the true sphere lies inside `parent` (then the parent's own cell, S = 7620,
+// always qualifies); returns -1 when nothing qualifies.
+int encode_sphere(const Sphere& parent, const double centre[3], double radius,
+                  SphereSearch search = SphereSearch::kNearestFirst);
 
 // Unit normal -> 14-bit code (nearest decoded normal among the original's candidate and its
 // neighbours); a zero normal encodes as +Z.

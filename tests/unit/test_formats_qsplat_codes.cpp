@@ -62,6 +62,47 @@ TEST(QSplatCodes, SphereEncoderPicksTheSmallestCellThatFits) {
   EXPECT_NEAR(sphere_cells()[s].r, 5.0f / 13, 1e-6);  // 4/13 cannot hold a centred 0.3 sphere
 }
 
+// The nearest-first search must return the exhaustive search's code, cell for cell: children
+// anywhere in parents near the origin and far from it (where float rounding of the decoded
+// centres is coarse against the grid), and children centred on the grid's cells and halfway
+// between them, where two cells are equally near and the first in the table's order wins.
+TEST(QSplatCodes, NearestFirstSearchFindsTheExhaustiveSearchsCell) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1), f(0, 1);
+  const Sphere parents[] = {{{0, 0, 0}, 1},
+                            {{3.5f, -2.0f, 10.0f}, 2.0f},
+                            {{1e5f, 2e5f, -3e4f}, 0.01f},
+                            {{-7e3f, 5e2f, 1e3f}, 0.3f},
+                            {{1e6f, 1e6f, 1e6f}, 2e-3f}};
+  int cases = 0, not_found = 0;
+  for (const Sphere& parent : parents)
+    for (int i = 0; i < 40000; ++i) {
+      double d[3] = {u(rng), u(rng), u(rng)};
+      if (i % 4 == 1 || i % 4 == 2) {
+        // Snap to the grid of cell centres of a random size (steps of 1/13 parent radii: on a
+        // cell centre or halfway between two).
+        for (double& c : d) c = std::round(c * 13) / 13;
+      }
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (len >= 1) continue;
+      // Radii as a tree makes them (a third to four fifths of the parent) and any other.
+      const double rho = i % 2 ? (1 - len) * (0.3 + 0.5 * f(rng)) : (1 - len) * std::pow(f(rng), 3);
+      const double c[3] = {parent.centre.x + parent.radius * d[0],
+                           parent.centre.y + parent.radius * d[1],
+                           parent.centre.z + parent.radius * d[2]};
+      const double r = rho * parent.radius;
+      const int fast = encode_sphere(parent, c, r);
+      const int full = encode_sphere(parent, c, r, SphereSearch::kExhaustive);
+      ASSERT_EQ(fast, full) << "parent " << parent.centre.x << " radius " << parent.radius
+                            << ", child at " << d[0] << " " << d[1] << " " << d[2] << " radius "
+                            << rho;
+      ++cases;
+      not_found += fast < 0;
+    }
+  EXPECT_GT(cases, 100000);
+  EXPECT_EQ(not_found, 0);  // every child inside its parent finds a cell
+}
+
 TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {
   double worst = 0;
   const int n = 400;
