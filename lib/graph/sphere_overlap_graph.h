@@ -17,15 +17,15 @@
 //     ones by std::sort;
 //   - two passes over the cells: the row lengths, then each row again, written in place — no
 //     copy of the rows in cell order (fewer fresh pages, which cost more than the second pass);
-//   - R is the 99.9th percentile of the radii; the "big" splats above it (at most 0.1 %) find
-//     their neighbours by scanning the cells within r_b + R of their centre and by testing each
-//     other directly, and are added to the rows of the small splats they overlap.
+//   - R is the 99.9th percentile of the radii; the "big" splats above it (about 0.1 %) find
+//     their small neighbours by scanning the cells within r_b + R of their centre and each other
+//     in a kd-tree over the big splats alone, and are added to the rows of the small splats they
+//     overlap.
 // A few splats far from the rest do not set the cell size: an axis that would need more than
 // 2^21 cells covers the bulk of the splats, and the far ones are clamped into its outer cells
 // (graph/overlap_grid.h). When the cells are crowded (more than 1024 cell-mates per splat on
-// average: far clusters, or a bulk wider than 2^21 cells) or the big splats would cost too much
-// (more than 8192 of them, or their cell scans add up to more than 8 cells per splat) it falls
-// back to SpatialIndex::sphere_overlaps.
+// average: far clusters, or a bulk wider than 2^21 cells) or the big splats' cell scans would add
+// up to more than 8 cells per splat, it falls back to SpatialIndex::sphere_overlaps.
 //
 // positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
