@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/sized_in_parallel.h"
 #include "graph/varint.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
@@ -15,6 +16,7 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kRowChunk = 16384;  // rows per parallel task of the encoder
+constexpr std::size_t kAhead = 32;        // entries the decoder's mirror prefetches ahead
 
 // The first violation of the layout in rows [begin, end), or "".
 std::string layout_error(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
@@ -126,7 +128,9 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
 }
 
 NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num_rows,
-                                    NeighborListMode mode, const std::string& name) {
+                                    NeighborListMode mode, const std::string& name,
+                                    std::span<const uint8_t> upper_values,
+                                    std::vector<uint8_t>* values) {
   if (mode != NeighborListMode::kFull && mode != NeighborListMode::kUpper)
     throw_bad_input(name, "graph payload: unknown neighbour list mode " +
                               std::to_string(static_cast<int>(mode)));
@@ -184,22 +188,45 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
   if (mode == NeighborListMode::kFull) return rows;
 
   // Mirror: row j = (the i < j that store j, ascending i) followed by its stored j' > j.
+  const std::vector<uint32_t>& stored = rows.neighbors;
+  const std::size_t entries = stored.size();
   std::vector<uint64_t> lower(num_rows + 1, 0);
-  for (uint32_t j : rows.neighbors) ++lower[j];
+  for (std::size_t k = 0; k < entries; ++k) {
+    if (k + kAhead < entries) __builtin_prefetch(&lower[stored[k + kAhead]], 1);
+    ++lower[stored[k]];
+  }
   NeighborLists full;
   full.offsets.assign(num_rows + 1, 0);
   for (uint64_t i = 0; i < num_rows; ++i)
     full.offsets[i + 1] = full.offsets[i] + lower[i] + (rows.offsets[i + 1] - rows.offsets[i]);
-  full.neighbors.resize(full.offsets[num_rows]);
-  std::vector<uint64_t> cursor(full.offsets.begin(), full.offsets.end() - 1);
-  for (uint64_t i = 0; i < num_rows; ++i) {
-    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k)
-      full.neighbors[cursor[rows.neighbors[k]]++] = static_cast<uint32_t>(i);
+  sized_in_parallel(full.neighbors, full.offsets[num_rows]);
+  const bool mirror_values = values != nullptr && upper_values.size() == entries;
+  if (values != nullptr) values->clear();
+  if (mirror_values) sized_in_parallel(*values, full.neighbors.size());
+  // Each stored (i, j) goes to the next free place among row j's first entries: a walk in
+  // random order through the rows of a cloud in no spatial order, so the cursor of the entry
+  // kAhead on is fetched early, and the place it points to kAhead / 2 on.
+  std::vector<uint64_t>& cursor = lower;  // reused: row j's next free place
+  for (uint64_t j = 0; j < num_rows; ++j) cursor[j] = full.offsets[j];
+  uint64_t row_end = 0;
+  for (uint64_t i = 0, k = 0; k < entries; ++k) {
+    while (k >= row_end) row_end = rows.offsets[++i];
+    if (k + kAhead < entries) __builtin_prefetch(&cursor[stored[k + kAhead]]);
+    if (k + kAhead / 2 < entries) {
+      const uint64_t soon = cursor[stored[k + kAhead / 2]];
+      __builtin_prefetch(&full.neighbors[soon], 1);
+      if (mirror_values) __builtin_prefetch(values->data() + soon, 1);
+    }
+    const uint64_t at = cursor[stored[k]]++;
+    full.neighbors[at] = static_cast<uint32_t>(i - 1);
+    if (mirror_values) (*values)[at] = upper_values[k];
   }
   for (uint64_t i = 0; i < num_rows; ++i) {
-    uint64_t out = full.offsets[i] + lower[i];
-    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k)
-      full.neighbors[out++] = rows.neighbors[k];
+    uint64_t out = cursor[i];  // = offsets[i] + the count of row i's mirrored entries
+    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k, ++out) {
+      full.neighbors[out] = stored[k];
+      if (mirror_values) (*values)[out] = upper_values[k];
+    }
   }
   return full;
 }

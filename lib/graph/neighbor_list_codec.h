@@ -46,7 +46,14 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
 // larger than the bytes left, a neighbour index out of range (also what a delta overflowing past
 // n gives: rows cannot be non-monotone by construction), a row holding its own index (kFull), and
 // bytes left after the last row. Allocates at most O(bytes.size() + num_rows).
+//
+// kUpper with `upper_values` (one byte per stored entry, in stream order) and `values`: each
+// stored entry's byte is also put at both of its places in the full rows (values: #entries of
+// the result), in the same pass that mirrors the rows; when the stream stores another number of
+// entries than upper_values holds, values is left empty (the caller reports the mismatch).
 NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num_rows,
-                                    NeighborListMode mode, const std::string& name);
+                                    NeighborListMode mode, const std::string& name,
+                                    std::span<const uint8_t> upper_values = {},
+                                    std::vector<uint8_t>* values = nullptr);
 
 }  // namespace splatkit::graph

@@ -191,30 +191,27 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
             std::to_string(stream_bytes) + "-byte stream and " + std::to_string(after_stream) +
             " flag bytes");
   const std::size_t stream_pos = in.pos();
+  const std::span<const unsigned char> stream = in.take(stream_bytes);
+  const std::span<const unsigned char> bits = in.take(after_stream);
+  // The flag of each stored edge, one byte each, so that the decoder puts it at both ends of
+  // the edge in the pass that mirrors the rows (one walk through the rows in random order, not
+  // two). Checked below, in the order the errors were always reported.
+  std::vector<uint8_t> stored_flags(edges);
+  for (uint64_t e = 0; e < edges; ++e) stored_flags[e] = (bits[e / 4] >> (2 * (e % 4))) & 3u;
   NeighborLists lists =
-      decode_neighbor_lists(in.take(stream_bytes), num_splats, NeighborListMode::kUpper,
-                            name + ", GRPH chunk at payload byte " + std::to_string(stream_pos));
+      decode_neighbor_lists(stream, num_splats, NeighborListMode::kUpper,
+                            name + ", GRPH chunk at payload byte " + std::to_string(stream_pos),
+                            stored_flags, &out.edge_flags);
   out.graph.offsets = std::move(lists.offsets);
   out.graph.neighbors = std::move(lists.neighbors);
   if (out.graph.neighbors.size() != 2 * edges)
     in.fail("the stream holds " + std::to_string(out.graph.neighbors.size() / 2) +
             " edges, the header says " + std::to_string(edges));
-  const std::span<const unsigned char> bits = in.take(after_stream);
   if (edges % 4 != 0 && (bits.back() >> (2 * (edges % 4))) != 0)
     in.fail("unused bits of the last edge-flag byte are set");
-  out.edge_flags.assign(out.graph.neighbors.size(), 0);
-  uint64_t e = 0;
-  const NeighborGraph& g = out.graph;
-  // Row j's entries i < j come first and ascending, and rows i are visited ascending, so the
-  // mirror entry of (i, j) is the next unvisited one of row j.
-  std::vector<uint64_t> mirror(g.offsets.begin(), g.offsets.end() - 1);
-  for_each_upper_edge(g, [&](std::size_t, uint64_t k) {
-    const uint8_t f = (bits[e / 4] >> (2 * (e % 4))) & 3u;
-    if (f == kEdgeCrossing) in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
-    out.edge_flags[k] = f;
-    out.edge_flags[mirror[g.neighbors[k]]++] = f;
-    ++e;
-  });
+  for (uint64_t e = 0; e < edges; ++e)
+    if (stored_flags[e] == kEdgeCrossing)
+      in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
   return out;
 }
 
