@@ -104,6 +104,35 @@ TEST(GraphNeighborListCodec, RoundTripsRandomGraphs) {
   EXPECT_LT(double(bytes.size()) / (g.neighbors.size() / 2.0), 2.0);
 }
 
+// Upper mode with a byte per stored entry: each byte lands at both ends of its edge, and a
+// stream with another number of entries leaves the values empty.
+TEST(GraphNeighborListCodec, UpperValuesAreMirroredWithTheirEdges) {
+  for (uint32_t n : {1u, 17u, 1000u, 70000u}) {
+    const auto g = random_graph(n, 40, n + 1);
+    const auto bytes = encode_neighbor_lists(g.offsets, g.neighbors, NeighborListMode::kUpper);
+    // The value of edge (i, j) is a function of both ends, the same whichever end stores it.
+    auto value_of = [](uint64_t i, uint64_t j) {
+      return uint8_t((std::min(i, j) * 7 + std::max(i, j) * 13) % 251);
+    };
+    std::vector<uint8_t> stored;
+    for (uint64_t i = 0; i < n; ++i)
+      for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k)
+        if (g.neighbors[k] > i) stored.push_back(value_of(i, g.neighbors[k]));
+    std::vector<uint8_t> values;
+    const auto back =
+        decode_neighbor_lists(bytes, n, NeighborListMode::kUpper, "g.splk", stored, &values);
+    ASSERT_EQ(back.neighbors, g.neighbors) << n;
+    ASSERT_EQ(values.size(), g.neighbors.size()) << n;
+    for (uint64_t i = 0; i < n; ++i)
+      for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k)
+        ASSERT_EQ(values[k], value_of(i, g.neighbors[k])) << n << ": row " << i << " entry " << k;
+    if (stored.empty()) continue;
+    stored.pop_back();
+    decode_neighbor_lists(bytes, n, NeighborListMode::kUpper, "g.splk", stored, &values);
+    EXPECT_TRUE(values.empty()) << n;
+  }
+}
+
 TEST(GraphNeighborListCodec, EmptyGraphs) {
   EXPECT_TRUE(encode_neighbor_lists(std::vector<uint64_t>{0}, {}, NeighborListMode::kFull).empty());
   EXPECT_TRUE(decode({}, 0, NeighborListMode::kFull).neighbors.empty());
