@@ -27,7 +27,8 @@ BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radi
                              std::size_t max_passes) {
   BoundRadiiResult result;
   std::vector<uint8_t> capped(radii.size(), 0);
-  for (; result.passes < max_passes;) {
+  bool settled = false;  // a pass capped nothing: every radius is within its bound
+  while (!settled && result.passes < max_passes) {
     const std::vector<float> median = neighbour_median_radii(index, radii, k);
     ++result.passes;
     std::size_t now = 0;
@@ -39,9 +40,12 @@ BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radi
       capped[i] = 1;
       ++now;
     }
-    if (now == 0) break;
+    settled = now == 0;
   }
   result.capped = static_cast<std::size_t>(std::count(capped.begin(), capped.end(), 1));
+  // A pass that capped nothing found every radius within ratio × the medians it computed, and
+  // the radii have not changed since: none is over (no kNN pass needed to count them).
+  if (settled) return result;
   const std::vector<float> median = neighbour_median_radii(index, radii, k);
   for (std::size_t i = 0; i < radii.size(); ++i)
     result.over += median[i] > 0 && radii[i] > ratio * median[i];
