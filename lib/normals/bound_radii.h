@@ -7,7 +7,8 @@
 // minor radius of an ellipse by the same factor. Passes repeat, at most max_passes times, until
 // one caps nothing; then every radius is within ratio × its neighbours' final median. Radii stay
 // positive when they all were (fill_isolated_radii runs first). Deterministic for any thread
-// count. Cost per pass: one streamed kNN pass (k + 1 per row).
+// count. Cost per pass: one streamed kNN pass (k + 1 per row), and one more to count the radii
+// still over their bound only when max_passes run out before a pass caps nothing.
 #pragma once
 
 #include <cstddef>
