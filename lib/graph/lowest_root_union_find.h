@@ -38,11 +38,11 @@ inline uint32_t unite(std::vector<uint32_t>& parent, uint32_t i, uint32_t j) {
   return std::min(a, b);
 }
 
-// find_root and unite for several threads at once (every access to parent atomic). Roots are
-// joined lower-under-higher only (by a compare-and-swap that fails if the higher one stopped
-// being a root meanwhile, and is then retried), so every parent points to a lower index of its
-// own tree, a stale read still names an ancestor, and path halving may race: the components, and
-// each tree's root (its lowest index), come out the same in any order of the joins.
+// find_root and unite for several threads at once (every access to parent atomic). The higher
+// of two roots always hangs under the lower (by a compare-and-swap that fails if the higher one
+// stopped being a root meanwhile, and is then retried), so every parent points to a lower index
+// of its own tree, a stale read still names an ancestor, and path halving may race: the components,
+// and each tree's root (its lowest index), come out the same in any order of the joins.
 inline uint32_t find_root_shared(std::vector<uint32_t>& parent, uint32_t i) {
   for (;;) {
     std::atomic_ref<uint32_t> at(parent[i]);
