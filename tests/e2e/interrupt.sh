@@ -32,11 +32,14 @@ for sig in INT TERM HUP; do
   kill -"$sig" "$pid"
   kill -CONT "$pid"
   # Under job control, wait also returns when the job stops (status 128 + SIGSTOP): the stop may be
-  # reported only now, after the CONT. Wait again until the process has ended.
-  for _ in 1 2 3; do
+  # reported only now, after the CONT, and until the shell has taken note of the CONT the job
+  # still counts as stopped, so wait returns at once again. Wait again (up to 10 s) until the
+  # process has ended.
+  for _ in $(seq 1 1000); do
     wait "$pid"
     status=$?
     [ "$status" -ne $((128 + $(kill -l STOP))) ] && break
+    sleep 0.01
   done
   expect_eq "SIG$sig: exit status" "$status" $((128 + $(kill -l "$sig")))
   left=$(ls "$WORK" | grep -c '\.tmp\.')
