@@ -208,19 +208,18 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
   // kAhead on is fetched early, and the place it points to kAhead / 2 on.
   std::vector<uint64_t>& cursor = lower;  // reused: row j's next free place
   for (uint64_t j = 0; j < num_rows; ++j) cursor[j] = full.offsets[j];
-  uint64_t row_end = 0;
-  for (uint64_t i = 0, k = 0; k < entries; ++k) {
-    while (k >= row_end) row_end = rows.offsets[++i];
-    if (k + kAhead < entries) __builtin_prefetch(&cursor[stored[k + kAhead]]);
-    if (k + kAhead / 2 < entries) {
-      const uint64_t soon = cursor[stored[k + kAhead / 2]];
-      __builtin_prefetch(&full.neighbors[soon], 1);
-      if (mirror_values) __builtin_prefetch(values->data() + soon, 1);
+  for (uint64_t i = 0; i < num_rows; ++i)
+    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k) {
+      if (k + kAhead < entries) __builtin_prefetch(&cursor[stored[k + kAhead]]);
+      if (k + kAhead / 2 < entries) {
+        const uint64_t soon = cursor[stored[k + kAhead / 2]];
+        __builtin_prefetch(&full.neighbors[soon], 1);
+        if (mirror_values) __builtin_prefetch(values->data() + soon, 1);
+      }
+      const uint64_t at = cursor[stored[k]]++;
+      full.neighbors[at] = static_cast<uint32_t>(i);
+      if (mirror_values) (*values)[at] = upper_values[k];
     }
-    const uint64_t at = cursor[stored[k]]++;
-    full.neighbors[at] = static_cast<uint32_t>(i - 1);
-    if (mirror_values) (*values)[at] = upper_values[k];
-  }
   for (uint64_t i = 0; i < num_rows; ++i) {
     uint64_t out = cursor[i];  // = offsets[i] + the count of row i's mirrored entries
     for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k, ++out) {

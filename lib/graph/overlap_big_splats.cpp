@@ -16,8 +16,9 @@ namespace {
 constexpr double kMaxBigRowsPerSplat = 8;  // budget of the big splats' cell-row scans
 
 // Neighbours of big splat b (sorted position): small splats in the cells within r_b + R, and
-// the big splats `big_neighbors` (sorted positions). Original indices, ascending.
+// the big splats bigs[k] for k in `big_neighbors`. Original indices, ascending.
 std::vector<uint32_t> big_row(const Sorted& s, const Grid& g, uint32_t b,
+                              const std::vector<uint32_t>& bigs,
                               std::span<const uint32_t> big_neighbors) {
   const float R = s.small_radius, rb = s.r[b];
   const double reach = (double(rb) + R) * (1 + kCellMargin);
@@ -43,7 +44,7 @@ std::vector<uint32_t> big_row(const Sorted& s, const Grid& g, uint32_t b,
           if (s.r[q] <= R) test(q);
       }
     }
-  for (uint32_t q : big_neighbors) row.push_back(s.id[q]);
+  for (uint32_t k : big_neighbors) row.push_back(s.id[bigs[k]]);
   std::sort(row.begin(), row.end());
   return row;
 }
@@ -77,12 +78,8 @@ bool big_pairs(const Sorted& s, const Grid& g, std::vector<uint64_t>& pairs) {
   }
   const NeighborGraph among = SpatialIndex(centres).sphere_overlaps(radii);
   std::vector<std::vector<uint32_t>> found(bigs.size());
-  tbb::parallel_for(std::size_t{0}, bigs.size(), [&](std::size_t k) {
-    std::vector<uint32_t> others;
-    for (uint64_t e = among.offsets[k]; e < among.offsets[k + 1]; ++e)
-      others.push_back(bigs[among.neighbors[e]]);
-    found[k] = big_row(s, g, bigs[k], others);
-  });
+  tbb::parallel_for(std::size_t{0}, bigs.size(),
+                    [&](std::size_t k) { found[k] = big_row(s, g, bigs[k], bigs, among.row(k)); });
   std::vector<uint8_t> big_id(n, 0);
   for (uint32_t b : bigs) big_id[s.id[b]] = 1;
   for (std::size_t k = 0; k < bigs.size(); ++k) {

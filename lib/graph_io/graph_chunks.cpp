@@ -88,14 +88,6 @@ class PayloadReader {
   std::size_t pos_ = 0;
 };
 
-// Stream order of upper mode: rows ascending, within row i its neighbours j > i ascending.
-template <typename Fn>
-void for_each_upper_edge(const NeighborGraph& g, Fn&& fn) {
-  for (std::size_t i = 0; i < g.num_points(); ++i)
-    for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k)
-      if (g.neighbors[k] > i) fn(i, k);
-}
-
 }  // namespace
 
 const RawChunk* find_chunk(const LoadedCloud& doc, const char (&type)[4]) {
