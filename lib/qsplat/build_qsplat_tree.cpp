@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "qsplat/enclose_spheres.h"
 
@@ -13,24 +15,71 @@ namespace splatkit::qsplat {
 
 namespace {
 
+// A leaf's centre and index as two words, (x, y) and (z, leaf): the partition below stores and
+// reloads points, and a 16-byte load of a point just stored as 12 + 4 bytes would miss the store
+// forwarding (a stall per point).
 struct Point {
-  Vec3f p;
-  uint32_t leaf;
+  uint64_t xy, zl;
+  static Point make(const Vec3f& p, uint32_t leaf) {
+    uint32_t u[3];
+    std::memcpy(u, &p, sizeof u);
+    return {uint64_t{u[1]} << 32 | u[0], uint64_t{leaf} << 32 | u[2]};
+  }
+  uint32_t bits(int axis) const {
+    return static_cast<uint32_t>(axis == 0 ? xy : axis == 1 ? xy >> 32 : zl);
+  }
+  float coord(int axis) const { return std::bit_cast<float>(bits(axis)); }
+  Vec3f position() const { return {coord(0), coord(1), coord(2)}; }
+  uint32_t leaf() const { return static_cast<uint32_t>(zl >> 32); }
 };
 
 struct Box {
   Vec3f lo, hi;
 };
 
-// The order leaves are cut in: coordinate along axis A, ties broken by leaf index.
-// (A function object, so that nth_element inlines it.)
+// The order leaves are cut in along axis A, as one integer: the coordinate's float bits made to
+// sort as unsigned integers (-0 as +0, so that equal floats tie), then the leaf index. Keys are
+// unique, so the ranks, and so the leaves of every child, do not depend on how they are found.
 template <int A>
-struct Before {
-  bool operator()(const Point& p, const Point& q) const {
-    const float kp = p.p[A], kq = q.p[A];
-    return kp < kq || (kp == kq && p.leaf < q.leaf);
+uint64_t cut_key(const Point& q) {
+  uint32_t u = q.bits(A);
+  u = u == 0x80000000u ? 0 : u;
+  u ^= (u >> 31) != 0 ? 0xFFFFFFFFu : 0x80000000u;
+  return uint64_t{u} << 32 | q.leaf();
+}
+
+// Puts the point of rank nth - first in [first, last) by cut_key<A> at nth, smaller keys before
+// it, larger after: quickselect with a median-of-3 pivot and a branch-free Lomuto partition (the
+// comparisons of a cut are coin flips, which a branch mispredicts half the time). A range that
+// shrinks too slowly is left to std::nth_element, whose worst case is n log n.
+template <int A>
+void select_rank(Point* first, Point* nth, Point* last) {
+  const auto before = [](const Point& p, const Point& q) { return cut_key<A>(p) < cut_key<A>(q); };
+  int budget = 2 * std::bit_width(static_cast<std::size_t>(last - first));
+  while (last - first > 16) {
+    if (budget-- == 0) {
+      std::nth_element(first, nth, last, before);
+      return;
+    }
+    const uint64_t a = cut_key<A>(*first), b = cut_key<A>(first[(last - first) / 2]),
+                   c = cut_key<A>(last[-1]);
+    const uint64_t pivot = std::max(std::min(a, b), std::min(std::max(a, b), c));
+    // [first, i) < pivot <= [i, j): both sides keep at least one of a, b, c, so both shrink.
+    Point* i = first;
+    for (Point* j = first; j < last; ++j) {
+      const Point q = *j;
+      const bool less = cut_key<A>(q) < pivot;
+      *j = *i;
+      *i = q;
+      i += less;
+    }
+    if (nth < i)
+      last = i;
+    else
+      first = i;
   }
-};
+  std::sort(first, last, before);
+}
 
 // Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it,
 // and cuts the box there into `left` and `right`.
@@ -38,12 +87,12 @@ void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const
               Box& left, Box& right) {
   const Vec3f ext = box.hi - box.lo;
   const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
-  const auto first = pts.begin() + b, nth = pts.begin() + m, last = pts.begin() + e;
-  if (axis == 0) std::nth_element(first, nth, last, Before<0>());
-  if (axis == 1) std::nth_element(first, nth, last, Before<1>());
-  if (axis == 2) std::nth_element(first, nth, last, Before<2>());
+  Point *const first = pts.data() + b, *const nth = pts.data() + m, *const last = pts.data() + e;
+  if (axis == 0) select_rank<0>(first, nth, last);
+  if (axis == 1) select_rank<1>(first, nth, last);
+  if (axis == 2) select_rank<2>(first, nth, last);
   left = right = box;
-  left.hi[axis] = right.lo[axis] = pts[m].p[axis];
+  left.hi[axis] = right.lo[axis] = pts[m].coord(axis);
 }
 
 // How many leaves each child of a node of n leaves gets: none for a leaf (n = 1), n single
@@ -75,11 +124,11 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
 // consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
 // each half along the longest axis of its part of that box.
 void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
-  Box box{pts[b].p, pts[b].p};
+  Box box{pts[b].position(), pts[b].position()};
   for (uint32_t i = b + 1; i < e; ++i)
     for (int k = 0; k < 3; ++k) {
-      box.lo[k] = std::min(box.lo[k], pts[i].p[k]);
-      box.hi[k] = std::max(box.hi[k], pts[i].p[k]);
+      box.lo[k] = std::min(box.lo[k], pts[i].coord(k));
+      box.hi[k] = std::max(box.hi[k], pts[i].coord(k));
     }
   Box boxes[4];
   uint32_t sizes[4] = {0, 0, 0, 0};
@@ -116,7 +165,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
   std::vector<Point> pts(n);
-  for (uint32_t i = 0; i < n; ++i) pts[i] = {leaves.positions[i], i};
+  for (uint32_t i = 0; i < n; ++i) pts[i] = Point::make(leaves.positions[i], i);
   std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
   t.level_begin = {0, 1};
   t.first_child = {0};
@@ -148,8 +197,14 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
       }
     }
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i)
-        if (size[i] > 4) cut_node(pts, rb[i], rb[i] + size[i]);
+      for (uint32_t i = r.begin(); i < r.end(); ++i) {
+        const uint32_t b = rb[i], e = rb[i] + size[i];
+        if (e - b > 4)
+          cut_node(pts, b, e);
+        else  // a node over its leaves: they follow in input order
+          std::sort(pts.begin() + b, pts.begin() + e,
+                    [](const Point& p, const Point& q) { return p.leaf() < q.leaf(); });
+      }
     });
     t.first_child.resize(next, 0);
     t.child_count.resize(next, 0);
@@ -158,7 +213,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   const std::size_t m = t.first_child.size();
   t.leaf.assign(m, kNoLeaf);
   for (std::size_t i = 0; i < m; ++i)
-    if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf;
+    if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf();
   const bool color = !leaves.colors.empty();
   t.spheres.resize(m);
   t.normal_codes.resize(m);
@@ -184,7 +239,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
                         }
                         const uint32_t j = t.leaf[i];
                         if (j == kNoLeaf) continue;
-                        t.spheres[i] = {pts[rb[i]].p, leaves.radii[j]};
+                        t.spheres[i] = {pts[rb[i]].position(), leaves.radii[j]};
                         if (measure_centroid_rule) centroid[i] = t.spheres[i];
                         normal[i] = leaves.normals[j];
                         cone[i] = 0;

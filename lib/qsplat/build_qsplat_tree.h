@@ -6,7 +6,7 @@
 // children, each but the last two a complete subtree of C = 4^k leaves and the last two no
 // smaller than C/2 (the original also cuts at ranks, choosing among them by volume; these ranks
 // keep nodes at 4 children nearly everywhere, about 4/3 nodes per leaf, and no leaf alone under a
-// large node). A range of 2–4 leaves becomes one node over those leaves. Interior
+// large node). A range of 2–4 leaves becomes one node over those leaves, in input order. Interior
 // node: sphere around the child spheres (enclose_spheres.h; tight by default), normal = normalised
 // sum of the children's normals, cone = the largest angle between its decoded normal and any
 // decoded normal below it (so back-face culling with the decoded values is conservative), colour =

@@ -75,10 +75,9 @@ TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
     // B must hold (3.5, 0, 0) r 0.9 * 1.25: S = 7607 (size 11, cell (2, 1, 1): centre
     // 2 + 3 * 2/13, radius 3 * 11/13), 2 children: 7607 << 3 | 1 = 0xEDB9
     0xED, 0xB9, 0xBE, 0x88,
-    // byte 52: A's group, no offset (its members are leaves): cells (8, 5, 5) and (5, 5, 5) of
-    // size 3, (1, 4, 4) of size 4: S = 4293, 3930, 4740 = leaves 2, 1, 0 (the order the rank
-    // split left them in)
-    0x86, 0x28, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x94, 0x20, 0xBE, 0x88,
+    // byte 52: A's group, no offset (its members are leaves, in input order): cell (1, 4, 4) of
+    // size 4, cells (5, 5, 5) and (8, 5, 5) of size 3: S = 4740, 3930, 4293 = leaves 0, 1, 2
+    0x94, 0x20, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x86, 0x28, 0xBE, 0x88,
     // byte 64: B's group, no offset: cells (6, 5, 5) and (9, 5, 5) of size 3: S = 4051, 4414 =
     // leaves 3, 4
     0x7E, 0x98, 0xBE, 0x88, 0x89, 0xF0, 0xBE, 0x88,
@@ -221,6 +220,56 @@ TEST(QSplatEncode, CoincidentPointsStillSplit) {
     l.radii.push_back(0.01f);
   }
   check_structure(l, false);
+}
+
+// On a line every cut is along x by rank, so depth first the bottom nodes hold the leaves in
+// (x, leaf index) order, each node's own leaves in input order: the tree does not depend on the
+// order the input comes in, nor on how the selection finds the ranks (orders that are hard for
+// quickselect's pivots included), and -0 ties with +0.
+TEST(QSplatEncode, CutsAreExactRanksForAnyInputOrder) {
+  const int n = 20000;
+  std::vector<float> sorted_x(n);
+  for (int i = 0; i < n; ++i) sorted_x[i] = static_cast<float>(i / 3 - 2000);  // triples
+  sorted_x[6000] = -0.0f;                                                       // ties with +0
+  std::vector<std::vector<float>> orders = {sorted_x, {sorted_x.rbegin(), sorted_x.rend()}, {}, {},
+                                            std::vector<float>(n, 7.0f)};
+  for (int i = 0; i < n; i += 2) orders[2].push_back(sorted_x[i]);  // organ pipe
+  for (int i = n - 1 - (n % 2 == 0 ? 0 : 1); i >= 1; i -= 2) orders[2].push_back(sorted_x[i]);
+  orders[3] = sorted_x;
+  std::mt19937 rng(5);
+  std::shuffle(orders[3].begin(), orders[3].end(), rng);
+  for (std::size_t o = 0; o < orders.size(); ++o) {
+    const std::vector<float>& xs = orders[o];
+    ASSERT_EQ(xs.size(), static_cast<std::size_t>(n));
+    QSplatLeaves l;
+    for (int i = 0; i < n; ++i) {
+      l.positions.push_back({xs[i], 0, 0});
+      l.normals.push_back({0, 0, 1});
+      l.radii.push_back(0.5f);
+    }
+    std::vector<uint32_t> by_rank(n);
+    for (int i = 0; i < n; ++i) by_rank[i] = static_cast<uint32_t>(i);
+    std::sort(by_rank.begin(), by_rank.end(), [&](uint32_t a, uint32_t b) {
+      return xs[a] < xs[b] || (xs[a] == xs[b] && a < b);
+    });
+    const QSplatTree t = build_qsplat_tree(l);
+    std::size_t next = 0, mismatches = 0;
+    std::function<void(uint32_t)> walk = [&](uint32_t node) {
+      const uint32_t f = t.first_child[node], c = t.child_count[node];
+      if (c > 0 && t.child_count[f] == 0) {  // a node over its leaves
+        std::vector<uint32_t> want(by_rank.begin() + static_cast<std::ptrdiff_t>(next),
+                                   by_rank.begin() + static_cast<std::ptrdiff_t>(next + c));
+        std::sort(want.begin(), want.end());
+        for (uint32_t k = 0; k < c; ++k) mismatches += t.leaf[f + k] != want[k];
+        next += c;
+        return;
+      }
+      for (uint32_t k = 0; k < c; ++k) walk(f + k);
+    };
+    walk(0);
+    EXPECT_EQ(next, static_cast<std::size_t>(n)) << "order " << o;
+    EXPECT_EQ(mismatches, 0u) << "order " << o;
+  }
 }
 
 TEST(QSplatEncode, TightSpheresAreSmallerThanTheCentroidRule) {
