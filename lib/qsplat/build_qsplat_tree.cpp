@@ -211,18 +211,32 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
     t.level_begin.push_back(next);
   }
   const std::size_t m = t.first_child.size();
-  t.leaf.assign(m, kNoLeaf);
-  for (std::size_t i = 0; i < m; ++i)
-    if (t.child_count[i] == 0) t.leaf[i] = pts[rb[i]].leaf();
   const bool color = !leaves.colors.empty();
-  t.spheres.resize(m);
-  t.normal_codes.resize(m);
-  t.cones.resize(m);
-  if (color) t.colors.resize(m);
-  std::vector<Sphere> centroid(measure_centroid_rule ? m : 0);
-  std::vector<Vec3f> normal(m);
-  std::vector<float> cone(m);
-  std::vector<std::array<uint8_t, 3>> rgb(color ? m : 0);
+  std::vector<Sphere> centroid;
+  std::vector<Vec3f> normal;
+  std::vector<float> cone;
+  std::vector<std::array<uint8_t, 3>> rgb;
+  // Fresh pages cost more than the zeros written into them: the arrays are made side by side.
+  tbb::parallel_invoke(
+      [&] {
+        t.leaf.resize(m);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1 << 16), [&](const auto& r) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i)
+            t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].leaf() : kNoLeaf;
+        });
+      },
+      [&] { t.spheres.resize(m); },
+      [&] {
+        normal.resize(m);
+        cone.resize(m);
+      },
+      [&] {
+        t.normal_codes.resize(m);
+        t.cones.resize(m);
+        if (color) t.colors.resize(m);
+        if (color) rgb.resize(m);
+        if (measure_centroid_rule) centroid.resize(m);
+      });
   // The leaf nodes first, in node order, by a loop that does little else and prefetches the
   // input's attributes a few leaves ahead: the input is in any order, and a cache miss per leaf
   // had been half of the bottom-up pass.
