@@ -1,6 +1,7 @@
 #include "qsplat/encode_qsplat.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cmath>
@@ -53,17 +54,22 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   std::vector<uint64_t> pos;  // byte of each group relative to the fragment start
   uint64_t at = 40;
   EncodedQSplat e;
-  for (std::size_t i = 0; i < m; ++i) {
-    const int c = t.child_count[i];
-    if (c == 0) {
-      ++e.leaves;
-      continue;
-    }
-    for (int k = 0; k < c; ++k) grand[i] |= t.child_count[t.first_child[i] + k] > 0;
-    group[i] = static_cast<uint32_t>(pos.size());
-    pos.push_back(at);
-    at += (grand[i] ? 4 : 0) + c * nb;
-  }
+  std::vector<Sphere> decoded;  // fresh pages are dear: made beside the layout walk
+  tbb::parallel_invoke([&] { decoded.resize(m); },
+                       [&] {
+                         for (std::size_t i = 0; i < m; ++i) {
+                           const int c = t.child_count[i];
+                           if (c == 0) {
+                             ++e.leaves;
+                             continue;
+                           }
+                           for (int k = 0; k < c; ++k)
+                             grand[i] |= t.child_count[t.first_child[i] + k] > 0;
+                           group[i] = static_cast<uint32_t>(pos.size());
+                           pos.push_back(at);
+                           at += (grand[i] ? 4 : 0) + c * nb;
+                         }
+                       });
   if (m == 0 || !grand[0])
     throw Error(ErrorKind::kInternal, "QSplat tree whose root has no grandchildren");
   e.tree_bytes = at - 40;
@@ -90,7 +96,6 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   put_float(f + 32, root.radius);
   put32(f + 36, t.child_count[0]);
 
-  std::vector<Sphere> decoded(m);
   decoded[0] = root;
   for (std::size_t l = 0; l + 1 < t.levels(); ++l) {
     tbb::parallel_for(
