@@ -4,6 +4,7 @@
 #include <cstring>
 #include <memory>
 
+#include "formats/laz_gps_time.h"
 #include "formats/laz_models.h"
 #include "formats/little_endian.h"
 
@@ -131,197 +132,20 @@ class Point10 {
   IntegerCompressor ic_dx_{32, 2}, ic_dy_{32, 22}, ic_z_{32, 20};
 };
 
-// GPSTIME11 version 2: up to four interleaved time sequences, each predicted by its last
-// difference times a small multiplier.
+// GPSTIME11 version 2 (laz_gps_time.h), on the record's 8 bytes.
 class GpsTime11 {
  public:
   static constexpr std::size_t kSize = 8;
-  static constexpr int32_t kMulti = 500, kMultiMinus = -10;
-  static constexpr uint32_t kMultiUnchanged = kMulti - kMultiMinus + 1;
-  static constexpr uint32_t kMultiCodeFull = kMulti - kMultiMinus + 2;
-  static constexpr uint32_t kMultiTotal = kMulti - kMultiMinus + 6;
-
-  void init(const unsigned char* item) { last_time_[0] = static_cast<int64_t>(get64(item)); }
-
+  void init(const unsigned char* item) { model_.set_first(static_cast<int64_t>(get64(item))); }
   void decode(ArithmeticDecoder& dec, unsigned char* item) {
-    // Each switch to another sequence is followed by a value in it; an encoder never switches
-    // twice in a row, so a few rounds bound a corrupt stream.
-    for (int round = 0;; ++round) {
-      if (round == 4) throw LazDataError("corrupt GPS time stream");
-      if (last_diff_[last_] == 0) {
-        const uint32_t multi = dec.decode_symbol(zero_diff_);
-        if (multi == 1) {
-          last_diff_[last_] = ic_.decompress(dec, 0, 0);
-          last_time_[last_] += last_diff_[last_];
-          extreme_[last_] = 0;
-        } else if (multi == 2) {
-          read_full(dec);
-        } else if (multi > 2) {
-          last_ = (last_ + multi - 2) & 3;
-          continue;
-        }
-      } else {
-        const uint32_t multi = dec.decode_symbol(multi_);
-        if (multi == 1) {
-          last_time_[last_] += ic_.decompress(dec, last_diff_[last_], 1);
-          extreme_[last_] = 0;
-        } else if (multi < kMultiUnchanged) {
-          int32_t diff;
-          if (multi == 0) {
-            diff = ic_.decompress(dec, 0, 7);
-            count_extreme(diff);
-          } else if (multi < static_cast<uint32_t>(kMulti)) {
-            diff = ic_.decompress(dec, wrap_mul(static_cast<int32_t>(multi), last_diff_[last_]),
-                                  multi < 10 ? 2 : 3);
-          } else if (multi == static_cast<uint32_t>(kMulti)) {
-            diff = ic_.decompress(dec, wrap_mul(kMulti, last_diff_[last_]), 4);
-            count_extreme(diff);
-          } else {
-            const int32_t neg = kMulti - static_cast<int32_t>(multi);
-            if (neg > kMultiMinus) {
-              diff = ic_.decompress(dec, wrap_mul(neg, last_diff_[last_]), 5);
-            } else {
-              diff = ic_.decompress(dec, wrap_mul(kMultiMinus, last_diff_[last_]), 6);
-              count_extreme(diff);
-            }
-          }
-          last_time_[last_] += diff;
-        } else if (multi == kMultiCodeFull) {
-          read_full(dec);
-        } else if (multi > kMultiCodeFull) {
-          last_ = (last_ + multi - kMultiCodeFull) & 3;
-          continue;
-        }
-      }
-      break;
-    }
-    put64(item, static_cast<uint64_t>(last_time_[last_]));
+    put64(item, static_cast<uint64_t>(model_.decode(dec)));
   }
-
   void encode(ArithmeticEncoder& enc, const unsigned char* item) {
-    const int64_t t = static_cast<int64_t>(get64(item));
-    for (;;) {
-      if (last_diff_[last_] == 0) {
-        if (t == last_time_[last_]) {
-          enc.encode_symbol(zero_diff_, 0);
-          return;
-        }
-        const int64_t d64 = static_cast<int64_t>(static_cast<uint64_t>(t) -
-                                                 static_cast<uint64_t>(last_time_[last_]));
-        if (d64 == static_cast<int32_t>(d64)) {
-          enc.encode_symbol(zero_diff_, 1);
-          ic_.compress(enc, 0, static_cast<int32_t>(d64), 0);
-          last_diff_[last_] = static_cast<int32_t>(d64);
-          extreme_[last_] = 0;
-          last_time_[last_] = t;
-          return;
-        }
-        if (const int other = other_sequence(t)) {
-          enc.encode_symbol(zero_diff_, static_cast<uint32_t>(other + 2));
-          last_ = (last_ + static_cast<uint32_t>(other)) & 3;
-          continue;
-        }
-        enc.encode_symbol(zero_diff_, 2);
-        write_full(enc, t);
-        return;
-      }
-      if (t == last_time_[last_]) {
-        enc.encode_symbol(multi_, kMultiUnchanged);
-        return;
-      }
-      const int64_t d64 =
-          static_cast<int64_t>(static_cast<uint64_t>(t) - static_cast<uint64_t>(last_time_[last_]));
-      if (d64 == static_cast<int32_t>(d64)) {
-        const int32_t diff = static_cast<int32_t>(d64);
-        const float multi_f = static_cast<float>(diff) / static_cast<float>(last_diff_[last_]);
-        // I32_QUANTIZE, with the out-of-range quotients sent to the extreme codes.
-        const int32_t multi = multi_f >= 1e6f    ? kMulti
-                              : multi_f <= -1e6f ? kMultiMinus
-                              : multi_f >= 0     ? static_cast<int32_t>(multi_f + 0.5f)
-                                                 : static_cast<int32_t>(multi_f - 0.5f);
-        if (multi == 1) {
-          enc.encode_symbol(multi_, 1);
-          ic_.compress(enc, last_diff_[last_], diff, 1);
-          extreme_[last_] = 0;
-        } else if (multi > 0) {
-          if (multi < kMulti) {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(multi));
-            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, multi < 10 ? 2 : 3);
-          } else {
-            enc.encode_symbol(multi_, kMulti);
-            ic_.compress(enc, wrap_mul(kMulti, last_diff_[last_]), diff, 4);
-            count_extreme(diff);
-          }
-        } else if (multi < 0) {
-          if (multi > kMultiMinus) {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - multi));
-            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, 5);
-          } else {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - kMultiMinus));
-            ic_.compress(enc, wrap_mul(kMultiMinus, last_diff_[last_]), diff, 6);
-            count_extreme(diff);
-          }
-        } else {
-          enc.encode_symbol(multi_, 0);
-          ic_.compress(enc, 0, diff, 7);
-          count_extreme(diff);
-        }
-        last_time_[last_] = t;
-        return;
-      }
-      if (const int other = other_sequence(t)) {
-        enc.encode_symbol(multi_, kMultiCodeFull + static_cast<uint32_t>(other));
-        last_ = (last_ + static_cast<uint32_t>(other)) & 3;
-        continue;
-      }
-      enc.encode_symbol(multi_, kMultiCodeFull);
-      write_full(enc, t);
-      return;
-    }
+    model_.encode(enc, static_cast<int64_t>(get64(item)));
   }
 
  private:
-  void count_extreme(int32_t diff) {
-    if (++extreme_[last_] > 3) {
-      last_diff_[last_] = diff;
-      extreme_[last_] = 0;
-    }
-  }
-  void read_full(ArithmeticDecoder& dec) {
-    next_ = (next_ + 1) & 3;
-    const uint64_t high = static_cast<uint32_t>(ic_.decompress(
-        dec, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32), 8));
-    last_time_[next_] = static_cast<int64_t>(high << 32 | dec.read_int());
-    last_ = next_;
-    last_diff_[last_] = 0;
-    extreme_[last_] = 0;
-  }
-  void write_full(ArithmeticEncoder& enc, int64_t t) {
-    const uint64_t u = static_cast<uint64_t>(t);
-    ic_.compress(enc, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32),
-                 static_cast<int32_t>(u >> 32), 8);
-    enc.write_int(static_cast<uint32_t>(u));
-    next_ = (next_ + 1) & 3;
-    last_ = next_;
-    last_diff_[last_] = 0;
-    extreme_[last_] = 0;
-    last_time_[last_] = t;
-  }
-  // 1..3 when t is within 32 bits of another sequence's last time, else 0.
-  int other_sequence(int64_t t) const {
-    for (unsigned i = 1; i < 4; ++i) {
-      const int64_t d = static_cast<int64_t>(static_cast<uint64_t>(t) -
-                                             static_cast<uint64_t>(last_time_[(last_ + i) & 3]));
-      if (d == static_cast<int32_t>(d)) return static_cast<int>(i);
-    }
-    return 0;
-  }
-
-  unsigned last_ = 0, next_ = 0;
-  std::array<int64_t, 4> last_time_{};
-  std::array<int32_t, 4> last_diff_{}, extreme_{};
-  SymbolModel multi_{kMultiTotal}, zero_diff_{6};
-  IntegerCompressor ic_{32, 9};
+  GpsTimeModel<true> model_;
 };
 
 // RGB12 version 2: which bytes changed, then each changed byte against a prediction from the

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "formats/laz_chunk.h"
+#include "formats/laz_gps_time.h"
 #include "formats/laz_models.h"
 #include "formats/little_endian.h"
 
@@ -96,187 +97,10 @@ void set_flags(unsigned char* p, unsigned flags, unsigned channel) {
   p[15] = static_cast<unsigned char>((flags & 0x0F) | ((flags & 0x30) << 2) | (channel << 4));
 }
 
-// GPS time of LAS 1.4 points, version 3: like version 2's model, but a repeated time never gets
-// here (POINT14's change bits say so), and the codes are renumbered accordingly.
-class GpsTime14 {
- public:
-  static constexpr int32_t kMulti = 500, kMultiMinus = -10;
-  static constexpr uint32_t kCodeFull = kMulti - kMultiMinus + 1;  // 511
-  static constexpr uint32_t kTotal = kMulti - kMultiMinus + 5;     // 515
-
-  explicit GpsTime14(int64_t first) { last_time_[0] = first; }
-
-  int64_t decode(ArithmeticDecoder& dec) {
-    for (int round = 0;; ++round) {
-      // An encoder switches sequence at most once per value; more is corrupt data.
-      if (round == 4) throw LazDataError("corrupt GPS time layer");
-      if (last_diff_[last_] == 0) {
-        const uint32_t code = dec.decode_symbol(zero_diff_);
-        if (code == 0) {
-          last_diff_[last_] = ic_.decompress(dec, 0, 0);
-          last_time_[last_] += last_diff_[last_];
-          extreme_[last_] = 0;
-        } else if (code == 1) {
-          read_full(dec);
-        } else {
-          last_ = (last_ + code - 1) & 3;
-          continue;
-        }
-      } else {
-        const uint32_t multi = dec.decode_symbol(multi_);
-        if (multi == 1) {
-          last_time_[last_] += ic_.decompress(dec, last_diff_[last_], 1);
-          extreme_[last_] = 0;
-        } else if (multi < kCodeFull) {
-          int32_t diff;
-          if (multi == 0) {
-            diff = ic_.decompress(dec, 0, 7);
-            count_extreme(diff);
-          } else if (multi < static_cast<uint32_t>(kMulti)) {
-            diff = ic_.decompress(dec, wrap_mul(static_cast<int32_t>(multi), last_diff_[last_]),
-                                  multi < 10 ? 2 : 3);
-          } else if (multi == static_cast<uint32_t>(kMulti)) {
-            diff = ic_.decompress(dec, wrap_mul(kMulti, last_diff_[last_]), 4);
-            count_extreme(diff);
-          } else {
-            const int32_t neg = kMulti - static_cast<int32_t>(multi);
-            if (neg > kMultiMinus) {
-              diff = ic_.decompress(dec, wrap_mul(neg, last_diff_[last_]), 5);
-            } else {
-              diff = ic_.decompress(dec, wrap_mul(kMultiMinus, last_diff_[last_]), 6);
-              count_extreme(diff);
-            }
-          }
-          last_time_[last_] += diff;
-        } else if (multi == kCodeFull) {
-          read_full(dec);
-        } else {
-          last_ = (last_ + multi - kCodeFull) & 3;
-          continue;
-        }
-      }
-      return last_time_[last_];
-    }
-  }
-
-  void encode(ArithmeticEncoder& enc, int64_t t) {
-    for (;;) {
-      const int64_t d64 =
-          static_cast<int64_t>(static_cast<uint64_t>(t) - static_cast<uint64_t>(last_time_[last_]));
-      const bool fits = d64 == static_cast<int32_t>(d64);
-      const int32_t diff = static_cast<int32_t>(d64);
-      if (last_diff_[last_] == 0) {
-        if (fits) {
-          enc.encode_symbol(zero_diff_, 0);
-          ic_.compress(enc, 0, diff, 0);
-          last_diff_[last_] = diff;
-          extreme_[last_] = 0;
-          last_time_[last_] = t;
-          return;
-        }
-        if (const unsigned other = other_sequence(t)) {
-          enc.encode_symbol(zero_diff_, other + 1);
-          last_ = (last_ + other) & 3;
-          continue;
-        }
-        enc.encode_symbol(zero_diff_, 1);
-        write_full(enc, t);
-        return;
-      }
-      if (fits) {
-        const float multi_f = static_cast<float>(diff) / static_cast<float>(last_diff_[last_]);
-        // LASzip's I32_QUANTIZE, with quotients beyond int range sent to the extreme codes.
-        const int32_t multi = multi_f >= 1e6f    ? kMulti
-                              : multi_f <= -1e6f ? kMultiMinus
-                              : multi_f >= 0     ? static_cast<int32_t>(multi_f + 0.5f)
-                                                 : static_cast<int32_t>(multi_f - 0.5f);
-        if (multi == 1) {
-          enc.encode_symbol(multi_, 1);
-          ic_.compress(enc, last_diff_[last_], diff, 1);
-          extreme_[last_] = 0;
-        } else if (multi > 0) {
-          if (multi < kMulti) {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(multi));
-            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, multi < 10 ? 2 : 3);
-          } else {
-            enc.encode_symbol(multi_, kMulti);
-            ic_.compress(enc, wrap_mul(kMulti, last_diff_[last_]), diff, 4);
-            count_extreme(diff);
-          }
-        } else if (multi < 0) {
-          if (multi > kMultiMinus) {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - multi));
-            ic_.compress(enc, wrap_mul(multi, last_diff_[last_]), diff, 5);
-          } else {
-            enc.encode_symbol(multi_, static_cast<uint32_t>(kMulti - kMultiMinus));
-            ic_.compress(enc, wrap_mul(kMultiMinus, last_diff_[last_]), diff, 6);
-            count_extreme(diff);
-          }
-        } else {
-          enc.encode_symbol(multi_, 0);
-          ic_.compress(enc, 0, diff, 7);
-          count_extreme(diff);
-        }
-        last_time_[last_] = t;
-        return;
-      }
-      if (const unsigned other = other_sequence(t)) {
-        enc.encode_symbol(multi_, kCodeFull + other);
-        last_ = (last_ + other) & 3;
-        continue;
-      }
-      enc.encode_symbol(multi_, kCodeFull);
-      write_full(enc, t);
-      return;
-    }
-  }
-
- private:
-  void count_extreme(int32_t diff) {
-    if (++extreme_[last_] > 3) {
-      last_diff_[last_] = diff;
-      extreme_[last_] = 0;
-    }
-  }
-  void read_full(ArithmeticDecoder& dec) {
-    next_ = (next_ + 1) & 3;
-    const uint64_t high = static_cast<uint32_t>(ic_.decompress(
-        dec, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32), 8));
-    last_time_[next_] = static_cast<int64_t>(high << 32 | dec.read_int());
-    last_ = next_;
-    last_diff_[last_] = 0;
-    extreme_[last_] = 0;
-  }
-  void write_full(ArithmeticEncoder& enc, int64_t t) {
-    const uint64_t u = static_cast<uint64_t>(t);
-    ic_.compress(enc, static_cast<int32_t>(static_cast<uint64_t>(last_time_[last_]) >> 32),
-                 static_cast<int32_t>(u >> 32), 8);
-    enc.write_int(static_cast<uint32_t>(u));
-    next_ = (next_ + 1) & 3;
-    last_ = next_;
-    last_diff_[last_] = 0;
-    extreme_[last_] = 0;
-    last_time_[last_] = t;
-  }
-  unsigned other_sequence(int64_t t) const {
-    for (unsigned i = 1; i < 4; ++i) {
-      const int64_t d = static_cast<int64_t>(static_cast<uint64_t>(t) -
-                                             static_cast<uint64_t>(last_time_[(last_ + i) & 3]));
-      if (d == static_cast<int32_t>(d)) return i;
-    }
-    return 0;
-  }
-
-  unsigned last_ = 0, next_ = 0;
-  std::array<int64_t, 4> last_time_{};
-  std::array<int32_t, 4> last_diff_{}, extreme_{};
-  SymbolModel multi_{kTotal}, zero_diff_{5};
-  IntegerCompressor ic_{32, 9};
-};
-
 // The models and last values of one scanner channel.
 struct Point14Context {
-  explicit Point14Context(const unsigned char* item) : gps(static_cast<int64_t>(get64(item + 22))) {
+  explicit Point14Context(const unsigned char* item) {
+    gps.set_first(static_cast<int64_t>(get64(item + 22)));
     std::memcpy(last, item, kPoint14Size);
     last_z.fill(static_cast<int32_t>(get32(item + 8)));
     last_intensity.fill(get16(item + 12));
@@ -298,7 +122,7 @@ struct Point14Context {
   IntegerCompressor ic_intensity{16, 4};
   std::array<uint16_t, 8> last_intensity{};
   IntegerCompressor ic_scan_angle{16, 2}, ic_point_source{16, 1};
-  GpsTime14 gps;
+  GpsTimeModel<false> gps;  // version 3 (laz_gps_time.h)
 };
 
 // POINT14 version 3: nine layers (X/Y with the change bits, Z, classification, flags, intensity,
