@@ -19,13 +19,12 @@ namespace {
 using graph::Segmentation;
 
 void add_extra(SplatCloud& cloud, const std::string& name, ScalarType type,
-               std::vector<double> values) {
-  if (ExtraAttribute* old = cloud.find_extra(name)) {
-    old->type = type;
-    old->values = std::move(values);
-    return;
-  }
-  cloud.extras.push_back({name, type, std::move(values)});
+               const std::vector<double>& values) {
+  ExtraAttribute fresh(name, type, values);
+  if (ExtraAttribute* old = cloud.find_extra(name))
+    *old = std::move(fresh);
+  else
+    cloud.extras.push_back(std::move(fresh));
 }
 
 // The chunk of this type, or nullptr; a second one is an error (which of them would count?).

@@ -85,8 +85,8 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
         caxis[k], c.color_bits == 16 ? ScalarType::kUInt16 : ScalarType::kUInt8, col[k], n));
   for (const auto& e : c.extras) {
     Range er;
-    for (double v : e.values) er.add(v);
-    attrs.push_back(attribute(e.name, e.type, er, n));
+    for (std::size_t i = 0; i < e.values.size(); ++i) er.add(e.values[i]);
+    attrs.push_back(attribute(e.name, e.type(), er, n));
   }
   for (auto& a : attrs)
     if (a.contains("min")) {

@@ -229,7 +229,7 @@ void add_extras(SplatCloud& c, int format, std::size_t reserve, int slot[kExtras
     slot[s.e] = -1;
     if (!s.present) continue;
     slot[s.e] = static_cast<int>(c.extras.size());
-    c.extras.push_back({s.name, s.type, {}});
+    c.extras.push_back({s.name, s.type});
     c.extras.back().values.reserve(reserve);
   }
 }

@@ -636,7 +636,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     for (uint32_t k = 0; k < f.count; ++k) {
       slots.push_back({&f, k});
       c.extras.push_back(
-          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), scalar_type(f.datatype), {}});
+          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), scalar_type(f.datatype)});
     }
   }
 

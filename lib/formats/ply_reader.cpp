@@ -466,7 +466,7 @@ VertexPlan plan_vertex(const InputStream& in, const Element& e, SplatCloud& clou
     if (s.role == Role::kSkip && !p.is_list) {
       s.role = Role::kExtra;
       s.extra = cloud.extras.size();
-      cloud.extras.push_back({p.name, p.type, {}});
+      cloud.extras.push_back({p.name, p.type});
     }
   }
   return plan;
@@ -930,9 +930,10 @@ class PlyDecoder {
             dst[i][c] = color_value(static_cast<double>(v), std::is_floating_point_v<T>, s);
         });
       } else if (s.role == Role::kExtra) {
-        double* dst = cloud_.extras[s.extra].values.data() + first;
-        visit_column(swap_, s.type, col, stride, n,
-                     [&](std::size_t i, auto v) { dst[i] = static_cast<double>(v); });
+        ExtraValues& dst = cloud_.extras[s.extra].values;  // of the property's type
+        visit_column(swap_, s.type, col, stride, n, [&](std::size_t i, auto v) {
+          dst.as<decltype(v)>()[first + i] = v;
+        });
       }
     }
   }

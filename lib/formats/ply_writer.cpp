@@ -89,7 +89,7 @@ std::vector<Column> plan_columns(const SplatCloud& cloud) {
     for (int c = 0; c < 3; ++c) add(names[c], ct, Source::kColor, c);
   }
   for (std::size_t i = 0; i < cloud.extras.size(); ++i)
-    add(cloud.extras[i].name, cloud.extras[i].type, Source::kExtra, static_cast<int>(i));
+    add(cloud.extras[i].name, cloud.extras[i].type(), Source::kExtra, static_cast<int>(i));
   std::size_t offset = 0;
   for (Column& c : cols) {
     c.offset = offset;

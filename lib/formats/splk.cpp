@@ -129,23 +129,7 @@ bool is_valid_type(const ChunkType& t) {
   return true;
 }
 
-// --- scalar conversion of extra attributes ---
-
-// double -> integer type: rounded to nearest, saturated, NaN -> 0 (splk.md, "Writing an extra").
-template <class T>
-T to_scalar(double v) {
-  if constexpr (std::is_floating_point_v<T>) {
-    return static_cast<T>(v);
-  } else {
-    if (std::isnan(v)) return 0;
-    double r = std::round(v);
-    const double lo = static_cast<double>(std::numeric_limits<T>::min());
-    const double hi_excl = std::ldexp(1.0, std::numeric_limits<T>::digits);
-    if (r < lo) return std::numeric_limits<T>::min();
-    if (r >= hi_excl) return std::numeric_limits<T>::max();
-    return static_cast<T>(r);
-  }
-}
+// --- extra attributes ---
 
 template <class T>
 T load_value(const unsigned char* p) {
@@ -278,16 +262,16 @@ void put_colors(PayloadSink& sink, const SplatCloud& c) {
 }
 
 void put_extra(PayloadSink& sink, const ExtraAttribute& e) {
-  put_column_header(sink, e.name, kExtraColumn, e.type, 1);
-  with_scalar_type(e.type, [&](auto zero) {
+  put_column_header(sink, e.name, kExtraColumn, e.type(), 1);
+  with_scalar_type(e.type(), [&](auto zero) {
     using T = decltype(zero);
     std::vector<unsigned char> block;
     const std::size_t per_block = kStep / sizeof(T);
-    for (std::size_t i = 0; i < e.values.size(); i += per_block) {
-      std::size_t k = std::min(per_block, e.values.size() - i);
+    const std::span<const T> values = e.values.as<T>();
+    for (std::size_t i = 0; i < values.size(); i += per_block) {
+      std::size_t k = std::min(per_block, values.size() - i);
       block.resize(k * sizeof(T));
-      for (std::size_t j = 0; j < k; ++j)
-        store_value<T>(block.data() + j * sizeof(T), to_scalar<T>(e.values[i + j]));
+      for (std::size_t j = 0; j < k; ++j) store_value<T>(block.data() + j * sizeof(T), values[i + j]);
       sink.put(block.data(), block.size());
     }
   });
@@ -620,9 +604,7 @@ void read_extra(Payload& p, const Column& col, uint64_t n, SplatCloud& c) {
   if (col.components != 1)
     p.fail("extra column '" + col.name + "' has " + std::to_string(col.components) +
            " components; 1.x extras have 1");
-  ExtraAttribute e;
-  e.name = col.name;
-  e.type = col.type;
+  ExtraAttribute e(col.name, col.type);
   const std::string what = "column '" + col.name + "'";
   with_scalar_type(col.type, [&](auto zero) {
     using T = decltype(zero);
@@ -631,11 +613,13 @@ void read_extra(Payload& p, const Column& col, uint64_t n, SplatCloud& c) {
     std::vector<unsigned char> block;
     const std::size_t per_step = kStep / sizeof(T);
     while (e.values.size() < n) {
-      std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(per_step, n - e.values.size()));
+      const std::size_t at = e.values.size();
+      std::size_t k = static_cast<std::size_t>(std::min<uint64_t>(per_step, n - at));
       block.resize(k * sizeof(T));
       p.read(block.data(), block.size(), what);
-      for (std::size_t j = 0; j < k; ++j)
-        e.values.push_back(static_cast<double>(load_value<T>(block.data() + j * sizeof(T))));
+      e.values.resize(at + k);
+      const std::span<T> values = e.values.as<T>();
+      for (std::size_t j = 0; j < k; ++j) values[at + j] = load_value<T>(block.data() + j * sizeof(T));
     }
   });
   c.extras.push_back(std::move(e));

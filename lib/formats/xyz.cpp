@@ -136,7 +136,7 @@ void XyzReader::set_columns(const std::vector<std::string_view>& names, const st
     if (c.role == Role::kExtra) {
       if (!extra_names.insert(c.name).second) fail("column '" + c.name + "' named twice");
       c.extra = doc_.cloud.extras.size();
-      doc_.cloud.extras.push_back({c.name, ScalarType::kFloat64, {}});
+      doc_.cloud.extras.push_back({c.name, ScalarType::kFloat64});
     } else if (c.role != Role::kSkip && ++count[static_cast<int>(c.role)] > 1) {
       fail("column '" + c.name + "' named twice");
     }

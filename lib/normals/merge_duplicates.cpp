@@ -35,6 +35,13 @@ void compact(std::vector<T>& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
+void compact(ExtraValues& values, const std::vector<uint32_t>& kept) {
+  if (values.empty()) return;
+  for (std::size_t out = 0; out < kept.size(); ++out) values.copy_value(out, kept[out]);
+  values.resize(kept.size());
+  values.shrink_to_fit();
+}
+
 // Sets first[] for one bucket of keys in ascending index order: each point looks for an earlier
 // first occurrence with its position in a small open-addressing table (slots hold key positions;
 // the first occurrences only), and enters the table when there is none.

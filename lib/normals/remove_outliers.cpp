@@ -37,6 +37,16 @@ void split(std::vector<T>& values, std::vector<T>& out, const std::vector<uint8_
   values.resize(kept);
 }
 
+void split(ExtraValues& values, ExtraValues& out, const std::vector<uint8_t>& remove) {
+  if (values.empty()) return;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (remove[i]) out.push_back(values[i]);
+    else values.copy_value(kept++, i);
+  }
+  values.resize(kept);
+}
+
 }  // namespace
 
 nlohmann::json OutlierResult::to_json(const OutlierOptions& o) const {
@@ -159,7 +169,7 @@ SplatCloud split_cloud(SplatCloud& cloud, const std::vector<uint8_t>& remove) {
   split(cloud.minor_radii, out.minor_radii, remove);
   split(cloud.colors, out.colors, remove);
   for (ExtraAttribute& e : cloud.extras) {
-    out.extras.push_back({e.name, e.type, {}});
+    out.extras.push_back({e.name, e.type()});
     split(e.values, out.extras.back().values, remove);
   }
   return out;

@@ -15,18 +15,29 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "splatkit/extra_values.h"
 #include "splatkit/scalar_type.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit {
 
 struct ExtraAttribute {
+  ExtraAttribute() = default;
+  ExtraAttribute(std::string attribute_name, ScalarType type)
+      : name(std::move(attribute_name)), values(type) {}
+  ExtraAttribute(std::string attribute_name, ScalarType type, const std::vector<double>& v)
+      : ExtraAttribute(std::move(attribute_name), type) {
+    values.reserve(v.size());
+    for (double x : v) values.push_back(x);
+  }
+  // The type in the source file, used again when writing; the values are held at its width.
+  ScalarType type() const { return values.type(); }
+
   std::string name;
-  ScalarType type = ScalarType::kFloat32;  // type in the source file, used again when writing
-  std::vector<double> values;              // size() entries; double holds every source type exactly
-                                           // except 64-bit integers above 2^53
+  ExtraValues values;  // size() entries
 };
 
 struct Bounds {

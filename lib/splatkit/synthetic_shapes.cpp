@@ -621,7 +621,7 @@ SplatCloud make_shape(const ShapeOptions& options) {
                              (lines ? std::sqrt(options.scan_lines) : 1.0);
 
   SplatCloud cloud;
-  ExtraAttribute patch_ids{"patch_id", ScalarType::kUInt32, {}};
+  ExtraAttribute patch_ids{"patch_id", ScalarType::kUInt32};
   const std::size_t expected = options.points + options.points / 50 + 16;  // stratified rounding
   cloud.positions.reserve(expected);
   cloud.normals.reserve(expected);

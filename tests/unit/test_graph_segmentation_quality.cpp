@@ -52,7 +52,8 @@ Part part(std::size_t points, double noise, bool random, float radius_factor = 0
   }
   const ExtraAttribute* patch = p.cloud.find_extra("patch_id");
   EXPECT_NE(patch, nullptr);
-  p.truth.assign(patch->values.begin(), patch->values.end());
+  const std::vector<double> ids = patch->values.doubles();
+  p.truth.assign(ids.begin(), ids.end());
   return p;
 }
 

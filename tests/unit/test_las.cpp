@@ -201,7 +201,7 @@ void check_format(int minor, int format) {
   EXPECT_EQ(extra(c, "classification", 0), format >= 6 ? 40 : 2);
   EXPECT_EQ(extra(c, "classification", 1), 6);
   EXPECT_EQ(extra(c, "scan_angle", 0), format >= 6 ? static_cast<double>(-2500 * 0.006f) : -15);
-  EXPECT_EQ(c.find_extra("scan_angle")->type,
+  EXPECT_EQ(c.find_extra("scan_angle")->type(),
             format >= 6 ? ScalarType::kFloat32 : ScalarType::kInt8);
   EXPECT_EQ(extra(c, "user_data", 0), 7);
   EXPECT_EQ(extra(c, "point_source_id", 0), 42);

@@ -32,7 +32,7 @@ TEST(NormalsMergeDuplicates, KeepsFirstOccurrenceAndOrder) {
   EXPECT_EQ(c.colors[0][0], 10);  // the first's colour, not 12 or 15
   EXPECT_EQ(c.colors[1][0], 11);
   EXPECT_EQ(c.colors[2][0], 13);
-  EXPECT_EQ(c.extras[0].values, (std::vector<double>{100, 101, 103}));
+  EXPECT_EQ(c.extras[0].values.doubles(), (std::vector<double>{100, 101, 103}));
   EXPECT_EQ(r.representative, (std::vector<uint32_t>{0, 1, 0, 2, 1, 0}));
   EXPECT_NO_THROW(c.check_consistent());
 }

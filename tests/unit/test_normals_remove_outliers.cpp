@@ -278,13 +278,13 @@ TEST(NormalsRemoveOutliers, SplitCloudMovesEveryAttributeAndRenumbersFaces) {
   const SplatCloud out = split_cloud(c, {0, 1, 0, 0});
   EXPECT_EQ(c.positions, (std::vector<Vec3f>{{0, 0, 0}, {2, 0, 0}, {3, 0, 0}}));
   EXPECT_EQ(c.radii, (std::vector<float>{0.1f, 0.3f, 0.4f}));
-  EXPECT_EQ(c.extras[0].values, (std::vector<double>{10, 12, 13}));
+  EXPECT_EQ(c.extras[0].values.doubles(), (std::vector<double>{10, 12, 13}));
   EXPECT_EQ(c.face_offsets, (std::vector<uint32_t>{0, 3}));
   EXPECT_EQ(c.face_indices, (std::vector<uint32_t>{0, 1, 2}));
   c.check_consistent();
   EXPECT_EQ(out.positions, (std::vector<Vec3f>{{1, 0, 0}}));
   EXPECT_EQ(out.colors.size(), 1u);
-  EXPECT_EQ(out.extras[0].values, (std::vector<double>{11}));
+  EXPECT_EQ(out.extras[0].values.doubles(), (std::vector<double>{11}));
   out.check_consistent();
 }
 

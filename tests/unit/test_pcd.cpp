@@ -80,7 +80,7 @@ TEST(Pcd, AsciiWithNormalsColourAndCurvature) {
   EXPECT_EQ(c.colors[1], (std::array<uint16_t, 3>{0, 0, 255}));
   ASSERT_EQ(c.extras.size(), 1u);
   EXPECT_EQ(c.extras[0].name, "curvature");
-  EXPECT_EQ(c.extras[0].values, (std::vector<double>{0.5, 0}));
+  EXPECT_EQ(c.extras[0].values.doubles(), (std::vector<double>{0.5, 0}));
   EXPECT_FALSE(c.viewpoint.has_value());
   EXPECT_EQ(doc.header["data"], "ascii");
   EXPECT_EQ(doc.header["dropped_nan"], 0);
@@ -103,8 +103,8 @@ TEST(Pcd, BinaryOrganisedWithNanAndViewpoint) {
   ASSERT_EQ(c.size(), 3u);
   EXPECT_EQ(c.positions[1], (Vec3f{4, 5, 6}));
   EXPECT_EQ(c.colors[2], (std::array<uint16_t, 3>{3, 2, 3}));
-  EXPECT_EQ(c.find_extra("intensity")->type, ScalarType::kUInt16);
-  EXPECT_EQ(c.find_extra("intensity")->values, (std::vector<double>{100, 102, 103}));
+  EXPECT_EQ(c.find_extra("intensity")->type(), ScalarType::kUInt16);
+  EXPECT_EQ(c.find_extra("intensity")->values.doubles(), (std::vector<double>{100, 102, 103}));
   EXPECT_EQ(doc.header["dropped_nan"], 1);
   ASSERT_TRUE(c.viewpoint.has_value());
   EXPECT_EQ(*c.viewpoint, (std::array<double, 3>{10, 20, 30}));
@@ -125,8 +125,8 @@ TEST(Pcd, BinaryCompressedFieldMajor) {
   auto c = read_bytes(s).cloud;
   ASSERT_EQ(c.size(), 3u);
   EXPECT_EQ(c.positions[2], (Vec3f{3, 30, -3}));
-  EXPECT_EQ(c.find_extra("label")->values, (std::vector<double>{7, -8, 9}));
-  EXPECT_EQ(c.find_extra("label")->type, ScalarType::kInt32);
+  EXPECT_EQ(c.find_extra("label")->values.doubles(), (std::vector<double>{7, -8, 9}));
+  EXPECT_EQ(c.find_extra("label")->type(), ScalarType::kInt32);
 }
 
 TEST(Pcd, DoubleCoordinatesMultiCountFieldsAndOrigin) {

@@ -129,7 +129,7 @@ void expect_same(const SplatCloud& a, const SplatCloud& b) {
   ASSERT_EQ(a.extras.size(), b.extras.size());
   for (std::size_t k = 0; k < a.extras.size(); ++k) {
     EXPECT_EQ(a.extras[k].name, b.extras[k].name);
-    EXPECT_EQ(a.extras[k].type, b.extras[k].type) << a.extras[k].name;
+    EXPECT_EQ(a.extras[k].type(), b.extras[k].type()) << a.extras[k].name;
     EXPECT_EQ(a.extras[k].values, b.extras[k].values) << a.extras[k].name;
   }
   EXPECT_EQ(a.face_offsets, b.face_offsets);
@@ -259,8 +259,8 @@ TEST(Ply, HeaderAliasesAndTypesAreDecoded) {
   ASSERT_EQ(c.extras.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i) {
     EXPECT_EQ(c.extras[i].name, std::string("p_") + names[i]);
-    EXPECT_EQ(c.extras[i].type, want[i].first) << names[i];
-    EXPECT_EQ(c.extras[i].values, std::vector<double>{want[i].second}) << names[i];
+    EXPECT_EQ(c.extras[i].type(), want[i].first) << names[i];
+    EXPECT_EQ(c.extras[i].values.doubles(), std::vector<double>{want[i].second}) << names[i];
   }
   EXPECT_EQ(doc.header["encoding"], "binary_big_endian");
   EXPECT_EQ(doc.header["elements"][0]["properties"][3]["type"], "int8");
@@ -279,10 +279,10 @@ TEST(Ply, DiffuseColoursAlphaAndOtherPropertiesAsExtras) {
   EXPECT_EQ(c.color_bits, 8);
   EXPECT_EQ(c.colors, (std::vector<std::array<uint16_t, 3>>{{{10, 20, 30}}, {{40, 50, 60}}}));
   ASSERT_NE(c.find_extra("alpha"), nullptr);
-  EXPECT_EQ(c.find_extra("alpha")->type, ScalarType::kUInt8);
-  EXPECT_EQ(c.find_extra("alpha")->values, (std::vector<double>{255, 128}));
+  EXPECT_EQ(c.find_extra("alpha")->type(), ScalarType::kUInt8);
+  EXPECT_EQ(c.find_extra("alpha")->values.doubles(), (std::vector<double>{255, 128}));
   ASSERT_NE(c.find_extra("confidence"), nullptr);
-  EXPECT_EQ(c.find_extra("confidence")->values, (std::vector<double>{0.5, 0.25}));
+  EXPECT_EQ(c.find_extra("confidence")->values.doubles(), (std::vector<double>{0.5, 0.25}));
   EXPECT_EQ(doc.header["comments"], nlohmann::json::array({"scanned"}));
   EXPECT_EQ(doc.header["obj_info"], nlohmann::json::array({"scanner X"}));
   EXPECT_EQ(doc.header["elements"][0]["count"], 2);
@@ -416,7 +416,7 @@ TEST(Ply, WriterMakesNamesHeaderSafeAndUnique) {
   const std::string bytes = write_bytes(c, PlyEncoding::kAscii);
   EXPECT_NE(bytes.find("property uchar my_value\n"), std::string::npos);
   EXPECT_NE(bytes.find("property uchar x_2\n"), std::string::npos);
-  EXPECT_EQ(read_bytes(bytes).cloud.find_extra("x_2")->values, std::vector<double>{2});
+  EXPECT_EQ(read_bytes(bytes).cloud.find_extra("x_2")->values.doubles(), std::vector<double>{2});
 }
 
 // --- malformed input: one test per case -------------------------------------------------------

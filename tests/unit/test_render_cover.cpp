@@ -101,7 +101,8 @@ HiddenPixels two_spheres(RadiusRule rule, float& mean_radius) {
   testing::GraphScene g;
   g.shape = exact;
   const ExtraAttribute* patch = truth.find_extra("patch_id");
-  g.patch.assign(patch->values.begin(), patch->values.end());
+  const std::vector<double> ids = patch->values.doubles();
+  g.patch.assign(ids.begin(), ids.end());
   g.scene = make_render_scene(std::move(cloud), "two spheres");
   g.scene.surface_ids = g.patch;
   g.patch_of_surface = {0, 1};

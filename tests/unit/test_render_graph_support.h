@@ -38,7 +38,8 @@ inline GraphScene make_graph_scene(const ShapeOptions& shape) {
   const graph::SplatGraph graph = graph::build_splat_graph(cloud, graph::SplatGraphOptions{});
   g.stats = graph.stats;
   const ExtraAttribute* patch = cloud.find_extra("patch_id");
-  g.patch.assign(patch->values.begin(), patch->values.end());
+  const std::vector<double> ids = patch->values.doubles();
+  g.patch.assign(ids.begin(), ids.end());
   g.scene = make_render_scene(std::move(cloud), "test");
   g.scene.surface_ids = graph.surfaces.surface;
   attach_clip_partners(g.scene, graph.clip, "test");

@@ -185,8 +185,8 @@ TEST_F(SplkTest, RoundTripKeepsEveryAttributeAndExtraType) {
   ASSERT_EQ(b.extras.size(), a.extras.size());
   for (std::size_t i = 0; i < a.extras.size(); ++i) {
     EXPECT_EQ(b.extras[i].name, a.extras[i].name);
-    EXPECT_EQ(b.extras[i].type, a.extras[i].type) << a.extras[i].name;
-    expect_same_values(b.extras[i].values, a.extras[i].values);
+    EXPECT_EQ(b.extras[i].type(), a.extras[i].type()) << a.extras[i].name;
+    expect_same_values(b.extras[i].values.doubles(), a.extras[i].values.doubles());
   }
   EXPECT_EQ(b.face_offsets, a.face_offsets);
   EXPECT_EQ(b.face_indices, a.face_indices);
@@ -259,8 +259,8 @@ TEST_F(SplkTest, ExtrasAreRoundedAndSaturatedToTheirType) {
       {"u8", ScalarType::kUInt8, {300, -4, 2.5, std::numeric_limits<double>::quiet_NaN()}});
   doc.cloud.extras.push_back({"i64", ScalarType::kInt64, {1e30, -1e30, -2.5, 0}});
   LoadedCloud back = read_bytes(encode(doc));
-  EXPECT_EQ(back.cloud.extras[0].values, (std::vector<double>{255, 0, 3, 0}));
-  EXPECT_EQ(back.cloud.extras[1].values,
+  EXPECT_EQ(back.cloud.extras[0].values.doubles(), (std::vector<double>{255, 0, 3, 0}));
+  EXPECT_EQ(back.cloud.extras[1].values.doubles(),
             (std::vector<double>{9223372036854775807.0, -9223372036854775808.0, -3, 0}));
 }
 
@@ -308,7 +308,7 @@ TEST_F(SplkTest, EveryAttributeDocumentIsPinned) {
   ASSERT_EQ(back.cloud.extras.size(), doc.cloud.extras.size());
   for (std::size_t i = 0; i < doc.cloud.extras.size(); ++i) {
     EXPECT_EQ(back.cloud.extras[i].name, doc.cloud.extras[i].name);
-    expect_same_values(back.cloud.extras[i].values, doc.cloud.extras[i].values);
+    expect_same_values(back.cloud.extras[i].values.doubles(), doc.cloud.extras[i].values.doubles());
   }
   EXPECT_EQ(back.cloud.face_indices, doc.cloud.face_indices);
   EXPECT_EQ(back.cloud.viewpoint, doc.cloud.viewpoint);

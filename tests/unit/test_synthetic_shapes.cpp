@@ -36,11 +36,10 @@ ShapeOptions shape(ShapeKind kind, std::size_t points, bool random = false) {
   return o;
 }
 
-const std::vector<double>& patch_ids(const SplatCloud& c) {
+std::vector<double> patch_ids(const SplatCloud& c) {
   const ExtraAttribute* e = c.find_extra("patch_id");
   EXPECT_NE(e, nullptr);
-  static const std::vector<double> none;
-  return e ? e->values : none;
+  return e ? e->values.doubles() : std::vector<double>{};
 }
 
 // Total area of each shape, worked out by hand (independent of the library's own sums).
@@ -568,7 +567,7 @@ TEST(SyntheticShapes, NamesParseAndBadOptionsAreUsageErrors) {
   const SplatCloud c = make_shape(shape(ShapeKind::kCube, 10));
   const ExtraAttribute* ids = c.find_extra("patch_id");
   ASSERT_NE(ids, nullptr);
-  EXPECT_EQ(ids->type, ScalarType::kUInt32);
+  EXPECT_EQ(ids->type(), ScalarType::kUInt32);
 }
 
 }  // namespace

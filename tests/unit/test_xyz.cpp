@@ -60,8 +60,8 @@ TEST(Xyz, CloudCompareHeaderWithScalarField) {
   EXPECT_EQ(c.colors[0], (std::array<uint16_t, 3>{4, 5, 6}));
   const ExtraAttribute* sf = c.find_extra("Scalar field");
   ASSERT_NE(sf, nullptr);
-  EXPECT_EQ(sf->type, ScalarType::kFloat64);
-  EXPECT_EQ(sf->values, std::vector<double>{0.5});
+  EXPECT_EQ(sf->type(), ScalarType::kFloat64);
+  EXPECT_EQ(sf->values.doubles(), std::vector<double>{0.5});
 }
 
 TEST(Xyz, PtsCountAndSevenColumns) {
@@ -69,7 +69,7 @@ TEST(Xyz, PtsCountAndSevenColumns) {
   const auto& c = doc.cloud;
   ASSERT_EQ(c.size(), 2u);
   EXPECT_EQ(doc.header["pts_count"], 2);
-  EXPECT_EQ(c.find_extra("intensity")->values, (std::vector<double>{-120, 7}));
+  EXPECT_EQ(c.find_extra("intensity")->values.doubles(), (std::vector<double>{-120, 7}));
   EXPECT_EQ(c.colors[1], (std::array<uint16_t, 3>{40, 50, 60}));
 }
 

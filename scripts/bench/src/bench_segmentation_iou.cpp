@@ -24,7 +24,8 @@ namespace {
 std::vector<uint32_t> labels(const splatkit::SplatCloud& cloud, const std::string& name) {
   const splatkit::ExtraAttribute* a = cloud.find_extra(name);
   if (a == nullptr) throw std::runtime_error("no vertex attribute " + name);
-  return std::vector<uint32_t>(a->values.begin(), a->values.end());
+  const std::vector<double> ids = a->values.doubles();
+  return std::vector<uint32_t>(ids.begin(), ids.end());
 }
 
 }  // namespace
