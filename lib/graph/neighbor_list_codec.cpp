@@ -34,27 +34,6 @@ std::string layout_error(std::span<const uint64_t> offsets, std::span<const uint
   return {};
 }
 
-// Throws std::invalid_argument naming the first violation (the same one for any thread count).
-void check_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
-  auto fail = [](const std::string& what) {
-    throw std::invalid_argument("encode_neighbor_lists: " + what);
-  };
-  if (offsets.empty() || offsets[0] != 0 || offsets.back() != neighbors.size())
-    fail("offsets must run from 0 to the neighbour count");
-  const uint64_t n = offsets.size() - 1;
-  if (n >= (uint64_t{1} << 32)) fail("more than 2^32 - 1 rows");
-  // Chunks past a decreasing offset may read rows out of range: each chunk stops at its first
-  // violation, and only the first chunk with one is reported.
-  for (uint64_t i = 0; i < n; ++i)
-    if (offsets[i + 1] < offsets[i]) fail("offsets decrease at row " + std::to_string(i));
-  std::vector<std::string> errors(chunk_count(n, kRowChunk));
-  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    errors[c] = layout_error(offsets, neighbors, begin, end);
-  });
-  for (const std::string& e : errors)
-    if (!e.empty()) fail(e);
-}
-
 // A bounds-checked reader over the payload; every failure names the byte and the row.
 class Cursor {
  public:
@@ -89,41 +68,78 @@ class Cursor {
   std::size_t pos_ = 0;
 };
 
+// Passes the varints of rows [first, last) to put, in order.
+template <class Put>
+void code_rows(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+               NeighborListMode mode, uint64_t first, uint64_t last, Put&& put) {
+  for (uint64_t i = first; i < last; ++i) {
+    uint64_t begin = offsets[i];
+    const uint64_t end = offsets[i + 1];
+    if (mode == NeighborListMode::kUpper)
+      while (begin < end && neighbors[begin] < i) ++begin;
+    put(end - begin);
+    for (uint64_t k = begin; k < end; ++k) {
+      if (k > begin)
+        put(uint64_t{neighbors[k]} - neighbors[k - 1] - 1);
+      else if (mode == NeighborListMode::kUpper)
+        put(neighbors[k] - i - 1);
+      else
+        put(zigzag(static_cast<int64_t>(neighbors[k]) - static_cast<int64_t>(i)));
+    }
+  }
+}
+
 }  // namespace
+
+void check_neighbor_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors) {
+  auto fail = [](const std::string& what) {
+    throw std::invalid_argument("encode_neighbor_lists: " + what);
+  };
+  if (offsets.empty() || offsets[0] != 0 || offsets.back() != neighbors.size())
+    fail("offsets must run from 0 to the neighbour count");
+  const uint64_t n = offsets.size() - 1;
+  if (n >= (uint64_t{1} << 32)) fail("more than 2^32 - 1 rows");
+  // Chunks past a decreasing offset may read rows out of range: each chunk stops at its first
+  // violation, and only the first chunk with one is reported.
+  for (uint64_t i = 0; i < n; ++i)
+    if (offsets[i + 1] < offsets[i]) fail("offsets decrease at row " + std::to_string(i));
+  std::vector<std::string> errors(chunk_count(n, kRowChunk));
+  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    errors[c] = layout_error(offsets, neighbors, begin, end);
+  });
+  for (const std::string& e : errors)
+    if (!e.empty()) fail(e);
+}
+
+void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+                           NeighborListMode mode, std::vector<uint8_t>& out,
+                           std::size_t room_after) {
+  const uint64_t n = offsets.size() - 1;
+  // Rows are coded independently, in fixed chunks of rows in parallel: a first pass sizes each
+  // chunk, a second writes it in place (no chunk is held twice).
+  std::vector<std::size_t> at(chunk_count(n, kRowChunk) + 1, 0);
+  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
+    std::size_t bytes = 0;
+    code_rows(offsets, neighbors, mode, first, last,
+              [&](uint64_t v) { bytes += varint_size(v); });
+    at[c + 1] = bytes;
+  });
+  at[0] = out.size();
+  for (std::size_t c = 1; c < at.size(); ++c) at[c] += at[c - 1];
+  out.reserve(at.back() + room_after);
+  out.resize(at.back());
+  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
+    uint8_t* p = out.data() + at[c];
+    code_rows(offsets, neighbors, mode, first, last, [&](uint64_t v) { p = write_varint(p, v); });
+  });
+}
 
 std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
                                            std::span<const uint32_t> neighbors,
                                            NeighborListMode mode) {
-  check_layout(offsets, neighbors);
-  const uint64_t n = offsets.size() - 1;
-  // Rows are coded independently: fixed chunks of rows in parallel, then joined in order.
-  std::vector<std::vector<uint8_t>> parts(chunk_count(n, kRowChunk));
-  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
-    std::vector<uint8_t>& out = parts[c];
-    out.reserve((last - first) +
-                (offsets[last] - offsets[first]) * (mode == NeighborListMode::kUpper ? 1 : 2));
-    for (uint64_t i = first; i < last; ++i) {
-      uint64_t begin = offsets[i];
-      const uint64_t end = offsets[i + 1];
-      if (mode == NeighborListMode::kUpper)
-        while (begin < end && neighbors[begin] < i) ++begin;
-      put_varint(out, end - begin);
-      for (uint64_t k = begin; k < end; ++k) {
-        if (k > begin)
-          put_varint(out, uint64_t{neighbors[k]} - neighbors[k - 1] - 1);
-        else if (mode == NeighborListMode::kUpper)
-          put_varint(out, neighbors[k] - i - 1);
-        else
-          put_varint(out, zigzag(static_cast<int64_t>(neighbors[k]) - static_cast<int64_t>(i)));
-      }
-    }
-  });
-  std::vector<std::size_t> at(parts.size() + 1, 0);
-  for (std::size_t c = 0; c < parts.size(); ++c) at[c + 1] = at[c] + parts[c].size();
-  std::vector<uint8_t> out(at.back());
-  tbb::parallel_for(std::size_t{0}, parts.size(), [&](std::size_t c) {
-    std::copy(parts[c].begin(), parts[c].end(), out.begin() + std::ptrdiff_t(at[c]));
-  });
+  check_neighbor_layout(offsets, neighbors);
+  std::vector<uint8_t> out;
+  append_neighbor_lists(offsets, neighbors, mode, out);
   return out;
 }
 

@@ -39,6 +39,15 @@ struct NeighborLists {
 std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
                                            std::span<const uint32_t> neighbors,
                                            NeighborListMode mode);
+// The layout check of encode_neighbor_lists alone: throws std::invalid_argument naming the first
+// violation (the same one for any thread count).
+void check_neighbor_layout(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors);
+// encode_neighbor_lists' bytes appended to `out`, for rows that passed check_neighbor_layout;
+// out's capacity is made room_after bytes larger than they need, for what the caller appends next
+// (a graph chunk's flags), so that growing it does not copy the stream.
+void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+                           NeighborListMode mode, std::vector<uint8_t>& out,
+                           std::size_t room_after = 0);
 
 // Decodes num_rows rows. Treats bytes as hostile: throws splatkit::Error (kBadInput) via
 // throw_bad_input(name, ...) with its own message for each case — a row count larger than the

@@ -109,8 +109,7 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
                             float sharp_threshold) {
   if (edge_flags.size() != graph.neighbors.size())
     throw std::invalid_argument("encode_graph_chunk: edge_flags does not match the graph");
-  const std::vector<uint8_t> stream =
-      encode_neighbor_lists(graph.offsets, graph.neighbors, NeighborListMode::kUpper);
+  check_neighbor_layout(graph.offsets, graph.neighbors);
   // The upper edges' 2-bit flags, four to a byte, in edge order: fixed chunks of rows count
   // their upper edges, write one code per edge after the earlier chunks', then the codes are
   // packed, all in parallel.
@@ -145,15 +144,22 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
                      bits[b] = byte;
                    }
                  });
+  std::vector<uint8_t>().swap(codes);
+  // The payload is built in place, the stream's length patched in after it (the stream is the
+  // chunk's bulk: a copy of it had been the graph tools' peak of memory).
   std::vector<unsigned char> out;
-  out.reserve(34 + stream.size() + bits.size());
   put_le(out, graph.num_points(), 8);
   put_u8(out, static_cast<uint8_t>(NeighborListMode::kUpper));
   put_u8(out, 0);
   put_le(out, edges, 8);
   put_le(out, std::bit_cast<uint32_t>(sharp_threshold), 4);
-  put_le(out, stream.size(), 8);
-  out.insert(out.end(), stream.begin(), stream.end());
+  const std::size_t length_at = out.size();
+  put_le(out, 0, 8);
+  append_neighbor_lists(graph.offsets, graph.neighbors, NeighborListMode::kUpper, out,
+                        bits.size());
+  const uint64_t stream_bytes = out.size() - length_at - 8;
+  for (std::size_t b = 0; b < 8; ++b)
+    out[length_at + b] = static_cast<unsigned char>(stream_bytes >> (8 * b));
   out.insert(out.end(), bits.begin(), bits.end());
   return make_chunk(kGraphChunkType, std::move(out));
 }
