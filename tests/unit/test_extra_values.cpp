@@ -18,7 +18,9 @@ TEST(ExtraValues, TakeTheWidthOfTheirType) {
       {ScalarType::kUInt16, 2},  {ScalarType::kInt32, 4},   {ScalarType::kUInt32, 4},
       {ScalarType::kInt64, 8},   {ScalarType::kUInt64, 8},  {ScalarType::kFloat32, 4},
       {ScalarType::kFloat64, 8}};
-  for (const auto& [type, width] : widths) {
+  for (const auto& entry : widths) {
+    const ScalarType type = entry.first;  // not a structured binding: clang 14 cannot capture one
+    const std::size_t width = entry.second;
     ExtraValues v(type);
     for (int i = 0; i < 100; ++i) v.push_back(i);
     EXPECT_EQ(v.size(), 100u);
