@@ -4,10 +4,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
+#include <new>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace splatkit {
@@ -16,14 +20,6 @@ namespace {
 
 constexpr uint32_t kNone = SpatialIndex::kNone;
 constexpr float kParallel = 0.70710678f;  // cos 45°
-
-// The kNN graph as fixed-length rows (k - 1 neighbours per point, kNone where the cloud is
-// smaller). Weights are not stored: the sort computes them as it goes (twice), which keeps 2 bytes
-// per edge off the peak.
-struct KnnGraph {
-  std::size_t width = 0;  // neighbours per row
-  std::vector<uint32_t> neighbors;
-};
 
 // The agreement of a pair's signs: positive when consistently oriented, its magnitude the
 // confidence. Normals within 45° of parallel (or antiparallel): Hoppe's n_i·n_j, which the noise
@@ -45,53 +41,133 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-KnnGraph build_graph(const SpatialIndex& index, std::size_t k) {
-  KnnGraph g;
-  g.width = k - 1;
-  const std::size_t n = index.size();
-  g.neighbors.assign(n * g.width, kNone);
+// A uint32 array in one malloc block, so that it shrinks in place (realloc keeps a shrinking
+// block where it is): the compacted rows need no second array at the peak.
+class ShrinkableArray {
+ public:
+  explicit ShrinkableArray(std::size_t size)
+      : data_(static_cast<uint32_t*>(std::malloc(std::max<std::size_t>(size, 1) * 4))),
+        size_(size) {
+    if (!data_) throw std::bad_alloc();
+  }
+  ShrinkableArray(ShrinkableArray&& o) noexcept
+      : data_(std::exchange(o.data_, nullptr)), size_(o.size_) {}
+  ShrinkableArray& operator=(ShrinkableArray&& o) noexcept {
+    std::swap(data_, o.data_);
+    std::swap(size_, o.size_);
+    return *this;
+  }
+  ~ShrinkableArray() { std::free(data_); }
+  void shrink(std::size_t size) {
+    if (size >= size_) return;
+    if (void* p = std::realloc(data_, std::max<std::size_t>(size, 1) * 4))
+      data_ = static_cast<uint32_t*>(p);
+    size_ = size;
+  }
+  uint32_t* data() { return data_; }
+  const uint32_t* data() const { return data_; }
+  uint32_t& operator[](std::size_t i) { return data_[i]; }
+  uint32_t operator[](std::size_t i) const { return data_[i]; }
+
+ private:
+  uint32_t* data_;
+  std::size_t size_;
+};
+
+// The kNN graph with every edge once: row i holds, in rank order, the neighbours j of i whose
+// reverse edge j -> i is not in the earlier row j (the agreement is symmetric, so Kruskal would
+// meet that one first and always reject this one; in a kNN graph most edges come in such pairs).
+// Rows are compacted: row i is neighbors[start[i] .. start[i + 1]). An edge is named by
+// (i << shift) | s, s its place in row i. Weights are not stored: the sort computes them as it
+// goes (twice), which keeps 2 bytes per edge off the peak.
+template <typename Id>
+struct KnnGraph {
+  unsigned shift = 0;
+  std::vector<Id> start;
+  ShrinkableArray neighbors{0};
+  std::size_t size() const { return start.size() - 1; }
+  uint32_t row_size(std::size_t i) const { return static_cast<uint32_t>(start[i + 1] - start[i]); }
+};
+
+constexpr std::size_t kRows = 1 << 15;  // rows per task of the passes below
+
+// The rows of the k nearest neighbours (k - 1 besides the point itself), then compacted. The
+// index is released once the rows are found.
+template <typename Id>
+KnnGraph<Id> build_graph(SpatialIndex& index, std::size_t k) {
+  const std::size_t n = index.size(), w = k - 1;
+  ShrinkableArray nb(n * w);  // every slot is written below: k <= n
   index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
                                   std::span<const uint32_t> indices, std::span<const float>) {
     for (std::size_t r = 0; r < queries.size(); ++r) {
       // Column 0 is the point itself; the rest are its neighbours.
-      std::copy_n(indices.data() + r * k + 1, g.width, g.neighbors.data() + queries[r] * g.width);
+      std::copy_n(indices.data() + r * k + 1, w, nb.data() + queries[r] * w);
     }
   });
+  index = SpatialIndex();
+  // Which slots stay, decided on the full rows (read-only, in parallel).
+  std::vector<uint8_t> keep(n * w);
+  const std::size_t chunks = (n + kRows - 1) / kRows;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      for (std::size_t s = 0; s < w; ++s) {
+        const uint32_t j = nb[i * w + s];
+        const uint32_t* row = nb.data() + std::size_t{j} * w;
+        keep[i * w + s] = j > i || std::find(row, row + w, uint32_t(i)) == row + w;
+      }
+  });
+  // Each chunk compacts its rows within its own range (in parallel), then the chunks move down
+  // in order (each lands at or below where it was, past the chunks before it).
+  KnnGraph<Id> g;
+  g.shift = static_cast<unsigned>(std::bit_width(w));
+  g.start.resize(n + 1);
+  std::vector<std::size_t> kept(chunks + 1, 0);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::size_t at = c * kRows * w;
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i) {
+      g.start[i] = static_cast<Id>(at - c * kRows * w);
+      for (std::size_t s = 0; s < w; ++s)
+        if (keep[i * w + s]) nb[at++] = nb[i * w + s];
+    }
+    kept[c + 1] = at - c * kRows * w;
+  });
+  keep = {};
+  for (std::size_t c = 0; c < chunks; ++c) {
+    std::copy_n(nb.data() + c * kRows * w, kept[c + 1], nb.data() + kept[c]);
+    kept[c + 1] += kept[c];
+  }
+  g.start[n] = static_cast<Id>(kept[chunks]);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+      g.start[i] += static_cast<Id>(kept[c]);
+  });
+  nb.shrink(kept[chunks]);
+  g.neighbors = std::move(nb);
   return g;
 }
 
-// Edge ids sorted by key, ties by id (a stable counting sort, in parallel over fixed chunks of
-// rows: each chunk counts its keys and writes after the earlier chunks' share of every bucket, so
-// the order is the serial one for any thread count). Left out: slots without a neighbour, and an
-// edge i -> j whose reverse j -> i is in the earlier row j (j < i): the two have the same key
-// (the agreement is symmetric), so Kruskal meets the earlier one first and would always reject
-// this one; in a kNN graph most edges come in such pairs.
+// Edges sorted by key, ties by (row, place in the row) (a stable counting sort, in parallel over
+// fixed chunks of rows: each chunk counts its keys and writes after the earlier chunks' share of
+// every bucket, so the order is the serial one for any thread count).
 template <typename Id>
-std::vector<Id> sort_edges(const KnnGraph& g, std::span<const Vec3f> positions,
+std::vector<Id> sort_edges(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                            std::span<const Vec3f> normals) {
-  const std::size_t w = g.width;
-  if (w == 0) return {};  // a cloud of one point
-  const std::size_t n = g.neighbors.size() / w;
-  const uint32_t* nb = g.neighbors.data();
-  auto kept = [&](std::size_t i, uint32_t j) {
-    if (j == kNone) return false;
-    if (j > i) return true;
-    const uint32_t* row = nb + std::size_t{j} * w;
-    return std::find(row, row + w, static_cast<uint32_t>(i)) == row + w;
-  };
+  const std::size_t n = g.size();
   auto key = [&](std::size_t i, uint32_t j) {
     return weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
   };
-  constexpr std::size_t kRows = 1 << 15;
+  // fn(i, s, j) for the edges of chunk c's rows.
+  auto for_each_edge = [&](std::size_t c, auto&& fn) {
+    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i) {
+      const uint32_t* row = g.neighbors.data() + g.start[i];
+      for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) fn(i, s, row[s]);
+    }
+  };
   const std::size_t chunks = (n + kRows - 1) / kRows;
   std::vector<uint64_t> start(chunks * kOrientBuckets, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     uint64_t* count = start.data() + c * kOrientBuckets;
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
-      for (std::size_t s = 0; s < w; ++s) {
-        const uint32_t j = nb[i * w + s];
-        if (kept(i, j)) ++count[key(i, j)];
-      }
+    for_each_edge(c, [&](std::size_t i, uint32_t, uint32_t j) { ++count[key(i, j)]; });
   });
   uint64_t at = 0;
   for (std::size_t b = 0; b < kOrientBuckets; ++b)
@@ -103,11 +179,9 @@ std::vector<Id> sort_edges(const KnnGraph& g, std::span<const Vec3f> positions,
   std::vector<Id> order(at);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     uint64_t* next = start.data() + c * kOrientBuckets;
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
-      for (std::size_t s = 0; s < w; ++s) {
-        const uint32_t j = nb[i * w + s];
-        if (kept(i, j)) order[next[key(i, j)]++] = static_cast<Id>(i * w + s);
-      }
+    for_each_edge(c, [&](std::size_t i, uint32_t s, uint32_t j) {
+      order[next[key(i, j)]++] = static_cast<Id>((static_cast<Id>(i) << g.shift) | s);
+    });
   });
   return order;
 }
@@ -158,15 +232,16 @@ class SignedUnionFind {
 // Kruskal over the sorted edges with the signed union-find: the minimum spanning forest's
 // relations (flip n_j when a < 0) are recorded as the sets join. Returns the sets.
 template <typename Id>
-SignedUnionFind spanning_forest(const KnnGraph& g, std::span<const Vec3f> positions,
+SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                                 std::span<const Vec3f> normals) {
   const std::size_t n = positions.size();
   SignedUnionFind sets(n);
   const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
+  const Id mask = (Id{1} << g.shift) - 1;
   std::size_t joined = 0;
   for (const Id e : order) {
-    const auto i = static_cast<uint32_t>(e / g.width);
-    const uint32_t j = g.neighbors[e];
+    const auto i = static_cast<uint32_t>(e >> g.shift);
+    const uint32_t j = g.neighbors[g.start[i] + (e & mask)];
     const bool opposite = agreement(positions[i], normals[i], positions[j], normals[j]) < 0;
     if (sets.unite(i, j, opposite) && ++joined + 1 == n) break;  // one set: the forest is whole
   }
@@ -208,13 +283,16 @@ OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positi
   OrientStats stats;
   if (n == 0) return stats;
 
-  SignedUnionFind sets = [&] {
-    const KnnGraph graph = build_graph(index, std::min(k, n));
-    index = SpatialIndex();
-    return graph.neighbors.size() <= std::numeric_limits<uint32_t>::max()
-               ? spanning_forest<uint32_t>(graph, positions, normals)
-               : spanning_forest<uint64_t>(graph, positions, normals);
-  }();
+  // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
+  auto forest = [&]<typename Id>(Id) {
+    const KnnGraph<Id> graph = build_graph<Id>(index, std::min(k, n));
+    return spanning_forest<Id>(graph, positions, normals);
+  };
+  const std::size_t width = std::min(k, n) - 1;
+  SignedUnionFind sets =
+      (uint64_t{n} << std::bit_width(width)) <= std::numeric_limits<uint32_t>::max()
+          ? forest(uint32_t{})
+          : forest(uint64_t{});
   std::vector<int8_t> sign;
   stats.components = assign_signs(positions, normals, sets, sign);
   for (std::size_t i = 0; i < n; ++i) {

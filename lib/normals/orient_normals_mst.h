@@ -26,11 +26,14 @@
 // point, where the outward normal has z > 0, so the whole component ends up pointing outward. Open
 // sheets seen from above (terrain, facades' tops) point up.
 //
-// Memory: 4 bytes per graph edge for the neighbour rows, 4 per kept edge for the sorted order
-// (an edge whose reverse is in an earlier row is left out: about half of them), 6 per point for
-// the union-find: about 6 (k - 1) + 6 bytes per point at peak (k = 10: 60). The index passed in
-// is released once the graph is built. Time: one kNN pass (parallel), a counting sort (parallel,
-// computing the weights twice) and a near-linear union-find.
+// Memory: the kNN rows (4 bytes per graph edge, 36 per point at k = 10) are found while the
+// index is still held; the index is then released and the rows compacted in place to the kept
+// edges (an edge whose reverse is in an earlier row is left out: about half of them), 4 bytes each
+// plus a 4-byte row start per point. Sorting adds 4 bytes per kept edge and the union-find 6 per
+// point: about 8 × 0.57 (k - 1) + 10 bytes per point after the rows are found (k = 10 on a
+// random torus: 51), below the index and the full rows together. Time: one kNN pass (parallel),
+// one pass that compacts the rows (parallel, then a copy per block of rows), a counting sort
+// (parallel, computing the weights twice) and a near-linear union-find.
 // Deterministic for any thread count (the kNN rows are exact; the sort's chunks are fixed;
 // everything after it is sequential).
 #pragma once
