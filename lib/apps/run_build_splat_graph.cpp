@@ -1,6 +1,7 @@
 #include "apps/run_build_splat_graph.h"
 
 #include <string_view>
+#include <utility>
 
 #include "apps/robust_provenance.h"
 #include "graph_io/graph_chunks.h"
@@ -51,8 +52,8 @@ StageSummary run_build_splat_graph(const BuildSplatGraphOptions& o, const Progre
   Stage stage("build-splat-graph", o.paths);
   LoadedCloud doc = stage.read({}, progress);
   check_splats(doc.cloud, stage.input_name());
-  const graph::SplatGraph g = stage.phase("graph", "building the splat graph", [&] {
-    return graph::build_splat_graph(doc.cloud, options, progress);
+  graph::SplatGraph g = stage.phase("graph", "building the splat graph", [&] {
+    return graph::build_splat_graph_in_place(doc.cloud, options, progress);
   });
 
   nlohmann::json prov_options = {{"sharp", options.sharp_threshold},
@@ -62,11 +63,19 @@ StageSummary run_build_splat_graph(const BuildSplatGraphOptions& o, const Progre
   stage.stamp(doc, prov_options);
   std::size_t graph_bytes = 0;
   stage.phase("encode", "encoding the graph chunks", [&] {
-    RawChunk grph = graph::encode_graph_chunk(g.graph, g.edge_flags, options.sharp_threshold);
+    // The small chunks first, and what is done with freed, so that the graph's chunk (the bulk)
+    // is coded with as little else held as possible; it consumes the rows as it codes them.
+    RawChunk clas = graph::encode_class_chunk(g.classes);
+    RawChunk clip = graph::encode_clip_chunk(g.clip);
+    g.classes = {};
+    g.clip = {};
+    g.surfaces = {};
+    RawChunk grph = graph::encode_graph_chunk(std::move(g.graph), std::move(g.edge_flags),
+                                              options.sharp_threshold);
     graph_bytes = grph.payload.size();
     doc.chunks.push_back(std::move(grph));
-    doc.chunks.push_back(graph::encode_class_chunk(g.classes));
-    doc.chunks.push_back(graph::encode_clip_chunk(g.clip));
+    doc.chunks.push_back(std::move(clas));
+    doc.chunks.push_back(std::move(clip));
   });
   nlohmann::json report;
   if (!o.paths.report.empty()) {

@@ -221,27 +221,15 @@ SplatGraphStats count_stats(const SplatGraph& g, std::span<const uint32_t> sharp
   return st;
 }
 
-}  // namespace
-
-SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
-                             std::span<const float> radii, const SplatGraphOptions& options,
-                             const ProgressFn& progress, SplatEllipses ellipses) {
-  check_inputs(positions, normals, radii, options);
-  if (!ellipses.axes.empty() &&
-      (ellipses.axes.size() != positions.size() || ellipses.minor_radii.size() != positions.size()))
-    throw std::invalid_argument("build_splat_graph: ellipses differ in size from the splats");
-  SplatGraph g;
+// The phases after the neighbour graph (g.graph, with its sharp marks).
+void classify_and_clip(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                       std::span<const float> radii, const SplatGraphOptions& options,
+                       const ProgressFn& progress, SplatEllipses ellipses, SharpEdgeMarks& sharp,
+                       SplatGraph& g) {
   SplatGraphTimings& t = g.timings;
-  progress(0.0, "neighbour graph");
-  Clock::time_point t0 = Clock::now();
-  // Eqs. 3.2–3.3: the weights w_ij = n_i·n_j are tested against w_s where the rows are found.
-  SharpEdgeMarks sharp;
-  g.graph = sphere_overlap_graph(positions, radii,
-                                 SharpEdges{normals, options.sharp_threshold, kEdgeSharp}, sharp);
   g.edge_flags = std::move(sharp.flags);
-  t.overlaps = seconds_since(t0);
   progress(0.6, "classes");
-  t0 = Clock::now();
+  Clock::time_point t0 = Clock::now();
   g.classes.resize(positions.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   flag_and_classify(Splats{positions, normals, radii, ellipses}, options, sharp.rows, scratch, g);
@@ -265,17 +253,62 @@ SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const V
   g.stats = count_stats(g, sharp.rows);
   g.stats.surface_method = robust_info;
   progress(1.0, "done");
+}
+
+void check_ellipses(SplatEllipses ellipses, std::size_t n) {
+  if (!ellipses.axes.empty() && (ellipses.axes.size() != n || ellipses.minor_radii.size() != n))
+    throw std::invalid_argument("build_splat_graph: ellipses differ in size from the splats");
+}
+
+void check_cloud(const SplatCloud& cloud) {
+  if (!cloud.has_normals())
+    throw Error(ErrorKind::kBadInput, "the splats have no normals: run estimate-normals first");
+  if (!cloud.has_radii())
+    throw Error(ErrorKind::kBadInput, "the splats have no radii: run estimate-normals first");
+}
+
+}  // namespace
+
+SplatGraph build_splat_graph(std::span<const Vec3f> positions, std::span<const Vec3f> normals,
+                             std::span<const float> radii, const SplatGraphOptions& options,
+                             const ProgressFn& progress, SplatEllipses ellipses) {
+  check_inputs(positions, normals, radii, options);
+  check_ellipses(ellipses, positions.size());
+  SplatGraph g;
+  progress(0.0, "neighbour graph");
+  const Clock::time_point t0 = Clock::now();
+  // Eqs. 3.2–3.3: the weights w_ij = n_i·n_j are tested against w_s where the rows are found.
+  SharpEdgeMarks sharp;
+  g.graph = sphere_overlap_graph(positions, radii,
+                                 SharpEdges{normals, options.sharp_threshold, kEdgeSharp}, sharp);
+  g.timings.overlaps = seconds_since(t0);
+  classify_and_clip(positions, normals, radii, options, progress, ellipses, sharp, g);
   return g;
 }
 
 SplatGraph build_splat_graph(const SplatCloud& cloud, const SplatGraphOptions& options,
                              const ProgressFn& progress) {
-  if (!cloud.has_normals())
-    throw Error(ErrorKind::kBadInput, "the splats have no normals: run estimate-normals first");
-  if (!cloud.has_radii())
-    throw Error(ErrorKind::kBadInput, "the splats have no radii: run estimate-normals first");
+  check_cloud(cloud);
   return build_splat_graph(cloud.positions, cloud.normals, cloud.radii, options, progress,
                            {cloud.axes, cloud.minor_radii});
+}
+
+SplatGraph build_splat_graph_in_place(SplatCloud& cloud, const SplatGraphOptions& options,
+                                      const ProgressFn& progress) {
+  check_cloud(cloud);
+  check_inputs(cloud.positions, cloud.normals, cloud.radii, options);
+  const SplatEllipses ellipses{cloud.axes, cloud.minor_radii};
+  check_ellipses(ellipses, cloud.size());
+  SplatGraph g;
+  progress(0.0, "neighbour graph");
+  const Clock::time_point t0 = Clock::now();
+  SharpEdgeMarks sharp;
+  g.graph = sphere_overlap_graph(LentSplats{cloud.positions, cloud.radii, cloud.normals},
+                                 options.sharp_threshold, kEdgeSharp, sharp);
+  g.timings.overlaps = seconds_since(t0);
+  classify_and_clip(cloud.positions, cloud.normals, cloud.radii, options, progress, ellipses,
+                    sharp, g);
+  return g;
 }
 
 }  // namespace splatkit::graph

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/release_pages.h"
 #include "graph/sized_in_parallel.h"
 #include "graph/varint.h"
 #include "splatkit/error.h"
@@ -16,6 +17,7 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kRowChunk = 16384;  // rows per parallel task of the encoder
+constexpr std::size_t kWindow = 32;       // chunks the encoder writes between two releases
 constexpr std::size_t kAhead = 32;        // entries the decoder's mirror prefetches ahead
 
 // The first violation of the layout in rows [begin, end), or "".
@@ -111,13 +113,19 @@ void check_neighbor_layout(std::span<const uint64_t> offsets, std::span<const ui
     if (!e.empty()) fail(e);
 }
 
-void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
-                           NeighborListMode mode, std::vector<uint8_t>& out,
-                           std::size_t room_after) {
+namespace {
+
+// append_neighbor_lists, and with `release` the neighbours' pages handed back as their rows are
+// coded. The stream is sized first (chunks of rows in parallel), then written in windows of
+// chunks: out grows by one window at a time (its pages are touched as they are written, not all
+// up front), each window's chunks are written in place in parallel, and the rows before the
+// window's end are released.
+void append_rows(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+                 NeighborListMode mode, std::vector<uint8_t>& out, std::size_t room_after,
+                 bool release) {
   const uint64_t n = offsets.size() - 1;
-  // Rows are coded independently, in fixed chunks of rows in parallel: a first pass sizes each
-  // chunk, a second writes it in place (no chunk is held twice).
-  std::vector<std::size_t> at(chunk_count(n, kRowChunk) + 1, 0);
+  const std::size_t chunks = chunk_count(n, kRowChunk);
+  std::vector<std::size_t> at(chunks + 1, 0);
   for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
     std::size_t bytes = 0;
     code_rows(offsets, neighbors, mode, first, last,
@@ -127,11 +135,33 @@ void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const ui
   at[0] = out.size();
   for (std::size_t c = 1; c < at.size(); ++c) at[c] += at[c - 1];
   out.reserve(at.back() + room_after);
-  out.resize(at.back());
-  for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
-    uint8_t* p = out.data() + at[c];
-    code_rows(offsets, neighbors, mode, first, last, [&](uint64_t v) { p = write_varint(p, v); });
-  });
+  for (std::size_t c0 = 0; c0 < chunks; c0 += kWindow) {
+    const std::size_t c1 = std::min(chunks, c0 + kWindow);
+    out.resize(at[c1]);
+    tbb::parallel_for(c0, c1, [&](std::size_t c) {
+      uint8_t* p = out.data() + at[c];
+      code_rows(offsets, neighbors, mode, c * kRowChunk, std::min<uint64_t>(n, (c + 1) * kRowChunk),
+                [&](uint64_t v) { p = write_varint(p, v); });
+    });
+    if (release)
+      release_pages(neighbors.data(),
+                    neighbors.data() + offsets[std::min<uint64_t>(n, c1 * kRowChunk)]);
+  }
+}
+
+}  // namespace
+
+void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
+                           NeighborListMode mode, std::vector<uint8_t>& out,
+                           std::size_t room_after) {
+  append_rows(offsets, neighbors, mode, out, room_after, false);
+}
+
+void append_neighbor_lists(std::span<const uint64_t> offsets, std::vector<uint32_t>&& neighbors,
+                           NeighborListMode mode, std::vector<uint8_t>& out,
+                           std::size_t room_after) {
+  append_rows(offsets, neighbors, mode, out, room_after, true);
+  std::vector<uint32_t>().swap(neighbors);
 }
 
 std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,

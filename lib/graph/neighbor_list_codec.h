@@ -48,6 +48,12 @@ void check_neighbor_layout(std::span<const uint64_t> offsets, std::span<const ui
 void append_neighbor_lists(std::span<const uint64_t> offsets, std::span<const uint32_t> neighbors,
                            NeighborListMode mode, std::vector<uint8_t>& out,
                            std::size_t room_after = 0);
+// The same bytes for rows the caller is done with: the neighbours' pages are handed back to the
+// system as their rows are coded (lib/graph/release_pages.h), so that the rows and their code
+// are not both held in full; `neighbors` is left empty.
+void append_neighbor_lists(std::span<const uint64_t> offsets, std::vector<uint32_t>&& neighbors,
+                           NeighborListMode mode, std::vector<uint8_t>& out,
+                           std::size_t room_after = 0);
 
 // Decodes num_rows rows. Treats bytes as hostile: throws splatkit::Error (kBadInput) via
 // throw_bad_input(name, ...) with its own message for each case — a row count larger than the

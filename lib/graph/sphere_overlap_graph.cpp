@@ -3,8 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -13,6 +15,7 @@
 #include "graph/overlap_big_splats.h"
 #include "graph/overlap_candidates.h"
 #include "graph/overlap_grid.h"
+#include "graph/release_pages.h"
 #include "graph/sized_in_parallel.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
@@ -118,11 +121,16 @@ bool mark_sharp_row(uint32_t i, std::span<const uint32_t> row, const SharpEdges&
   return any;
 }
 
-// marks.rows from per-chunk lists (any order of chunks): ascending.
+// Per-chunk lists of rows (any order of chunks) joined, ascending.
+std::vector<uint32_t> joined(const std::vector<std::vector<uint32_t>>& chunk_rows) {
+  std::vector<uint32_t> rows;
+  for (const auto& r : chunk_rows) rows.insert(rows.end(), r.begin(), r.end());
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
 void join_rows(const std::vector<std::vector<uint32_t>>& chunk_rows, SharpEdgeMarks& marks) {
-  marks.rows.clear();
-  for (const auto& r : chunk_rows) marks.rows.insert(marks.rows.end(), r.begin(), r.end());
-  std::sort(marks.rows.begin(), marks.rows.end());
+  marks.rows = joined(chunk_rows);
 }
 
 void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpEdgeMarks& marks) {
@@ -141,8 +149,17 @@ void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpE
 // (small neighbours plus the big splats' pairs) give the offsets, then each row is found again
 // and written in place, merged with its pairs. With `sharp`, the marks are set as the rows are
 // written.
+// The sharp entries found while the rows are written, one bit per entry (set with an atomic OR:
+// rows of different tasks share words), and the rows merged with big splats' pairs, which are
+// marked afterwards from the normals in splat order (they may be lent out meanwhile).
+struct SharpFound {
+  std::vector<uint64_t> bits;
+  std::vector<uint32_t> rows;      // rows with a sharp entry among the bits
+  std::vector<uint32_t> merged;    // rows to mark afterwards
+};
+
 NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
-                         SimdLevel simd, const SharpEdges* sharp, SharpEdgeMarks* marks) {
+                         SimdLevel simd, const SharpEdges* sharp, SharpFound* found) {
   const std::size_t n = s.n;
   const float R = s.small_radius;
   const std::size_t cells = s.cell_key.size(), blocks = (cells + kCellBlock - 1) / kCellBlock;
@@ -172,13 +189,12 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
   sized_in_parallel(graph.neighbors, graph.offsets[n]);
-  uint8_t* flags = nullptr;
-  if (marks) {
-    marks->flags.clear();
-    sized_in_parallel(marks->flags, graph.offsets[n]);
-    flags = marks->flags.data();
+  uint64_t* bits = nullptr;
+  if (found) {
+    sized_in_parallel(found->bits, (graph.offsets[n] + 63) / 64);
+    bits = found->bits.data();
   }
-  std::vector<std::vector<uint32_t>> sharp_rows(blocks);
+  std::vector<std::vector<uint32_t>> sharp_rows(blocks), merged_rows(blocks);
   for_each_block(
       sharp != nullptr, [&](std::size_t b, std::size_t c0, std::size_t c1, Candidates& cand) {
         for_each_cell(s, g, c0, c1, [&](std::size_t c, const Runs& runs) {
@@ -199,26 +215,71 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
               throw std::logic_error("sphere_overlap_graph: a row differs between the passes");
             uint32_t* out = graph.neighbors.data() + at;
             write_row(id, row, length - row.size(), pairs, out);
-            if (!flags) continue;
-            bool any_sharp;
-            if (length != row.size()) {  // merged with pairs: marked directly
-              any_sharp = mark_sharp_row(id, {out, length}, *sharp, flags + at);
-            } else {
-              for (uint32_t j : cand.sharp_ids)  // (always in the row: found by the same test)
-                flags[at + std::size_t(std::lower_bound(row.begin(), row.end(), j) - row.begin())] =
-                    sharp->flag;
-              any_sharp = !cand.sharp_ids.empty();
+            if (!bits) continue;
+            if (length != row.size()) {  // merged with pairs: marked afterwards
+              merged_rows[b].push_back(id);
+              continue;
             }
-            if (any_sharp) sharp_rows[b].push_back(id);
+            for (uint32_t j : cand.sharp_ids) {  // (always in the row: found by the same test)
+              const uint64_t e =
+                  at + uint64_t(std::lower_bound(row.begin(), row.end(), j) - row.begin());
+              std::atomic_ref<uint64_t>(bits[e / 64]).fetch_or(uint64_t{1} << (e % 64),
+                                                               std::memory_order_relaxed);
+            }
+            if (!cand.sharp_ids.empty()) sharp_rows[b].push_back(id);
           }
         });
       });
-  if (marks) join_rows(sharp_rows, *marks);
+  if (found) {
+    found->rows = joined(sharp_rows);
+    found->merged = joined(merged_rows);
+  }
   return graph;
 }
 
+// The flags from the bits, then the merged rows marked from the normals in splat order.
+void expand_marks(const NeighborGraph& graph, SharpFound& found, const SharpEdges& sharp,
+                  SharpEdgeMarks& marks) {
+  const std::size_t entries = graph.neighbors.size();
+  marks.flags.clear();
+  sized_in_parallel(marks.flags, entries);
+  for_each_chunk(entries, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+      marks.flags[e] = (found.bits[e / 64] >> (e % 64)) & 1 ? sharp.flag : 0;
+  });
+  std::vector<uint64_t>().swap(found.bits);
+  std::vector<std::vector<uint32_t>> rows(1, std::move(found.rows));
+  for (uint32_t i : found.merged)
+    if (mark_sharp_row(i, graph.row(i), sharp, marks.flags.data() + graph.offsets[i]))
+      rows[0].push_back(i);
+  join_rows(rows, marks);
+}
+
+// The lent arrays filled again from the sorted copy (the same floats), which is released as it
+// is read: each sorted array's pages are handed back block by block, then the array is freed.
+// The radii first, so that at most one array of 12 bytes per splat is held twice over a block.
+void give_back(Sorted& s, LentSplats& lent) {
+  std::vector<uint64_t>().swap(s.cell_key);
+  std::vector<uint32_t>().swap(s.cell_start);
+  const std::size_t n = s.n;
+  auto refill = [&](auto& out, std::initializer_list<std::vector<float>*> from, auto&& value) {
+    sized_in_parallel(out, n);
+    for_each_chunk(n, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) out[s.id[k]] = value(k);
+      for (std::vector<float>* v : from) release_pages(v->data() + begin, v->data() + end);
+    });
+    for (std::vector<float>* v : from) std::vector<float>().swap(*v);
+  };
+  refill(lent.radii, {&s.r}, [&](std::size_t k) { return s.r[k]; });
+  refill(lent.normals, {&s.nx, &s.ny, &s.nz},
+         [&](std::size_t k) { return Vec3f{s.nx[k], s.ny[k], s.nz[k]}; });
+  refill(lent.positions, {&s.x, &s.y, &s.z},
+         [&](std::size_t k) { return Vec3f{s.x[k], s.y[k], s.z[k]}; });
+}
+
 NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
-                            SimdLevel limit, const SharpEdges* sharp, SharpEdgeMarks* marks) {
+                            SimdLevel limit, const SharpEdges* sharp, SharpEdgeMarks* marks,
+                            LentSplats* lent = nullptr) {
   const SimdLevel level = std::min(limit, simd_level());
   check(positions, radii);
   const std::size_t n = positions.size();
@@ -236,12 +297,33 @@ NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const fl
     return marked(SpatialIndex(positions).sphere_overlaps(radii));
   }
   const Grid g = make_grid(positions, r_small);
-  const Sorted s =
+  Sorted s =
       sort_by_cell(positions, radii, sharp ? sharp->normals : std::span<const Vec3f>{}, g, r_small);
   std::vector<uint64_t> pairs;
   if (crowded(s) || !big_pairs(s, g, pairs))
     return marked(SpatialIndex(positions).sphere_overlaps(radii));
-  return small_rows(s, g, pairs, level, sharp, marks);
+  SharpFound found;
+  NeighborGraph graph;
+  if (!lent) {
+    graph = small_rows(s, g, pairs, level, sharp, sharp ? &found : nullptr);
+  } else {
+    // From here on the rows need only the sorted copy (positions, radii and normals dangle).
+    std::vector<Vec3f>().swap(lent->positions);
+    std::vector<float>().swap(lent->radii);
+    std::vector<Vec3f>().swap(lent->normals);
+    try {
+      graph = small_rows(s, g, pairs, level, sharp, sharp ? &found : nullptr);
+    } catch (...) {
+      give_back(s, *lent);
+      throw;
+    }
+    give_back(s, *lent);
+  }
+  if (sharp) {
+    const SharpEdges now = lent ? SharpEdges{lent->normals, sharp->threshold, sharp->flag} : *sharp;
+    expand_marks(graph, found, now, *marks);
+  }
+  return graph;
 }
 
 }  // namespace
@@ -257,6 +339,14 @@ NeighborGraph sphere_overlap_graph(std::span<const Vec3f> positions, std::span<c
   if (sharp.normals.size() != positions.size())
     throw std::invalid_argument("sphere_overlap_graph: need one normal per position");
   return overlap_graph(positions, radii, limit, &sharp, &marks);
+}
+
+NeighborGraph sphere_overlap_graph(LentSplats splats, float sharp_threshold, uint8_t flag,
+                                   SharpEdgeMarks& marks, SimdLevel limit) {
+  if (splats.normals.size() != splats.positions.size())
+    throw std::invalid_argument("sphere_overlap_graph: need one normal per position");
+  const SharpEdges sharp{splats.normals, sharp_threshold, flag};
+  return overlap_graph(splats.positions, splats.radii, limit, &sharp, &marks, &splats);
 }
 
 }  // namespace splatkit::graph

@@ -1,10 +1,12 @@
 #include "graph_io/graph_chunks.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "formats/splk.h"
 #include "graph/neighbor_list_codec.h"
@@ -105,14 +107,23 @@ void put_chunk(LoadedCloud& doc, RawChunk chunk) {
   doc.chunks.push_back(std::move(chunk));
 }
 
-RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
-                            float sharp_threshold) {
+namespace {
+
+// encode_graph_chunk; with `consumed` (the graph's neighbours and the flags, which edge_flags
+// and graph.neighbors view) the flags are freed once packed and the neighbours as they are coded.
+struct Consumed {
+  std::vector<uint32_t>& neighbors;
+  std::vector<uint8_t>& flags;
+};
+
+RawChunk encode_graph(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
+                      float sharp_threshold, const Consumed* consumed) {
   if (edge_flags.size() != graph.neighbors.size())
     throw std::invalid_argument("encode_graph_chunk: edge_flags does not match the graph");
   check_neighbor_layout(graph.offsets, graph.neighbors);
   // The upper edges' 2-bit flags, four to a byte, in edge order: fixed chunks of rows count
-  // their upper edges, write one code per edge after the earlier chunks', then the codes are
-  // packed, all in parallel.
+  // their upper edges, then pack theirs after the earlier chunks', in parallel. A byte that two
+  // chunks share (at most the first and the last of each) is written with an atomic OR.
   constexpr std::size_t kRows = 16384;
   const std::size_t n = graph.num_points(), chunks = chunk_count(n, kRows);
   std::vector<uint64_t> first(chunks + 1, 0);
@@ -125,26 +136,29 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
   });
   for (std::size_t c = 0; c < chunks; ++c) first[c + 1] += first[c];
   const uint64_t edges = first[chunks];
-  std::vector<uint8_t> codes(edges + 1);  // + 1: every entry is written, the upper ones kept
+  std::vector<uint8_t> bits((edges + 3) / 4);
   for_each_chunk(n, kRows, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    if (first[c] == first[c + 1]) return;
+    const uint64_t shared_first = first[c] / 4, shared_last = (first[c + 1] - 1) / 4;
     uint64_t e = first[c];
+    unsigned byte = 0;
+    auto flush = [&](uint64_t b) {
+      if (b == shared_first || b == shared_last)
+        std::atomic_ref<uint8_t>(bits[b]).fetch_or(static_cast<uint8_t>(byte),
+                                                   std::memory_order_relaxed);
+      else
+        bits[b] = static_cast<uint8_t>(byte);
+      byte = 0;
+    };
     for (std::size_t i = begin; i < end; ++i)
       for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
-        codes[e] = edge_flags[k] & 3u;
-        e += graph.neighbors[k] > i;
+        if (graph.neighbors[k] < i) continue;
+        byte |= (edge_flags[k] & 3u) << (2 * (e % 4));
+        if (++e % 4 == 0) flush(e / 4 - 1);
       }
+    if (e % 4 != 0) flush(e / 4);
   });
-  std::vector<uint8_t> bits((edges + 3) / 4);
-  for_each_chunk(bits.size(), std::size_t{1} << 16,
-                 [&](std::size_t, std::size_t b0, std::size_t b1) {
-                   for (std::size_t b = b0; b < b1; ++b) {
-                     uint8_t byte = 0;
-                     for (uint64_t e = 4 * b; e < std::min<uint64_t>(edges, 4 * b + 4); ++e)
-                       byte = static_cast<uint8_t>(byte | codes[e] << (2 * (e % 4)));
-                     bits[b] = byte;
-                   }
-                 });
-  std::vector<uint8_t>().swap(codes);
+  if (consumed) std::vector<uint8_t>().swap(consumed->flags);
   // The payload is built in place, the stream's length patched in after it (the stream is the
   // chunk's bulk: a copy of it had been the graph tools' peak of memory).
   std::vector<unsigned char> out;
@@ -155,13 +169,32 @@ RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t>
   put_le(out, std::bit_cast<uint32_t>(sharp_threshold), 4);
   const std::size_t length_at = out.size();
   put_le(out, 0, 8);
-  append_neighbor_lists(graph.offsets, graph.neighbors, NeighborListMode::kUpper, out,
-                        bits.size());
+  if (consumed)
+    append_neighbor_lists(graph.offsets, std::move(consumed->neighbors), NeighborListMode::kUpper,
+                          out, bits.size());
+  else
+    append_neighbor_lists(graph.offsets, graph.neighbors, NeighborListMode::kUpper, out,
+                          bits.size());
   const uint64_t stream_bytes = out.size() - length_at - 8;
   for (std::size_t b = 0; b < 8; ++b)
     out[length_at + b] = static_cast<unsigned char>(stream_bytes >> (8 * b));
   out.insert(out.end(), bits.begin(), bits.end());
   return make_chunk(kGraphChunkType, std::move(out));
+}
+
+}  // namespace
+
+RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
+                            float sharp_threshold) {
+  return encode_graph(graph, edge_flags, sharp_threshold, nullptr);
+}
+
+RawChunk encode_graph_chunk(NeighborGraph&& graph, std::vector<uint8_t>&& edge_flags,
+                            float sharp_threshold) {
+  const Consumed consumed{graph.neighbors, edge_flags};
+  RawChunk chunk = encode_graph(graph, edge_flags, sharp_threshold, &consumed);
+  graph = NeighborGraph();
+  return chunk;
 }
 
 DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,

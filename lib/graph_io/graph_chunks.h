@@ -41,6 +41,11 @@ void put_chunk(LoadedCloud& doc, RawChunk chunk);
 // codec's layout.
 RawChunk encode_graph_chunk(const NeighborGraph& graph, std::span<const uint8_t> edge_flags,
                             float sharp_threshold);
+// The same chunk from a graph the caller is done with (build-splat-graph): the flags are freed
+// once packed and the neighbour rows as they are coded, so that the graph and the chunk are not
+// both held in full. graph and edge_flags are left empty.
+RawChunk encode_graph_chunk(NeighborGraph&& graph, std::vector<uint8_t>&& edge_flags,
+                            float sharp_threshold);
 
 struct DecodedGraph {
   NeighborGraph graph;              // full symmetric rows

@@ -2,7 +2,9 @@
 // and each malformed payload rejected with its own message.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,45 @@ TEST(GraphChunks, GraphRoundTripAndExactBytes) {
   EXPECT_EQ(d.graph.neighbors, tiny_graph().neighbors);
   EXPECT_EQ(d.edge_flags, tiny_flags());
   EXPECT_EQ(d.sharp_threshold, 0.9f);
+}
+
+// The consuming encoder writes the same chunk and leaves the graph and flags empty; the flags of
+// a graph of many row chunks, whose edges share bytes across chunks, come back as they went in.
+TEST(GraphChunks, ConsumingEncoderWritesTheSameBytes) {
+  for (uint32_t n : {2u, 100003u}) {
+    // A ring of n splats, each linked to 1 and 3 places on either side.
+    splatkit::NeighborGraph g;
+    g.offsets.push_back(0);
+    std::vector<uint8_t> flags;
+    for (uint32_t i = 0; i < n; ++i) {
+      std::vector<uint32_t> row;
+      for (uint32_t d : {1u, 3u})
+        for (uint32_t j : {(i + d) % n, (i + n - d) % n})
+          if (j != i) row.push_back(j);
+      // And i to i + 2 for every third i: chunks of rows then hold edge counts that are not
+      // multiples of four, so they share bytes of the packed flags.
+      if (i % 3 == 0 && i + 2 < n) row.push_back(i + 2);
+      if (i >= 2 && (i - 2) % 3 == 0) row.push_back(i - 2);
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      for (uint32_t j : row) {
+        g.neighbors.push_back(j);
+        const uint64_t a = std::min(i, j), b = std::max(i, j);
+        const uint8_t kinds[3] = {0, kEdgeSharp, kEdgeSharp | kEdgeCrossing};
+        flags.push_back(kinds[((a * 2654435761u + b * 40503u) >> 7) % 3]);
+      }
+      g.offsets.push_back(g.neighbors.size());
+    }
+    const RawChunk expected = encode_graph_chunk(std::as_const(g), flags, 0.5f);
+    const DecodedGraph d = decode_graph_chunk(expected, n, "t");
+    EXPECT_EQ(d.graph.neighbors, g.neighbors);
+    EXPECT_EQ(d.edge_flags, flags);
+    splatkit::NeighborGraph consumed = g;
+    std::vector<uint8_t> consumed_flags = flags;
+    const RawChunk c = encode_graph_chunk(std::move(consumed), std::move(consumed_flags), 0.5f);
+    EXPECT_EQ(c.payload, expected.payload) << n;
+    EXPECT_TRUE(consumed.neighbors.empty() && consumed.offsets.empty() && consumed_flags.empty());
+  }
 }
 
 TEST(GraphChunks, GraphMalformed) {

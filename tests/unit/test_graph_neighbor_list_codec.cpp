@@ -88,6 +88,42 @@ NeighborLists random_graph(uint32_t n, uint32_t span, uint32_t seed) {
   return g;
 }
 
+// A graph of n rows, each linked to its two neighbours on either side and, past 6 rows, row
+// i < n/2 to i + n/2 (rows of up to 5 ascending entries, some deltas of several bytes).
+NeighborLists lattice(uint32_t n) {
+  NeighborLists g;
+  g.offsets.push_back(0);
+  const uint32_t half = n > 6 ? n / 2 : n;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (i >= half) g.neighbors.push_back(i - half);
+    for (uint32_t j = i >= 2 ? i - 2 : 0; j <= i + 2 && j < n; ++j)
+      if (j != i) g.neighbors.push_back(j);
+    if (i + half < n) g.neighbors.push_back(i + half);
+    g.offsets.push_back(g.neighbors.size());
+  }
+  return g;
+}
+
+// The encoder that releases the rows it has coded writes the same bytes, over several of its
+// windows of rows, after what `out` held, and leaves the rows empty.
+TEST(GraphNeighborListCodec, ReleasingEncoderWritesTheSameBytes) {
+  for (uint32_t n : {0u, 1u, 5u, 600001u}) {
+    const NeighborLists g = lattice(n);
+    for (auto mode : {NeighborListMode::kFull, NeighborListMode::kUpper}) {
+      std::vector<uint8_t> expected{7, 7};
+      const std::vector<uint8_t> bytes = encode_neighbor_lists(g.offsets, g.neighbors, mode);
+      expected.insert(expected.end(), bytes.begin(), bytes.end());
+      std::vector<uint32_t> rows = g.neighbors;
+      std::vector<uint8_t> out{7, 7};
+      append_neighbor_lists(g.offsets, std::move(rows), mode, out, 3);
+      EXPECT_TRUE(rows.empty());
+      EXPECT_EQ(out, expected) << n;
+      EXPECT_GE(out.capacity(), out.size() + 3);
+      EXPECT_EQ(decode(bytes, n, mode).neighbors, g.neighbors) << n;
+    }
+  }
+}
+
 TEST(GraphNeighborListCodec, RoundTripsRandomGraphs) {
   for (uint32_t n : {1u, 2u, 17u, 1000u, 70000u}) {
     const auto g = random_graph(n, 40, n);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -151,6 +152,23 @@ void expect_marks(const std::vector<Vec3f>& c, const std::vector<float>& r,
     }
     EXPECT_EQ(marks.flags, flags);
     EXPECT_EQ(marks.rows, rows);
+    // Lent arrays: the same graph and marks, and the arrays given back bit for bit (NaN normals
+    // included), in new buffers when the grid borrowed them.
+    std::vector<Vec3f> lc = c, ln = n;
+    std::vector<float> lr = r;
+    SharpEdgeMarks lent_marks;
+    const NeighborGraph lg =
+        sphere_overlap_graph(LentSplats{lc, lr, ln}, threshold, 4, lent_marks);
+    expect_same(lg, expected, "brute force, lent arrays");
+    EXPECT_EQ(lent_marks.flags, flags);
+    EXPECT_EQ(lent_marks.rows, rows);
+    auto same_bytes = [](const auto& a, const auto& b) {
+      return a.size() == b.size() &&
+             (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0);
+    };
+    EXPECT_TRUE(same_bytes(lc, c));
+    EXPECT_TRUE(same_bytes(lr, r));
+    EXPECT_TRUE(same_bytes(ln, n));
   }
 }
 
