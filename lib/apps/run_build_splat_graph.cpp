@@ -30,6 +30,7 @@ nlohmann::json stats_json(const graph::SplatGraphStats& s) {
 
 graph::SplatGraphOptions graph_options(const BuildSplatGraphOptions& o) {
   graph::SplatGraphOptions g = o.graph;
+  g.keep_surface_ids = false;  // not written here: the surface ids are segment-surfaces' output
   if (o.surfaces != "robust" && o.surfaces != "components")
     throw_usage("--surfaces must be robust or components, got '" + o.surfaces + "'");
   g.robust_surfaces = o.surfaces == "robust";

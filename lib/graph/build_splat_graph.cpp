@@ -181,8 +181,15 @@ void build_clip_table(std::span<const Vec3f> positions, std::span<const Vec3f> n
     for (std::size_t k = b * kRows; k < std::min(rows, (b + 1) * kRows); ++k)
       clip_row(sharp_rows[k], positions, normals, radii, o, g, s, blocks[b]);
   });
+  // The last use of the surface ids: released before the table's per-splat arrays when not kept.
+  if (!o.keep_surface_ids) std::vector<uint32_t>().swap(g.surfaces.surface);
   // Row lengths at i + 1, then their sums; the blocks' partners in order (rows ascending).
   ClipPartnerTable& t = g.clip;
+  uint64_t total = 0;
+  for (const ClipBlock& block : blocks) total += block.partners.size();
+  if (total > kMaxClipPartners)
+    throw Error(ErrorKind::kBadInput, "the clip table would hold " + std::to_string(total) +
+                                          " partners, more than 2^32 - 1");
   t.offsets.assign(n + 1, 0);
   t.splat_flags.assign(n, 0);
   for (std::size_t b = 0; b < blocks.size(); ++b) {

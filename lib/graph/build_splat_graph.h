@@ -50,6 +50,10 @@ struct SplatGraphOptions {
   // [-1, 1]; none: automatic) and min_core_size (>= 1); its sharp_threshold is the one above.
   bool robust_surfaces = true;
   RobustSegmentOptions robust;
+  // false: SplatGraph::surfaces keeps the sizes (the count) but not the per-splat ids, which are
+  // released once the clip partners are grouped (4 bytes per splat off the peak, for a caller
+  // that does not write them).
+  bool keep_surface_ids = true;
 };
 
 // The columns of [IvoMSc] tables 6.1–6.3. Edges are undirected pairs.

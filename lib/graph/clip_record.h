@@ -36,10 +36,11 @@ inline constexpr uint8_t kClipSplatFlagsKnown = 1;
 // The partners of splat i are partners[offsets[i] .. offsets[i + 1]), grouped by subset in
 // ascending surface id, ascending splat index within a subset; flags is parallel to partners
 // and the first partner of every non-empty row has kClipSubsetStart. Sizes: offsets #N + 1
-// (offsets[0] = 0, non-decreasing), partners and flags #P, splat_flags #N. Memory: 5 bytes per
-// partner + 9 per splat.
+// (offsets[0] = 0, non-decreasing), partners and flags #P < 2^32, splat_flags #N. Memory: 5
+// bytes per partner + 5 per splat.
+inline constexpr uint64_t kMaxClipPartners = 0xFFFFFFFFu;
 struct ClipPartnerTable {
-  std::vector<uint64_t> offsets;
+  std::vector<uint32_t> offsets;
   std::vector<uint32_t> partners;
   std::vector<uint8_t> flags;
   std::vector<uint8_t> splat_flags;

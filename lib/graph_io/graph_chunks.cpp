@@ -305,6 +305,8 @@ ClipPartnerTable decode_clip_chunk(const RawChunk& chunk, uint64_t num_splats,
   const uint64_t partners = in.le(8, "partner count");
   if (records > num_splats)
     in.fail(std::to_string(records) + " records for " + std::to_string(num_splats) + " splats");
+  if (partners > kMaxClipPartners)
+    in.fail(std::to_string(partners) + " partners: more than 2^32 - 1");
   // A record takes at least 3 bytes plus 2 per partner.
   if (records > in.remaining() / 3 || partners > in.remaining() / 2)
     in.fail(std::to_string(records) + " records / " + std::to_string(partners) +
@@ -320,7 +322,8 @@ ClipPartnerTable decode_clip_chunk(const RawChunk& chunk, uint64_t num_splats,
     if (skip >= num_splats - next)
       in.fail("record " + std::to_string(r) + ": splat index past the splat count");
     const uint64_t i = next + skip;
-    for (uint64_t s = next; s <= i; ++s) table.offsets[s + 1] = table.partners.size();
+    const auto filled = static_cast<uint32_t>(table.partners.size());
+    for (uint64_t s = next; s <= i; ++s) table.offsets[s + 1] = filled;
     const uint64_t splat_flags = in.le(1, "splat flags");
     if ((splat_flags & ~uint64_t{kClipSplatFlagsKnown}) != 0)
       in.fail("unknown splat flag bits " + std::to_string(splat_flags));
@@ -347,13 +350,14 @@ ClipPartnerTable decode_clip_chunk(const RawChunk& chunk, uint64_t num_splats,
       table.partners.push_back(static_cast<uint32_t>(static_cast<int64_t>(i) + delta));
       table.flags.push_back(static_cast<uint8_t>(flags));
     }
-    table.offsets[i + 1] = table.partners.size();
+    table.offsets[i + 1] = static_cast<uint32_t>(table.partners.size());
     next = i + 1;
   }
   if (table.partners.size() != partners)
     in.fail("records hold " + std::to_string(table.partners.size()) +
             " partners, the header says " + std::to_string(partners));
-  for (uint64_t s = next; s < num_splats; ++s) table.offsets[s + 1] = table.partners.size();
+  for (uint64_t s = next; s < num_splats; ++s)
+    table.offsets[s + 1] = static_cast<uint32_t>(table.partners.size());
   in.end();
   return table;
 }
