@@ -173,24 +173,14 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
   return out;
 }
 
-NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num_rows,
-                                    NeighborListMode mode, const std::string& name,
-                                    std::span<const uint8_t> upper_values,
-                                    std::vector<uint8_t>* values) {
-  if (mode != NeighborListMode::kFull && mode != NeighborListMode::kUpper)
-    throw_bad_input(name, "graph payload: unknown neighbour list mode " +
-                              std::to_string(static_cast<int>(mode)));
-  // Every row takes at least its degree byte: bounds the allocations by the payload size.
-  if (num_rows > bytes.size())
-    throw_bad_input(name, "graph payload: " + std::to_string(num_rows) + " rows cannot fit in " +
-                              std::to_string(bytes.size()) + " bytes");
+namespace {
+
+// Parses and checks every row of the stream: row(i, degree) before its entries, entry(i, j) for
+// each (j in range, never i). Throws on the first malformed byte.
+template <class Row, class Entry>
+void parse_rows(std::span<const uint8_t> bytes, uint64_t num_rows, NeighborListMode mode,
+                const std::string& name, Row&& row, Entry&& entry) {
   Cursor in(bytes, name);
-  NeighborLists rows;  // kUpper: the stored halves first, mirrored below
-  rows.offsets.reserve(num_rows + 1);
-  rows.offsets.push_back(0);
-  // At most one entry per byte left after the degrees: room for all of a usual graph's entries
-  // (no regrowth and copy), capped so that a hostile payload cannot reserve much more.
-  rows.neighbors.reserve(std::min<uint64_t>(bytes.size() - num_rows, 32 * num_rows));
   for (uint64_t i = 0; i < num_rows; ++i) {
     const std::size_t at = in.pos();
     const uint64_t degree = in.varint(i);
@@ -198,6 +188,7 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
       in.fail(i, at,
               "degree " + std::to_string(degree) + " exceeds the " + std::to_string(in.left()) +
                   " bytes left");
+    row(i, degree);
     uint64_t prev = 0;
     for (uint64_t k = 0; k < degree; ++k) {
       const std::size_t entry_at = in.pos();
@@ -223,57 +214,132 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
                 "neighbour index " +
                     (j == ~uint64_t{0} ? std::string("overflow") : std::to_string(j)) +
                     " out of range (rows: " + std::to_string(num_rows) + ")");
-      rows.neighbors.push_back(static_cast<uint32_t>(j));
+      entry(i, static_cast<uint32_t>(j));
       prev = j;
     }
-    rows.offsets.push_back(rows.neighbors.size());
   }
   if (in.left() != 0)
     throw_bad_input(name, "graph payload: byte " + std::to_string(in.pos()) + ": " +
                               std::to_string(in.left()) + " trailing bytes after the last row");
-  if (mode == NeighborListMode::kFull) return rows;
+}
 
-  // Mirror: row j = (the i < j that store j, ascending i) followed by its stored j' > j.
-  const std::vector<uint32_t>& stored = rows.neighbors;
-  const std::size_t entries = stored.size();
-  std::vector<uint64_t> lower(num_rows + 1, 0);
-  for (std::size_t k = 0; k < entries; ++k) {
-    if (k + kAhead < entries) __builtin_prefetch(&lower[stored[k + kAhead]], 1);
-    ++lower[stored[k]];
+// A varint of a stream parse_rows has checked.
+inline uint64_t checked_varint(const uint8_t*& p) {
+  uint64_t v = 0;
+  for (int shift = 0;; shift += 7) {
+    const uint8_t b = *p++;
+    v |= static_cast<uint64_t>(b & 0x7F) << shift;
+    if (!(b & 0x80)) return v;
   }
+}
+
+constexpr std::size_t kBlock = 4096;  // entries the kUpper decoder gathers before it scatters them
+
+// kUpper: the full rows straight from the stream, in two passes over it, so that the stored
+// halves are never held: the first checks it and counts each row's entries (its own, plus one
+// for each earlier row that stores it), the second puts every stored (i, j) at the next free
+// place of row i and of row j. Row j = the i < j that store j, ascending (all of them are met
+// before row j's own entries), then its stored j' > j. The scattered places are visited in
+// blocks of entries, each fetched kAhead entries early: a walk in random order through the rows
+// of a cloud in no spatial order.
+NeighborLists decode_upper(std::span<const uint8_t> bytes, uint64_t num_rows,
+                           const std::string& name, std::span<const uint8_t> upper_values,
+                           std::vector<uint8_t>* values) {
   NeighborLists full;
-  full.offsets.assign(num_rows + 1, 0);
-  for (uint64_t i = 0; i < num_rows; ++i)
-    full.offsets[i + 1] = full.offsets[i] + lower[i] + (rows.offsets[i + 1] - rows.offsets[i]);
+  std::vector<uint64_t>& count = full.offsets;  // row i's entries at i + 1, then their sums
+  count.assign(num_rows + 1, 0);
+  std::vector<uint32_t> block;
+  block.reserve(kBlock + 1);
+  auto count_block = [&] {
+    for (std::size_t t = 0; t < block.size(); ++t) {
+      if (t + kAhead < block.size()) __builtin_prefetch(&count[block[t + kAhead] + 1], 1);
+      ++count[std::size_t{block[t]} + 1];
+    }
+    block.clear();
+  };
+  uint64_t entries = 0;
+  parse_rows(
+      bytes, num_rows, NeighborListMode::kUpper, name,
+      [&](uint64_t i, uint64_t degree) {
+        if (block.size() >= kBlock) count_block();
+        count[i + 1] += degree;
+        entries += degree;
+      },
+      [&](uint64_t, uint32_t j) { block.push_back(j); });
+  count_block();
+  for (uint64_t i = 0; i < num_rows; ++i) count[i + 1] += count[i];
+
   sized_in_parallel(full.neighbors, full.offsets[num_rows]);
   const bool mirror_values = values != nullptr && upper_values.size() == entries;
   if (values != nullptr) values->clear();
   if (mirror_values) sized_in_parallel(*values, full.neighbors.size());
-  // Each stored (i, j) goes to the next free place among row j's first entries: a walk in
-  // random order through the rows of a cloud in no spatial order, so the cursor of the entry
-  // kAhead on is fetched early, and the place it points to kAhead / 2 on.
-  std::vector<uint64_t>& cursor = lower;  // reused: row j's next free place
-  for (uint64_t j = 0; j < num_rows; ++j) cursor[j] = full.offsets[j];
-  for (uint64_t i = 0; i < num_rows; ++i)
-    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k) {
-      if (k + kAhead < entries) __builtin_prefetch(&cursor[stored[k + kAhead]]);
-      if (k + kAhead / 2 < entries) {
-        const uint64_t soon = cursor[stored[k + kAhead / 2]];
+  std::vector<uint64_t> cursor(full.offsets.begin(), full.offsets.end() - 1);  // next free place
+  std::vector<uint32_t> rows_of;  // the row of each entry of the block
+  rows_of.reserve(kBlock + 1);
+  uint64_t next_value = 0;  // upper_values' index of the block's first entry
+  auto put_block = [&] {
+    const std::size_t m = block.size();
+    for (std::size_t t = 0; t < m; ++t) {
+      if (t + kAhead < m) __builtin_prefetch(&cursor[block[t + kAhead]]);
+      if (t + kAhead / 2 < m) {
+        const uint64_t soon = cursor[block[t + kAhead / 2]];
         __builtin_prefetch(&full.neighbors[soon], 1);
         if (mirror_values) __builtin_prefetch(values->data() + soon, 1);
       }
-      const uint64_t at = cursor[stored[k]]++;
-      full.neighbors[at] = static_cast<uint32_t>(i);
-      if (mirror_values) (*values)[at] = upper_values[k];
+      const uint32_t i = rows_of[t], j = block[t];
+      const uint64_t own = cursor[i]++, mirrored = cursor[j]++;
+      full.neighbors[own] = j;
+      full.neighbors[mirrored] = i;
+      if (mirror_values) (*values)[own] = (*values)[mirrored] = upper_values[next_value + t];
     }
+    next_value += m;
+    block.clear();
+    rows_of.clear();
+  };
+  const uint8_t* p = bytes.data();
   for (uint64_t i = 0; i < num_rows; ++i) {
-    uint64_t out = cursor[i];  // = offsets[i] + the count of row i's mirrored entries
-    for (uint64_t k = rows.offsets[i]; k < rows.offsets[i + 1]; ++k, ++out) {
-      full.neighbors[out] = stored[k];
-      if (mirror_values) (*values)[out] = upper_values[k];
+    if (block.size() >= kBlock) put_block();
+    const uint64_t degree = checked_varint(p);
+    uint64_t j = i;
+    for (uint64_t k = 0; k < degree; ++k) {
+      j += 1 + checked_varint(p);
+      block.push_back(static_cast<uint32_t>(j));
+      rows_of.push_back(static_cast<uint32_t>(i));
     }
   }
+  put_block();
   return full;
+}
+
+}  // namespace
+
+NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num_rows,
+                                    NeighborListMode mode, const std::string& name,
+                                    std::span<const uint8_t> upper_values,
+                                    std::vector<uint8_t>* values) {
+  if (mode != NeighborListMode::kFull && mode != NeighborListMode::kUpper)
+    throw_bad_input(name, "graph payload: unknown neighbour list mode " +
+                              std::to_string(static_cast<int>(mode)));
+  // Every row takes at least its degree byte: bounds the allocations by the payload size.
+  if (num_rows > bytes.size())
+    throw_bad_input(name, "graph payload: " + std::to_string(num_rows) + " rows cannot fit in " +
+                              std::to_string(bytes.size()) + " bytes");
+  if (mode == NeighborListMode::kUpper)
+    return decode_upper(bytes, num_rows, name, upper_values, values);
+  NeighborLists rows;
+  rows.offsets.reserve(num_rows + 1);
+  rows.offsets.push_back(0);
+  // At most one entry per byte left after the degrees: room for all of a usual graph's entries
+  // (no regrowth and copy), capped so that a hostile payload cannot reserve much more.
+  rows.neighbors.reserve(std::min<uint64_t>(bytes.size() - num_rows, 32 * num_rows));
+  parse_rows(
+      bytes, num_rows, mode, name,
+      [&](uint64_t i, uint64_t) {  // a row starts: the previous one has ended
+        if (i > 0) rows.offsets.push_back(rows.neighbors.size());
+      },
+      [&](uint64_t, uint32_t j) { rows.neighbors.push_back(j); });
+  if (num_rows > 0) rows.offsets.push_back(rows.neighbors.size());
+  return rows;
 }
 
 }  // namespace splatkit::graph

@@ -31,7 +31,8 @@
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite
 // coordinate (like SpatialIndex). Runs in parallel with TBB; the result does not depend on the
 // thread count. Memory: the result (8 bytes/splat + 4 per row entry; with sharp edges 1 more per
-// entry) plus about 50 bytes/splat transiently (62 with sharp edges).
+// entry, made at the end from one bit per entry) plus about 40 bytes/splat transiently (52 with
+// sharp edges; 28 of them are lent back with LentSplats).
 #pragma once
 
 #include <cstdint>
