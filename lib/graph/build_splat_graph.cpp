@@ -313,8 +313,8 @@ SplatGraph build_splat_graph_in_place(SplatCloud& cloud, const SplatGraphOptions
   g.graph = sphere_overlap_graph(LentSplats{cloud.positions, cloud.radii, cloud.normals},
                                  options.sharp_threshold, kEdgeSharp, sharp);
   g.timings.overlaps = seconds_since(t0);
-  classify_and_clip(cloud.positions, cloud.normals, cloud.radii, options, progress, ellipses,
-                    sharp, g);
+  classify_and_clip(cloud.positions, cloud.normals, cloud.radii, options, progress, ellipses, sharp,
+                    g);
   return g;
 }
 

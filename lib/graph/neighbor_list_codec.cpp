@@ -128,8 +128,7 @@ void append_rows(std::span<const uint64_t> offsets, std::span<const uint32_t> ne
   std::vector<std::size_t> at(chunks + 1, 0);
   for_each_chunk(n, kRowChunk, [&](std::size_t c, std::size_t first, std::size_t last) {
     std::size_t bytes = 0;
-    code_rows(offsets, neighbors, mode, first, last,
-              [&](uint64_t v) { bytes += varint_size(v); });
+    code_rows(offsets, neighbors, mode, first, last, [&](uint64_t v) { bytes += varint_size(v); });
     at[c + 1] = bytes;
   });
   at[0] = out.size();

@@ -145,19 +145,19 @@ void mark_sharp_rows(const NeighborGraph& graph, const SharpEdges& sharp, SharpE
   join_rows(rows, marks);
 }
 
-// The graph in two passes over the cells, so that no rows are stored twice: the row lengths
-// (small neighbours plus the big splats' pairs) give the offsets, then each row is found again
-// and written in place, merged with its pairs. With `sharp`, the marks are set as the rows are
-// written.
 // The sharp entries found while the rows are written, one bit per entry (set with an atomic OR:
 // rows of different tasks share words), and the rows merged with big splats' pairs, which are
 // marked afterwards from the normals in splat order (they may be lent out meanwhile).
 struct SharpFound {
   std::vector<uint64_t> bits;
-  std::vector<uint32_t> rows;      // rows with a sharp entry among the bits
-  std::vector<uint32_t> merged;    // rows to mark afterwards
+  std::vector<uint32_t> rows;    // rows with a sharp entry among the bits
+  std::vector<uint32_t> merged;  // rows to mark afterwards
 };
 
+// The graph in two passes over the cells, so that no rows are stored twice: the row lengths
+// (small neighbours plus the big splats' pairs) give the offsets, then each row is found again
+// and written in place, merged with its pairs. With `sharp`, `found` gets the marks as the rows
+// are written.
 NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
                          SimdLevel simd, const SharpEdges* sharp, SharpFound* found) {
   const std::size_t n = s.n;
@@ -223,8 +223,8 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
             for (uint32_t j : cand.sharp_ids) {  // (always in the row: found by the same test)
               const uint64_t e =
                   at + uint64_t(std::lower_bound(row.begin(), row.end(), j) - row.begin());
-              std::atomic_ref<uint64_t>(bits[e / 64]).fetch_or(uint64_t{1} << (e % 64),
-                                                               std::memory_order_relaxed);
+              std::atomic_ref<uint64_t>(bits[e / 64])
+                  .fetch_or(uint64_t{1} << (e % 64), std::memory_order_relaxed);
             }
             if (!cand.sharp_ids.empty()) sharp_rows[b].push_back(id);
           }
@@ -257,7 +257,7 @@ void expand_marks(const NeighborGraph& graph, SharpFound& found, const SharpEdge
 
 // The lent arrays filled again from the sorted copy (the same floats), which is released as it
 // is read: each sorted array's pages are handed back block by block, then the array is freed.
-// The radii first, so that at most one array of 12 bytes per splat is held twice over a block.
+// One array at a time, so that besides the copy at most one new array is held.
 void give_back(Sorted& s, LentSplats& lent) {
   std::vector<uint64_t>().swap(s.cell_key);
   std::vector<uint32_t>().swap(s.cell_start);
@@ -271,10 +271,12 @@ void give_back(Sorted& s, LentSplats& lent) {
     for (std::vector<float>* v : from) std::vector<float>().swap(*v);
   };
   refill(lent.radii, {&s.r}, [&](std::size_t k) { return s.r[k]; });
-  refill(lent.normals, {&s.nx, &s.ny, &s.nz},
-         [&](std::size_t k) { return Vec3f{s.nx[k], s.ny[k], s.nz[k]}; });
-  refill(lent.positions, {&s.x, &s.y, &s.z},
-         [&](std::size_t k) { return Vec3f{s.x[k], s.y[k], s.z[k]}; });
+  refill(lent.normals, {&s.nx, &s.ny, &s.nz}, [&](std::size_t k) {
+    return Vec3f{s.nx[k], s.ny[k], s.nz[k]};
+  });
+  refill(lent.positions, {&s.x, &s.y, &s.z}, [&](std::size_t k) {
+    return Vec3f{s.x[k], s.y[k], s.z[k]};
+  });
 }
 
 NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,

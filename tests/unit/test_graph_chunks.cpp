@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <functional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "formats/splk.h"

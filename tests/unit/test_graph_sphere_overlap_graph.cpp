@@ -157,8 +157,7 @@ void expect_marks(const std::vector<Vec3f>& c, const std::vector<float>& r,
     std::vector<Vec3f> lc = c, ln = n;
     std::vector<float> lr = r;
     SharpEdgeMarks lent_marks;
-    const NeighborGraph lg =
-        sphere_overlap_graph(LentSplats{lc, lr, ln}, threshold, 4, lent_marks);
+    const NeighborGraph lg = sphere_overlap_graph(LentSplats{lc, lr, ln}, threshold, 4, lent_marks);
     expect_same(lg, expected, "brute force, lent arrays");
     EXPECT_EQ(lent_marks.flags, flags);
     EXPECT_EQ(lent_marks.rows, rows);
