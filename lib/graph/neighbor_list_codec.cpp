@@ -134,6 +134,7 @@ void append_rows(std::span<const uint64_t> offsets, std::span<const uint32_t> ne
   at[0] = out.size();
   for (std::size_t c = 1; c < at.size(); ++c) at[c] += at[c - 1];
   out.reserve(at.back() + room_after);
+  uint64_t released = 0;  // neighbours before this entry are released
   for (std::size_t c0 = 0; c0 < chunks; c0 += kWindow) {
     const std::size_t c1 = std::min(chunks, c0 + kWindow);
     out.resize(at[c1]);
@@ -142,9 +143,10 @@ void append_rows(std::span<const uint64_t> offsets, std::span<const uint32_t> ne
       code_rows(offsets, neighbors, mode, c * kRowChunk, std::min<uint64_t>(n, (c + 1) * kRowChunk),
                 [&](uint64_t v) { p = write_varint(p, v); });
     });
-    if (release)
-      release_pages(neighbors.data(),
-                    neighbors.data() + offsets[std::min<uint64_t>(n, c1 * kRowChunk)]);
+    if (!release) continue;
+    const uint64_t end = offsets[std::min<uint64_t>(n, c1 * kRowChunk)];
+    release_pages(neighbors.data() + released, neighbors.data() + end);
+    released = end;
   }
 }
 
