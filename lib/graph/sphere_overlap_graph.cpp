@@ -248,11 +248,11 @@ void expand_marks(const NeighborGraph& graph, SharpFound& found, const SharpEdge
       marks.flags[e] = (found.bits[e / 64] >> (e % 64)) & 1 ? sharp.flag : 0;
   });
   std::vector<uint64_t>().swap(found.bits);
-  std::vector<std::vector<uint32_t>> rows(1, std::move(found.rows));
+  marks.rows = std::move(found.rows);
   for (uint32_t i : found.merged)
     if (mark_sharp_row(i, graph.row(i), sharp, marks.flags.data() + graph.offsets[i]))
-      rows[0].push_back(i);
-  join_rows(rows, marks);
+      marks.rows.push_back(i);
+  std::sort(marks.rows.begin(), marks.rows.end());
 }
 
 // The lent arrays filled again from the sorted copy (the same floats), which is released as it

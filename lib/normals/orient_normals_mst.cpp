@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "splatkit/for_each_chunk.h"
+
 namespace splatkit {
 
 namespace {
@@ -107,9 +109,9 @@ KnnGraph<Id> build_graph(SpatialIndex& index, std::size_t k) {
   index = SpatialIndex();
   // Which slots stay, decided on the full rows (read-only, in parallel).
   std::vector<uint8_t> keep(n * w);
-  const std::size_t chunks = (n + kRows - 1) / kRows;
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
+  const std::size_t chunks = chunk_count(n, kRows);
+  for_each_chunk(n, kRows, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
       for (std::size_t s = 0; s < w; ++s) {
         const uint32_t j = nb[i * w + s];
         const uint32_t* row = nb.data() + std::size_t{j} * w;
@@ -122,14 +124,14 @@ KnnGraph<Id> build_graph(SpatialIndex& index, std::size_t k) {
   g.shift = static_cast<unsigned>(std::bit_width(w));
   g.start.resize(n + 1);
   std::vector<std::size_t> kept(chunks + 1, 0);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    std::size_t at = c * kRows * w;
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i) {
-      g.start[i] = static_cast<Id>(at - c * kRows * w);
+  for_each_chunk(n, kRows, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    std::size_t at = begin * w;
+    for (std::size_t i = begin; i < end; ++i) {
+      g.start[i] = static_cast<Id>(at - begin * w);
       for (std::size_t s = 0; s < w; ++s)
         if (keep[i * w + s]) nb[at++] = nb[i * w + s];
     }
-    kept[c + 1] = at - c * kRows * w;
+    kept[c + 1] = at - begin * w;
   });
   keep = {};
   for (std::size_t c = 0; c < chunks; ++c) {
@@ -137,9 +139,8 @@ KnnGraph<Id> build_graph(SpatialIndex& index, std::size_t k) {
     kept[c + 1] += kept[c];
   }
   g.start[n] = static_cast<Id>(kept[chunks]);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i)
-      g.start[i] += static_cast<Id>(kept[c]);
+  for_each_chunk(n, kRows, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) g.start[i] += static_cast<Id>(kept[c]);
   });
   nb.shrink(kept[chunks]);
   g.neighbors = std::move(nb);
