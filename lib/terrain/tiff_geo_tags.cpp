@@ -105,6 +105,10 @@ class Parser {
         // Key entries of four shorts after a header of four: 2048 GeographicType, 3072
         // ProjectedCSType (EPSG codes), 1025 RasterType (1 area, 2 point).
         for (std::size_t k = 4; k + 3 < values.size(); k += 4) {
+          // Entries are SHORTs; a directory of other numbers (a hostile file) names no CRS.
+          if (!values[k].is_number_unsigned() || !values[k + 1].is_number_unsigned() ||
+              !values[k + 3].is_number_unsigned())
+            continue;
           const auto key = values[k].get<uint64_t>(), loc = values[k + 1].get<uint64_t>();
           const auto val = values[k + 3].get<uint64_t>();
           if (loc != 0) continue;
