@@ -43,14 +43,21 @@ install_laz_perf() {
     echo "note: npm could not install laz-perf; the laz-perf comparisons will be skipped"
 }
 
+# stage_time WHAT: how long WHAT took since the last call (CI's budget is the sum).
+stage_time() { echo "== $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS; }
+stage_start=0
+stage_time "dependencies"
+
 echo "== Release build and tests =="
 "$top/scripts/build.sh" "$top/build" -DSPLATKIT_BUILD_TESTS=ON
+stage_time "Release build"
 install_laz_perf "$top/build"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
 (cd "$top/build" && ctest --output-on-failure -j "$jobs") | tee "$log" || status=$?
 simd_summary "$log"
+stage_time "Release tests"
 [ "$status" -eq 0 ] || exit "$status"
 
 if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
@@ -58,6 +65,8 @@ if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
   CC=clang CXX=clang++ "$top/scripts/build.sh" "$top/build-asan" -DSPLATKIT_BUILD_TESTS=ON \
     -DSPLATKIT_SANITIZE=ON -DSPLATKIT_BUILD_FUZZERS=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
   install_laz_perf "$top/build-asan"
+  stage_time "ASan build"
   (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
      ctest --output-on-failure -j "$jobs")
+  stage_time "ASan tests"
 fi
