@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -176,8 +177,8 @@ std::vector<uint8_t> encode_neighbor_lists(std::span<const uint64_t> offsets,
 
 namespace {
 
-// Parses and checks every row of the stream: row(i, degree) before its entries, entry(i, j) for
-// each (j in range, never i). Throws on the first malformed byte.
+// Parses and checks every row of the stream: row(i, degree, at) before its entries (at: the row's
+// first byte), entry(i, j) for each (j in range, never i). Throws on the first malformed byte.
 template <class Row, class Entry>
 void parse_rows(std::span<const uint8_t> bytes, uint64_t num_rows, NeighborListMode mode,
                 const std::string& name, Row&& row, Entry&& entry) {
@@ -189,7 +190,7 @@ void parse_rows(std::span<const uint8_t> bytes, uint64_t num_rows, NeighborListM
       in.fail(i, at,
               "degree " + std::to_string(degree) + " exceeds the " + std::to_string(in.left()) +
                   " bytes left");
-    row(i, degree);
+    row(i, degree, at);
     uint64_t prev = 0;
     for (uint64_t k = 0; k < degree; ++k) {
       const std::size_t entry_at = in.pos();
@@ -234,81 +235,136 @@ inline uint64_t checked_varint(const uint8_t*& p) {
   }
 }
 
-constexpr std::size_t kBlock = 4096;  // entries the kUpper decoder gathers before it scatters them
+constexpr std::size_t kDecodeRows = 16384;  // rows per parallel task of the kUpper decoder
+constexpr std::size_t kBlock = 4096;  // entries a task gathers before it visits their rows
 
-// kUpper: the full rows straight from the stream, in two passes over it, so that the stored
-// halves are never held: the first checks it and counts each row's entries (its own, plus one
-// for each earlier row that stores it), the second puts every stored (i, j) at the next free
-// place of row i and of row j. Row j = the i < j that store j, ascending (all of them are met
-// before row j's own entries), then its stored j' > j. The scattered places are visited in
-// blocks of entries, each fetched kAhead entries early: a walk in random order through the rows
-// of a cloud in no spatial order.
+// kUpper: the full rows straight from the stream, so that the stored halves are never held.
+// Row j = the i < j that store j, ascending, then its own stored j' > j.
+//  1. One sequential pass checks the stream, and notes each row's stored degree and where every
+//     task's rows start (byte, and stored entries before them).
+//  2. In parallel, each stored (i, j) counts one more entry in row j's lower part (an atomic
+//     add: a walk in random order through the rows of a cloud in no spatial order, so the
+//     entries are gathered in blocks and each add is fetched kAhead entries early).
+//  3. The row offsets are summed; in parallel again, every stored (i, j) goes into row i's own
+//     part, where its place is known, and at the next free place of row j's lower part (atomic).
+//  4. Each lower part is sorted: the rows of a sequential decode, for any thread count.
 NeighborLists decode_upper(std::span<const uint8_t> bytes, uint64_t num_rows,
                            const std::string& name, std::span<const uint8_t> upper_values,
                            std::vector<uint8_t>* values) {
   NeighborLists full;
-  std::vector<uint64_t>& count = full.offsets;  // row i's entries at i + 1, then their sums
-  count.assign(num_rows + 1, 0);
-  std::vector<uint32_t> block;
-  block.reserve(kBlock + 1);
-  auto count_block = [&] {
-    for (std::size_t t = 0; t < block.size(); ++t) {
-      if (t + kAhead < block.size()) __builtin_prefetch(&count[block[t + kAhead] + 1], 1);
-      ++count[std::size_t{block[t]} + 1];
-    }
-    block.clear();
-  };
+  std::vector<uint64_t>& offsets = full.offsets;  // row i's stored degree at i + 1, then sums
+  offsets.assign(num_rows + 1, 0);
+  std::vector<std::size_t> task_byte;  // where task t's first row starts
+  std::vector<uint64_t> task_entry;    // the stored entries before it
+  task_byte.reserve(chunk_count(num_rows, kDecodeRows));
+  task_entry.reserve(chunk_count(num_rows, kDecodeRows));
   uint64_t entries = 0;
   parse_rows(
       bytes, num_rows, NeighborListMode::kUpper, name,
-      [&](uint64_t i, uint64_t degree) {
-        if (block.size() >= kBlock) count_block();
-        count[i + 1] += degree;
+      [&](uint64_t i, uint64_t degree, std::size_t at) {
+        if (i % kDecodeRows == 0) {
+          task_byte.push_back(at);
+          task_entry.push_back(entries);
+        }
+        offsets[i + 1] = degree;
         entries += degree;
       },
-      [&](uint64_t, uint32_t j) { block.push_back(j); });
-  count_block();
-  for (uint64_t i = 0; i < num_rows; ++i) count[i + 1] += count[i];
+      [](uint64_t, uint32_t) {});
 
-  sized_in_parallel(full.neighbors, full.offsets[num_rows]);
+  // lower[j]: the entries of row j stored by earlier rows; counted, then counted again as they
+  // are placed.
+  std::vector<uint32_t> lower;
+  sized_in_parallel(lower, num_rows);
+  auto bump = [&](uint32_t j) {
+    return std::atomic_ref<uint32_t>(lower[j]).fetch_add(1, std::memory_order_relaxed);
+  };
+  for_each_chunk(num_rows, kDecodeRows, [&](std::size_t t, std::size_t first, std::size_t last) {
+    std::vector<uint32_t> block;
+    block.reserve(kBlock);
+    auto count = [&] {
+      for (std::size_t k = 0; k < block.size(); ++k) {
+        if (k + kAhead < block.size()) __builtin_prefetch(&lower[block[k + kAhead]], 1);
+        bump(block[k]);
+      }
+      block.clear();
+    };
+    const uint8_t* p = bytes.data() + task_byte[t];
+    for (uint64_t i = first; i < last; ++i) {
+      const uint64_t degree = checked_varint(p);
+      if (block.size() + degree > kBlock) count();
+      uint64_t j = i;
+      for (uint64_t k = 0; k < degree; ++k) block.push_back(j += 1 + checked_varint(p));
+    }
+    count();
+  });
+  for (uint64_t i = 0; i < num_rows; ++i) {
+    offsets[i + 1] += offsets[i] + lower[i];
+    lower[i] = 0;
+  }
+
+  sized_in_parallel(full.neighbors, offsets[num_rows]);
   const bool mirror_values = values != nullptr && upper_values.size() == entries;
   if (values != nullptr) values->clear();
   if (mirror_values) sized_in_parallel(*values, full.neighbors.size());
-  std::vector<uint64_t> cursor(full.offsets.begin(), full.offsets.end() - 1);  // next free place
-  std::vector<uint32_t> rows_of;  // the row of each entry of the block
-  rows_of.reserve(kBlock + 1);
-  uint64_t next_value = 0;  // upper_values' index of the block's first entry
-  auto put_block = [&] {
-    const std::size_t m = block.size();
-    for (std::size_t t = 0; t < m; ++t) {
-      if (t + kAhead < m) __builtin_prefetch(&cursor[block[t + kAhead]]);
-      if (t + kAhead / 2 < m) {
-        const uint64_t soon = cursor[block[t + kAhead / 2]];
-        __builtin_prefetch(&full.neighbors[soon], 1);
-        if (mirror_values) __builtin_prefetch(values->data() + soon, 1);
-      }
-      const uint32_t i = rows_of[t], j = block[t];
-      const uint64_t own = cursor[i]++, mirrored = cursor[j]++;
-      full.neighbors[own] = j;
-      full.neighbors[mirrored] = i;
-      if (mirror_values) (*values)[own] = (*values)[mirrored] = upper_values[next_value + t];
-    }
-    next_value += m;
-    block.clear();
-    rows_of.clear();
+  uint32_t* const neighbors = full.neighbors.data();
+  uint8_t* const value = mirror_values ? values->data() : nullptr;
+  struct Mirror {
+    uint32_t i, j;
+    uint64_t own;  // the entry's place in row i
   };
-  const uint8_t* p = bytes.data();
-  for (uint64_t i = 0; i < num_rows; ++i) {
-    if (block.size() >= kBlock) put_block();
-    const uint64_t degree = checked_varint(p);
-    uint64_t j = i;
-    for (uint64_t k = 0; k < degree; ++k) {
-      j += 1 + checked_varint(p);
-      block.push_back(static_cast<uint32_t>(j));
-      rows_of.push_back(static_cast<uint32_t>(i));
+  for_each_chunk(num_rows, kDecodeRows, [&](std::size_t t, std::size_t first, std::size_t last) {
+    std::vector<Mirror> block;
+    block.reserve(kBlock);
+    auto mirror = [&] {
+      for (std::size_t k = 0; k < block.size(); ++k) {
+        if (k + kAhead < block.size()) {
+          __builtin_prefetch(&offsets[block[k + kAhead].j]);
+          __builtin_prefetch(&lower[block[k + kAhead].j], 1);
+        }
+        if (k + kAhead / 2 < block.size()) {
+          const uint32_t soon = block[k + kAhead / 2].j;
+          __builtin_prefetch(&neighbors[offsets[soon] + lower[soon]], 1);
+          if (value) __builtin_prefetch(&value[offsets[soon] + lower[soon]], 1);
+        }
+        const Mirror& m = block[k];
+        const uint64_t at = offsets[m.j] + bump(m.j);
+        neighbors[at] = m.i;
+        if (value) value[at] = value[m.own];
+      }
+      block.clear();
+    };
+    const uint8_t* p = bytes.data() + task_byte[t];
+    uint64_t stored = task_entry[t];  // upper_values' index of the next stored entry
+    for (uint64_t i = first; i < last; ++i) {
+      const uint64_t degree = checked_varint(p);
+      if (block.size() + degree > kBlock) mirror();
+      uint64_t own = offsets[i + 1] - degree, j = i;
+      for (uint64_t k = 0; k < degree; ++k, ++own) {
+        j += 1 + checked_varint(p);
+        neighbors[own] = static_cast<uint32_t>(j);
+        if (value) value[own] = upper_values[stored++];
+        block.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(j), own});
+      }
     }
-  }
-  put_block();
+    mirror();
+  });
+
+  for_each_chunk(num_rows, kDecodeRows, [&](std::size_t, std::size_t first, std::size_t last) {
+    for (std::size_t j = first; j < last; ++j) {
+      const uint64_t b = offsets[j], e = b + lower[j];
+      for (uint64_t k = b + 1; k < e; ++k) {  // insertion sort: a few entries each
+        const uint32_t n = neighbors[k];
+        const uint8_t v = value ? value[k] : 0;
+        uint64_t at = k;
+        for (; at > b && neighbors[at - 1] > n; --at) {
+          neighbors[at] = neighbors[at - 1];
+          if (value) value[at] = value[at - 1];
+        }
+        neighbors[at] = n;
+        if (value) value[at] = v;
+      }
+    }
+  });
   return full;
 }
 
@@ -335,7 +391,7 @@ NeighborLists decode_neighbor_lists(std::span<const uint8_t> bytes, uint64_t num
   rows.neighbors.reserve(std::min<uint64_t>(bytes.size() - num_rows, 32 * num_rows));
   parse_rows(
       bytes, num_rows, mode, name,
-      [&](uint64_t i, uint64_t) {  // a row starts: the previous one has ended
+      [&](uint64_t i, uint64_t, std::size_t) {  // a row starts: the previous one has ended
         if (i > 0) rows.offsets.push_back(rows.neighbors.size());
       },
       [&](uint64_t, uint32_t j) { rows.neighbors.push_back(j); });

@@ -1,5 +1,6 @@
 // neighbor_list_codec: pinned bytes, round trips, and each hostile-input case.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <random>
@@ -166,6 +167,50 @@ TEST(GraphNeighborListCodec, UpperValuesAreMirroredWithTheirEdges) {
     stored.pop_back();
     decode_neighbor_lists(bytes, n, NeighborListMode::kUpper, "g.splk", stored, &values);
     EXPECT_TRUE(values.empty()) << n;
+  }
+}
+
+// The upper-mode decoder runs over tasks of rows in parallel and places the mirrored entries as
+// they come: every thread count gives the original rows and values, here with hubs (rows of
+// thousands of entries, stored by many tasks) beside a random graph over many tasks.
+TEST(GraphNeighborListCodec, UpperDecodeIsTheSameOnAnyThreadCount) {
+  const uint32_t n = 120000;
+  NeighborLists g = random_graph(n, 40, 3);
+  std::vector<std::set<uint32_t>> rows(n);
+  for (uint32_t i = 0; i < n; ++i)
+    rows[i].insert(g.neighbors.begin() + g.offsets[i], g.neighbors.begin() + g.offsets[i + 1]);
+  for (uint32_t hub : {0u, 777u, n - 1}) {
+    for (uint32_t j = 5; j < n; j += 11) {
+      if (j == hub) continue;
+      rows[hub].insert(j);
+      rows[j].insert(hub);
+    }
+  }
+  g = {};
+  g.offsets.push_back(0);
+  for (const auto& r : rows) {
+    g.neighbors.insert(g.neighbors.end(), r.begin(), r.end());
+    g.offsets.push_back(g.neighbors.size());
+  }
+  ASSERT_GT(g.offsets[778] - g.offsets[777], 10000u);
+  const auto bytes = encode_neighbor_lists(g.offsets, g.neighbors, NeighborListMode::kUpper);
+  std::vector<uint8_t> stored;
+  for (uint64_t i = 0; i < n; ++i)
+    for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k)
+      if (g.neighbors[k] > i) stored.push_back(uint8_t((i * 31 + g.neighbors[k]) % 253));
+  for (int threads : {1, 2, 5}) {
+    std::vector<uint8_t> values;
+    const NeighborLists back = tbb::task_arena(threads).execute([&] {
+      return decode_neighbor_lists(bytes, n, NeighborListMode::kUpper, "g.splk", stored, &values);
+    });
+    ASSERT_EQ(back.offsets, g.offsets) << threads;
+    ASSERT_EQ(back.neighbors, g.neighbors) << threads;
+    ASSERT_EQ(values.size(), g.neighbors.size()) << threads;
+    for (uint64_t i = 0; i < n; ++i)
+      for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k) {
+        const uint64_t a = std::min<uint64_t>(i, g.neighbors[k]), b = std::max<uint64_t>(i, g.neighbors[k]);
+        ASSERT_EQ(values[k], uint8_t((a * 31 + b) % 253)) << threads << ": row " << i;
+      }
   }
 }
 
