@@ -227,8 +227,12 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
   // The flag of each stored edge, one byte each, so that the decoder puts it at both ends of
   // the edge in the pass that mirrors the rows (one walk through the rows in random order, not
   // two). Checked below, in the order the errors were always reported.
+  constexpr std::size_t kFlagChunk = std::size_t{1} << 20;  // flags per parallel task
   std::vector<uint8_t> stored_flags(edges);
-  for (uint64_t e = 0; e < edges; ++e) stored_flags[e] = (bits[e / 4] >> (2 * (e % 4))) & 3u;
+  for_each_chunk(edges, kFlagChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t e = begin; e < end; ++e)
+      stored_flags[e] = (bits[e / 4] >> (2 * (e % 4))) & 3u;
+  });
   NeighborLists lists =
       decode_neighbor_lists(stream, num_splats, NeighborListMode::kUpper,
                             name + ", GRPH chunk at payload byte " + std::to_string(stream_pos),
@@ -240,9 +244,15 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
             " edges, the header says " + std::to_string(edges));
   if (edges % 4 != 0 && (bits.back() >> (2 * (edges % 4))) != 0)
     in.fail("unused bits of the last edge-flag byte are set");
-  for (uint64_t e = 0; e < edges; ++e)
-    if (stored_flags[e] == kEdgeCrossing)
-      in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
+  // The first crossing edge that is not sharp, of the first chunk that has one.
+  std::vector<uint64_t> crossing(chunk_count(edges, kFlagChunk), edges);
+  for_each_chunk(edges, kFlagChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    const auto* f = std::find(stored_flags.data() + begin, stored_flags.data() + end,
+                              uint8_t{kEdgeCrossing});
+    if (f != stored_flags.data() + end) crossing[c] = static_cast<uint64_t>(f - stored_flags.data());
+  });
+  for (uint64_t e : crossing)
+    if (e < edges) in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
   return out;
 }
 
