@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit {
 
@@ -50,10 +52,16 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
     throw_bad_input(name, "the cloud has no normals; run estimate-normals first");
   if (!cloud.has_radii())
     throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const std::string fault = splat_fault(cloud, i);
-    if (!fault.empty()) throw_bad_input(name, "splat " + std::to_string(i) + ": " + fault);
-  }
+  // Chunks in parallel, each noting its first bad splat: the first of all is the one reported.
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
+  const std::size_t n = cloud.size();
+  std::vector<std::size_t> first(chunk_count(n, kChunk), n);
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end && first[c] == n; ++i)
+      if (!splat_fault(cloud, i).empty()) first[c] = i;
+  });
+  for (std::size_t i : first)
+    if (i < n) throw_bad_input(name, "splat " + std::to_string(i) + ": " + splat_fault(cloud, i));
 }
 
 }  // namespace splatkit

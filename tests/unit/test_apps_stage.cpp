@@ -185,6 +185,13 @@ TEST(AppsCheckSplats, OneMessagePerFaultNamingFileAndSplat) {
     else
       expect_stage_error([&] { check_splats(cloud, "s.ply"); }, ErrorKind::kBadInput, c.message);
   }
+  // Over many chunks checked in parallel, still the lowest bad index.
+  SplatCloud many = splats(300000);
+  many.radii[290000] = 0;
+  many.radii[70001] = -2;
+  many.normals[200000] = {0, 0, 0};
+  expect_stage_error([&] { check_splats(many, "s.ply"); }, ErrorKind::kBadInput,
+                     "s.ply: splat 70001: radius -2 is negative");
   SplatCloud bare = splats(3);
   bare.radii.clear();
   expect_stage_error([&] { check_splats(bare, "s.ply"); }, ErrorKind::kBadInput,
