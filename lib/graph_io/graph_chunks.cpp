@@ -244,15 +244,10 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
             " edges, the header says " + std::to_string(edges));
   if (edges % 4 != 0 && (bits.back() >> (2 * (edges % 4))) != 0)
     in.fail("unused bits of the last edge-flag byte are set");
-  // The first crossing edge that is not sharp, of the first chunk that has one.
-  std::vector<uint64_t> crossing(chunk_count(edges, kFlagChunk), edges);
-  for_each_chunk(edges, kFlagChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    const auto* f = std::find(stored_flags.data() + begin, stored_flags.data() + end,
-                              uint8_t{kEdgeCrossing});
-    if (f != stored_flags.data() + end) crossing[c] = static_cast<uint64_t>(f - stored_flags.data());
-  });
-  for (uint64_t e : crossing)
-    if (e < edges) in.fail("edge " + std::to_string(e) + " crosses but is not sharp");
+  // The first crossing edge that is not sharp.
+  const std::size_t crossing = first_in_chunks(
+      edges, kFlagChunk, [&](std::size_t e) { return stored_flags[e] == kEdgeCrossing; });
+  if (crossing < edges) in.fail("edge " + std::to_string(crossing) + " crosses but is not sharp");
   return out;
 }
 

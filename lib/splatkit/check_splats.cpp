@@ -53,15 +53,10 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
   if (!cloud.has_radii())
     throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
   // Chunks in parallel, each noting its first bad splat: the first of all is the one reported.
-  constexpr std::size_t kChunk = std::size_t{1} << 16;
   const std::size_t n = cloud.size();
-  std::vector<std::size_t> first(chunk_count(n, kChunk), n);
-  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end && first[c] == n; ++i)
-      if (!splat_fault(cloud, i).empty()) first[c] = i;
-  });
-  for (std::size_t i : first)
-    if (i < n) throw_bad_input(name, "splat " + std::to_string(i) + ": " + splat_fault(cloud, i));
+  const std::size_t bad = first_in_chunks(n, std::size_t{1} << 16,
+                                          [&](std::size_t i) { return !splat_fault(cloud, i).empty(); });
+  if (bad < n) throw_bad_input(name, "splat " + std::to_string(bad) + ": " + splat_fault(cloud, bad));
 }
 
 }  // namespace splatkit

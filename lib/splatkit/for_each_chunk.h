@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <vector>
 
 namespace splatkit {
 
@@ -18,6 +19,23 @@ template <class Fn>
 void for_each_chunk(std::size_t n, std::size_t chunk, Fn&& fn) {
   tbb::parallel_for(std::size_t{0}, chunk_count(n, chunk),
                     [&](std::size_t c) { fn(c, c * chunk, std::min(n, (c + 1) * chunk)); });
+}
+
+// The lowest index i in [0, n) with pred(i), or n if none: chunks in parallel, each stopping at
+// its first hit.
+template <class Pred>
+std::size_t first_in_chunks(std::size_t n, std::size_t chunk, Pred&& pred) {
+  std::vector<std::size_t> first(chunk_count(n, chunk), n);
+  for_each_chunk(n, chunk, [&](std::size_t c, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (pred(i)) {
+        first[c] = i;
+        return;
+      }
+  });
+  for (std::size_t i : first)
+    if (i < n) return i;
+  return n;
 }
 
 }  // namespace splatkit
