@@ -230,8 +230,7 @@ DecodedGraph decode_graph_chunk(const RawChunk& chunk, uint64_t num_splats,
   constexpr std::size_t kFlagChunk = std::size_t{1} << 20;  // flags per parallel task
   std::vector<uint8_t> stored_flags(edges);
   for_each_chunk(edges, kFlagChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e)
-      stored_flags[e] = (bits[e / 4] >> (2 * (e % 4))) & 3u;
+    for (std::size_t e = begin; e < end; ++e) stored_flags[e] = (bits[e / 4] >> (2 * (e % 4))) & 3u;
   });
   NeighborLists lists =
       decode_neighbor_lists(stream, num_splats, NeighborListMode::kUpper,

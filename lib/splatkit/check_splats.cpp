@@ -54,9 +54,10 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
     throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
   // Chunks in parallel, each noting its first bad splat: the first of all is the one reported.
   const std::size_t n = cloud.size();
-  const std::size_t bad = first_in_chunks(n, std::size_t{1} << 16,
-                                          [&](std::size_t i) { return !splat_fault(cloud, i).empty(); });
-  if (bad < n) throw_bad_input(name, "splat " + std::to_string(bad) + ": " + splat_fault(cloud, bad));
+  const std::size_t bad = first_in_chunks(
+      n, std::size_t{1} << 16, [&](std::size_t i) { return !splat_fault(cloud, i).empty(); });
+  if (bad < n)
+    throw_bad_input(name, "splat " + std::to_string(bad) + ": " + splat_fault(cloud, bad));
 }
 
 }  // namespace splatkit
