@@ -16,6 +16,8 @@
 
 #include "splatkit/crc32c.h"
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit {
 namespace {
@@ -271,7 +273,8 @@ void put_extra(PayloadSink& sink, const ExtraAttribute& e) {
     for (std::size_t i = 0; i < values.size(); i += per_block) {
       std::size_t k = std::min(per_block, values.size() - i);
       block.resize(k * sizeof(T));
-      for (std::size_t j = 0; j < k; ++j) store_value<T>(block.data() + j * sizeof(T), values[i + j]);
+      for (std::size_t j = 0; j < k; ++j)
+        store_value<T>(block.data() + j * sizeof(T), values[i + j]);
       sink.put(block.data(), block.size());
     }
   });
@@ -424,7 +427,12 @@ class Payload {
     using T = typename Vector::value_type;
     check_fits(count, sizeof(T), what);
     v.clear();
-    if (in_.size_hint()) v.reserve(static_cast<std::size_t>(count));  // checked against the file
+    if (in_.size_hint()) {  // count is checked against the file: one read into mapped pages
+      sized_in_parallel(v, static_cast<std::size_t>(count));
+      read(v.data(), v.size() * sizeof(T), what);
+      if constexpr (!kLittleEndianHost) swap_values(v.data(), v.size() * sizeof(T), width);
+      return;
+    }
     const std::size_t per_step = std::max<std::size_t>(1, kStep / sizeof(T));
     while (v.size() < count) {
       std::size_t old = v.size();
@@ -619,7 +627,8 @@ void read_extra(Payload& p, const Column& col, uint64_t n, SplatCloud& c) {
       p.read(block.data(), block.size(), what);
       e.values.resize(at + k);
       const std::span<T> values = e.values.as<T>();
-      for (std::size_t j = 0; j < k; ++j) values[at + j] = load_value<T>(block.data() + j * sizeof(T));
+      for (std::size_t j = 0; j < k; ++j)
+        values[at + j] = load_value<T>(block.data() + j * sizeof(T));
     }
   });
   c.extras.push_back(std::move(e));
@@ -683,11 +692,15 @@ void read_splt(Payload& p, SplatCloud& c) {
     check_finite(p, viewpoint, "viewpoint");
     c.viewpoint = viewpoint;
   }
-  for (std::size_t i = 0; i < c.positions.size(); ++i) {
-    const Vec3f& q = c.positions[i];
-    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-      p.fail("point " + std::to_string(i) + " has a non-finite position (" + std::to_string(q.x) +
-             ", " + std::to_string(q.y) + ", " + std::to_string(q.z) + ")");
+  const std::size_t bad =
+      first_in_chunks(c.positions.size(), std::size_t{1} << 16, [&](std::size_t i) {
+        const Vec3f& q = c.positions[i];
+        return !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z);
+      });
+  if (bad < c.positions.size()) {
+    const Vec3f& q = c.positions[bad];
+    p.fail("point " + std::to_string(bad) + " has a non-finite position (" + std::to_string(q.x) +
+           ", " + std::to_string(q.y) + ", " + std::to_string(q.z) + ")");
   }
 }
 

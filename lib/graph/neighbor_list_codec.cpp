@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "graph/release_pages.h"
-#include "graph/sized_in_parallel.h"
+#include "splatkit/sized_in_parallel.h"
 #include "graph/varint.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"

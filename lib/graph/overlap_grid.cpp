@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "graph/sized_in_parallel.h"
+#include "splatkit/sized_in_parallel.h"
 #include "splatkit/for_each_chunk.h"
 
 namespace splatkit::graph::overlap {

@@ -16,7 +16,7 @@
 #include "graph/overlap_candidates.h"
 #include "graph/overlap_grid.h"
 #include "graph/release_pages.h"
-#include "graph/sized_in_parallel.h"
+#include "splatkit/sized_in_parallel.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
 

@@ -1,5 +1,5 @@
 // sized_in_parallel: v.resize(size) for a new, large vector, with its pages mapped in parallel
-// first. Shared by sphere_overlap_graph's grid and driver.
+// first. Shared by the graph builder, the GRPH decoder and the .splk reader.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -13,14 +13,14 @@
 #include <cstdint>
 #include <vector>
 
-namespace splatkit::graph {
+namespace splatkit {
 
 // v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first (as huge
 // pages where it gives them), so the zeroing in resize does not fault them in one at a time on
 // one thread (a fresh page costs more than writing it; the arrays here are tens of MB). The
 // madvise calls are hints only: what stays unmapped is faulted in on first use.
-template <class T>
-inline void sized_in_parallel(std::vector<T>& v, std::size_t size) {
+template <class Vector>  // std::vector or std::basic_string
+inline void sized_in_parallel(Vector& v, std::size_t size) {
   v.reserve(size);
 #if defined(MADV_POPULATE_WRITE)
   constexpr std::size_t kPage = 4096, kBytes = std::size_t{1} << 22;  // per madvise call
@@ -43,4 +43,4 @@ inline void sized_in_parallel(std::vector<T>& v, std::size_t size) {
   v.resize(size);
 }
 
-}  // namespace splatkit::graph
+}  // namespace splatkit
