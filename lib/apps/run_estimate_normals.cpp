@@ -45,6 +45,7 @@ NormalOptions normal_options(const EstimateNormalsOptions& o) {
     throw_usage("--radius must be cover or mean-knn, got '" + o.radius + "'");
   if (o.splat != "circle" && o.splat != "ellipse")
     throw_usage("--splat must be circle or ellipse, got '" + o.splat + "'");
+  n.spatial_order = !o.keep_order;
   n.radius_rule = o.radius == "mean-knn" ? RadiusRule::kMeanKnn : RadiusRule::kCover;
   n.ellipses = o.splat == "ellipse";
   if (n.ellipses && n.radius_rule != RadiusRule::kCover)
@@ -64,7 +65,8 @@ nlohmann::json provenance_options(const NormalOptions& o) {
                       {"fit_centres", o.fit_centres},
                       {"method", method_name(o.method)},
                       {"orient", orientation_name(o.orient)},
-                      {"keep_duplicates", o.keep_duplicates}};
+                      {"keep_duplicates", o.keep_duplicates},
+                      {"order", o.spatial_order ? "spatial" : "input"}};
   if (o.viewpoint) j["viewpoint"] = *o.viewpoint;
   return j;
 }
@@ -88,8 +90,10 @@ OutlierOptions parse_outlier_pass(const std::string& text, const std::string& wh
   const std::size_t colon = text.find(':');
   const std::string rule = text.substr(0, colon);
   OutlierOptions o;
-  if (rule == "sor") o.rule = OutlierRule::kStatistical;
-  else if (rule == "radius") o.rule = OutlierRule::kRadius;
+  if (rule == "sor")
+    o.rule = OutlierRule::kStatistical;
+  else if (rule == "radius")
+    o.rule = OutlierRule::kRadius;
   else
     throw_usage(
         "--outliers must be none, sor[:K,SIGMA] or radius[:R,N] (passes joined by +), got '" +

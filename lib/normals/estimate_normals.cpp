@@ -9,10 +9,11 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <span>
 #include <vector>
 
-#include "normals/cover_splat.h"
 #include "normals/bound_radii.h"
+#include "normals/cover_splat.h"
 #include "normals/fill_isolated_radii.h"
 #include "normals/fit_splat_centres.h"
 #include "normals/merge_duplicates.h"
@@ -239,6 +240,17 @@ void scatter(std::vector<T>& v, const std::vector<uint32_t>& order) {
   v = std::move(out);
 }
 
+// The extra attribute's values gathered as `gathered` does.
+void gather_extra(ExtraValues& values, const std::vector<uint32_t>& order) {
+  if (values.empty()) return;
+  visit_scalar_type(values.type(), [&](auto zero) {
+    using T = decltype(zero);
+    const std::span<T> v = values.as<T>();
+    const std::vector<T> out = gathered(std::vector<T>(v.begin(), v.end()), order);
+    std::copy(out.begin(), out.end(), v.begin());
+  });
+}
+
 }  // namespace
 
 NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
@@ -355,6 +367,16 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("orient", [&] { orient(cloud, std::move(index), options, report); });
   }
   timed("reorder", [&] {
+    if (options.spatial_order) {  // the rest follows the splats into the tree's order
+      if (!cloud.colors.empty()) cloud.colors = gathered(cloud.colors, order);
+      for (ExtraAttribute& extra : cloud.extras) gather_extra(extra.values, order);
+      if (!cloud.face_indices.empty()) {
+        std::vector<uint32_t> place(n);
+        for (std::size_t t = 0; t < n; ++t) place[order[t]] = static_cast<uint32_t>(t);
+        for (uint32_t& v : cloud.face_indices) v = place[v];
+      }
+      return;
+    }
     for (auto* v : {&cloud.positions, &cloud.normals, &cloud.axes}) scatter(*v, order);
     for (auto* v : {&cloud.radii, &cloud.minor_radii}) scatter(*v, order);
   });

@@ -94,6 +94,16 @@ grep -q '"estimate-normals"' "$WORK/meta.json" && pass || fail "no provenance in
 "$EN" -q "$WORK/torus.ply" "$WORK/t2.splk" --orient none --threads 2
 cmp -s "$WORK/t1.splk" "$WORK/t2.splk" && pass || fail "--threads 1 and 2 differ"
 
+# Output order: spatial by default (the same points, rows moved), the input's with --keep-order.
+"$EN" -q "$WORK/torus.ply" "$WORK/keep.splk" --orient none --keep-order
+"$EN" -q "$WORK/torus.ply" "$WORK/spatial.splk" --orient none
+for f in torus.ply keep.splk spatial.splk; do "$BIN/splat-convert" -q "$WORK/$f" "$WORK/${f%.*}.xyz"; done
+xyz() { grep -v "^#" "$1" | cut -d' ' -f1-3; }
+cmp -s <(xyz "$WORK/torus.xyz") <(xyz "$WORK/keep.xyz") && pass || fail "--keep-order moved points"
+cmp -s <(xyz "$WORK/keep.xyz") <(xyz "$WORK/spatial.xyz") && fail "default order is the input's" || pass
+cmp -s <(grep -v "^#" "$WORK/keep.xyz" | sort) <(grep -v "^#" "$WORK/spatial.xyz" | sort) && pass ||
+  fail "spatial order changed the rows, not only their order"
+
 # Real samples from data-samples/, when there are any.
 for sample in "$SRC"/data-samples/*.ply; do
   [ -e "$sample" ] || continue

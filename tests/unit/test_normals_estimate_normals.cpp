@@ -1,5 +1,5 @@
 // estimate_normals: plane and sphere normals, radii, duplicates, degenerate neighbourhoods,
-// n < k, option checks, and byte-identical output for 1 and 2 threads.
+// n < k, option checks, byte-identical output for 1 and 2 threads, and the spatial output order.
 #include "normals/estimate_normals.h"
 
 #include <gtest/gtest.h>
@@ -245,7 +245,9 @@ TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
   all.method = NormalMethod::kRobust;
   all.ellipses = true;
   all.fit_centres = true;
-  for (const NormalOptions& o : {pca_unoriented(), all}) {
+  NormalOptions spatial = all;
+  spatial.spatial_order = true;
+  for (const NormalOptions& o : {pca_unoriented(), all, spatial}) {
     SplatCloud a = one, b = one;
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
@@ -262,6 +264,64 @@ TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
     EXPECT_EQ(a.axes, b.axes);
     EXPECT_EQ(a.minor_radii, b.minor_radii);
   }
+}
+
+// spatial_order: the same splats as in the input's order, permuted together with their colours,
+// extra attributes and the faces that use them.
+TEST(NormalsEstimate, SpatialOrderPermutesEverythingTogether) {
+  ShapeOptions shape;
+  shape.kind = ShapeKind::kTorus;
+  shape.points = 20000;
+  shape.random = true;
+  SplatCloud in = make_shape(shape);
+  in.normals.clear(), in.radii.clear();
+  for (std::size_t i = 0; i < in.size(); i += 9) {  // duplicates, merged first
+    in.positions.push_back(in.positions[i]);
+    in.colors.push_back(in.colors[i]);
+    for (ExtraAttribute& e : in.extras) e.values.push_back(e.values[i]);
+  }
+  ExtraAttribute id("input_index", ScalarType::kUInt32);
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    id.values.push_back(static_cast<double>(i));
+    in.colors[i] = {static_cast<uint16_t>(i % 251), static_cast<uint16_t>(i % 241), 7};
+  }
+  in.extras.push_back(id);
+  for (uint32_t i = 0; i + 2 < 3000; i += 3) {  // triangles over the first points
+    in.face_offsets.push_back(static_cast<uint32_t>(in.face_indices.size()));
+    in.face_indices.insert(in.face_indices.end(), {i, i + 1, i + 2});
+  }
+  in.face_offsets.push_back(static_cast<uint32_t>(in.face_indices.size()));
+  NormalOptions o;
+  o.method = NormalMethod::kRobust;
+  SplatCloud kept = in, moved = in;
+  estimate_normals(kept, o);
+  o.spatial_order = true;
+  estimate_normals(moved, o);
+  ASSERT_EQ(kept.size(), moved.size());
+  ASSERT_LT(kept.size(), in.size());
+  // Where each input point went in `kept` (input order, duplicates merged).
+  const ExtraAttribute* kept_id = kept.find_extra("input_index");
+  const ExtraAttribute* moved_id = moved.find_extra("input_index");
+  ASSERT_TRUE(kept_id && moved_id);
+  std::vector<std::size_t> at(in.size(), kept.size());
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    at[static_cast<std::size_t>(kept_id->values[i])] = i;
+  std::size_t moved_points = 0;
+  for (std::size_t t = 0; t < moved.size(); ++t) {
+    const std::size_t i = at[static_cast<std::size_t>(moved_id->values[t])];
+    ASSERT_LT(i, kept.size());
+    moved_points += i != t;
+    EXPECT_EQ(moved.positions[t], kept.positions[i]);
+    EXPECT_EQ(moved.normals[t], kept.normals[i]);
+    EXPECT_EQ(moved.radii[t], kept.radii[i]);
+    EXPECT_EQ(moved.colors[t], kept.colors[i]);
+    for (std::size_t e = 0; e < kept.extras.size(); ++e)
+      EXPECT_EQ(moved.extras[e].values[t], kept.extras[e].values[i]);
+  }
+  EXPECT_GT(moved_points, moved.size() / 2);  // a shuffled input: most points move
+  ASSERT_EQ(moved.face_indices.size(), kept.face_indices.size());
+  for (std::size_t k = 0; k < kept.face_indices.size(); ++k)
+    EXPECT_EQ(moved.positions[moved.face_indices[k]], kept.positions[kept.face_indices[k]]);
 }
 
 TEST(NormalsEstimate, RejectsBadOptions) {
