@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "qsplat/enclose_spheres.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::qsplat {
 
@@ -210,7 +211,10 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
   std::vector<Point> pts(n);
-  for (uint32_t i = 0; i < n; ++i) pts[i] = Point::make(leaves.positions[i], i);
+  for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i)
+      pts[i] = Point::make(leaves.positions[i], static_cast<uint32_t>(i));
+  });
   std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
   t.level_begin = {0, 1};
   t.first_child = {0};
@@ -218,29 +222,41 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   for (std::size_t l = 0;; ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
     // The shape of the next level follows from the counts alone: place it first, then order the
-    // leaves of every node in parallel.
-    uint32_t next = le;
-    for (uint32_t i = lb; i < le; ++i) {
-      uint32_t sizes[4];
-      const int c = child_sizes(size[i], sizes);
-      t.first_child[i] = c > 0 ? next : 0;
-      t.child_count[i] = static_cast<uint8_t>(c);
-      next += static_cast<uint32_t>(c);
-    }
+    // leaves of every node in parallel. The children of each node follow the earlier nodes'
+    // children: chunks of nodes count theirs, then place them after the earlier chunks'.
+    constexpr std::size_t kNodeChunk = std::size_t{1} << 16;
+    const std::size_t nodes = le - lb;
+    std::vector<uint32_t> chunk_first(chunk_count(nodes, kNodeChunk) + 1, 0);
+    for_each_chunk(nodes, kNodeChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+      uint32_t children = 0;
+      for (std::size_t i = lb + b; i < lb + e; ++i) {
+        uint32_t sizes[4];
+        const int k = child_sizes(size[i], sizes);
+        t.child_count[i] = static_cast<uint8_t>(k);
+        children += static_cast<uint32_t>(k);
+      }
+      chunk_first[c + 1] = children;
+    });
+    chunk_first[0] = le;
+    for (std::size_t c = 1; c < chunk_first.size(); ++c) chunk_first[c] += chunk_first[c - 1];
+    const uint32_t next = chunk_first.back();
     if (next == le) break;
     rb.resize(next);
     size.resize(next);
-    for (uint32_t i = lb; i < le; ++i) {
-      uint32_t sizes[4];
-      const int c = child_sizes(size[i], sizes);
-      uint32_t at = rb[i];
-      for (int k = 0; k < c; ++k) {
-        const uint32_t j = t.first_child[i] + static_cast<uint32_t>(k);
-        rb[j] = at;
-        size[j] = sizes[k];
-        at += sizes[k];
+    for_each_chunk(nodes, kNodeChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+      uint32_t j = chunk_first[c];  // the next child's node
+      for (std::size_t i = lb + b; i < lb + e; ++i) {
+        uint32_t sizes[4];
+        const int k = child_sizes(size[i], sizes);
+        t.first_child[i] = k > 0 ? j : 0;
+        uint32_t at = rb[i];
+        for (int q = 0; q < k; ++q, ++j) {
+          rb[j] = at;
+          size[j] = sizes[q];
+          at += sizes[q];
+        }
       }
-    }
+    });
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
         const uint32_t b = rb[i], e = rb[i] + size[i];
