@@ -231,12 +231,17 @@ TEST(NormalsEstimate, FewerPointsThanK) {
   EXPECT_EQ(estimate_normals(empty, o).output_points, 0u);
 }
 
-TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
+// An i.i.d. random torus of n points, with its exact normals and radii, colours and patch ids.
+SplatCloud random_torus(std::size_t n) {
   ShapeOptions shape;
   shape.kind = ShapeKind::kTorus;
-  shape.points = 30000;
+  shape.points = n;
   shape.random = true;
-  SplatCloud one = make_shape(shape);
+  return make_shape(shape);
+}
+
+TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
+  SplatCloud one = random_torus(30000);
   // Some duplicates, so that the merge runs too.
   for (std::size_t i = 0; i < one.size(); i += 7) one.positions.push_back(one.positions[i]);
   one.colors.clear(), one.extras.clear(), one.normals.clear(), one.radii.clear();
@@ -269,11 +274,7 @@ TEST(NormalsEstimate, IdenticalOutputForAnyThreadCount) {
 // spatial_order: the same splats as in the input's order, permuted together with their colours,
 // extra attributes and the faces that use them.
 TEST(NormalsEstimate, SpatialOrderPermutesEverythingTogether) {
-  ShapeOptions shape;
-  shape.kind = ShapeKind::kTorus;
-  shape.points = 20000;
-  shape.random = true;
-  SplatCloud in = make_shape(shape);
+  SplatCloud in = random_torus(20000);
   in.normals.clear(), in.radii.clear();
   for (std::size_t i = 0; i < in.size(); i += 9) {  // duplicates, merged first
     in.positions.push_back(in.positions[i]);
