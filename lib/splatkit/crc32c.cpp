@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <vector>
@@ -81,8 +82,9 @@ __attribute__((target("sse4.2"))) uint64_t crc32c_hw_chain(uint64_t c, const uns
   return c;
 }
 
-// The register is linear in what it has read: a + b + c read as three streams from registers
-// (c, 0, 0) end as shift(a, |b c|) ^ shift(b', |c|) ^ c'.
+// Three streams over thirds A, B, D of each round: the register is linear in its start and in
+// the bytes read, so reading A from the running register and B and D from 0 gives registers
+// a, b, d whose join shift(a, |B D|) ^ shift(b, |D|) ^ d is the register after A B D.
 __attribute__((target("sse4.2"))) uint32_t crc32c_hw(uint32_t crc, const unsigned char* p,
                                                      std::size_t n) {
   constexpr std::size_t kLane = 8192;  // bytes per stream and round
