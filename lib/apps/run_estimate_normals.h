@@ -3,9 +3,9 @@
 // .splk with the provenance, and optionally a JSON report.
 #pragma once
 
+#include <optional>
 #include <string>
 
-#include <optional>
 #include "apps/stage.h"
 #include "apps/stage_types.h"
 
@@ -27,8 +27,8 @@ struct EstimateNormalsOptions {
   std::string orient;     // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
   std::string viewpoint;  // "x,y,z" in file coordinates, or empty
   std::string format;     // ply | splk, or empty: OUT's extension
-  bool keep_order =
-      false;  // --keep-order: the input's order, not the spatial one (normals.spatial_order)
+  // --keep-order: the input's order, not the spatial one (sets normals.spatial_order).
+  bool keep_order = false;
   // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" joined by '+', each
   // applied to what the previous kept ("sor" alone: the default passes, sor:12,3+sor:6,3.5;
   // normals/remove_outliers.h); the points removed before

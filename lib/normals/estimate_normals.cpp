@@ -10,6 +10,7 @@
 #include <limits>
 #include <mutex>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "normals/bound_radii.h"
@@ -219,10 +220,10 @@ nlohmann::json NormalReport::to_json() const {
 
 namespace {
 
-// v'[t] = v[order[t]].
-template <class T>
-std::vector<T> gathered(const std::vector<T>& v, const std::vector<uint32_t>& order) {
-  std::vector<T> out(order.size());
+// v'[t] = v[order[t]] (v: a vector or a span).
+template <class Values>
+auto gathered(const Values& v, const std::vector<uint32_t>& order) {
+  std::vector<std::remove_cv_t<typename Values::value_type>> out(order.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
     for (std::size_t t = r.begin(); t < r.end(); ++t) out[t] = v[order[t]];
   });
@@ -246,7 +247,7 @@ void gather_extra(ExtraValues& values, const std::vector<uint32_t>& order) {
   visit_scalar_type(values.type(), [&](auto zero) {
     using T = decltype(zero);
     const std::span<T> v = values.as<T>();
-    const std::vector<T> out = gathered(std::vector<T>(v.begin(), v.end()), order);
+    const std::vector<T> out = gathered(v, order);
     std::copy(out.begin(), out.end(), v.begin());
   });
 }
