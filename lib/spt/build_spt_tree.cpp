@@ -91,7 +91,16 @@ void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t 
   if (v.empty()) return;
   std::vector<T> out(v.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = convert(v[keys[i] & mask]);
+    // The reads are scattered: each is asked for a few iterations ahead, so that several
+    // cache misses are in flight at once.
+    constexpr std::size_t kAhead = 64;
+    const std::size_t e = r.end(), ahead = e > kAhead ? e - kAhead : 0;
+    std::size_t i = r.begin();
+    for (; i < ahead; ++i) {
+      __builtin_prefetch(&v[keys[i + kAhead] & mask]);
+      out[i] = convert(v[keys[i] & mask]);
+    }
+    for (; i < e; ++i) out[i] = convert(v[keys[i] & mask]);
   });
   v.swap(out);
 }
@@ -382,21 +391,24 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
     old_index->resize(n);
     for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = static_cast<uint32_t>(keys[i] & mask);
   }
+  // Levels from the keys: where the high bits differ they hold the codes' highest differing
+  // bit; within a run of equal high bits the codes are made again.
+  order.levels.resize(n - 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const uint64_t high = (keys[i] ^ keys[i + 1]) >> index_bits;
+      order.levels[i] = level_of(high != 0 ? high << shift
+                                           : frame.code(s.positions[keys[i] & mask]) ^
+                                                 frame.code(s.positions[keys[i + 1] & mask]),
+                                 0);
+    }
+  });
   auto same = [](const auto& v) { return v; };
   permute_all(s.positions, keys, mask, same);
   permute_all(s.normals, keys, mask, same);
   permute_all(s.radii, keys, mask, same);
   permute_all(s.colors, keys, mask, same);
   std::vector<uint64_t>().swap(keys);
-  order.levels.resize(n - 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
-    uint64_t next = frame.code(s.positions[r.begin()]);
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const uint64_t c = next;
-      next = frame.code(s.positions[i + 1]);
-      order.levels[i] = level_of(c ^ next, 0);
-    }
-  });
   Sorter{s, order.levels, old_index}.clusters(0, n, 1);
   return order;
 }

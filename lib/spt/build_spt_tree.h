@@ -67,7 +67,7 @@ struct SptRecord {
   uint16_t r_min = 0;  // r_min code (set by encode_spt)
   float radius;        // scene units
   float error;         // e_g, monotone up the tree
-  uint32_t parent;     // node number, kNoParent for the root; r_max code after encode_spt
+  uint32_t parent;     // node number, kNoParent for the root
 };
 static_assert(sizeof(SptRecord) == 24);
 

@@ -99,13 +99,19 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   auto parent_r = [&](uint32_t p) -> float {
     return p == kNoParent ? INFINITY : r_of(tree.records[p - n].error);
   };
+  // Compact: each node's key, its r_max code, or 0 when its interval is empty (left out); the
+  // leaves' keys replace their parents, the interior slots' go to an array of their own.
+  std::vector<uint16_t> slot_key;
   if (!o.full) {
-    // Reads r_min only, writes parent only: no two tasks touch one field.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i)
-        tree.leaf_parent[i] = parent_code(tree.leaf_parent[i]);
+        tree.leaf_parent[i] = parent_code(tree.leaf_parent[i]);  // r_min = 0: empty iff 0
     });
-    each_slot([&](std::size_t s) { tree.records[s].parent = parent_code(tree.records[s].parent); });
+    slot_key.resize(interiors);
+    each_slot([&](std::size_t s) {
+      const uint32_t r_max = parent_code(tree.records[s].parent);
+      slot_key[s] = r_max > tree.records[s].r_min ? static_cast<uint16_t>(r_max) : 0;
+    });
   }
 
   // Compact: the leaves' codes, each array made and its source released in turn, so that
@@ -193,7 +199,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       put_u16(e + 6, r.normal);
       put_u16(e + 8, encode_diameter(r.radius > 0 ? 2 * r.radius + 2 * slack : 0.0f, ds));
       put_u16(e + 10, r.r_min);
-      put_u16(e + 12, static_cast<uint16_t>(r.parent));
+      put_u16(e + 12, slot_key[i]);
       put_u16(e + 14, r.rgb565);
     }
   };
@@ -210,9 +216,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
       uint32_t* count = start.data() + c * 65536;
       seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
-        const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
-        const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
-        if (r_max > r_min) ++count[65535 - r_max];
+        if (const uint16_t key = leaf ? leaf_r_max[i] : slot_key[i]) ++count[65535 - key];
       });
     });
     uint64_t sum = 0;
@@ -275,22 +279,55 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab, ++slab_index) {
     const std::size_t hi = std::min(kept, lo + slab);
     unsigned char* const buffer = buffers[slab_index % 2].data();
-    tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
-      std::vector<uint32_t> next;
-      if (!o.full) next.assign(start.begin() + c * 65536, start.begin() + (c + 1) * 65536);
-      std::size_t q = c * piece;
-      seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
-        uint32_t d;
-        if (o.full) {
-          d = dest[q++];
-          if (d == kNoParent) return;
-        } else {
-          const uint32_t r_max = leaf ? leaf_r_max[i] : tree.records[i].parent;
-          const uint32_t r_min = leaf ? 0 : tree.records[i].r_min;
-          if (!(r_max > r_min)) return;
-          d = next[65535 - r_max]++;
+    // Compact: the slab holds the buckets (65535 - r_max code) from b_lo to b_hi; a pass
+    // counts places within those buckets only and skips every other node.
+    std::size_t b_lo = 0, b_hi = 0;
+    if (!o.full && hi > lo) {
+      auto bucket_of = [&](std::size_t d) {  // the last bucket starting at or before d
+        return static_cast<std::size_t>(
+            std::upper_bound(start.begin(), start.begin() + 65536, d) - start.begin() - 1);
+      };
+      b_lo = bucket_of(lo);
+      b_hi = bucket_of(hi - 1);
+    }
+    // Compact: the nodes i0 <= i < i1 of one kind (leaves or interior slots, `key` their keys)
+    // in the slab. Picked by runs without a branch per node (three in four are in other slabs,
+    // unpredictably), then placed in order.
+    auto place_compact = [&](bool leaf, const uint16_t* key, std::size_t i0, std::size_t i1,
+                             uint32_t* next) {
+      constexpr std::size_t kRun = 1024;
+      uint32_t picked[kRun];
+      const std::size_t width = b_hi - b_lo;
+      for (std::size_t r0 = i0; r0 < i1; r0 += kRun) {
+        const std::size_t r1 = std::min(i1, r0 + kRun);
+        std::size_t m = 0;
+        for (std::size_t i = r0; i < r1; ++i) {  // key 0 (left out) is bucket 65535: never in
+          picked[m] = static_cast<uint32_t>(i);
+          m += std::size_t{65535} - key[i] - b_lo <= width;
         }
-        if (d < lo || d >= hi) return;
+        for (std::size_t k = 0; k < m; ++k) {
+          const uint32_t i = picked[k];
+          const uint32_t d = next[65535 - key[i] - b_lo]++;
+          if (d < lo || d >= hi) continue;
+          encode(leaf, i, buffer + (d - lo) * h.entry_bytes);
+          if (keep_map) out.entry_of_node[seq.node(leaf, i)] = d;
+        }
+      }
+    };
+    tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
+      const std::size_t q0 = c * piece, q1 = std::min(total, q0 + piece);
+      if (!o.full) {
+        std::vector<uint32_t> next(start.begin() + c * 65536 + b_lo,
+                                   start.begin() + c * 65536 + b_hi + 1);
+        if (q0 < n) place_compact(true, leaf_r_max.data(), q0, std::min(q1, n), next.data());
+        if (q1 > n)
+          place_compact(false, slot_key.data(), std::max(q0, n) - n, q1 - n, next.data());
+        return;
+      }
+      std::size_t q = q0;
+      seq.each(q0, q1, [&](bool leaf, uint32_t i) {
+        const uint32_t d = dest[q++];
+        if (d == kNoParent || d < lo || d >= hi) return;
         encode(leaf, i, buffer + (d - lo) * h.entry_bytes);
         if (keep_map) out.entry_of_node[seq.node(leaf, i)] = d;
       });

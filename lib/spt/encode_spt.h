@@ -7,9 +7,10 @@
 // the bytes are the same for any thread count.
 //
 // Compact entries are placed by a counting sort on the 16-bit r_max code and written in slabs
-// of half the list each (every slab pass places all nodes but encodes only its own), so
-// the list is never whole in memory when the sink can patch the header's checksum afterwards;
-// otherwise (a pipe) it is one slab. Full-precision lists are sorted and held whole.
+// of a quarter of the list each (a slab's pass reads every node's code but places and encodes
+// only the nodes whose code falls in the slab), two buffers at a time, so the list is never
+// whole in memory when the sink can patch the header's checksum afterwards; otherwise (a pipe)
+// it is one slab. Full-precision lists are sorted and held whole.
 #pragma once
 
 #include <array>
@@ -45,8 +46,8 @@ struct EncodedSpt {
   std::vector<uint32_t> entry_of_node, parent;
 };
 
-// Encodes and writes the list. The tree's r codes are worked out in place (SptRecord::r_min, and
-// parent numbers become r_max codes); compact lists release the tree's leaf_parent and the
+// Encodes and writes the list. The tree's r_min codes are worked out in place (SptRecord::r_min);
+// compact lists turn the leaves' parent numbers into r_max codes and release leaf_parent and the
 // splats' arrays as their codes are made. `keep_map`: fill entry_of_node and parent.
 EncodedSpt encode_spt(SptTree& tree, SptSplats& splats, const EncodeSptOptions& options,
                       const SptSink& sink, bool keep_map = false);
