@@ -91,16 +91,7 @@ void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t 
   if (v.empty()) return;
   std::vector<T> out(v.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1 << 14), [&](const auto& r) {
-    // The reads are scattered: each is asked for a few iterations ahead, so that several
-    // cache misses are in flight at once.
-    constexpr std::size_t kAhead = 64;
-    const std::size_t e = r.end(), ahead = e > kAhead ? e - kAhead : 0;
-    std::size_t i = r.begin();
-    for (; i < ahead; ++i) {
-      __builtin_prefetch(&v[keys[i + kAhead] & mask]);
-      out[i] = convert(v[keys[i] & mask]);
-    }
-    for (; i < e; ++i) out[i] = convert(v[keys[i] & mask]);
+    for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = convert(v[keys[i] & mask]);
   });
   v.swap(out);
 }
