@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <new>
 #include <tuple>
 #include <utility>
@@ -209,37 +210,42 @@ struct Builder {
     cuts.push_back(e);
   }
 
-  // Builds [b, e) into the tree; returns (node number, disc).
-  std::pair<uint32_t, SptDisc> build(Subtree& t, std::size_t b, std::size_t e, uint32_t depth,
-                                     std::vector<std::size_t>& cuts) const {
+  // Builds [b, e) into the tree; returns its node number and constructs its disc at `disc`
+  // (storage that may hold no object yet: a node's child discs are not zeroed first).
+  uint32_t build(Subtree& t, std::size_t b, std::size_t e, uint32_t depth,
+                 std::vector<std::size_t>& cuts, SptDisc* disc) const {
     if (e - b == 1) {
       t.depth = std::max(t.depth, depth);
-      return {static_cast<uint32_t>(b), in.leaf(b)};
+      std::construct_at(disc, in.leaf(b));
+      return static_cast<uint32_t>(b);
     }
     split(b, e, cuts);
     const std::size_t kids = cuts.size() - 1;
     if (kids <= 8) {  // the usual case, without allocating
       std::array<std::size_t, 9> mine;
       std::copy(cuts.begin(), cuts.end(), mine.begin());
-      std::array<SptDisc, 8> discs;
+      alignas(SptDisc) unsigned char storage[8 * sizeof(SptDisc)];
+      SptDisc* const discs = reinterpret_cast<SptDisc*>(storage);
       std::array<uint32_t, 8> ids;
       for (std::size_t k = 0; k < kids; ++k)
-        std::tie(ids[k], discs[k]) = build(t, mine[k], mine[k + 1], depth + 1, cuts);
-      return attach(t, std::span(ids.data(), kids), std::span(discs.data(), kids));
+        ids[k] = build(t, mine[k], mine[k + 1], depth + 1, cuts, discs + k);
+      return attach(t, std::span(ids.data(), kids),
+                    std::span<const SptDisc>(std::launder(discs), kids), disc);
     }
     const std::vector<std::size_t> mine = cuts;
     std::vector<SptDisc> discs(kids);
     std::vector<uint32_t> ids(kids);
     for (std::size_t k = 0; k < kids; ++k)
-      std::tie(ids[k], discs[k]) = build(t, mine[k], mine[k + 1], depth + 1, cuts);
-    return attach(t, ids, discs);
+      ids[k] = build(t, mine[k], mine[k + 1], depth + 1, cuts, &discs[k]);
+    return attach(t, ids, discs, disc);
   }
 
-  // The next interior node of `t` over children `ids` with discs `discs`.
-  std::pair<uint32_t, SptDisc> attach(Subtree& t, std::span<const uint32_t> ids,
-                                      std::span<const SptDisc> discs) const {
+  // The next interior node of `t` over children `ids` with discs `discs`: returns its number and
+  // constructs its disc at `disc`.
+  uint32_t attach(Subtree& t, std::span<const uint32_t> ids, std::span<const SptDisc> discs,
+                  SptDisc* disc) const {
     const uint32_t slot = t.next++;
-    const SptDisc d = fit_spt_disc(discs, color_weight, has_color);
+    const SptDisc& d = *std::construct_at(disc, fit_spt_disc(discs, color_weight, has_color));
     store(t, slot, d);
     if (d.error > 0) {
       t.error_lo = std::min(t.error_lo, d.error);
@@ -256,7 +262,7 @@ struct Builder {
       else
         t.recs[c - in.size()].parent = id;
     }
-    return {id, d};
+    return id;
   }
 
   void store(Subtree& t, uint32_t slot, const SptDisc& d) const {
@@ -460,8 +466,8 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
       batch[j].recs = scratch[j].data();
       batch[j].fulls = o.full ? full_scratch[j].data() : nullptr;
       std::vector<std::size_t> local_cuts;
-      roots[k] =
-          builder.build(batch[j], ranges[k].first, ranges[k].second, range_depth[k], local_cuts);
+      roots[k].first = builder.build(batch[j], ranges[k].first, ranges[k].second,
+                                     range_depth[k], local_cuts, &roots[k].second);
     });
     for (std::size_t j = 0; j < count; ++j) {
       base[j] = sum.next;
@@ -509,7 +515,9 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
         discs.push_back(roots[index].second);
       }
     }
-    return builder.attach(sum, ids, discs);
+    std::pair<uint32_t, SptDisc> node;
+    node.first = builder.attach(sum, ids, discs, &node.second);
+    return node;
   };
   if (!top.empty()) finish_top(finish_top, 0);
   tree.interiors = sum.next;
