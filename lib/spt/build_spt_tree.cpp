@@ -4,11 +4,14 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "formats/spt_codes.h"
@@ -85,56 +88,79 @@ void permute_range(std::vector<T>& v, std::size_t b, const std::vector<uint32_t>
   std::copy(tmp.begin(), tmp.end(), v.begin() + static_cast<std::ptrdiff_t>(b));
 }
 
-// v[i] = v[key[i] & mask], the whole array (the extra memory is one array's).
-template <class T, class Convert>
-void permute_all(std::vector<T>& v, const std::vector<uint64_t>& keys, uint64_t mask,
-                 Convert convert) {
-  if (v.empty()) return;
-  std::vector<T> out(v.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, v.size(), 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = convert(v[keys[i] & mask]);
-  });
-  v.swap(out);
+// A stable counting sort of elements into 256 buckets (one byte each), in fixed blocks in
+// parallel: every block writes after the earlier blocks' share of each bucket, so the places are
+// the serial ones for any thread count, and the same scatter can be repeated for other arrays.
+class BucketPass {
+ public:
+  static constexpr std::size_t kBuckets = 256, kBlock = std::size_t{1} << 16;
+
+  explicit BucketPass(std::vector<uint8_t> buckets)
+      : buckets_(std::move(buckets)),
+        blocks_((buckets_.size() + kBlock - 1) / kBlock),
+        first_(blocks_ * kBuckets) {
+    tbb::parallel_for(std::size_t{0}, blocks_, [&](std::size_t blk) {
+      std::size_t* c = first_.data() + blk * kBuckets;
+      for (std::size_t i = blk * kBlock, e = std::min(buckets_.size(), i + kBlock); i < e; ++i)
+        ++c[buckets_[i]];
+    });
+    std::size_t sum = 0;  // buckets in order, blocks in order within a bucket
+    for (std::size_t d = 0; d < kBuckets; ++d) {
+      start_[d] = sum;
+      for (std::size_t blk = 0; blk < blocks_; ++blk)
+        sum += std::exchange(first_[blk * kBuckets + d], sum);
+    }
+    start_[kBuckets] = sum;
+  }
+  // The places of bucket d: [start(d), start(d + 1)).
+  std::size_t start(std::size_t d) const { return start_[d]; }
+  // f(i, place of element i) for every element, each block's in order on one task.
+  template <class F>
+  void scatter(F&& f) const {
+    tbb::parallel_for(std::size_t{0}, blocks_, [&](std::size_t blk) {
+      std::array<std::size_t, kBuckets> next;
+      std::copy_n(first_.begin() + blk * kBuckets, kBuckets, next.begin());
+      for (std::size_t i = blk * kBlock, e = std::min(buckets_.size(), i + kBlock); i < e; ++i)
+        f(i, next[buckets_[i]]++);
+    });
+  }
+
+ private:
+  std::vector<uint8_t> buckets_;
+  std::size_t blocks_;
+  std::vector<std::size_t> first_;  // per block and bucket: its first place
+  std::array<std::size_t, kBuckets + 1> start_;
+};
+
+// One array's elements in a byte buffer (uninitialised memory shared by the arrays in turn:
+// memcpy makes the objects there).
+template <class T>
+void put_element(unsigned char* buffer, std::size_t i, const T& v) {
+  std::memcpy(buffer + i * sizeof(T), &v, sizeof(T));
+}
+template <class T>
+T element(const unsigned char* buffer, std::size_t i) {
+  T v;
+  std::memcpy(&v, buffer + i * sizeof(T), sizeof(T));
+  return v;
 }
 
-// Sorts keys by their bits from `low` up, keeping the order of keys equal there (least
-// significant digit first, 11 bits a pass; keys that start in index order end in (high bits,
-// index) order). Linear, and cheaper than a comparison sort for millions of keys. Each pass
-// counts and scatters fixed blocks of keys in parallel, every block writing after the earlier
-// blocks' share of each digit, so the result is the serial one for any thread count.
-void radix_sort_high(std::vector<uint64_t>& keys, int low) {
-  constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kBits, kBlock = std::size_t{1} << 16;
-  const std::size_t n = keys.size(), blocks = (n + kBlock - 1) / kBlock;
-  const int passes = (64 - low + kBits - 1) / kBits;
-  std::vector<std::size_t> at(blocks * kBuckets);  // per block and digit: count, then offset
-  std::vector<uint64_t> other(n);
-  for (int p = 0; p < passes; ++p) {
-    const int shift = low + p * kBits;
-    auto digit = [shift](uint64_t k) { return (k >> shift) & (kBuckets - 1); };
-    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t blk) {
-      std::size_t* c = at.data() + blk * kBuckets;
-      std::fill(c, c + kBuckets, std::size_t{0});
-      for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i)
-        ++c[digit(keys[i])];
-    });
-    // Digits in order, blocks in order within a digit; a pass where every key has the same
-    // digit changes nothing.
+// Sorts keys[0, m) by their bits [low, high), keeping the order of keys equal there (least
+// significant digit first, 8 bits a pass, in `scratch`; a pass where every key has the same
+// digit is skipped). For the few thousand keys of a bucket, in cache.
+void radix_sort_bits(uint64_t* keys, uint64_t* scratch, std::size_t m, int low, int high) {
+  constexpr int kBits = 8;
+  std::array<std::size_t, 1 << kBits> at;
+  for (int shift = low; shift < high; shift += kBits) {
+    const int bits = std::min(kBits, high - shift);
+    const uint64_t mask = (uint64_t{1} << bits) - 1;
+    at.fill(0);
+    for (std::size_t i = 0; i < m; ++i) ++at[(keys[i] >> shift) & mask];
+    if (std::find(at.begin(), at.end(), m) != at.end()) continue;
     std::size_t sum = 0;
-    bool one_digit = false;
-    for (std::size_t d = 0; d < kBuckets && !one_digit; ++d) {
-      const std::size_t first = sum;
-      for (std::size_t blk = 0; blk < blocks; ++blk)
-        sum += std::exchange(at[blk * kBuckets + d], sum);
-      one_digit = sum - first == n;
-    }
-    if (one_digit) continue;
-    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t blk) {
-      std::size_t* c = at.data() + blk * kBuckets;
-      for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i)
-        other[c[digit(keys[i])]++] = keys[i];
-    });
-    keys.swap(other);
+    for (std::size_t& a : at) sum += std::exchange(a, sum);
+    for (std::size_t i = 0; i < m; ++i) scratch[at[(keys[i] >> shift) & mask]++] = keys[i];
+    std::copy(scratch, scratch + m, keys);
   }
 }
 
@@ -351,12 +377,50 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   const int index_bits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
   const int shift = index_bits - 1;
   const uint64_t mask = (uint64_t{1} << index_bits) - 1;
+  // Sorted in two steps, so that the splats are never read at random over whole arrays: a
+  // stable pass by the keys' top 8 bits moves the keys, then each array, into 256 buckets (read
+  // in order, written to 256 places), the keys are sorted within their bucket, and each array is
+  // gathered back within its bucket (in cache). A key's index becomes its splat's place in the
+  // buckets; within a bucket the places keep the input's order, so the order is the one
+  // (high bits, index) would give. One buffer holds each array's buckets in turn.
   std::vector<uint64_t> keys(n);
+  std::vector<uint8_t> top(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i)
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
       keys[i] = (frame.code(s.positions[i]) >> shift) << index_bits | i;
+      top[i] = static_cast<uint8_t>(keys[i] >> 56);
+    }
   });
-  radix_sort_high(keys, index_bits);
+  const BucketPass pass(std::move(top));
+  {
+    std::vector<uint64_t> placed(n);
+    pass.scatter([&](std::size_t i, std::size_t at) { placed[at] = (keys[i] & ~mask) | at; });
+    keys.swap(placed);
+  }
+  std::vector<uint32_t> input_index;  // per place in the buckets (for old_index)
+  if (old_index) {
+    input_index.resize(n);
+    pass.scatter([&](std::size_t i, std::size_t at) { input_index[at] = static_cast<uint32_t>(i); });
+  }
+  tbb::parallel_for(std::size_t{0}, BucketPass::kBuckets, [&](std::size_t d) {
+    const std::size_t b = pass.start(d), m = pass.start(d + 1) - b;
+    if (m < 2) return;
+    std::vector<uint64_t> scratch(m);
+    radix_sort_bits(keys.data() + b, scratch.data(), m, index_bits, 56);
+  });
+  const std::unique_ptr<unsigned char[]> buffer(new unsigned char[n * sizeof(Vec3f)]);
+  auto to_buckets = [&](const auto& v) {
+    pass.scatter([&](std::size_t i, std::size_t at) { put_element(buffer.get(), at, v[i]); });
+  };
+  auto gather_back = [&](auto& v) {
+    using T = typename std::remove_reference_t<decltype(v)>::value_type;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+      for (std::size_t d = r.begin(); d < r.end(); ++d)
+        v[d] = element<T>(buffer.get(), keys[d] & mask);
+    });
+  };
+  to_buckets(s.positions);  // the positions by place, for the runs and levels below
+  auto position = [&](uint64_t key) { return element<Vec3f>(buffer.get(), key & mask); };
   if (shift > 0) {
     constexpr std::size_t kBlock = 1 << 16;
     tbb::parallel_for(std::size_t{0}, (n + kBlock - 1) / kBlock, [&](std::size_t blk) {
@@ -373,10 +437,8 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
         while (j < n && keys[j] >> index_bits == high) ++j;
         if (j - i > 1) {
           run.clear();
-          for (std::size_t k = i; k < j; ++k) {
-            const uint32_t at = static_cast<uint32_t>(keys[k] & mask);
-            run.push_back({frame.code(s.positions[at]), at});
-          }
+          for (std::size_t k = i; k < j; ++k)
+            run.push_back({frame.code(position(keys[k])), static_cast<uint32_t>(keys[k] & mask)});
           std::sort(run.begin(), run.end());
           for (std::size_t k = i; k < j; ++k) keys[k] = high << index_bits | run[k - i].second;
         }
@@ -386,7 +448,8 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   }
   if (old_index) {
     old_index->resize(n);
-    for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = static_cast<uint32_t>(keys[i] & mask);
+    for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = input_index[keys[i] & mask];
+    std::vector<uint32_t>().swap(input_index);
   }
   // Levels from the keys: where the high bits differ they hold the codes' highest differing
   // bit; within a run of equal high bits the codes are made again.
@@ -394,17 +457,20 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
       const uint64_t high = (keys[i] ^ keys[i + 1]) >> index_bits;
-      order.levels[i] = level_of(high != 0 ? high << shift
-                                           : frame.code(s.positions[keys[i] & mask]) ^
-                                                 frame.code(s.positions[keys[i + 1] & mask]),
-                                 0);
+      order.levels[i] = level_of(
+          high != 0 ? high << shift : frame.code(position(keys[i])) ^ frame.code(position(keys[i + 1])),
+          0);
     }
   });
-  auto same = [](const auto& v) { return v; };
-  permute_all(s.positions, keys, mask, same);
-  permute_all(s.normals, keys, mask, same);
-  permute_all(s.radii, keys, mask, same);
-  permute_all(s.colors, keys, mask, same);
+  gather_back(s.positions);
+  auto reorder = [&](auto& v) {
+    if (v.empty()) return;
+    to_buckets(v);
+    gather_back(v);
+  };
+  reorder(s.normals);
+  reorder(s.radii);
+  reorder(s.colors);
   std::vector<uint64_t>().swap(keys);
   Sorter{s, order.levels, old_index}.clusters(0, n, 1);
   return order;
