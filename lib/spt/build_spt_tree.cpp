@@ -1,6 +1,7 @@
 #include "spt/build_spt_tree.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -145,22 +146,27 @@ T element(const unsigned char* buffer, std::size_t i) {
   return v;
 }
 
-// Sorts keys[0, m) by their bits [low, high), keeping the order of keys equal there (least
-// significant digit first, 8 bits a pass, in `scratch`; a pass where every key has the same
-// digit is skipped). For the few thousand keys of a bucket, in cache.
-void radix_sort_bits(uint64_t* keys, uint64_t* scratch, std::size_t m, int low, int high) {
-  constexpr int kBits = 8;
-  std::array<std::size_t, 1 << kBits> at;
-  for (int shift = low; shift < high; shift += kBits) {
-    const int bits = std::min(kBits, high - shift);
-    const uint64_t mask = (uint64_t{1} << bits) - 1;
-    at.fill(0);
-    for (std::size_t i = 0; i < m; ++i) ++at[(keys[i] >> shift) & mask];
+// A code and the place of its splat.
+struct Coded {
+  uint64_t code;
+  uint32_t place;
+};
+
+// Sorts v[0, m) by the codes' bits [0, high), keeping the order of equal codes (least
+// significant digit first, 11 bits a pass, through `scratch`; a pass where every code has the
+// same digit is skipped). For the splats of one bucket, mostly in cache.
+void radix_sort_codes(Coded* v, Coded* scratch, std::size_t m, int high) {
+  constexpr int kBits = 11;
+  std::vector<std::size_t> at(std::size_t{1} << kBits);
+  for (int shift = 0; shift < high; shift += kBits) {
+    const uint64_t mask = (uint64_t{1} << std::min(kBits, high - shift)) - 1;
+    std::fill(at.begin(), at.end(), std::size_t{0});
+    for (std::size_t i = 0; i < m; ++i) ++at[(v[i].code >> shift) & mask];
     if (std::find(at.begin(), at.end(), m) != at.end()) continue;
     std::size_t sum = 0;
     for (std::size_t& a : at) sum += std::exchange(a, sum);
-    for (std::size_t i = 0; i < m; ++i) scratch[at[(keys[i] >> shift) & mask]++] = keys[i];
-    std::copy(scratch, scratch + m, keys);
+    for (std::size_t i = 0; i < m; ++i) scratch[at[(v[i].code >> shift) & mask]++] = v[i];
+    std::copy(scratch, scratch + m, v);
   }
 }
 
@@ -371,97 +377,66 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   order.lo = box.lo;
   order.hi = box.hi;
   const MortonFrame frame(box.lo, box.hi);
-  // Keys of 8 bytes: the code's high bits, then the splat's index; runs of equal high bits are
-  // then ordered by the whole code (rare: the cells they tell apart are 2^-13 of the cube or
-  // finer up to 2^24 splats).
-  const int index_bits = std::max(1, static_cast<int>(std::bit_width(n - 1)));
-  const int shift = index_bits - 1;
-  const uint64_t mask = (uint64_t{1} << index_bits) - 1;
-  // Sorted in two steps, so that the splats are never read at random over whole arrays: a
-  // stable pass by the keys' top 8 bits moves the keys, then each array, into 256 buckets (read
-  // in order, written to 256 places), the keys are sorted within their bucket, and each array is
-  // gathered back within its bucket (in cache). A key's index becomes its splat's place in the
-  // buckets; within a bucket the places keep the input's order, so the order is the one
-  // (high bits, index) would give. One buffer holds each array's buckets in turn.
-  std::vector<uint64_t> keys(n);
+  // Sorted by code, ties in input order, in two steps so that the splats are never read at
+  // random over whole arrays: a stable pass by the codes' top 8 bits moves each array into 256
+  // buckets (read in order, written to 256 places), then each bucket's codes are made again from
+  // its positions and sorted (in cache), and each array is gathered back within its bucket. Within
+  // a bucket the places keep the input's order. One buffer holds each array's buckets in turn.
+  constexpr int kCodeBits = 63, kTopBits = 8;
   std::vector<uint8_t> top(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      keys[i] = (frame.code(s.positions[i]) >> shift) << index_bits | i;
-      top[i] = static_cast<uint8_t>(keys[i] >> 56);
-    }
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      top[i] = static_cast<uint8_t>(frame.code(s.positions[i]) >> (kCodeBits - kTopBits));
   });
   const BucketPass pass(std::move(top));
-  {
-    std::vector<uint64_t> placed(n);
-    pass.scatter([&](std::size_t i, std::size_t at) { placed[at] = (keys[i] & ~mask) | at; });
-    keys.swap(placed);
-  }
-  std::vector<uint32_t> input_index;  // per place in the buckets (for old_index)
-  if (old_index) {
-    input_index.resize(n);
-    pass.scatter([&](std::size_t i, std::size_t at) { input_index[at] = static_cast<uint32_t>(i); });
-  }
-  tbb::parallel_for(std::size_t{0}, BucketPass::kBuckets, [&](std::size_t d) {
-    const std::size_t b = pass.start(d), m = pass.start(d + 1) - b;
-    if (m < 2) return;
-    std::vector<uint64_t> scratch(m);
-    radix_sort_bits(keys.data() + b, scratch.data(), m, index_bits, 56);
-  });
   const std::unique_ptr<unsigned char[]> buffer(new unsigned char[n * sizeof(Vec3f)]);
   auto to_buckets = [&](const auto& v) {
     pass.scatter([&](std::size_t i, std::size_t at) { put_element(buffer.get(), at, v[i]); });
   };
+  to_buckets(s.positions);
+  // from[d]: the place of the splat that goes to d; levels within buckets here, between them below.
+  std::vector<uint32_t> from(n);
+  order.levels.resize(n - 1);
+  std::array<uint64_t, BucketPass::kBuckets> first_code{}, last_code{};
+  // Per thread, the largest bucket's codes so far and as much scratch (fresh pages cost more
+  // than sorting in them).
+  tbb::enumerable_thread_specific<std::pair<std::vector<Coded>, std::vector<Coded>>> work;
+  tbb::parallel_for(std::size_t{0}, BucketPass::kBuckets, [&](std::size_t d) {
+    const std::size_t b = pass.start(d), m = pass.start(d + 1) - b;
+    if (m == 0) return;
+    auto& [coded, scratch] = work.local();
+    if (coded.size() < m) {
+      coded.resize(m);
+      scratch.resize(m);
+    }
+    for (std::size_t j = 0; j < m; ++j)
+      coded[j] = {frame.code(element<Vec3f>(buffer.get(), b + j)), static_cast<uint32_t>(b + j)};
+    radix_sort_codes(coded.data(), scratch.data(), m, kCodeBits - kTopBits);
+    for (std::size_t j = 0; j < m; ++j) {
+      from[b + j] = coded[j].place;
+      if (j + 1 < m) order.levels[b + j] = level_of(coded[j].code ^ coded[j + 1].code, 0);
+    }
+    first_code[d] = coded[0].code;
+    last_code[d] = coded[m - 1].code;
+  });
+  for (std::size_t d = 0, previous = 0; d < BucketPass::kBuckets; ++d) {
+    if (pass.start(d + 1) == pass.start(d)) continue;
+    if (pass.start(d) > 0)
+      order.levels[pass.start(d) - 1] = level_of(last_code[previous] ^ first_code[d], 0);
+    previous = d;
+  }
+  if (old_index) {
+    std::vector<uint32_t> input_index(n);  // per place
+    pass.scatter([&](std::size_t i, std::size_t at) { input_index[at] = static_cast<uint32_t>(i); });
+    old_index->resize(n);
+    for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = input_index[from[i]];
+  }
   auto gather_back = [&](auto& v) {
     using T = typename std::remove_reference_t<decltype(v)>::value_type;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-      for (std::size_t d = r.begin(); d < r.end(); ++d)
-        v[d] = element<T>(buffer.get(), keys[d] & mask);
+      for (std::size_t d = r.begin(); d < r.end(); ++d) v[d] = element<T>(buffer.get(), from[d]);
     });
   };
-  to_buckets(s.positions);  // the positions by place, for the runs and levels below
-  auto position = [&](uint64_t key) { return element<Vec3f>(buffer.get(), key & mask); };
-  if (shift > 0) {
-    constexpr std::size_t kBlock = 1 << 16;
-    tbb::parallel_for(std::size_t{0}, (n + kBlock - 1) / kBlock, [&](std::size_t blk) {
-      // Runs that start in this block.
-      const std::size_t end = std::min(n, (blk + 1) * kBlock);
-      std::vector<std::pair<uint64_t, uint32_t>> run;
-      for (std::size_t i = blk * kBlock; i < end;) {
-        const uint64_t high = keys[i] >> index_bits;
-        if (i > 0 && keys[i - 1] >> index_bits == high) {
-          ++i;
-          continue;
-        }
-        std::size_t j = i + 1;
-        while (j < n && keys[j] >> index_bits == high) ++j;
-        if (j - i > 1) {
-          run.clear();
-          for (std::size_t k = i; k < j; ++k)
-            run.push_back({frame.code(position(keys[k])), static_cast<uint32_t>(keys[k] & mask)});
-          std::sort(run.begin(), run.end());
-          for (std::size_t k = i; k < j; ++k) keys[k] = high << index_bits | run[k - i].second;
-        }
-        i = j;
-      }
-    });
-  }
-  if (old_index) {
-    old_index->resize(n);
-    for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = input_index[keys[i] & mask];
-    std::vector<uint32_t>().swap(input_index);
-  }
-  // Levels from the keys: where the high bits differ they hold the codes' highest differing
-  // bit; within a run of equal high bits the codes are made again.
-  order.levels.resize(n - 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n - 1, 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const uint64_t high = (keys[i] ^ keys[i + 1]) >> index_bits;
-      order.levels[i] = level_of(
-          high != 0 ? high << shift : frame.code(position(keys[i])) ^ frame.code(position(keys[i + 1])),
-          0);
-    }
-  });
   gather_back(s.positions);
   auto reorder = [&](auto& v) {
     if (v.empty()) return;
@@ -471,7 +446,6 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   reorder(s.normals);
   reorder(s.radii);
   reorder(s.colors);
-  std::vector<uint64_t>().swap(keys);
   Sorter{s, order.levels, old_index}.clusters(0, n, 1);
   return order;
 }
