@@ -127,13 +127,32 @@ float decode_r(uint16_t code, const LogScale& s) {
   return static_cast<float>(s.value(code - 1));
 }
 
-uint16_t encode_diameter(float d, const LogScale& s) {
+namespace {
+
+// The smallest code from the logarithm's estimate on whose diameter (decoded(code)) is >= d.
+template <class Decoded>
+uint16_t diameter_code(float d, const LogScale& s, Decoded decoded) {
   if (!(d > 0)) return 0;
   const float lo = static_cast<float>(s.lo);
   double pos = std::ceil(s.position(std::max(d, lo)) - 1e-9);
   pos = std::clamp(pos, 0.0, 65534.0);
-  while (pos < 65534 && decode_diameter(static_cast<uint16_t>(1 + pos), s) < d) ++pos;
+  while (pos < 65534 && decoded(static_cast<uint16_t>(1 + pos)) < d) ++pos;
   return static_cast<uint16_t>(1 + pos);
+}
+
+}  // namespace
+
+uint16_t encode_diameter(float d, const LogScale& s) {
+  return diameter_code(d, s, [&](uint16_t code) { return decode_diameter(code, s); });
+}
+
+DiameterCoder::DiameterCoder(const LogScale& s) : scale_(s), decoded_(65536) {
+  for (std::size_t code = 0; code < decoded_.size(); ++code)
+    decoded_[code] = decode_diameter(static_cast<uint16_t>(code), s);
+}
+
+uint16_t DiameterCoder::encode(float d) const {
+  return diameter_code(d, scale_, [&](uint16_t code) { return decoded_[code]; });
 }
 float decode_diameter(uint16_t code, const LogScale& s) {
   if (code == 0) return 0;

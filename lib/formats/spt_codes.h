@@ -18,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <string_view>
+#include <vector>
 
 #include "splatkit/vec3.h"
 
@@ -91,6 +92,17 @@ uint16_t encode_r(float r, const LogScale& s);  // r >= 0 or infinity; s from r_
 float decode_r(uint16_t code, const LogScale& s);
 uint16_t encode_diameter(float d, const LogScale& s);  // d in [0, hi]: decoded >= d; s: d_scale
 float decode_diameter(uint16_t code, const LogScale& s);
+// encode_diameter for many diameters on one scale: the same codes, with every code's decoded
+// diameter worked out once (a writer's millions of splats: no exp per diameter).
+class DiameterCoder {
+ public:
+  explicit DiameterCoder(const LogScale& s);
+  uint16_t encode(float d) const;
+
+ private:
+  LogScale scale_;
+  std::vector<float> decoded_;  // per code
+};
 uint16_t encode_rgb565(const std::array<uint8_t, 3>& c);
 std::array<uint8_t, 3> decode_rgb565(uint16_t c);
 

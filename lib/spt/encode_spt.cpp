@@ -77,7 +77,8 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     h.d_lo = 1;
     h.d_hi = 1.000001f;
   }
-  const LogScale rs = r_scale(h.r_lo, h.r_hi), ds = d_scale(h.d_lo, h.d_hi);
+  const LogScale rs = r_scale(h.r_lo, h.r_hi);
+  const DiameterCoder diameter_code(d_scale(h.d_lo, h.d_hi));
 
   EncodedSpt out;
   if (keep_map) {
@@ -142,7 +143,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     leaf_diameter.resize(n);
     each_leaf([&](std::size_t i) {
       const float radius = in.radii[i];
-      leaf_diameter[i] = encode_diameter(radius > 0 ? 2 * radius + 2 * slack : 0.0f, ds);
+      leaf_diameter[i] = diameter_code.encode(radius > 0 ? 2 * radius + 2 * slack : 0.0f);
     });
     release(in.radii);
     if (has_color) {
@@ -197,7 +198,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       put_u16(e + 2, r.q[1]);
       put_u16(e + 4, r.q[2]);
       put_u16(e + 6, r.normal);
-      put_u16(e + 8, encode_diameter(r.radius > 0 ? 2 * r.radius + 2 * slack : 0.0f, ds));
+      put_u16(e + 8, diameter_code.encode(r.radius > 0 ? 2 * r.radius + 2 * slack : 0.0f));
       put_u16(e + 10, r.r_min);
       put_u16(e + 12, slot_key[i]);
       put_u16(e + 14, r.rgb565);

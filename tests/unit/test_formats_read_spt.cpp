@@ -54,6 +54,21 @@ TEST(SptCodes, RCodesAreMonotoneAndCloseDiametersNeverShrink) {
   EXPECT_TRUE(std::isinf(decode_r(kRInfinity, rs)));
 }
 
+TEST(SptCodes, DiameterCoderGivesEncodeDiametersCodes) {
+  const float lo = 0.003f, hi = 7.5f;
+  const LogScale ds = d_scale(lo, hi);
+  const DiameterCoder coder(ds);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> diameters = {0.0f, -1.0f, NAN, lo / 2, lo, hi, 2 * hi, INFINITY};
+  for (int code = 0; code < 65536; code += 97) {  // decoded values and their neighbours
+    const float d = decode_diameter(static_cast<uint16_t>(code), ds);
+    diameters.insert(diameters.end(), {d, std::nextafter(d, 0.0f), std::nextafter(d, INFINITY)});
+  }
+  for (int i = 0; i < 100000; ++i) diameters.push_back(lo * std::pow(hi / lo, u(rng)));
+  for (float d : diameters) ASSERT_EQ(coder.encode(d), encode_diameter(d, ds)) << d;
+}
+
 SplatCloud small_cloud() {
   ShapeOptions s;
   s.kind = ShapeKind::kTwoSpheres;

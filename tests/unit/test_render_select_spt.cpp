@@ -113,7 +113,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Case{"sphere_mid", 0, 3.0f, false}, Case{"sphere_far_full", 0, 6.0f, true},
                       Case{"torus_mid", 1, 3.5f, false}, Case{"two_spheres_colour", 2, 4.0f, false},
                       Case{"cad_scan", 3, 6.0f, false}),
-    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Case>& p) { return std::string(p.param.name); });
 
 TEST(RenderSpt, DrawnCountFallsWithTheSquareOfTheDistance) {
   ShapeOptions o;
