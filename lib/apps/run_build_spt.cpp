@@ -54,14 +54,19 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   eo.full = o.full;
   eo.origin = cloud.origin;
   // Written as encoded: the list is never whole in memory when the output can be patched (a
-  // file: the checksum goes into the header at the end).
+  // file: encoded in place, the header written at the end).
   OutputFile out(output);
   spt::SptSink sink;
   sink.write = [&](const unsigned char* p, std::size_t k) { out.write(p, k); };
-  if (!out.is_direct())
+  if (!out.is_direct()) {
     sink.patch = [&](uint64_t at, const unsigned char* p, std::size_t k) {
       out.write_at(at, p, k);
     };
+    sink.reserve = [&](uint64_t total) { return out.reserve(total); };
+    sink.fill_at = [&](uint64_t at, std::size_t k, const std::function<void(unsigned char*)>& f) {
+      out.fill_at(at, k, f);
+    };
+  }
   const Clock::time_point t0 = Clock::now();
   const spt::EncodedSpt file = spt::encode_spt(tree, splats, eo, sink);
   const double encode_s = seconds_since(t0);

@@ -1,6 +1,7 @@
 #include "splatkit/output_file.h"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -170,6 +171,7 @@ void OutputFile::flush() {
 
 void OutputFile::write(const void* data, std::size_t n) {
   if (committed_) fail("write after commit");
+  if (reserved_) fail("append after reserve");
   if (n == 0) return;  // data may be null for an empty span
   const char* p = static_cast<const char*>(data);
   written_ += n;
@@ -199,6 +201,42 @@ void OutputFile::write_at(uint64_t offset, const void* data, std::size_t n) {
     }
     off += static_cast<std::size_t>(k);
   }
+}
+
+bool OutputFile::reserve(uint64_t size) {
+  if (committed_) fail("reserve after commit");
+  if (is_direct()) fail("cannot reserve space on a stream");
+  flush();
+  if (size < written_) fail("reserve below the bytes written");
+#if defined(__linux__)
+  // fallocate, not posix_fallocate: where the file system cannot reserve, glibc's fallback
+  // writes zeros over the whole range.
+  if (size > written_ && ::fallocate(fd_, 0, 0, static_cast<off_t>(size)) != 0) {
+    const int e = errno;
+    if (e == EOPNOTSUPP || e == ENOSYS) return false;
+    fail("cannot reserve " + std::to_string(size) + " bytes: " + errno_text(e));
+  }
+  written_ = size;
+  reserved_ = true;
+  return true;
+#else
+  return false;
+#endif
+}
+
+void OutputFile::fill_at(uint64_t offset, std::size_t n,
+                         const std::function<void(unsigned char*)>& f) {
+  if (!reserved_ || committed_) fail("fill without reserve");
+  if (offset > written_ || n > written_ - offset) fail("fill past the reserved bytes");
+  if (n == 0) return;
+  const auto page = static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+  const uint64_t base = offset / page * page;
+  const std::size_t length = n + static_cast<std::size_t>(offset - base);
+  void* m = ::mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, static_cast<off_t>(base));
+  if (m == MAP_FAILED) fail("cannot map the output: " + errno_text(errno));
+  const std::unique_ptr<void, std::function<void(void*)>> unmap(
+      m, [length](void* p) { ::munmap(p, length); });
+  f(static_cast<unsigned char*>(m) + (offset - base));
 }
 
 void OutputFile::commit() {

@@ -28,6 +28,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,6 +50,14 @@ class OutputFile {
   // Overwrites n of the bytes already written, from `offset` on (e.g. a header's checksum known
   // only at the end). Only when !is_direct(): a temporary file can be written anywhere.
   void write_at(uint64_t offset, const void* data, std::size_t n);
+  // Regular temporary files only (!is_direct()): makes the output `size` bytes long (at least
+  // the bytes written so far) with its blocks reserved on disk, so that bytes written through
+  // fill_at cannot fail for want of space. Returns false where the file system reserves no
+  // blocks (the caller writes instead); throws when the disk is full. No write() after it.
+  bool reserve(uint64_t size);
+  // After reserve: f writes bytes [offset, offset + n) of the file in place, through a shared
+  // mapping of them (unmapped when f returns; the pages go to the page cache without a copy).
+  void fill_at(uint64_t offset, std::size_t n, const std::function<void(unsigned char*)>& f);
   uint64_t bytes_written() const { return written_; }
   const std::string& path() const { return path_; }
   bool is_stdout() const { return path_ == "-"; }
@@ -78,6 +87,7 @@ class OutputFile {
   std::size_t used_ = 0;
   uint64_t written_ = 0;
   bool committed_ = false;
+  bool reserved_ = false;
 };
 
 }  // namespace splatkit

@@ -253,15 +253,18 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   write_spt_header(h, header);
   uint32_t crc = crc32c(0, header, 124);
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
-  // When the header can be patched, the list is encoded in slabs, and each slab is written while
-  // the next one is encoded (two buffers of a quarter of the list: the same memory as one buffer
-  // of half of it). Otherwise it is encoded whole, then written.
+  // Compact lists go out in four slabs (each pass places every node but encodes only its slab's),
+  // either encoded in place into the reserved file, a slab's mapping at a time, or, when the
+  // sink cannot reserve, each slab written while the next one is encoded (two buffers of a
+  // quarter of the list: the same memory as one buffer of half of it). Otherwise (full
+  // precision, or a pipe) the list is encoded whole, then written.
+  const bool in_place = patch && sink.reserve && sink.fill_at && sink.reserve(out.bytes);
   const std::size_t slab_count = patch ? 4 : 1;
   const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
   const std::size_t buffer_bytes = std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes;
   std::vector<unsigned char> buffers[2];
-  buffers[0].resize(buffer_bytes);
-  if (patch && kept > slab) buffers[1].resize(buffer_bytes);
+  if (!in_place) buffers[0].resize(buffer_bytes);
+  if (patch && !in_place && kept > slab) buffers[1].resize(buffer_bytes);
   std::future<void> writing;  // of the slab before the one being encoded
   double write_s = 0;         // waiting for the sink
   auto wait_writing = [&] {
@@ -275,11 +278,8 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     sink.write(p, bytes);
     write_s += std::chrono::duration<double>(Clock::now() - t0).count();
   };
-  if (patch) emit(header, kSptHeaderBytes);
-  std::size_t slab_index = 0;
-  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab, ++slab_index) {
-    const std::size_t hi = std::min(kept, lo + slab);
-    unsigned char* const buffer = buffers[slab_index % 2].data();
+  // Encodes entries [lo, hi) of the list into `buffer` and adds them to the checksum.
+  auto encode_slab = [&](std::size_t lo, std::size_t hi, unsigned char* buffer) {
     // Compact: the slab holds the buckets (65535 - r_max code) from b_lo to b_hi; a pass
     // counts places within those buckets only and skips every other node.
     std::size_t b_lo = 0, b_hi = 0;
@@ -333,8 +333,19 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
         if (keep_map) out.entry_of_node[seq.node(leaf, i)] = d;
       });
     });
-    const std::size_t bytes = (hi - lo) * h.entry_bytes;
-    crc = crc32c(crc, buffer, bytes);
+    crc = crc32c(crc, buffer, (hi - lo) * h.entry_bytes);
+  };
+  if (patch && !in_place) emit(header, kSptHeaderBytes);
+  std::size_t slab_index = 0;
+  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab, ++slab_index) {
+    const std::size_t hi = std::min(kept, lo + slab), bytes = (hi - lo) * h.entry_bytes;
+    if (in_place) {
+      sink.fill_at(kSptHeaderBytes + lo * h.entry_bytes, bytes,
+                   [&](unsigned char* p) { encode_slab(lo, hi, p); });
+      continue;
+    }
+    unsigned char* const buffer = buffers[slab_index % 2].data();
+    encode_slab(lo, hi, buffer);
     if (patch) {  // one slab written at a time, in order; the other buffer is then free
       wait_writing();
       writing =
@@ -344,7 +355,9 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   wait_writing();
   h.checksum = crc;
   write_spt_header(h, header);
-  if (patch) {
+  if (in_place) {
+    sink.patch(0, header, kSptHeaderBytes);
+  } else if (patch) {
     sink.patch(124, header + 124, 4);
   } else {
     emit(header, kSptHeaderBytes);

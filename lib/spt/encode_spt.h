@@ -8,9 +8,10 @@
 //
 // Compact entries are placed by a counting sort on the 16-bit r_max code and written in slabs
 // of a quarter of the list each (a slab's pass reads every node's code but places and encodes
-// only the nodes whose code falls in the slab), two buffers at a time, so the list is never
-// whole in memory when the sink can patch the header's checksum afterwards; otherwise (a pipe)
-// it is one slab. Full-precision lists are sorted and held whole.
+// only the nodes whose code falls in the slab): encoded in place into a file reserved up front,
+// or through two buffers, so the list is never whole in memory when the sink can patch the
+// header afterwards; otherwise (a pipe) it is one slab. Full-precision lists are sorted and held
+// whole.
 #pragma once
 
 #include <array>
@@ -30,10 +31,16 @@ struct EncodeSptOptions {
   std::array<double, 3> origin{0, 0, 0};
 };
 
-// Where the bytes go, in order; `patch` (optional) overwrites bytes already written.
+// Where the bytes go, in order; `patch` (optional) overwrites bytes already written. With patch,
+// `reserve(total)` (optional) may make the output `total` bytes long up front (true; false: not
+// possible here), and `fill_at(offset, n, f)` then lets f write bytes [offset, offset + n) in
+// place (a file mapping): the list is encoded straight into the output.
 struct SptSink {
   std::function<void(const unsigned char*, std::size_t)> write;
   std::function<void(uint64_t offset, const unsigned char*, std::size_t)> patch;
+  std::function<bool(uint64_t total)> reserve;
+  std::function<void(uint64_t offset, std::size_t n, const std::function<void(unsigned char*)>& f)>
+      fill_at;
 };
 
 struct EncodedSpt {

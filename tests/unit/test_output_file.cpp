@@ -118,6 +118,35 @@ TEST_F(OutputFileTest, WriteAtRewritesBytesAlreadyWrittenAndRefusesPastThem) {
   EXPECT_EQ(std::count(got.begin(), got.end(), 'x'), 3 << 20);
 }
 
+TEST_F(OutputFileTest, ReservedFileIsFilledInPlaceAndReplacesTheOldOneOnCommit) {
+  write_and_commit(at("filled.bin"), "old contents");
+  OutputFile out(at("filled.bin"));
+  out.write(std::string("head"));
+  if (!out.reserve(10000)) GTEST_SKIP() << "no block reservation on this file system";
+  EXPECT_EQ(out.bytes_written(), 10000u);
+  EXPECT_THROW(out.write(std::string("x")), Error);  // no appending after reserve
+  EXPECT_THROW(out.fill_at(9999, 2, [](unsigned char*) {}), Error);
+  // Unaligned ranges, the last one up to the end; the bytes not filled read as zeros.
+  out.fill_at(4097, 3, [](unsigned char* p) { std::memcpy(p, "abc", 3); });
+  out.fill_at(9990, 10, [](unsigned char* p) { std::memset(p, 'z', 10); });
+  out.write_at(0, "HE", 2);
+  EXPECT_EQ(slurp(at("filled.bin")), "old contents");  // the old file until commit
+  out.commit();
+  const std::string got = slurp(at("filled.bin"));
+  ASSERT_EQ(got.size(), 10000u);
+  EXPECT_EQ(got.substr(0, 4), "HEad");
+  EXPECT_EQ(got.substr(4097, 3), "abc");
+  EXPECT_EQ(got.substr(9990), std::string(10, 'z'));
+  EXPECT_EQ(std::count(got.begin(), got.end(), '\0'), 10000 - 4 - 3 - 10);
+  EXPECT_EQ(names_in(dir_), std::vector<std::string>{"filled.bin"});
+}
+
+TEST_F(OutputFileTest, ReserveIsRefusedForDirectTargets) {
+  OutputFile out("/dev/null");
+  EXPECT_THROW(out.reserve(10), Error);
+  EXPECT_THROW(out.fill_at(0, 1, [](unsigned char*) {}), Error);
+}
+
 TEST_F(OutputFileTest, WriteAtIsRefusedForDirectTargets) {
   OutputFile out("/dev/null");
   out.write(std::string("abc"));
