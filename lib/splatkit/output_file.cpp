@@ -232,7 +232,8 @@ void OutputFile::fill_at(uint64_t offset, std::size_t n,
   const auto page = static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
   const uint64_t base = offset / page * page;
   const std::size_t length = n + static_cast<std::size_t>(offset - base);
-  void* m = ::mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, static_cast<off_t>(base));
+  void* m =
+      ::mmap(nullptr, length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, static_cast<off_t>(base));
   if (m == MAP_FAILED) fail("cannot map the output: " + errno_text(errno));
   const std::unique_ptr<void, std::function<void(void*)>> unmap(
       m, [length](void* p) { ::munmap(p, length); });

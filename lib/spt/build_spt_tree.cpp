@@ -1,7 +1,7 @@
 #include "spt/build_spt_tree.h"
 
-#include <tbb/parallel_for.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -11,7 +11,6 @@
 #include <cstring>
 #include <memory>
 #include <new>
-#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -427,7 +426,8 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   }
   if (old_index) {
     std::vector<uint32_t> input_index(n);  // per place
-    pass.scatter([&](std::size_t i, std::size_t at) { input_index[at] = static_cast<uint32_t>(i); });
+    pass.scatter(
+        [&](std::size_t i, std::size_t at) { input_index[at] = static_cast<uint32_t>(i); });
     old_index->resize(n);
     for (std::size_t i = 0; i < n; ++i) (*old_index)[i] = input_index[from[i]];
   }
@@ -506,8 +506,8 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
       batch[j].recs = scratch[j].data();
       batch[j].fulls = o.full ? full_scratch[j].data() : nullptr;
       std::vector<std::size_t> local_cuts;
-      roots[k].first = builder.build(batch[j], ranges[k].first, ranges[k].second,
-                                     range_depth[k], local_cuts, &roots[k].second);
+      roots[k].first = builder.build(batch[j], ranges[k].first, ranges[k].second, range_depth[k],
+                                     local_cuts, &roots[k].second);
     });
     for (std::size_t j = 0; j < count; ++j) {
       base[j] = sum.next;

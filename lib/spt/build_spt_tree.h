@@ -104,12 +104,12 @@ struct SptTree {
   std::vector<uint32_t> leaf_parent;  // #N node numbers (kNoParent: a single splat is the root);
                                       // r_max codes after encode_spt
   SlotArray<SptRecord> records;
-  SlotArray<SptFullRecord> full_records;             // slots as records, when options.full
-  std::size_t interiors = 0;                         // slots in use
-  uint32_t depth = 0;                                // edges from the root to the deepest leaf
-  Vec3f box_min{0, 0, 0}, step{0, 0, 0};             // frame of the records' position codes
-  float error_lo = INFINITY, error_hi = 0;           // positive errors of interior nodes
-  float radius_lo = INFINITY, radius_hi = 0;         // positive radii of every node
+  SlotArray<SptFullRecord> full_records;      // slots as records, when options.full
+  std::size_t interiors = 0;                  // slots in use
+  uint32_t depth = 0;                         // edges from the root to the deepest leaf
+  Vec3f box_min{0, 0, 0}, step{0, 0, 0};      // frame of the records' position codes
+  float error_lo = INFINITY, error_hi = 0;    // positive errors of interior nodes
+  float radius_lo = INFINITY, radius_hi = 0;  // positive radii of every node
   std::size_t size() const { return leaves + interiors; }
 };
 

@@ -93,7 +93,8 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       for (std::size_t s = r.begin(); s < r.end(); ++s) f(s);
     });
   };
-  each_slot([&](std::size_t s) { tree.records[s].r_min = encode_r(r_of(tree.records[s].error), rs); });
+  each_slot(
+      [&](std::size_t s) { tree.records[s].r_min = encode_r(r_of(tree.records[s].error), rs); });
   auto parent_code = [&](uint32_t p) -> uint32_t {
     return p == kNoParent ? kRInfinity : tree.records[p - n].r_min;
   };
@@ -285,8 +286,8 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     std::size_t b_lo = 0, b_hi = 0;
     if (!o.full && hi > lo) {
       auto bucket_of = [&](std::size_t d) {  // the last bucket starting at or before d
-        return static_cast<std::size_t>(
-            std::upper_bound(start.begin(), start.begin() + 65536, d) - start.begin() - 1);
+        return static_cast<std::size_t>(std::upper_bound(start.begin(), start.begin() + 65536, d) -
+                                        start.begin() - 1);
       };
       b_lo = bucket_of(lo);
       b_hi = bucket_of(hi - 1);
@@ -321,8 +322,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
         std::vector<uint32_t> next(start.begin() + c * 65536 + b_lo,
                                    start.begin() + c * 65536 + b_hi + 1);
         if (q0 < n) place_compact(true, leaf_r_max.data(), q0, std::min(q1, n), next.data());
-        if (q1 > n)
-          place_compact(false, slot_key.data(), std::max(q0, n) - n, q1 - n, next.data());
+        if (q1 > n) place_compact(false, slot_key.data(), std::max(q0, n) - n, q1 - n, next.data());
         return;
       }
       std::size_t q = q0;
