@@ -154,6 +154,7 @@ DiameterCoder::DiameterCoder(const LogScale& s) : scale_(s), decoded_(65536) {
 uint16_t DiameterCoder::encode(float d) const {
   return diameter_code(d, scale_, [&](uint16_t code) { return decoded_[code]; });
 }
+
 float decode_diameter(uint16_t code, const LogScale& s) {
   if (code == 0) return 0;
   return static_cast<float>(s.value(code - 1));

@@ -254,7 +254,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   write_spt_header(h, header);
   uint32_t crc = crc32c(0, header, 124);
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
-  // Compact lists go out in four slabs (each pass places every node but encodes only its slab's),
+  // Compact lists go out in four slabs (each pass places and encodes only its slab's nodes),
   // either encoded in place into the reserved file, a slab's mapping at a time, or, when the
   // sink cannot reserve, each slab written while the next one is encoded (two buffers of a
   // quarter of the list: the same memory as one buffer of half of it). Otherwise (full
