@@ -43,6 +43,14 @@ std::string splat_fault(const SplatCloud& cloud, std::size_t i) {
   return {};
 }
 
+// Whether splat i passes splat_fault's checks of the normal and radius, without its strings: a
+// normal whose squared length is positive and finite has a length that is too (and is finite
+// and not zero).
+bool plain_splat_ok(const SplatCloud& cloud, std::size_t i) {
+  const float s = squared_norm(cloud.normals[i]), r = cloud.radii[i];
+  return s > 0 && std::isfinite(s) && r > 0 && std::isfinite(r);
+}
+
 }  // namespace
 
 void check_splats(const SplatCloud& cloud, const std::string& name) {
@@ -55,7 +63,9 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
   // Chunks in parallel, each noting its first bad splat: the first of all is the one reported.
   const std::size_t n = cloud.size();
   const std::size_t bad = first_in_chunks(
-      n, std::size_t{1} << 16, [&](std::size_t i) { return !splat_fault(cloud, i).empty(); });
+      n, std::size_t{1} << 16, [&, ellipses = cloud.has_ellipses()](std::size_t i) {
+        return !(plain_splat_ok(cloud, i) && !ellipses) && !splat_fault(cloud, i).empty();
+      });
   if (bad < n)
     throw_bad_input(name, "splat " + std::to_string(bad) + ": " + splat_fault(cloud, bad));
 }

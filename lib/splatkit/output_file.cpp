@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "splatkit/error.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit {
 
@@ -237,6 +238,9 @@ void OutputFile::fill_at(uint64_t offset, std::size_t n,
   if (m == MAP_FAILED) fail("cannot map the output: " + errno_text(errno));
   const std::unique_ptr<void, std::function<void(void*)>> unmap(
       m, [length](void* p) { ::munmap(p, length); });
+  // The range's pages mapped in parallel chunks first: faulting them in one at a time as `f`
+  // writes them cost more than the writing (80 ms of 420 at 5M splats in build-spt).
+  map_pages_in_parallel(m, static_cast<unsigned char*>(m) + length);
   f(static_cast<unsigned char*>(m) + (offset - base));
 }
 

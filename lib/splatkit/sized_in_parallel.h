@@ -1,5 +1,6 @@
 // sized_in_parallel: v.resize(size) for a new, large vector, with its pages mapped in parallel
-// first. Shared by the graph builder, the GRPH decoder and the .splk reader.
+// first. Shared by the graph builder, the GRPH decoder and the .splk reader; its page mapping also
+// by the output file's mapped ranges.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -15,6 +16,22 @@
 
 namespace splatkit {
 
+// Maps the whole pages of [begin, end) for writing, in parallel chunks (a hint: what stays
+// unmapped is faulted in on first use). For private memory and shared file mappings alike.
+inline void map_pages_in_parallel([[maybe_unused]] const void* begin,
+                                  [[maybe_unused]] const void* end) {
+#if defined(MADV_POPULATE_WRITE)
+  constexpr std::size_t kPage = 4096, kBytes = std::size_t{1} << 22;  // per madvise call
+  const auto from = (reinterpret_cast<uintptr_t>(begin) + kPage - 1) & ~(kPage - 1);
+  const auto to = reinterpret_cast<uintptr_t>(end) & ~(kPage - 1);
+  if (to <= from) return;
+  tbb::parallel_for(uintptr_t{0}, (to - from + kBytes - 1) / kBytes, [&](uintptr_t c) {
+    const uintptr_t a = from + c * kBytes, b = std::min(to, a + kBytes);
+    madvise(reinterpret_cast<void*>(a), b - a, MADV_POPULATE_WRITE);
+  });
+#endif
+}
+
 // v.resize(size) for a new, large v: the kernel maps the pages in parallel chunks first, so the
 // zeroing in resize does not fault them in one at a time on one thread (a fresh page costs more
 // than writing it; the arrays here are tens of MB). The madvise calls are hints only: what stays
@@ -25,17 +42,7 @@ namespace splatkit {
 template <class Vector>  // std::vector or std::basic_string
 inline void sized_in_parallel(Vector& v, std::size_t size) {
   v.reserve(size);
-#if defined(MADV_POPULATE_WRITE)
-  constexpr std::size_t kPage = 4096, kBytes = std::size_t{1} << 22;  // per madvise call
-  const auto begin = (reinterpret_cast<uintptr_t>(v.data()) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<uintptr_t>(v.data() + size)) & ~(kPage - 1);
-  if (end > begin) {
-    tbb::parallel_for(uintptr_t{0}, (end - begin + kBytes - 1) / kBytes, [&](uintptr_t c) {
-      const uintptr_t from = begin + c * kBytes, to = std::min(end, from + kBytes);
-      madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);
-    });
-  }
-#endif
+  map_pages_in_parallel(v.data(), v.data() + size);
   v.resize(size);
 }
 

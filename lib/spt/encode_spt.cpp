@@ -116,42 +116,34 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     });
   }
 
-  // Compact: the leaves' codes, each array made and its source released in turn, so that
-  // the splats' floats (31 bytes a splat) shrink to 14 bytes of codes without a peak.
+  // Compact: each leaf's codes (position, normal, diameter, colour: 12 bytes, as in its entry)
+  // written over its own position's 12 bytes, in one pass; the normals, radii and colours are
+  // then released. No new array: the splats' floats (31 bytes a splat) shrink to 12 bytes of
+  // codes, and the leaves' r_max codes stay in leaf_parent.
   const bool has_color = !in.colors.empty();
-  std::vector<uint16_t> leaf_normal, leaf_diameter, leaf_rgb, leaf_r_max;
-  std::vector<std::array<uint16_t, 3>> leaf_q;
+  std::vector<Vec3f> leaf_codes;  // the positions' storage, holding codes
+  static_assert(sizeof(Vec3f) == 12);
+  auto leaf_bytes = [&](std::size_t i) {
+    return reinterpret_cast<unsigned char*>(leaf_codes.data()) + 12 * i;
+  };
   if (!o.full) {
-    auto each_leaf = [&](auto&& f) {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) f(i);
-      });
-    };
-    leaf_r_max.resize(n);
-    each_leaf([&](std::size_t i) { leaf_r_max[i] = static_cast<uint16_t>(tree.leaf_parent[i]); });
-    release(tree.leaf_parent);
-    leaf_normal.resize(n);
-    each_leaf([&](std::size_t i) { leaf_normal[i] = encode_normal(in.normals[i]); });
+    leaf_codes = std::move(in.positions);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const Vec3f c = leaf_codes[i];
+        const float radius = in.radii[i];
+        unsigned char* const e = leaf_bytes(i);
+        put_u16(e, encode_position(c.x, h.box_min.x, h.step.x));
+        put_u16(e + 2, encode_position(c.y, h.box_min.y, h.step.y));
+        put_u16(e + 4, encode_position(c.z, h.box_min.z, h.step.z));
+        put_u16(e + 6, encode_normal(in.normals[i]));
+        put_u16(e + 8, diameter_code.encode(radius > 0 ? 2 * radius + 2 * slack : 0.0f));
+        put_u16(e + 10, has_color ? encode_rgb565(in.colors[i]) : 0);
+      }
+    });
     release(in.normals);
-    leaf_q.resize(n);
-    each_leaf([&](std::size_t i) {
-      const Vec3f& c = in.positions[i];
-      leaf_q[i] = {encode_position(c.x, h.box_min.x, h.step.x),
-                   encode_position(c.y, h.box_min.y, h.step.y),
-                   encode_position(c.z, h.box_min.z, h.step.z)};
-    });
-    release(in.positions);
-    leaf_diameter.resize(n);
-    each_leaf([&](std::size_t i) {
-      const float radius = in.radii[i];
-      leaf_diameter[i] = diameter_code.encode(radius > 0 ? 2 * radius + 2 * slack : 0.0f);
-    });
     release(in.radii);
-    if (has_color) {
-      leaf_rgb.resize(n);
-      each_leaf([&](std::size_t i) { leaf_rgb[i] = encode_rgb565(in.colors[i]); });
-      release(in.colors);
-    }
+    release(in.colors);
   }
 
   // One entry's bytes.
@@ -185,14 +177,11 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       return;
     }
     if (leaf) {
-      put_u16(e, leaf_q[i][0]);
-      put_u16(e + 2, leaf_q[i][1]);
-      put_u16(e + 4, leaf_q[i][2]);
-      put_u16(e + 6, leaf_normal[i]);
-      put_u16(e + 8, leaf_diameter[i]);
+      const unsigned char* const codes = leaf_bytes(i);
+      std::memcpy(e, codes, 10);
       put_u16(e + 10, 0);
-      put_u16(e + 12, leaf_r_max[i]);
-      put_u16(e + 14, has_color ? leaf_rgb[i] : 0);
+      put_u16(e + 12, static_cast<uint16_t>(tree.leaf_parent[i]));
+      std::memcpy(e + 14, codes + 10, 2);
     } else {
       const SptRecord& r = tree.records[i];
       put_u16(e, r.q[0]);
@@ -218,7 +207,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     tbb::parallel_for(std::size_t{0}, pieces, [&](std::size_t c) {
       uint32_t* count = start.data() + c * 65536;
       seq.each(c * piece, std::min(total, (c + 1) * piece), [&](bool leaf, uint32_t i) {
-        if (const uint16_t key = leaf ? leaf_r_max[i] : slot_key[i]) ++count[65535 - key];
+        if (const uint32_t key = leaf ? tree.leaf_parent[i] : slot_key[i]) ++count[65535 - key];
       });
     });
     uint64_t sum = 0;
@@ -295,7 +284,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     // Compact: the nodes i0 <= i < i1 of one kind (leaves or interior slots, `key` their keys)
     // in the slab. Picked by runs without a branch per node (three in four are in other slabs,
     // unpredictably), then placed in order.
-    auto place_compact = [&](bool leaf, const uint16_t* key, std::size_t i0, std::size_t i1,
+    auto place_compact = [&](bool leaf, const auto* key, std::size_t i0, std::size_t i1,
                              uint32_t* next) {
       constexpr std::size_t kRun = 1024;
       uint32_t picked[kRun];
@@ -321,7 +310,8 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       if (!o.full) {
         std::vector<uint32_t> next(start.begin() + c * 65536 + b_lo,
                                    start.begin() + c * 65536 + b_hi + 1);
-        if (q0 < n) place_compact(true, leaf_r_max.data(), q0, std::min(q1, n), next.data());
+        if (q0 < n)
+          place_compact(true, tree.leaf_parent.data(), q0, std::min(q1, n), next.data());
         if (q1 > n) place_compact(false, slot_key.data(), std::max(q0, n) - n, q1 - n, next.data());
         return;
       }

@@ -54,8 +54,8 @@ struct EncodedSpt {
 };
 
 // Encodes and writes the list. The tree's r_min codes are worked out in place (SptRecord::r_min);
-// compact lists turn the leaves' parent numbers into r_max codes and release leaf_parent and the
-// splats' arrays as their codes are made. `keep_map`: fill entry_of_node and parent.
+// compact lists turn the leaves' parent numbers into r_max codes, write each leaf's other codes
+// over its position and release the splats' arrays. `keep_map`: fill entry_of_node and parent.
 EncodedSpt encode_spt(SptTree& tree, SptSplats& splats, const EncodeSptOptions& options,
                       const SptSink& sink, bool keep_map = false);
 
