@@ -63,8 +63,8 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
       out.write_at(at, p, k);
     };
     sink.reserve = [&](uint64_t total) { return out.reserve(total); };
-    sink.fill_at = [&](uint64_t at, std::size_t k, const std::function<void(unsigned char*)>& f) {
-      out.fill_at(at, k, f);
+    sink.write_through = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+      out.write_through(at, p, k);
     };
   }
   const Clock::time_point t0 = Clock::now();

@@ -62,8 +62,8 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
     throw_bad_input(name, "the cloud has no radii; run estimate-normals first");
   // Chunks in parallel, each noting its first bad splat: the first of all is the one reported.
   const std::size_t n = cloud.size();
-  const std::size_t bad = first_in_chunks(
-      n, std::size_t{1} << 16, [&, ellipses = cloud.has_ellipses()](std::size_t i) {
+  const std::size_t bad =
+      first_in_chunks(n, std::size_t{1} << 16, [&, ellipses = cloud.has_ellipses()](std::size_t i) {
         return !(plain_splat_ok(cloud, i) && !ellipses) && !splat_fault(cloud, i).empty();
       });
   if (bad < n)

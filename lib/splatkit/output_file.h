@@ -28,7 +28,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -51,13 +50,17 @@ class OutputFile {
   // only at the end). Only when !is_direct(): a temporary file can be written anywhere.
   void write_at(uint64_t offset, const void* data, std::size_t n);
   // Regular temporary files only (!is_direct()): makes the output `size` bytes long (at least
-  // the bytes written so far) with its blocks reserved on disk, so that bytes written through
-  // fill_at cannot fail for want of space. Returns false where the file system reserves no
+  // the bytes written so far) with its blocks reserved on disk, so that bytes written at their
+  // place later cannot fail for want of space. Returns false where the file system reserves no
   // blocks (the caller writes instead); throws when the disk is full. No write() after it.
   bool reserve(uint64_t size);
-  // After reserve: f writes bytes [offset, offset + n) of the file in place, through a shared
-  // mapping of them (unmapped when f returns; the pages go to the page cache without a copy).
-  void fill_at(uint64_t offset, std::size_t n, const std::function<void(unsigned char*)>& f);
+  // After reserve: write_at for a large range whose bytes are final, around the page cache where
+  // the file system allows it (O_DIRECT): the whole blocks of kBlock bytes go straight to the
+  // disk when `offset` and `data` are aligned to kBlock, the rest through write_at. Filling the
+  // file cache costs more than the disk's bandwidth on some machines (virtual ones whose fresh
+  // memory is slow to map). Safe to call from one thread while no other writes.
+  static constexpr std::size_t kBlock = 4096;
+  void write_through(uint64_t offset, const void* data, std::size_t n);
   uint64_t bytes_written() const { return written_; }
   const std::string& path() const { return path_; }
   bool is_stdout() const { return path_ == "-"; }
@@ -88,6 +91,8 @@ class OutputFile {
   uint64_t written_ = 0;
   bool committed_ = false;
   bool reserved_ = false;
+  int uncached_fd_ = -1;  // the temporary file again, opened with O_DIRECT
+  bool uncached_tried_ = false;
 };
 
 }  // namespace splatkit

@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "formats/spt_codes.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::spt {
 
@@ -382,7 +383,8 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   // its positions and sorted (in cache), and each array is gathered back within its bucket. Within
   // a bucket the places keep the input's order. One buffer holds each array's buckets in turn.
   constexpr int kCodeBits = 63, kTopBits = 8;
-  std::vector<uint8_t> top(n);
+  std::vector<uint8_t> top;
+  sized_in_parallel(top, n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       top[i] = static_cast<uint8_t>(frame.code(s.positions[i]) >> (kCodeBits - kTopBits));
@@ -394,8 +396,9 @@ SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   };
   to_buckets(s.positions);
   // from[d]: the place of the splat that goes to d; levels within buckets here, between them below.
-  std::vector<uint32_t> from(n);
-  order.levels.resize(n - 1);
+  std::vector<uint32_t> from;
+  sized_in_parallel(from, n);
+  sized_in_parallel(order.levels, n - 1);
   std::array<uint64_t, BucketPass::kBuckets> first_code{}, last_code{};
   // Per thread, the largest bucket's codes so far and as much scratch (fresh pages cost more
   // than sorting in them).
@@ -454,7 +457,10 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   const std::size_t n = in.size();
   SptTree tree;
   tree.leaves = n;
-  tree.leaf_parent.assign(n, kNoParent);
+  sized_in_parallel(tree.leaf_parent, n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+    std::fill(tree.leaf_parent.begin() + r.begin(), tree.leaf_parent.begin() + r.end(), kNoParent);
+  });
   tree.box_min = order.lo;
   tree.step = {(order.hi.x - order.lo.x) / 65535.0f, (order.hi.y - order.lo.y) / 65535.0f,
                (order.hi.z - order.lo.z) / 65535.0f};

@@ -9,10 +9,13 @@
 #include <cstring>
 #include <future>
 #include <limits>
+#include <memory>
+#include <new>
 #include <utility>
 
 #include "formats/spt_codes.h"
 #include "splatkit/crc32c.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::spt {
 
@@ -109,7 +112,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       for (std::size_t i = r.begin(); i < r.end(); ++i)
         tree.leaf_parent[i] = parent_code(tree.leaf_parent[i]);  // r_min = 0: empty iff 0
     });
-    slot_key.resize(interiors);
+    sized_in_parallel(slot_key, interiors);
     each_slot([&](std::size_t s) {
       const uint32_t r_max = parent_code(tree.records[s].parent);
       slot_key[s] = r_max > tree.records[s].r_min ? static_cast<uint16_t>(r_max) : 0;
@@ -244,17 +247,43 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
   uint32_t crc = crc32c(0, header, 124);
   const bool patch = static_cast<bool>(sink.patch) && !o.full;
   // Compact lists go out in four slabs (each pass places and encodes only its slab's nodes),
-  // either encoded in place into the reserved file, a slab's mapping at a time, or, when the
-  // sink cannot reserve, each slab written while the next one is encoded (two buffers of a
-  // quarter of the list: the same memory as one buffer of half of it). Otherwise (full
-  // precision, or a pipe) the list is encoded whole, then written.
-  const bool in_place = patch && sink.reserve && sink.fill_at && sink.reserve(out.bytes);
+  // each slab written while the next one is encoded (two buffers of a quarter of the list: the
+  // same memory as one buffer of half of it): at its place in the file's reserved blocks when
+  // the sink can reserve them (slabs then start on kSptBlock boundaries of the file, the first
+  // one with the header's place, the header written last), else in order after the header.
+  // Otherwise (full precision, or a pipe) the list is encoded whole, then written.
+  const bool reserved = patch && sink.reserve && sink.reserve(out.bytes);
   const std::size_t slab_count = patch ? 4 : 1;
-  const std::size_t slab = std::max<std::size_t>(1, (kept + slab_count - 1) / slab_count);
-  const std::size_t buffer_bytes = std::min(slab, std::max<std::size_t>(kept, 1)) * h.entry_bytes;
-  std::vector<unsigned char> buffers[2];
-  if (!in_place) buffers[0].resize(buffer_bytes);
-  if (patch && !in_place && kept > slab) buffers[1].resize(buffer_bytes);
+  // Slab k: entries [first[k], first[k + 1]), in the file from file_at[k] (the header's place
+  // included in the first slab when reserved).
+  std::vector<std::size_t> first(slab_count + 1, kept);
+  std::vector<uint64_t> file_at(slab_count);
+  std::size_t buffer_bytes = 0;
+  for (std::size_t k = 0; k < slab_count; ++k) {
+    std::size_t lo = std::min(kept, (kept + slab_count - 1) / slab_count * k);
+    if (reserved && k > 0) {  // the first entry starting on a block boundary from there on
+      const uint64_t at =
+          (kSptHeaderBytes + lo * h.entry_bytes + kSptBlock - 1) / kSptBlock * kSptBlock;
+      lo = std::min<std::size_t>(kept, (at - kSptHeaderBytes) / h.entry_bytes);
+    }
+    first[k] = lo;
+    file_at[k] = reserved && k == 0 ? 0 : kSptHeaderBytes + lo * h.entry_bytes;
+  }
+  for (std::size_t k = 0; k < slab_count; ++k)
+    buffer_bytes = std::max<std::size_t>(
+        buffer_bytes, kSptHeaderBytes + first[k + 1] * h.entry_bytes - file_at[k]);
+  // Uninitialised (the slab passes write every entry's bytes), aligned, the pages mapped in
+  // parallel.
+  struct FreeAligned {
+    void operator()(unsigned char* p) const { ::operator delete[](p, std::align_val_t{kSptBlock}); }
+  };
+  std::unique_ptr<unsigned char[], FreeAligned> buffers[2];
+  for (std::size_t k = 0; k < std::min<std::size_t>(2, slab_count); ++k) {
+    if (k == 1 && first[1] >= kept) break;  // one slab
+    buffers[k].reset(
+        new (std::align_val_t{kSptBlock}) unsigned char[std::max<std::size_t>(buffer_bytes, 1)]);
+    map_pages_in_parallel(buffers[k].get(), buffers[k].get() + buffer_bytes);
+  }
   std::future<void> writing;  // of the slab before the one being encoded
   double write_s = 0;         // waiting for the sink
   auto wait_writing = [&] {
@@ -310,8 +339,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       if (!o.full) {
         std::vector<uint32_t> next(start.begin() + c * 65536 + b_lo,
                                    start.begin() + c * 65536 + b_hi + 1);
-        if (q0 < n)
-          place_compact(true, tree.leaf_parent.data(), q0, std::min(q1, n), next.data());
+        if (q0 < n) place_compact(true, tree.leaf_parent.data(), q0, std::min(q1, n), next.data());
         if (q1 > n) place_compact(false, slot_key.data(), std::max(q0, n) - n, q1 - n, next.data());
         return;
       }
@@ -325,33 +353,37 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
     });
     crc = crc32c(crc, buffer, (hi - lo) * h.entry_bytes);
   };
-  if (patch && !in_place) emit(header, kSptHeaderBytes);
-  std::size_t slab_index = 0;
-  for (std::size_t lo = 0; lo < std::max<std::size_t>(kept, 1); lo += slab, ++slab_index) {
-    const std::size_t hi = std::min(kept, lo + slab), bytes = (hi - lo) * h.entry_bytes;
-    if (in_place) {
-      sink.fill_at(kSptHeaderBytes + lo * h.entry_bytes, bytes,
-                   [&](unsigned char* p) { encode_slab(lo, hi, p); });
-      continue;
-    }
-    unsigned char* const buffer = buffers[slab_index % 2].data();
-    encode_slab(lo, hi, buffer);
+  if (patch && !reserved) emit(header, kSptHeaderBytes);
+  for (std::size_t k = 0, used = 0; k < slab_count; ++k) {
+    const std::size_t lo = first[k], hi = first[k + 1];
+    if (k > 0 && lo >= hi) continue;  // empty (small lists: boundaries rounded to one block)
+    unsigned char* const buffer = buffers[used++ % 2].get();
+    const std::size_t skip = kSptHeaderBytes + lo * h.entry_bytes - file_at[k];  // the header's
+    std::memset(buffer, 0, skip);
+    encode_slab(lo, hi, buffer + skip);
     if (patch) {  // one slab written at a time, in order; the other buffer is then free
       wait_writing();
-      writing =
-          std::async(std::launch::async, [&sink, buffer, bytes] { sink.write(buffer, bytes); });
+      const std::size_t bytes = skip + (hi - lo) * h.entry_bytes;
+      writing = std::async(std::launch::async, [&, buffer, bytes, at = file_at[k]] {
+        if (!reserved)
+          sink.write(buffer, bytes);
+        else if (sink.write_through)
+          sink.write_through(at, buffer, bytes);
+        else
+          sink.patch(at, buffer, bytes);
+      });
     }
   }
   wait_writing();
   h.checksum = crc;
   write_spt_header(h, header);
-  if (in_place) {
+  if (reserved) {
     sink.patch(0, header, kSptHeaderBytes);
   } else if (patch) {
     sink.patch(124, header + 124, 4);
   } else {
     emit(header, kSptHeaderBytes);
-    emit(buffers[0].data(), kept * h.entry_bytes);
+    emit(buffers[0].get(), kept * h.entry_bytes);
   }
   out.write_seconds = write_s;
   return out;

@@ -33,14 +33,14 @@ struct EncodeSptOptions {
 
 // Where the bytes go, in order; `patch` (optional) overwrites bytes already written. With patch,
 // `reserve(total)` (optional) may make the output `total` bytes long up front (true; false: not
-// possible here), and `fill_at(offset, n, f)` then lets f write bytes [offset, offset + n) in
-// place (a file mapping): the list is encoded straight into the output.
+// possible here); the list is then written at its place in large ranges of final bytes, through
+// `write_through` when given (ranges and buffers aligned to kSptBlock), else through patch.
+inline constexpr std::size_t kSptBlock = 4096;
 struct SptSink {
   std::function<void(const unsigned char*, std::size_t)> write;
   std::function<void(uint64_t offset, const unsigned char*, std::size_t)> patch;
   std::function<bool(uint64_t total)> reserve;
-  std::function<void(uint64_t offset, std::size_t n, const std::function<void(unsigned char*)>& f)>
-      fill_at;
+  std::function<void(uint64_t offset, const unsigned char*, std::size_t)> write_through;
 };
 
 struct EncodedSpt {

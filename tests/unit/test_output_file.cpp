@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <new>
 #include <string>
 #include <thread>
 #include <vector>
@@ -118,33 +119,46 @@ TEST_F(OutputFileTest, WriteAtRewritesBytesAlreadyWrittenAndRefusesPastThem) {
   EXPECT_EQ(std::count(got.begin(), got.end(), 'x'), 3 << 20);
 }
 
-TEST_F(OutputFileTest, ReservedFileIsFilledInPlaceAndReplacesTheOldOneOnCommit) {
+TEST_F(OutputFileTest, ReservedFileIsWrittenThroughAndReplacesTheOldOneOnCommit) {
   write_and_commit(at("filled.bin"), "old contents");
   OutputFile out(at("filled.bin"));
   out.write(std::string("head"));
-  if (!out.reserve(10000)) GTEST_SKIP() << "no block reservation on this file system";
-  EXPECT_EQ(out.bytes_written(), 10000u);
+  constexpr std::size_t kSize = 5 * OutputFile::kBlock + 100;
+  if (!out.reserve(kSize)) GTEST_SKIP() << "no block reservation on this file system";
+  EXPECT_EQ(out.bytes_written(), kSize);
   EXPECT_THROW(out.write(std::string("x")), Error);  // no appending after reserve
-  EXPECT_THROW(out.fill_at(9999, 2, [](unsigned char*) {}), Error);
-  // Unaligned ranges, the last one up to the end; the bytes not filled read as zeros.
-  out.fill_at(4097, 3, [](unsigned char* p) { std::memcpy(p, "abc", 3); });
-  out.fill_at(9990, 10, [](unsigned char* p) { std::memset(p, 'z', 10); });
+  // Aligned buffers: whole blocks around the cache where the file system allows, the rest (and
+  // an unaligned range) through the cache; the bytes not written read as zeros.
+  struct Free {
+    void operator()(char* p) const { ::operator delete[](p, std::align_val_t{OutputFile::kBlock}); }
+  };
+  const std::unique_ptr<char[], Free> block(
+      new (std::align_val_t{OutputFile::kBlock}) char[3 * OutputFile::kBlock + 100]);
+  std::memset(block.get(), 'b', 3 * OutputFile::kBlock + 100);
+  EXPECT_THROW(out.write_through(kSize - 1, block.get(), 2), Error);
+  out.write_through(2 * OutputFile::kBlock, block.get(), 3 * OutputFile::kBlock + 100);
+  out.write_through(OutputFile::kBlock, block.get(), OutputFile::kBlock - 1);
+  out.write_through(4097 + 10, "abc", 3);  // unaligned: through write_at
   out.write_at(0, "HE", 2);
   EXPECT_EQ(slurp(at("filled.bin")), "old contents");  // the old file until commit
   out.commit();
   const std::string got = slurp(at("filled.bin"));
-  ASSERT_EQ(got.size(), 10000u);
+  ASSERT_EQ(got.size(), kSize);
   EXPECT_EQ(got.substr(0, 4), "HEad");
-  EXPECT_EQ(got.substr(4097, 3), "abc");
-  EXPECT_EQ(got.substr(9990), std::string(10, 'z'));
-  EXPECT_EQ(std::count(got.begin(), got.end(), '\0'), 10000 - 4 - 3 - 10);
+  EXPECT_EQ(got.substr(4, OutputFile::kBlock - 4), std::string(OutputFile::kBlock - 4, '\0'));
+  EXPECT_EQ(got.substr(OutputFile::kBlock, 10), std::string(10, 'b'));
+  EXPECT_EQ(got.substr(4097 + 10, 3), "abc");
+  EXPECT_EQ(got.substr(4097 + 13, OutputFile::kBlock - 4097 - 13 + 4095),
+            std::string(OutputFile::kBlock - 4097 - 13 + 4095, 'b'));
+  EXPECT_EQ(got[2 * OutputFile::kBlock - 1], '\0');
+  EXPECT_EQ(got.substr(2 * OutputFile::kBlock), std::string(3 * OutputFile::kBlock + 100, 'b'));
   EXPECT_EQ(names_in(dir_), std::vector<std::string>{"filled.bin"});
 }
 
 TEST_F(OutputFileTest, ReserveIsRefusedForDirectTargets) {
   OutputFile out("/dev/null");
   EXPECT_THROW(out.reserve(10), Error);
-  EXPECT_THROW(out.fill_at(0, 1, [](unsigned char*) {}), Error);
+  EXPECT_THROW(out.write_through(0, "x", 1), Error);
 }
 
 TEST_F(OutputFileTest, WriteAtIsRefusedForDirectTargets) {

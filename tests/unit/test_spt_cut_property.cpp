@@ -4,7 +4,9 @@
 // clouds, compact and full precision.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
@@ -117,6 +119,52 @@ TEST(SptCutProperty, SameBytesForAnyThreadCountAndSortedByRMax) {
   EXPECT_EQ(m.leaves, c.size());  // leaves have r_min = 0 and a parent with an error
   EXPECT_TRUE(std::isinf(m.r_max[0]));
   EXPECT_LT(static_cast<double>(m.size()), 2.0 * static_cast<double>(c.size()));
+}
+
+// The list through a sink of each kind: appended only (one piece), appended and patched (four
+// slabs in order), reserved and patched at places, reserved and written through at aligned
+// places (kSptBlock): the same bytes every time.
+std::vector<unsigned char> encoded_through(const SplatCloud& cloud, int kind) {
+  SplatCloud copy = cloud;
+  SptSplats splats = take_spt_splats(copy);
+  const SptOrder order = sort_spt_splats(splats);
+  SptTree tree = build_spt_tree(splats, order, {1.0f, false});
+  std::vector<unsigned char> bytes;
+  SptSink sink;
+  sink.write = [&](const unsigned char* p, std::size_t k) { bytes.insert(bytes.end(), p, p + k); };
+  auto put = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+    ASSERT_LE(at + k, bytes.size());
+    std::copy(p, p + k, bytes.begin() + static_cast<std::ptrdiff_t>(at));
+  };
+  if (kind >= 1) sink.patch = put;
+  if (kind >= 2)
+    sink.reserve = [&](uint64_t total) {
+      bytes.assign(total, 0xEE);  // not zeros: every byte must be written
+      return true;
+    };
+  if (kind >= 3)
+    sink.write_through = [&](uint64_t at, const unsigned char* p, std::size_t k) {
+      EXPECT_EQ(at % kSptBlock, 0u);
+      EXPECT_EQ(reinterpret_cast<uintptr_t>(p) % kSptBlock, 0u);
+      put(at, p, k);
+    };
+  encode_spt(tree, splats, {}, sink);
+  return bytes;
+}
+
+TEST(SptCutProperty, SameBytesThroughEveryKindOfSink) {
+  ShapeOptions s;
+  s.kind = ShapeKind::kSphere;
+  s.random = true;
+  for (std::size_t points : {7, 300, 20000}) {
+    s.points = points;
+    const SplatCloud c = make_shape(s);
+    const std::vector<unsigned char> appended = encoded_through(c, 0);
+    ASSERT_GT(appended.size(), 128u);
+    EXPECT_EQ(appended, build_spt_bytes(c, 1.0f, {}).bytes);
+    for (int kind = 1; kind <= 3; ++kind)
+      EXPECT_EQ(encoded_through(c, kind), appended) << points << " points, sink kind " << kind;
+  }
 }
 
 }  // namespace
