@@ -244,12 +244,10 @@ void OutputFile::write_through(uint64_t offset, const void* data, std::size_t n)
       const ssize_t k =
           ::pwrite(uncached_fd_, p + direct, blocks - direct, static_cast<off_t>(offset + direct));
       if (k < 0 && errno == EINTR) continue;
-      if (k < 0 && errno == EINVAL) {  // refused by this file system after all: the cache then
-        ::close(uncached_fd_);
-        uncached_fd_ = -1;
+      if (k < 0) {  // refused (some file systems refuse only at the write): the cache from here
+        ::close(std::exchange(uncached_fd_, -1));  // on, where a real error shows again
         break;
       }
-      if (k < 0) fail("write failed: " + errno_text(errno));
       direct += static_cast<std::size_t>(k) / kBlock * kBlock;  // a short write ends on a block
       if (k == 0 || static_cast<std::size_t>(k) % kBlock != 0) break;
     }
