@@ -1,6 +1,6 @@
 // sized_in_parallel: v.resize(size) for a new, large vector, with its pages mapped in parallel
 // first. Shared by the graph builder, the GRPH decoder and the .splk reader; its page mapping also
-// by the output file's mapped ranges.
+// by the SPT encoder's output buffers.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -17,7 +17,7 @@
 namespace splatkit {
 
 // Maps the whole pages of [begin, end) for writing, in parallel chunks (a hint: what stays
-// unmapped is faulted in on first use). For private memory and shared file mappings alike.
+// unmapped is faulted in on first use).
 inline void map_pages_in_parallel([[maybe_unused]] const void* begin,
                                   [[maybe_unused]] const void* end) {
 #if defined(MADV_POPULATE_WRITE)
