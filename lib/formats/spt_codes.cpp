@@ -67,11 +67,6 @@ SptHeader read_spt_header(const unsigned char* in) {
   return h;
 }
 
-uint16_t encode_position(float p, float lo, float step) {
-  if (!(step > 0)) return 0;
-  const float q = std::floor((p - lo) / step + 0.5f);
-  return static_cast<uint16_t>(std::clamp(q, 0.0f, 65535.0f));
-}
 float decode_position(uint16_t q, float lo, float step) {
   return lo + static_cast<float>(q) * step;
 }
