@@ -64,7 +64,7 @@ void check_splats(const SplatCloud& cloud, const std::string& name) {
   const std::size_t n = cloud.size();
   const std::size_t bad =
       first_in_chunks(n, std::size_t{1} << 16, [&, ellipses = cloud.has_ellipses()](std::size_t i) {
-        return !(plain_splat_ok(cloud, i) && !ellipses) && !splat_fault(cloud, i).empty();
+        return (ellipses || !plain_splat_ok(cloud, i)) && !splat_fault(cloud, i).empty();
       });
   if (bad < n)
     throw_bad_input(name, "splat " + std::to_string(bad) + ": " + splat_fault(cloud, bad));

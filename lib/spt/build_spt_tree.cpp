@@ -457,10 +457,9 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   const std::size_t n = in.size();
   SptTree tree;
   tree.leaves = n;
-  sized_in_parallel(tree.leaf_parent, n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-    std::fill(tree.leaf_parent.begin() + r.begin(), tree.leaf_parent.begin() + r.end(), kNoParent);
-  });
+  tree.leaf_parent.reserve(n);  // its pages mapped in parallel, then filled once
+  map_pages_in_parallel(tree.leaf_parent.data(), tree.leaf_parent.data() + n);
+  tree.leaf_parent.assign(n, kNoParent);
   tree.box_min = order.lo;
   tree.step = {(order.hi.x - order.lo.x) / 65535.0f, (order.hi.y - order.lo.y) / 65535.0f,
                (order.hi.z - order.lo.z) / 65535.0f};

@@ -9,11 +9,10 @@
 #include <cstring>
 #include <future>
 #include <limits>
-#include <memory>
-#include <new>
 #include <utility>
 
 #include "formats/spt_codes.h"
+#include "splatkit/aligned_buffer.h"
 #include "splatkit/crc32c.h"
 #include "splatkit/sized_in_parallel.h"
 
@@ -274,14 +273,10 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
         buffer_bytes, kSptHeaderBytes + first[k + 1] * h.entry_bytes - file_at[k]);
   // Uninitialised (the slab passes write every entry's bytes), aligned, the pages mapped in
   // parallel.
-  struct FreeAligned {
-    void operator()(unsigned char* p) const { ::operator delete[](p, std::align_val_t{kSptBlock}); }
-  };
-  std::unique_ptr<unsigned char[], FreeAligned> buffers[2];
+  AlignedBuffer buffers[2];
   for (std::size_t k = 0; k < std::min<std::size_t>(2, slab_count); ++k) {
     if (k == 1 && first[1] >= kept) break;  // one slab
-    buffers[k].reset(
-        new (std::align_val_t{kSptBlock}) unsigned char[std::max<std::size_t>(buffer_bytes, 1)]);
+    buffers[k] = make_aligned_buffer(buffer_bytes, kSptBlock);
     map_pages_in_parallel(buffers[k].get(), buffers[k].get() + buffer_bytes);
   }
   std::future<void> writing;  // of the slab before the one being encoded

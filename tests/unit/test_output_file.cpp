@@ -21,11 +21,11 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
-#include <new>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "splatkit/aligned_buffer.h"
 #include "splatkit/error.h"
 #include "splatkit/remove_on_signal.h"
 
@@ -129,11 +129,7 @@ TEST_F(OutputFileTest, ReservedFileIsWrittenThroughAndReplacesTheOldOneOnCommit)
   EXPECT_THROW(out.write(std::string("x")), Error);  // no appending after reserve
   // Aligned buffers: whole blocks around the cache where the file system allows, the rest (and
   // an unaligned range) through the cache; the bytes not written read as zeros.
-  struct Free {
-    void operator()(char* p) const { ::operator delete[](p, std::align_val_t{OutputFile::kBlock}); }
-  };
-  const std::unique_ptr<char[], Free> block(
-      new (std::align_val_t{OutputFile::kBlock}) char[3 * OutputFile::kBlock + 100]);
+  const AlignedBuffer block = make_aligned_buffer(3 * OutputFile::kBlock + 100, OutputFile::kBlock);
   std::memset(block.get(), 'b', 3 * OutputFile::kBlock + 100);
   EXPECT_THROW(out.write_through(kSize - 1, block.get(), 2), Error);
   out.write_through(2 * OutputFile::kBlock, block.get(), 3 * OutputFile::kBlock + 100);
