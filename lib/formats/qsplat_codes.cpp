@@ -193,7 +193,24 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   auto cell = [&](int size, int x, int y, int z) {
     return t.index[size - 1 + kN * (x + kN * (y + kN * z))];
   };
-  for (int size = first; size <= kN; ++size) {
+  // Skip, cheaply, the sizes whose nearest cell in exact arithmetic misses the child by more
+  // than rounding explains: along each axis the grid of one size is regular, so no cell of that
+  // size comes closer.
+  int start = first;
+  for (; start < kN; ++start) {
+    const double room = static_cast<double>(start) / kN - radius / pr;
+    if (room < 0) continue;
+    double e2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double steps = ((rel[k] + 1) * kN - start) / 2;
+      const int nearest = std::clamp(floor_int(steps + 0.5), 0, kN - start);
+      const double e = (steps - nearest) * (2.0 / kN);
+      e2 += e * e;
+    }
+    const double reach = room * (1 + 1e-6) + 4 * unsure;
+    if (e2 <= reach * reach) break;
+  }
+  for (int size = start; size <= kN; ++size) {
     // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
     // ones that can contain it.
     const double slack = static_cast<double>(size) / kN - radius / pr;

@@ -8,6 +8,8 @@
 #include <cstring>
 
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::qsplat {
 
@@ -48,28 +50,38 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   const std::size_t m = t.size();
   const bool color = !t.colors.empty();
   const std::size_t nb = color ? 6 : 4;
-  // Group of each node with children (breadth first = file order), its size and position.
+  // Where each node's group of children starts, relative to the fragment (breadth first = file
+  // order): chunks of nodes add up their groups' bytes, then place them after the earlier chunks'.
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
   std::vector<uint8_t> grand(m, 0);
-  std::vector<uint32_t> group(m, 0);
-  std::vector<uint64_t> pos;  // byte of each group relative to the fragment start
-  uint64_t at = 40;
+  std::vector<uint32_t> offset(m, 0);  // for nodes with children
+  std::vector<uint64_t> chunk_at(chunk_count(m, kChunk) + 1, 0);
+  std::vector<std::size_t> chunk_leaves(chunk_at.size(), 0);
   EncodedQSplat e;
   std::vector<Sphere> decoded;  // fresh pages are dear: made beside the layout walk
-  tbb::parallel_invoke([&] { decoded.resize(m); },
+  tbb::parallel_invoke([&] { sized_in_parallel(decoded, m); },
                        [&] {
-                         for (std::size_t i = 0; i < m; ++i) {
-                           const int c = t.child_count[i];
-                           if (c == 0) {
-                             ++e.leaves;
-                             continue;
+                         for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
+                           uint64_t bytes = 0;
+                           for (std::size_t i = lo; i < hi; ++i) {
+                             const int k = t.child_count[i];
+                             if (k == 0) {
+                               ++chunk_leaves[c];
+                               continue;
+                             }
+                             for (int q = 0; q < k; ++q)
+                               grand[i] |= t.child_count[t.first_child[i] + q] > 0;
+                             bytes += (grand[i] ? 4 : 0) + k * nb;
                            }
-                           for (int k = 0; k < c; ++k)
-                             grand[i] |= t.child_count[t.first_child[i] + k] > 0;
-                           group[i] = static_cast<uint32_t>(pos.size());
-                           pos.push_back(at);
-                           at += (grand[i] ? 4 : 0) + c * nb;
-                         }
+                           chunk_at[c + 1] = bytes;
+                         });
                        });
+  chunk_at[0] = 40;
+  for (std::size_t c = 1; c < chunk_at.size(); ++c) {
+    chunk_at[c] += chunk_at[c - 1];
+    e.leaves += chunk_leaves[c - 1];
+  }
+  const uint64_t at = chunk_at.back();
   if (m == 0 || !grand[0])
     throw Error(ErrorKind::kInternal, "QSplat tree whose root has no grandchildren");
   e.tree_bytes = at - 40;
@@ -80,7 +92,16 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
                     " bytes, more than one fragment holds (2^31 - 1); split the input");
   if (!comments.empty()) write_comment_fragment(e.bytes, comments);
   const std::size_t frag = e.bytes.size();
-  e.bytes.resize(frag + length, 0);
+  sized_in_parallel(e.bytes, frag + length);
+  for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
+    auto here = static_cast<uint32_t>(chunk_at[c]);  // below 2^31: checked above
+    for (std::size_t i = lo; i < hi; ++i) {
+      const int k = t.child_count[i];
+      if (k == 0) continue;
+      offset[i] = here;
+      here += static_cast<uint32_t>((grand[i] ? 4 : 0) + static_cast<std::size_t>(k) * nb);
+    }
+  });
   unsigned char* f = e.bytes.data() + frag;
   std::memcpy(f, "QSplat11", 8);
   put32(f + 8, static_cast<uint32_t>(length));
@@ -104,12 +125,12 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
           for (uint32_t i = r.begin(); i < r.end(); ++i) {
             const int c = t.child_count[i];
             if (c == 0) continue;
-            unsigned char* p = f + pos[group[i]];
+            unsigned char* p = f + offset[i];
             const uint32_t first = t.first_child[i];
             if (grand[i]) {
               uint32_t j = first;
               while (t.child_count[j] == 0) ++j;  // first member with children
-              put32(p, static_cast<uint32_t>(pos[group[j]] - pos[group[i]]));
+              put32(p, offset[j] - offset[i]);
               p += 4;
             }
             for (int k = 0; k < c; ++k, p += nb) {
@@ -131,13 +152,21 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
           }
         });
   }
+  // Sums per fixed chunk, added in order: the same mean for any thread count.
+  std::vector<double> chunk_sum(chunk_count(m, kChunk), 0), chunk_max(chunk_sum.size(), 0);
+  for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i)
+      if (t.child_count[i] == 0) {
+        const double g = double{decoded[i].radius} / t.spheres[i].radius;
+        chunk_sum[c] += g;
+        chunk_max[c] = std::max(chunk_max[c], g);
+      }
+  });
   double sum = 0;
-  for (std::size_t i = 0; i < m; ++i)
-    if (t.child_count[i] == 0) {
-      const double g = double{decoded[i].radius} / t.spheres[i].radius;
-      sum += g;
-      e.leaf_growth_max = std::max(e.leaf_growth_max, g);
-    }
+  for (std::size_t c = 0; c < chunk_sum.size(); ++c) {
+    sum += chunk_sum[c];
+    e.leaf_growth_max = std::max(e.leaf_growth_max, chunk_max[c]);
+  }
   e.leaf_growth_mean = e.leaves ? sum / static_cast<double>(e.leaves) : 0;
   return e;
 }
