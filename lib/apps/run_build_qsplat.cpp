@@ -1,8 +1,5 @@
 #include "apps/run_build_qsplat.h"
 
-#include <malloc.h>
-
-#include <limits>
 #include <sstream>
 #include <string_view>
 
@@ -32,10 +29,6 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   const std::string& output = o.paths.output;
   if (output != "-" && !std::string_view(output).ends_with(".qs"))
     throw_usage("OUT must end in .qs or be '-': " + output);
-  // Large blocks from the heap, kept when freed: the encoder's arrays then reuse the tree's and
-  // the input's pages instead of mapping fresh ones (each fresh page costs a fault).
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
   Stage stage("build-qsplat", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
@@ -50,10 +43,10 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
                       std::to_string(leaves.size()) +
                           " usable points; a QSplat file needs at least 5 (the original viewer "
                           "cannot read a tree of 4 leaves or fewer)");
-  const qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
+  qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
     return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
   });
-  // The input's arrays are done with: their pages go to the encoder (the counts stay).
+  // The input's arrays are done with: freed before the encoder's are made (the counts stay).
   const bool color = !leaves.colors.empty();
   { const qsplat::QSplatLeaves done = std::move(leaves); }
   qsplat::EncodedQSplat file = stage.phase("quantise", "quantising the QSplat tree", [&] {

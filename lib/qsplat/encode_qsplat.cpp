@@ -1,8 +1,5 @@
 #include "qsplat/encode_qsplat.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -46,7 +43,7 @@ void write_comment_fragment(std::vector<unsigned char>& out, const std::string& 
 
 }  // namespace
 
-EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
+EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   const std::size_t m = t.size();
   const bool color = !t.colors.empty();
   const std::size_t nb = color ? 6 : 4;
@@ -58,24 +55,19 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   std::vector<uint64_t> chunk_at(chunk_count(m, kChunk) + 1, 0);
   std::vector<std::size_t> chunk_leaves(chunk_at.size(), 0);
   EncodedQSplat e;
-  std::vector<Sphere> decoded;  // fresh pages are dear: made beside the layout walk
-  tbb::parallel_invoke([&] { sized_in_parallel(decoded, m); },
-                       [&] {
-                         for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
-                           uint64_t bytes = 0;
-                           for (std::size_t i = lo; i < hi; ++i) {
-                             const int k = t.child_count[i];
-                             if (k == 0) {
-                               ++chunk_leaves[c];
-                               continue;
-                             }
-                             for (int q = 0; q < k; ++q)
-                               grand[i] |= t.child_count[t.first_child[i] + q] > 0;
-                             bytes += (grand[i] ? 4 : 0) + k * nb;
-                           }
-                           chunk_at[c + 1] = bytes;
-                         });
-                       });
+  for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
+    uint64_t bytes = 0;
+    for (std::size_t i = lo; i < hi; ++i) {
+      const int k = t.child_count[i];
+      if (k == 0) {
+        ++chunk_leaves[c];
+        continue;
+      }
+      for (int q = 0; q < k; ++q) grand[i] |= t.child_count[t.first_child[i] + q] > 0;
+      bytes += (grand[i] ? 4 : 0) + k * nb;
+    }
+    chunk_at[c + 1] = bytes;
+  });
   chunk_at[0] = 40;
   for (std::size_t c = 1; c < chunk_at.size(); ++c) {
     chunk_at[c] += chunk_at[c - 1];
@@ -117,57 +109,57 @@ EncodedQSplat encode_qsplat(const QSplatTree& t, const std::string& comments) {
   put_float(f + 32, root.radius);
   put32(f + 36, t.child_count[0]);
 
-  decoded[0] = root;
+  // Level by level, each node's children against its decoded sphere, their true spheres then
+  // replaced by their decoded ones. The leaves' growth sums per fixed chunk of parents, added in
+  // order: the same mean for any thread count.
+  constexpr std::size_t kParents = 512;
+  t.spheres[0] = root;
+  double growth_sum = 0;
   for (std::size_t l = 0; l + 1 < t.levels(); ++l) {
-    tbb::parallel_for(
-        tbb::blocked_range<uint32_t>(t.level_begin[l], t.level_begin[l + 1], 512),
-        [&](const auto& r) {
-          for (uint32_t i = r.begin(); i < r.end(); ++i) {
-            const int c = t.child_count[i];
-            if (c == 0) continue;
-            unsigned char* p = f + offset[i];
-            const uint32_t first = t.first_child[i];
-            if (grand[i]) {
-              uint32_t j = first;
-              while (t.child_count[j] == 0) ++j;  // first member with children
-              put32(p, offset[j] - offset[i]);
-              p += 4;
-            }
-            for (int k = 0; k < c; ++k, p += nb) {
-              const uint32_t j = first + static_cast<uint32_t>(k);
-              const Sphere& s = t.spheres[j];
-              const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
-              const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
-              const int code = encode_sphere(decoded[i], centre, need);
-              if (code < 0)
-                throw Error(ErrorKind::kInternal, "QSplat node " + std::to_string(j) +
-                                                      " lies outside its decoded parent");
-              decoded[j] =
-                  decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], decoded[i]);
-              const unsigned kids = t.child_count[j] ? t.child_count[j] - 1u : 0u;
-              put16(p, (static_cast<unsigned>(code) << 3) | (grand[j] ? 4u : 0u) | kids);
-              put16(p + 2, (static_cast<unsigned>(t.normal_codes[j]) << 2) | t.cones[j]);
-              if (color) put16(p + 4, t.colors[j]);
-            }
+    const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
+    std::vector<double> chunk_sum(chunk_count(le - lb, kParents), 0),
+        chunk_max(chunk_sum.size(), 0);
+    for_each_chunk(le - lb, kParents, [&](std::size_t ch, std::size_t lo, std::size_t hi) {
+      for (uint32_t i = lb + static_cast<uint32_t>(lo); i < lb + hi; ++i) {
+        const int c = t.child_count[i];
+        if (c == 0) continue;
+        unsigned char* p = f + offset[i];
+        const uint32_t first = t.first_child[i];
+        if (grand[i]) {
+          uint32_t j = first;
+          while (t.child_count[j] == 0) ++j;  // first member with children
+          put32(p, offset[j] - offset[i]);
+          p += 4;
+        }
+        const Sphere parent = t.spheres[i];  // decoded
+        for (int k = 0; k < c; ++k, p += nb) {
+          const uint32_t j = first + static_cast<uint32_t>(k);
+          const Sphere s = t.spheres[j];  // true
+          const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
+          const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
+          const int code = encode_sphere(parent, centre, need);
+          if (code < 0)
+            throw Error(ErrorKind::kInternal,
+                        "QSplat node " + std::to_string(j) + " lies outside its decoded parent");
+          t.spheres[j] = decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], parent);
+          if (t.child_count[j] == 0) {
+            const double g = double{t.spheres[j].radius} / s.radius;
+            chunk_sum[ch] += g;
+            chunk_max[ch] = std::max(chunk_max[ch], g);
           }
-        });
-  }
-  // Sums per fixed chunk, added in order: the same mean for any thread count.
-  std::vector<double> chunk_sum(chunk_count(m, kChunk), 0), chunk_max(chunk_sum.size(), 0);
-  for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i)
-      if (t.child_count[i] == 0) {
-        const double g = double{decoded[i].radius} / t.spheres[i].radius;
-        chunk_sum[c] += g;
-        chunk_max[c] = std::max(chunk_max[c], g);
+          const unsigned kids = t.child_count[j] ? t.child_count[j] - 1u : 0u;
+          put16(p, (static_cast<unsigned>(code) << 3) | (grand[j] ? 4u : 0u) | kids);
+          put16(p + 2, (static_cast<unsigned>(t.normal_codes[j]) << 2) | t.cones[j]);
+          if (color) put16(p + 4, t.colors[j]);
+        }
       }
-  });
-  double sum = 0;
-  for (std::size_t c = 0; c < chunk_sum.size(); ++c) {
-    sum += chunk_sum[c];
-    e.leaf_growth_max = std::max(e.leaf_growth_max, chunk_max[c]);
+    });
+    for (std::size_t ch = 0; ch < chunk_sum.size(); ++ch) {
+      growth_sum += chunk_sum[ch];
+      e.leaf_growth_max = std::max(e.leaf_growth_max, chunk_max[ch]);
+    }
   }
-  e.leaf_growth_mean = e.leaves ? sum / static_cast<double>(e.leaves) : 0;
+  e.leaf_growth_mean = e.leaves ? growth_sum / static_cast<double>(e.leaves) : 0;
   return e;
 }
 

@@ -41,7 +41,7 @@ std::string hex(const std::vector<unsigned char>& b) {
 
 TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
   const QSplatLeaves leaves = line_of_five();
-  const QSplatTree tree = build_qsplat_tree(leaves);
+  QSplatTree tree = build_qsplat_tree(leaves);
   // Tree: 5 leaves, C = 4: children of 4 and 1 leaves, the lone leaf shared out: A (leaves 0..2,
   // the 3 smallest x) and B (leaves 3, 4).
   ASSERT_EQ(tree.size(), 8u);
@@ -157,7 +157,7 @@ void leaves_depth_first(const QSplatTree& t, uint32_t i, std::vector<uint32_t>& 
 }
 
 void check_structure(const QSplatLeaves& leaves, bool centroid_rule) {
-  const QSplatTree tree = build_qsplat_tree(leaves, centroid_rule);
+  QSplatTree tree = build_qsplat_tree(leaves, centroid_rule);
   const EncodedQSplat e = encode_qsplat(tree, "comment made by hand\n");
   const Walk w = walk_file(e.bytes);
   ASSERT_EQ(w.leaves.size(), leaves.size());
@@ -230,9 +230,9 @@ TEST(QSplatEncode, CutsAreExactRanksForAnyInputOrder) {
   const int n = 20000;
   std::vector<float> sorted_x(n);
   for (int i = 0; i < n; ++i) sorted_x[i] = static_cast<float>(i / 3 - 2000);  // triples
-  sorted_x[6000] = -0.0f;                                                       // ties with +0
-  std::vector<std::vector<float>> orders = {sorted_x, {sorted_x.rbegin(), sorted_x.rend()}, {}, {},
-                                            std::vector<float>(n, 7.0f)};
+  sorted_x[6000] = -0.0f;                                                      // ties with +0
+  std::vector<std::vector<float>> orders = {
+      sorted_x, {sorted_x.rbegin(), sorted_x.rend()}, {}, {}, std::vector<float>(n, 7.0f)};
   for (int i = 0; i < n; i += 2) orders[2].push_back(sorted_x[i]);  // organ pipe
   for (int i = n - 1 - (n % 2 == 0 ? 0 : 1); i >= 1; i -= 2) orders[2].push_back(sorted_x[i]);
   orders[3] = sorted_x;
@@ -249,9 +249,8 @@ TEST(QSplatEncode, CutsAreExactRanksForAnyInputOrder) {
     }
     std::vector<uint32_t> by_rank(n);
     for (int i = 0; i < n; ++i) by_rank[i] = static_cast<uint32_t>(i);
-    std::sort(by_rank.begin(), by_rank.end(), [&](uint32_t a, uint32_t b) {
-      return xs[a] < xs[b] || (xs[a] == xs[b] && a < b);
-    });
+    std::sort(by_rank.begin(), by_rank.end(),
+              [&](uint32_t a, uint32_t b) { return xs[a] < xs[b] || (xs[a] == xs[b] && a < b); });
     const QSplatTree t = build_qsplat_tree(l);
     std::size_t next = 0, mismatches = 0;
     std::function<void(uint32_t)> walk = [&](uint32_t node) {
@@ -284,11 +283,13 @@ TEST(QSplatEncode, BytesDoNotDependOnTheThreadCount) {
   std::vector<unsigned char> one, many;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = encode_qsplat(build_qsplat_tree(l), "x").bytes;
+    QSplatTree t = build_qsplat_tree(l);
+    one = encode_qsplat(t, "x").bytes;
   }
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
-    many = encode_qsplat(build_qsplat_tree(l), "x").bytes;
+    QSplatTree t = build_qsplat_tree(l);
+    many = encode_qsplat(t, "x").bytes;
   }
   EXPECT_EQ(one, many);
 }

@@ -23,7 +23,8 @@ using testing::Shape;
 
 RenderScene qsplat_scene_of(const SplatCloud& cloud) {
   const qsplat::QSplatLeaves leaves = qsplat::make_qsplat_leaves(cloud, "test");
-  const qsplat::EncodedQSplat e = qsplat::encode_qsplat(qsplat::build_qsplat_tree(leaves), "");
+  qsplat::QSplatTree tree = qsplat::build_qsplat_tree(leaves);
+  const qsplat::EncodedQSplat e = qsplat::encode_qsplat(tree, "");
   return make_qsplat_scene(parse_qsplat(e.bytes, "test.qs"), "test.qs");
 }
 

@@ -150,7 +150,8 @@ TEST(ZBufferFrame, ByteIdenticalForAnyThreadCountAndHoleFree) {
   EXPECT_EQ(holes, 0);
 
   const qsplat::QSplatLeaves leaves = qsplat::make_qsplat_leaves(cloud, "test");
-  const qsplat::EncodedQSplat e = qsplat::encode_qsplat(qsplat::build_qsplat_tree(leaves), "");
+  qsplat::QSplatTree tree = qsplat::build_qsplat_tree(leaves);
+  const qsplat::EncodedQSplat e = qsplat::encode_qsplat(tree, "");
   const RenderScene qs = make_qsplat_scene(parse_qsplat(e.bytes, "test.qs"), "test.qs");
   const Framebuffer q1 = render_on(qs, 1, &s);
   expect_identical(q1, render_on(qs, 2));
