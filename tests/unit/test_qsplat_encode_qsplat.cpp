@@ -230,9 +230,9 @@ TEST(QSplatEncode, CutsAreExactRanksForAnyInputOrder) {
   const int n = 20000;
   std::vector<float> sorted_x(n);
   for (int i = 0; i < n; ++i) sorted_x[i] = static_cast<float>(i / 3 - 2000);  // triples
-  sorted_x[6000] = -0.0f;                                                      // ties with +0
-  std::vector<std::vector<float>> orders = {
-      sorted_x, {sorted_x.rbegin(), sorted_x.rend()}, {}, {}, std::vector<float>(n, 7.0f)};
+  sorted_x[6000] = -0.0f;                                                       // ties with +0
+  std::vector<std::vector<float>> orders = {sorted_x, {sorted_x.rbegin(), sorted_x.rend()}, {}, {},
+                                            std::vector<float>(n, 7.0f)};
   for (int i = 0; i < n; i += 2) orders[2].push_back(sorted_x[i]);  // organ pipe
   for (int i = n - 1 - (n % 2 == 0 ? 0 : 1); i >= 1; i -= 2) orders[2].push_back(sorted_x[i]);
   orders[3] = sorted_x;
@@ -249,8 +249,9 @@ TEST(QSplatEncode, CutsAreExactRanksForAnyInputOrder) {
     }
     std::vector<uint32_t> by_rank(n);
     for (int i = 0; i < n; ++i) by_rank[i] = static_cast<uint32_t>(i);
-    std::sort(by_rank.begin(), by_rank.end(),
-              [&](uint32_t a, uint32_t b) { return xs[a] < xs[b] || (xs[a] == xs[b] && a < b); });
+    std::sort(by_rank.begin(), by_rank.end(), [&](uint32_t a, uint32_t b) {
+      return xs[a] < xs[b] || (xs[a] == xs[b] && a < b);
+    });
     const QSplatTree t = build_qsplat_tree(l);
     std::size_t next = 0, mismatches = 0;
     std::function<void(uint32_t)> walk = [&](uint32_t node) {
