@@ -193,28 +193,29 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   auto cell = [&](int size, int x, int y, int z) {
     return t.index[size - 1 + kN * (x + kN * (y + kN * z))];
   };
-  // Skip, cheaply, the sizes whose nearest cell in exact arithmetic misses the child by more
-  // than rounding explains: along each axis the grid of one size is regular, so no cell of that
-  // size comes closer.
-  int start = first;
-  for (; start < kN; ++start) {
-    const double room = static_cast<double>(start) / kN - radius / pr;
-    if (room < 0) continue;
+  const double rel_radius = radius / pr;
+  for (int size = first; size <= kN; ++size) {
+    const double slack = static_cast<double>(size) / kN - rel_radius;
+    if (slack < 0) continue;
+    // Where the child's centre falls on each axis's grid of cell centres ((size + 2x)/13 − 1,
+    // in parent radii): `steps` grid steps from the first, between index below and below + 1.
+    double steps[3], frac[3];
+    int below[3];
     double e2 = 0;
     for (int k = 0; k < 3; ++k) {
-      const double steps = ((rel[k] + 1) * kN - start) / 2;
-      const int nearest = std::clamp(floor_int(steps + 0.5), 0, kN - start);
-      const double e = (steps - nearest) * (2.0 / kN);
+      steps[k] = ((rel[k] + 1) * kN - size) / 2;
+      below[k] = floor_int(steps[k]);
+      frac[k] = steps[k] - below[k];
+      const int nearest = std::clamp(below[k] + (frac[k] < 0.5 ? 0 : 1), 0, kN - size);
+      const double e = (steps[k] - nearest) * (2.0 / kN);
       e2 += e * e;
     }
-    const double reach = room * (1 + 1e-6) + 4 * unsure;
-    if (e2 <= reach * reach) break;
-  }
-  for (int size = start; size <= kN; ++size) {
-    // Cell centres (size + 2x)/13 − 1 within R − radius of the child on every axis: the only
-    // ones that can contain it.
-    const double slack = static_cast<double>(size) / kN - radius / pr;
-    if (slack < 0) continue;
+    // No cell of this size comes closer than the one nearest on every axis (exact arithmetic):
+    // when that one misses the child by more than rounding explains, they all do.
+    const double reach = slack * (1 + 1e-6) + 4 * unsure;
+    if (size < kN && e2 > reach * reach) continue;
+    // Cell centres within R − radius of the child on every axis: the only ones that can
+    // contain it.
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
       lo[k] = std::max(0, ceil_int(((rel[k] - slack + 1) * kN - size) / 2));
@@ -231,13 +232,11 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
     bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
     int near[3][2], count[3] = {0, 0, 0};
     for (int k = 0; k < 3 && decided; ++k) {
-      const double steps = ((rel[k] + 1) * kN - size) / 2;
-      const int below = floor_int(steps);
-      const double frac = steps - below;
-      const int nearest = below + (frac < 0.5 ? 0 : 1), other = below + (frac < 0.5 ? 1 : 0);
+      const int nearest = below[k] + (frac[k] < 0.5 ? 0 : 1);
+      const int other = below[k] + (frac[k] < 0.5 ? 1 : 0);
       if (nearest < lo[k] || nearest > hi[k]) decided = false;
       near[k][count[k]++] = nearest;
-      if (std::fabs(1 - 2 * frac) <= 4 * unsure_steps && other >= lo[k] && other <= hi[k])
+      if (std::fabs(1 - 2 * frac[k]) <= 4 * unsure_steps && other >= lo[k] && other <= hi[k])
         near[k][count[k]++] = other;
       if (count[k] == 2 && near[k][0] > near[k][1]) std::swap(near[k][0], near[k][1]);
     }
