@@ -86,19 +86,28 @@ const std::array<Vec3f, kNormalCodes>& normal_table() {
   return t;
 }
 
-// Whether code q's two stored components lie on or inside the unit circle (the original's table
-// holds a unit normal there; the encoder writes no other code).
-const std::array<bool, kNormalCodes>& unit_codes() {
-  static const std::array<bool, kNormalCodes> t = [] {
-    std::array<bool, kNormalCodes> u{};
+// The decoded normals again, one array per component, for encode_normal's candidates; a code whose
+// two stored components lie outside the unit circle (the original's table holds no unit normal
+// there, and the encoder writes no such code) holds NaN, which is never closer than anything.
+struct NormalComponents {
+  std::array<float, kNormalCodes> x, y, z;
+};
+
+const NormalComponents& normal_components() {
+  static const NormalComponents c = [] {
+    NormalComponents t{};
+    const std::array<Vec3f, kNormalCodes>& n = normal_table();
     for (int q = 0; q < kNormalCodes; ++q) {
       const float fu = unwarp(static_cast<unsigned>(q / kNormalSteps % kNormalSteps));
       const float fv = unwarp(static_cast<unsigned>(q % kNormalSteps));
-      u[q] = fu * fu + fv * fv <= 1.0f;
+      const bool unit = fu * fu + fv * fv <= 1.0f;
+      t.x[q] = unit ? n[q].x : std::numeric_limits<float>::quiet_NaN();
+      t.y[q] = unit ? n[q].y : std::numeric_limits<float>::quiet_NaN();
+      t.z[q] = unit ? n[q].z : std::numeric_limits<float>::quiet_NaN();
     }
-    return u;
+    return t;
   }();
-  return t;
+  return c;
 }
 
 // The original's step of a component c: k = int((w + 1) / 2 · 52) with w = atan(c) · 4/π
@@ -122,12 +131,12 @@ int warp_index(float c) {
     return w;
   }();
   // Bounds stand at least 0.03 apart, buckets 2/256 wide: the bucket's count is within one of
-  // the answer, and the two loops make it exact whatever rounding put c in that bucket.
+  // the answer, and one step down or up makes it exact whatever rounding put c in that bucket.
   const float at = (c + 1.0f) * (kBuckets / 2);
   const int b = at >= 0 ? (at < kBuckets ? static_cast<int>(at) : kBuckets - 1) : 0;
   int k = t.start[b];
-  while (k > 0 && t.bounds[k - 1] > c) --k;
-  while (k < kBounds && t.bounds[k] <= c) ++k;
+  k -= k > 0 && t.bounds[k - 1] > c;
+  k += k < kBounds && t.bounds[k] <= c;
   return k;
 }
 
@@ -281,31 +290,35 @@ int encode_normal(const Vec3f& n) {
   const float ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
   if (!(ax + ay + az > 0))
     return (4 * kNormalSteps + kNormalSteps / 2) * kNormalSteps + kNormalSteps / 2;
-  int axis;  // the original's choice of the dominant axis
-  if (ax > ay)
-    axis = ax > az ? 0 : 2;
-  else
-    axis = ay > az ? 1 : 2;
-  const int a = 2 * axis + (n[axis] > 0 ? 0 : 1);
+  // The original's choice of the dominant axis (written for selects: random normals make it a
+  // coin flip for a branch).
+  const bool x_over_y = ax > ay;
+  const int axis = (x_over_y ? ax : ay) > az ? (x_over_y ? 0 : 1) : 2;
+  const float in[3] = {n.x, n.y, n.z};
+  const int a = 2 * axis + (in[axis] > 0 ? 0 : 1);
   const Vec3f m = normalized(n);
-  const int u0 = warp_index(m[(axis + 1) % 3]), v0 = warp_index(m[(axis + 2) % 3]);
-  const std::array<Vec3f, kNormalCodes>& t = normal_table();
-  const std::array<bool, kNormalCodes>& unit = unit_codes();
+  const float mc[3] = {m.x, m.y, m.z};
+  const int u0 = warp_index(mc[(axis + 1) % 3]), v0 = warp_index(mc[(axis + 2) % 3]);
+  const NormalComponents& t = normal_components();
+  auto closeness = [&](int q) { return t.x[q] * m.x + t.y[q] * m.y + t.z[q] * m.z; };  // = dot
   // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
   int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
-  float best_dot = unit[best] ? dot(t[best], m) : -2.0f;
-  const int u_lo = std::max(u0 - 1, 0), u_hi = std::min(u0 + 1, kNormalSteps - 1);
-  const int v_lo = std::max(v0 - 1, 0), v_hi = std::min(v0 + 1, kNormalSteps - 1);
-  for (int u = u_lo; u <= u_hi; ++u)
-    for (int v = v_lo; v <= v_hi; ++v) {
-      const int q = (a * kNormalSteps + u) * kNormalSteps + v;
-      if (!unit[q]) continue;  // not a unit normal in the original's table
-      const float d = dot(t[q], m);
-      if (d > best_dot) {
-        best_dot = d;
-        best = q;
-      }
-    }
+  float best_dot = closeness(best);
+  if (std::isnan(best_dot)) best_dot = -2.0f;  // not a unit normal: any neighbour is closer
+  // Then its neighbours in (u, v) order, unrolled: the comparisons pick, without branches.
+  auto consider = [&](int u, int v) {
+    if (u < 0 || u >= kNormalSteps || v < 0 || v >= kNormalSteps) return;
+    const int q = (a * kNormalSteps + u) * kNormalSteps + v;
+    const float d = closeness(q);
+    const bool closer = d > best_dot;  // false for NaN
+    best = closer ? q : best;
+    best_dot = closer ? d : best_dot;
+  };
+  for (int u = u0 - 1; u <= u0 + 1; ++u) {
+    consider(u, v0 - 1);
+    consider(u, v0);
+    consider(u, v0 + 1);
+  }
   return best;
 }
 
