@@ -12,6 +12,7 @@
 
 #include "qsplat/enclose_spheres.h"
 #include "splatkit/for_each_chunk.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::qsplat {
 
@@ -169,13 +170,35 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
 // Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
 // consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
 // each half along the longest axis of its part of that box.
-void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
-  Box box{pts[b].position(), pts[b].position()};
-  for (uint32_t i = b + 1; i < e; ++i)
+// The bounding box of the centres of pts[b, e): in parallel chunks for the few largest nodes
+// (minima and maxima do not depend on the order they are taken in).
+Box bounds(const std::vector<Point>& pts, uint32_t b, uint32_t e) {
+  auto serial = [&](uint32_t from, uint32_t to) {
+    Box box{pts[from].position(), pts[from].position()};
+    for (uint32_t i = from + 1; i < to; ++i)
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = std::min(box.lo[k], pts[i].coord(k));
+        box.hi[k] = std::max(box.hi[k], pts[i].coord(k));
+      }
+    return box;
+  };
+  constexpr std::size_t kChunk = std::size_t{1} << 18;
+  if (e - b < 2 * kChunk) return serial(b, e);
+  std::vector<Box> part(chunk_count(e - b, kChunk));
+  for_each_chunk(e - b, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
+    part[c] = serial(b + static_cast<uint32_t>(lo), b + static_cast<uint32_t>(hi));
+  });
+  Box box = part[0];
+  for (const Box& q : part)
     for (int k = 0; k < 3; ++k) {
-      box.lo[k] = std::min(box.lo[k], pts[i].coord(k));
-      box.hi[k] = std::max(box.hi[k], pts[i].coord(k));
+      box.lo[k] = std::min(box.lo[k], q.lo[k]);
+      box.hi[k] = std::max(box.hi[k], q.hi[k]);
     }
+  return box;
+}
+
+void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
+  const Box box = bounds(pts, b, e);
   Box boxes[4];
   uint32_t sizes[4] = {0, 0, 0, 0};
   const int children = child_sizes(e - b, sizes);
@@ -210,7 +233,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
                              bool measure_centroid_rule) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
-  std::vector<Point> pts(n);
+  std::vector<Point> pts;
+  sized_in_parallel(pts, n);  // its pages mapped in parallel, not by the zeroing
   for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
       pts[i] = Point::make(leaves.positions[i], static_cast<uint32_t>(i));
