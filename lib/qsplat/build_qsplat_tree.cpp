@@ -13,6 +13,7 @@
 #include "qsplat/enclose_spheres.h"
 #include "splatkit/for_each_chunk.h"
 #include "splatkit/sized_in_parallel.h"
+#include "splatkit/slot_array.h"
 
 namespace splatkit::qsplat {
 
@@ -297,11 +298,17 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   }
   const std::size_t m = t.first_child.size();
   const bool color = !leaves.colors.empty();
-  std::vector<Sphere> centroid;
-  std::vector<Vec3f> normal;
-  std::vector<float> cone;
-  std::vector<std::array<uint8_t, 3>> rgb;
-  // Fresh pages cost more than the zeros written into them: the arrays are made side by side.
+  // The outputs, for every node; the parents' sums, for interior nodes only (uninitialised: the
+  // pages of the bottom level, all leaves, are never touched). Fresh pages cost more than the
+  // zeros written into them: the arrays are made side by side.
+  SlotArray<Sphere> centroid;
+  SlotArray<Vec3f> normal;
+  SlotArray<float> cone;
+  SlotArray<std::array<uint8_t, 3>> rgb;
+  normal.allocate(m);
+  cone.allocate(m);
+  if (color) rgb.allocate(m);
+  if (measure_centroid_rule) centroid.allocate(m);
   tbb::parallel_invoke(
       [&] {
         t.leaf.resize(m);
@@ -312,74 +319,75 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
       },
       [&] { t.spheres.resize(m); },
       [&] {
-        normal.resize(m);
-        cone.resize(m);
-      },
-      [&] {
         t.normal_codes.resize(m);
         t.cones.resize(m);
         if (color) t.colors.resize(m);
-        if (color) rgb.resize(m);
-        if (measure_centroid_rule) centroid.resize(m);
       });
-  // The leaf nodes first, in node order, by a loop that does little else and prefetches the
-  // input's attributes a few leaves ahead: the input is in any order, and a cache miss per leaf
-  // had been half of the bottom-up pass.
+  // Bottom up, level by level: each interior node from its children, a leaf child's values
+  // taken from the input there (its outputs written, nothing kept for it). The input is in any
+  // order: the leaves of the nodes a few places ahead are prefetched.
   const uint8_t leaf_cone = static_cast<uint8_t>(encode_cone(0));
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, static_cast<uint32_t>(m), 4096),
-                    [&](const auto& r) {
-                      constexpr uint32_t kAhead = 16;
-                      for (uint32_t i = r.begin(); i < r.end(); ++i) {
-                        if (i + kAhead < m && t.leaf[i + kAhead] != kNoLeaf) {
-                          const uint32_t ahead = t.leaf[i + kAhead];
-                          __builtin_prefetch(&leaves.normals[ahead]);
-                          __builtin_prefetch(&leaves.radii[ahead]);
-                          if (color) __builtin_prefetch(&leaves.colors[ahead]);
-                        }
-                        const uint32_t j = t.leaf[i];
-                        if (j == kNoLeaf) continue;
-                        t.spheres[i] = {pts[rb[i]].position(), leaves.radii[j]};
-                        if (measure_centroid_rule) centroid[i] = t.spheres[i];
-                        normal[i] = leaves.normals[j];
-                        cone[i] = 0;
-                        t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
-                        t.cones[i] = leaf_cone;
-                        if (color) {
-                          rgb[i] = leaves.colors[j];
-                          t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
-                        }
-                      }
-                    });
   for (std::size_t l = t.levels(); l-- > 0;) {
-    tbb::parallel_for(
-        tbb::blocked_range<uint32_t>(t.level_begin[l], t.level_begin[l + 1], 1024),
-        [&](const auto& r) {
-          for (uint32_t i = r.begin(); i < r.end(); ++i) {
-            const int c = t.child_count[i];
-            if (c == 0) continue;  // done above
-            const uint32_t f = t.first_child[i];
-            t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
-            if (measure_centroid_rule) centroid[i] = enclose_spheres(&centroid[f], c, true);
-            Vec3f sum{0, 0, 0};
-            for (int k = 0; k < c; ++k) sum += normal[f + k];
-            normal[i] = squared_norm(sum) > 0 ? normalized(sum) : normal[f];
-            if (color) {
-              std::array<int, 3> acc{0, 0, 0};
-              for (int k = 0; k < c; ++k)
-                for (int j = 0; j < 3; ++j) acc[j] += rgb[f + k][j];
-              for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
-            }
-            t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
-            const Vec3f& dn = decode_normal(t.normal_codes[i]);
-            double theta = 0;
-            for (int k = 0; k < c; ++k)
-              theta =
-                  std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + cone[f + k]);
-            cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
-            t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
-            if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+    const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1024), [&](const auto& r) {
+      constexpr uint32_t kAhead = 4;  // nodes, of up to 4 children each
+      for (uint32_t i = r.begin(); i < r.end(); ++i) {
+        if (i + kAhead < le)
+          for (int k = 0; k < t.child_count[i + kAhead]; ++k) {
+            const uint32_t ahead = t.leaf[t.first_child[i + kAhead] + static_cast<uint32_t>(k)];
+            if (ahead == kNoLeaf) continue;
+            __builtin_prefetch(&leaves.normals[ahead]);
+            __builtin_prefetch(&leaves.radii[ahead]);
+            if (color) __builtin_prefetch(&leaves.colors[ahead]);
           }
-        });
+        const int c = t.child_count[i];
+        if (c == 0) continue;  // a leaf: its parent writes it
+        const uint32_t f = t.first_child[i];
+        Vec3f child_normal[4];
+        float child_cone[4];
+        std::array<uint8_t, 3> child_rgb[4];
+        Sphere child_centroid[4];
+        for (int k = 0; k < c; ++k) {
+          const uint32_t q = f + static_cast<uint32_t>(k), j = t.leaf[q];
+          if (j == kNoLeaf) {
+            child_normal[k] = normal[q];
+            child_cone[k] = cone[q];
+            if (color) child_rgb[k] = rgb[q];
+            if (measure_centroid_rule) child_centroid[k] = centroid[q];
+            continue;
+          }
+          t.spheres[q] = {pts[rb[q]].position(), leaves.radii[j]};
+          child_normal[k] = leaves.normals[j];
+          child_cone[k] = 0;
+          child_centroid[k] = t.spheres[q];
+          t.normal_codes[q] = static_cast<uint16_t>(encode_normal(child_normal[k]));
+          t.cones[q] = leaf_cone;
+          if (color) {
+            child_rgb[k] = leaves.colors[j];
+            t.colors[q] = encode_rgb565(child_rgb[k][0], child_rgb[k][1], child_rgb[k][2]);
+          }
+        }
+        t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
+        if (measure_centroid_rule) centroid[i] = enclose_spheres(child_centroid, c, true);
+        Vec3f sum{0, 0, 0};
+        for (int k = 0; k < c; ++k) sum += child_normal[k];
+        normal[i] = squared_norm(sum) > 0 ? normalized(sum) : child_normal[0];
+        if (color) {
+          std::array<int, 3> acc{0, 0, 0};
+          for (int k = 0; k < c; ++k)
+            for (int j = 0; j < 3; ++j) acc[j] += child_rgb[k][j];
+          for (int j = 0; j < 3; ++j) rgb[i][j] = static_cast<uint8_t>((acc[j] + c / 2) / c);
+        }
+        t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
+        const Vec3f& dn = decode_normal(t.normal_codes[i]);
+        double theta = 0;
+        for (int k = 0; k < c; ++k)
+          theta = std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + child_cone[k]);
+        cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
+        t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
+        if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+      }
+    });
   }
   double sum = 0, sum_centroid = 0;
   std::size_t interior = 0;

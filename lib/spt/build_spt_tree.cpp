@@ -326,15 +326,6 @@ struct TopNode {
 
 }  // namespace
 
-template <class T>
-void SlotArray<T>::allocate(std::size_t n) {
-  data.reset(static_cast<T*>(std::malloc(std::max<std::size_t>(n, 1) * sizeof(T))));
-  if (!data) throw std::bad_alloc();
-  size = n;
-}
-template struct SlotArray<SptRecord>;
-template struct SlotArray<SptFullRecord>;
-
 SptDisc SptSplats::leaf(std::size_t i) const {
   SptDisc d;
   d.centre = positions[i];

@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "splatkit/slot_array.h"
 #include "splatkit/splat_cloud.h"
 #include "splatkit/vec3.h"
 #include "spt/spt_disc.h"
@@ -75,19 +76,6 @@ static_assert(sizeof(SptRecord) == 24);
 struct SptFullRecord {
   Vec3f centre, normal;
   std::array<uint8_t, 3> color;
-};
-
-// Uninitialised storage (malloc: large blocks are fresh pages): pages never written take no
-// memory.
-template <class T>
-struct SlotArray {
-  struct Free {
-    void operator()(T* p) const { std::free(p); }
-  };
-  std::unique_ptr<T, Free> data;
-  std::size_t size = 0;
-  void allocate(std::size_t n);
-  T& operator[](std::size_t i) const { return data.get()[i]; }
 };
 
 struct SptTreeOptions {

@@ -1,0 +1,30 @@
+// SlotArray: n uninitialised elements of a trivially copyable T (malloc: large blocks are fresh
+// pages, and pages never written take no memory), for arrays of which only some entries are
+// ever written.
+#pragma once
+
+#include <cstddef>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <type_traits>
+
+namespace splatkit {
+
+template <class T>
+struct SlotArray {
+  static_assert(std::is_trivially_copyable_v<T>);
+  struct Free {
+    void operator()(T* p) const { std::free(p); }
+  };
+  std::unique_ptr<T, Free> data;
+  std::size_t size = 0;
+  void allocate(std::size_t n) {
+    data.reset(static_cast<T*>(std::malloc((n > 0 ? n : 1) * sizeof(T))));
+    if (!data) throw std::bad_alloc();
+    size = n;
+  }
+  T& operator[](std::size_t i) const { return data.get()[i]; }
+};
+
+}  // namespace splatkit
