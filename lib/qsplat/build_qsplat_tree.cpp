@@ -244,6 +244,10 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   t.level_begin = {0, 1};
   t.first_child = {0};
   t.child_count = {0};
+  // Fewer than 2n nodes (each interior node has 2 or more children): reserved, the arrays grow
+  // level by level without copies or fresh pages beyond their final size.
+  for (std::vector<uint32_t>* v : {&rb, &size, &t.first_child}) v->reserve(2 * std::size_t{n});
+  t.child_count.reserve(2 * std::size_t{n});
   for (std::size_t l = 0;; ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
     // The shape of the next level follows from the counts alone: place it first, then order the
