@@ -224,8 +224,8 @@ void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
   }
 }
 
-double angle(const Vec3f& a, const Vec3f& b) {
-  return std::acos(std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0));
+double cosine(const Vec3f& a, const Vec3f& b) {
+  return std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0);
 }
 
 }  // namespace
@@ -384,9 +384,17 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
         }
         t.normal_codes[i] = static_cast<uint16_t>(encode_normal(normal[i]));
         const Vec3f& dn = decode_normal(t.normal_codes[i]);
-        double theta = 0;
-        for (int k = 0; k < c; ++k)
-          theta = std::max(theta, angle(dn, decode_normal(t.normal_codes[f + k])) + child_cone[k]);
+        // The widest child: angle to its normal plus its own cone. Among children without a cone
+        // (leaves, mostly) the widest is the one of least cosine: one arc cosine for them all.
+        double theta = 0, least_cos = 2;
+        for (int k = 0; k < c; ++k) {
+          const double cos = cosine(dn, decode_normal(t.normal_codes[f + k]));
+          if (child_cone[k] == 0)
+            least_cos = std::min(least_cos, cos);
+          else
+            theta = std::max(theta, std::acos(cos) + child_cone[k]);
+        }
+        if (least_cos <= 1) theta = std::max(theta, std::acos(least_cos));
         cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
         t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
         if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
