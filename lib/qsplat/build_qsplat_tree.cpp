@@ -168,9 +168,6 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
   return children;
 }
 
-// Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
-// consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
-// each half along the longest axis of its part of that box.
 // The bounding box of the centres of pts[b, e): in parallel chunks for the few largest nodes
 // (minima and maxima do not depend on the order they are taken in).
 Box bounds(const std::vector<Point>& pts, uint32_t b, uint32_t e) {
@@ -198,6 +195,9 @@ Box bounds(const std::vector<Point>& pts, uint32_t b, uint32_t e) {
   return box;
 }
 
+// Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
+// consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
+// each half along the longest axis of its part of that box.
 void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
   const Box box = bounds(pts, b, e);
   Box boxes[4];
