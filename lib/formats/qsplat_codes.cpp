@@ -176,7 +176,8 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   const double pc[3] = {parent.centre.x, parent.centre.y, parent.centre.z};
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
-  const int first = std::clamp(static_cast<int>(std::floor(radius / pr * kN)), 1, kN);
+  const double rel_radius = radius / pr;
+  const int first = std::clamp(static_cast<int>(std::floor(rel_radius * kN)), 1, kN);
   // The decoded child is computed in float from the parent's float centre: its distance to the
   // parent's centre may be off by a few units in the last place of the coordinates. A cell more
   // than that (in parent radii) inside or outside the unit sphere needs no exact check.
@@ -202,7 +203,6 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   auto cell = [&](int size, int x, int y, int z) {
     return t.index[size - 1 + kN * (x + kN * (y + kN * z))];
   };
-  const double rel_radius = radius / pr;
   for (int size = first; size <= kN; ++size) {
     const double slack = static_cast<double>(size) / kN - rel_radius;
     if (slack < 0) continue;

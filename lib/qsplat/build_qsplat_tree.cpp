@@ -302,9 +302,9 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   }
   const std::size_t m = t.first_child.size();
   const bool color = !leaves.colors.empty();
-  // The outputs, for every node; the parents' sums, for interior nodes only (uninitialised: the
-  // pages of the bottom level, all leaves, are never touched). Fresh pages cost more than the
-  // zeros written into them: the arrays are made side by side.
+  // The parents' sums, for interior nodes only (uninitialised: the pages of the bottom level,
+  // all leaves, are never touched); then the outputs, for every node. Fresh pages cost more than
+  // the zeros written into them: the outputs are made side by side.
   SlotArray<Sphere> centroid;
   SlotArray<Vec3f> normal;
   SlotArray<float> cone;
@@ -331,7 +331,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   // taken from the input there (its outputs written, nothing kept for it). The input is in any
   // order: the leaves of the nodes a few places ahead are prefetched.
   const uint8_t leaf_cone = static_cast<uint8_t>(encode_cone(0));
-  for (std::size_t l = t.levels(); l-- > 0;) {
+  for (std::size_t l = t.levels() - 1; l-- > 0;) {  // the deepest level holds only leaves
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1024), [&](const auto& r) {
       constexpr uint32_t kAhead = 4;  // nodes, of up to 4 children each
