@@ -86,24 +86,34 @@ const std::array<Vec3f, kNormalCodes>& normal_table() {
   return t;
 }
 
-// The decoded normals again, one array per component, for encode_normal's candidates; a code whose
-// two stored components lie outside the unit circle (the original's table holds no unit normal
-// there, and the encoder writes no such code) holds NaN, which is never closer than anything.
+// The decoded normals again, one array per component, for encode_normal's candidates, each face's
+// 52 × 52 codes framed by a border of one row and one column on every side: entry
+// (a, u + 1, v + 1) of a face of 54 × 54 holds code (a, u, v). The border, and a code whose two
+// stored components lie outside the unit circle (the original's table holds no unit normal
+// there, and the encoder writes no such code), hold NaN, which is never closer than anything: the
+// 3 × 3 candidates around any code are read without bounds checks.
+constexpr int kFramed = kNormalSteps + 2;
+
 struct NormalComponents {
-  std::array<float, kNormalCodes> x, y, z;
+  std::array<float, 6 * kFramed * kFramed> x, y, z;
 };
 
 const NormalComponents& normal_components() {
   static const NormalComponents c = [] {
     NormalComponents t{};
+    t.x.fill(std::numeric_limits<float>::quiet_NaN());
+    t.y.fill(std::numeric_limits<float>::quiet_NaN());
+    t.z.fill(std::numeric_limits<float>::quiet_NaN());
     const std::array<Vec3f, kNormalCodes>& n = normal_table();
     for (int q = 0; q < kNormalCodes; ++q) {
-      const float fu = unwarp(static_cast<unsigned>(q / kNormalSteps % kNormalSteps));
-      const float fv = unwarp(static_cast<unsigned>(q % kNormalSteps));
-      const bool unit = fu * fu + fv * fv <= 1.0f;
-      t.x[q] = unit ? n[q].x : std::numeric_limits<float>::quiet_NaN();
-      t.y[q] = unit ? n[q].y : std::numeric_limits<float>::quiet_NaN();
-      t.z[q] = unit ? n[q].z : std::numeric_limits<float>::quiet_NaN();
+      const int a = q / (kNormalSteps * kNormalSteps), u = q / kNormalSteps % kNormalSteps,
+                v = q % kNormalSteps;
+      const float fu = unwarp(static_cast<unsigned>(u)), fv = unwarp(static_cast<unsigned>(v));
+      if (fu * fu + fv * fv > 1.0f) continue;
+      const int at = (a * kFramed + u + 1) * kFramed + v + 1;
+      t.x[at] = n[q].x;
+      t.y[at] = n[q].y;
+      t.z[at] = n[q].z;
     }
     return t;
   }();
@@ -300,26 +310,25 @@ int encode_normal(const Vec3f& n) {
   const float mc[3] = {m.x, m.y, m.z};
   const int u0 = warp_index(mc[(axis + 1) % 3]), v0 = warp_index(mc[(axis + 2) % 3]);
   const NormalComponents& t = normal_components();
-  auto closeness = [&](int q) { return t.x[q] * m.x + t.y[q] * m.y + t.z[q] * m.z; };  // = dot
-  // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer).
-  int best = (a * kNormalSteps + u0) * kNormalSteps + v0;
-  float best_dot = closeness(best);
-  if (std::isnan(best_dot)) best_dot = -2.0f;  // not a unit normal: any neighbour is closer
-  // Then its neighbours in (u, v) order, unrolled: the comparisons pick, without branches.
-  auto consider = [&](int u, int v) {
-    if (u < 0 || u >= kNormalSteps || v < 0 || v >= kNormalSteps) return;
-    const int q = (a * kNormalSteps + u) * kNormalSteps + v;
-    const float d = closeness(q);
-    const bool closer = d > best_dot;  // false for NaN
-    best = closer ? q : best;
-    best_dot = closer ? d : best_dot;
-  };
-  for (int u = u0 - 1; u <= u0 + 1; ++u) {
-    consider(u, v0 - 1);
-    consider(u, v0);
-    consider(u, v0 + 1);
+  // The closeness (dot product) of the 3 × 3 codes around (u0, v0), row by row: entry
+  // (a, u0, v0) of the framed table is code (a, u0 − 1, v0 − 1).
+  const int corner = (a * kFramed + u0) * kFramed + v0;
+  float d[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const int q = corner + r * kFramed + c;
+      d[3 * r + c] = t.x[q] * m.x + t.y[q] * m.y + t.z[q] * m.z;
+    }
+  // The original's cell first, so that a tie keeps it (a neighbour must be strictly closer); then
+  // its neighbours in (u, v) order: the comparisons pick, without branches.
+  int best = 4;
+  float best_dot = std::isnan(d[4]) ? -2.0f : d[4];  // not a unit normal: any neighbour is closer
+  for (int k = 0; k < 9; ++k) {
+    const bool closer = d[k] > best_dot;  // false for NaN
+    best = closer ? k : best;
+    best_dot = closer ? d[k] : best_dot;
   }
-  return best;
+  return (a * kNormalSteps + u0 + best / 3 - 1) * kNormalSteps + v0 + best % 3 - 1;
 }
 
 const Vec3f& decode_normal(int code) { return normal_table()[static_cast<std::size_t>(code)]; }

@@ -127,6 +127,58 @@ TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {
   EXPECT_EQ(encode_normal({-1, 0, 0}) / (52 * 52), 1);
 }
 
+// The normal encoder's choice, checked against its definition: the original's cell (each stored
+// component's step: the count of k in 1..51 with c >= tan((k/26 − 1)·π/4)) or a code of its 3 × 3
+// neighbourhood on the same face that is strictly closer (dot product), never one that a closer
+// neighbour beats. Random directions, and directions at the faces' rims, where the
+// neighbourhood leaves the face or holds codes outside the unit circle (decoded with a zero
+// dominant component; the encoder never picks them).
+TEST(QSplatCodes, NormalEncoderPicksTheClosestCodeAroundTheOriginalsCell) {
+  auto step = [](float c) {
+    int k = 0;
+    for (int b = 1; b < kNormalSteps; ++b)
+      k += c >= static_cast<float>(std::tan((2.0 * b / kNormalSteps - 1.0) * M_PI / 4));
+    return k;
+  };
+  std::mt19937 rng(5);
+  std::normal_distribution<float> g;
+  std::uniform_real_distribution<float> rim(0.95f, 1.0f);
+  int checked = 0;
+  for (int i = 0; i < 200000; ++i) {
+    Vec3f n{g(rng), g(rng), g(rng)};
+    if (i % 2) {  // near a face's rim: the dominant component barely above another one
+      n.x = std::copysign(std::max(std::fabs(n.y), std::fabs(n.z)) / rim(rng), n.x);
+    }
+    if (!(squared_norm(n) > 0)) continue;
+    const Vec3f m = normalized(n);
+    const float a[3] = {std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)};
+    const int axis = (a[0] > a[1] ? a[0] : a[1]) > a[2] ? (a[0] > a[1] ? 0 : 1) : 2;
+    const float mc[3] = {m.x, m.y, m.z}, nc[3] = {n.x, n.y, n.z};
+    const int face = 2 * axis + (nc[axis] > 0 ? 0 : 1);
+    const int u0 = step(mc[(axis + 1) % 3]), v0 = step(mc[(axis + 2) % 3]);
+    auto code = [&](int u, int v) { return (face * kNormalSteps + u) * kNormalSteps + v; };
+    auto usable = [&](int u, int v) {
+      return u >= 0 && v >= 0 && u < kNormalSteps && v < kNormalSteps &&
+             decode_normal(code(u, v))[axis] != 0;
+    };
+    const int q = encode_normal(n);
+    ASSERT_EQ(q / (kNormalSteps * kNormalSteps), face);
+    const int u = q / kNormalSteps % kNormalSteps, v = q % kNormalSteps;
+    ASSERT_LE(std::abs(u - u0), 1);
+    ASSERT_LE(std::abs(v - v0), 1);
+    ASSERT_TRUE(usable(u, v));
+    const float chosen = dot(decode_normal(q), m);
+    if (q != code(u0, v0) && usable(u0, v0))
+      EXPECT_GT(chosen, dot(decode_normal(code(u0, v0)), m));
+    for (int du = -1; du <= 1; ++du)
+      for (int dv = -1; dv <= 1; ++dv)
+        if (usable(u0 + du, v0 + dv))
+          ASSERT_GE(chosen, dot(decode_normal(code(u0 + du, v0 + dv)), m));
+    ++checked;
+  }
+  EXPECT_GT(checked, 199000);
+}
+
 TEST(QSplatCodes, ConeBoundsTheSineOfTheHalfWidth) {
   EXPECT_EQ(encode_cone(0), 0);
   EXPECT_EQ(encode_cone(1.6), 3);
