@@ -171,8 +171,9 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
 // The bounding box of the centres of pts[b, e): in parallel chunks for the few largest nodes
 // (minima and maxima do not depend on the order they are taken in).
 Box bounds(const std::vector<Point>& pts, uint32_t b, uint32_t e) {
-  // Four lanes per point (the fourth, the leaf index's bits, is ignored), in a generic vector:
-  // the minima and maxima of a point's lanes in one instruction each.
+  // Four lanes per point, x, y, z and the leaf index's bits (ignored), in a generic vector: the
+  // minima and maxima of a point's lanes in one instruction each.
+  static_assert(std::endian::native == std::endian::little, "the lanes follow Point's bytes");
   using Lanes = float __attribute__((vector_size(16)));
   auto serial = [&](uint32_t from, uint32_t to) {
     Lanes lo, hi;
