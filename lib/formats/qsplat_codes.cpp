@@ -96,6 +96,13 @@ constexpr int kFramed = kNormalSteps + 2;
 
 struct NormalComponents {
   std::array<float, 6 * kFramed * kFramed> x, y, z;
+  // Per code (framed index): a normal whose dot product with the code's normal exceeds this is
+  // closer to it than to any of its 3 × 3 neighbours, by far more than float rounding (2: never,
+  // for a code outside the unit circle). With δ the least angle from the code to a neighbour,
+  // a normal within δ/2 of the code lies more than δ/2 from every neighbour (triangle
+  // inequality); the bound is cos(δ/2) + 1e-5, a margin that keeps the neighbours' dot products
+  // at least about 2e-5 below the code's, some hundred times the error of a float dot product.
+  std::array<float, 6 * kFramed * kFramed> own_wins;
 };
 
 const NormalComponents& normal_components() {
@@ -114,6 +121,23 @@ const NormalComponents& normal_components() {
       t.x[at] = n[q].x;
       t.y[at] = n[q].y;
       t.z[at] = n[q].z;
+    }
+    t.own_wins.fill(2.0f);
+    for (int at = 0; at < 6 * kFramed * kFramed; ++at) {
+      if (std::isnan(t.x[at])) continue;  // the frame, or a code outside the unit circle
+      double least = M_PI;
+      for (int du = -1; du <= 1; ++du)
+        for (int dv = -1; dv <= 1; ++dv) {
+          const int j = at + du * kFramed + dv;
+          if ((du == 0 && dv == 0) || std::isnan(t.x[j])) continue;
+          const double cj = double{t.x[at]} * t.x[j] + double{t.y[at]} * t.y[j] +
+                           double{t.z[at]} * t.z[j];
+          least = std::min(least, std::acos(std::clamp(cj, -1.0, 1.0)));
+        }
+      const double bound = std::cos(least / 2) + 1e-5;
+      float f = static_cast<float>(bound);
+      if (f < bound) f = std::nextafter(f, 2.0f);
+      t.own_wins[at] = std::min(f, 2.0f);
     }
     return t;
   }();
@@ -310,6 +334,10 @@ int encode_normal(const Vec3f& n) {
   const float mc[3] = {m.x, m.y, m.z};
   const int u0 = warp_index(mc[(axis + 1) % 3]), v0 = warp_index(mc[(axis + 2) % 3]);
   const NormalComponents& t = normal_components();
+  // Most normals lie near enough to the original's cell that no neighbour can be closer.
+  const int own = (a * kFramed + u0 + 1) * kFramed + v0 + 1;
+  const int own_code = (a * kNormalSteps + u0) * kNormalSteps + v0;
+  if (t.x[own] * m.x + t.y[own] * m.y + t.z[own] * m.z > t.own_wins[own]) return own_code;
   // The closeness (dot product) of the 3 × 3 codes around (u0, v0), row by row: entry
   // (a, u0, v0) of the framed table is code (a, u0 − 1, v0 − 1).
   const int corner = (a * kFramed + u0) * kFramed + v0;
