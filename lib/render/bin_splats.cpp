@@ -7,18 +7,13 @@
 
 #include "splatkit/error.h"
 #include "splatkit/seconds_since.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::render {
 
 namespace {
 
 constexpr std::size_t kChunk = 16384;
-
-// The tiles a splat's box touches (tx0 > tx1 when it is not drawn): 8 bytes per splat, so the
-// scatter pass does not stream the large SplatRaster array through the cache again.
-struct TileSpan {
-  uint16_t tx0, tx1, ty0, ty1;
-};
 
 inline TileSpan tile_span(const SplatRaster& s) {
   if (!s.drawn()) return {1, 0, 0, 0};
@@ -45,14 +40,20 @@ void bin_splats(const DrawList& draws, const Projection& projection, const Setup
   const std::size_t tiles = bins.tile_count();
   const std::size_t n = draws.count;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  bins.rasters.resize(n);
-  std::vector<uint32_t> counts(chunks * tiles);
+  if (bins.rasters.size < n) {
+    bins.rasters.allocate(n);
+    map_pages_in_parallel(bins.rasters.get(), bins.rasters.get() + n);
+    bins.spans.allocate(n);
+    map_pages_in_parallel(bins.spans.get(), bins.spans.get() + n);
+  }
+  std::vector<uint32_t>& counts = bins.counts;
+  counts.resize(chunks * tiles);  // every row is cleared below
   std::vector<std::size_t> drawn(chunks);
-  std::vector<TileSpan> spans(n);
+  TileSpan* const spans = bins.spans.get();
 
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     const std::size_t begin = c * kChunk, end = std::min(n, begin + kChunk);
-    SplatRaster* out = bins.rasters.data() + begin;
+    SplatRaster* out = bins.rasters.get() + begin;
     drawn[c] = setup_splats(draws, projection, options, begin, end, out);
     uint32_t* row = counts.data() + c * tiles;
     std::fill(row, row + tiles, 0u);

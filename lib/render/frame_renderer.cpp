@@ -203,7 +203,7 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   }
   auto t0 = Clock::now();
   local.store.reset(pixels, f.options.max_fragments, f.blend.window);
-  const RasterCounts raster = rasterize_tile(f.bins.rasters.data(), f.bins.indices.data() + begin,
+  const RasterCounts raster = rasterize_tile(f.bins.rasters.get(), f.bins.indices.data() + begin,
                                              end - begin, rect, local.store, f.clip);
   local.counters.fragments += raster.fragments;
   local.counters.clipped += raster.clipped;
@@ -211,7 +211,7 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
   local.counters.covered +=
-      reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.data(), f.blend,
+      reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.get(), f.blend,
                          f.options.default_albedo, local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
   // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but

@@ -25,6 +25,7 @@ struct SlotArray {
     size = n;
   }
   T& operator[](std::size_t i) const { return data.get()[i]; }
+  T* get() const { return data.get(); }  // null before the first allocate
 };
 
 }  // namespace splatkit
