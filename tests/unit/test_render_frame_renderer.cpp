@@ -5,6 +5,8 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+
 #include <string>
 
 #include "render/camera.h"
@@ -48,6 +50,27 @@ TEST(RenderFrameRenderer, SameImageForAnyThreadCount) {
     EXPECT_EQ(one.alpha, many.alpha) << threads;
     // Depth: +inf compares equal to itself, so vector == works.
     EXPECT_EQ(one.depth, many.depth) << threads;
+  }
+}
+
+// The renderer keeps its per-splat set-up arrays from frame to frame, uninitialised: a renderer
+// that drew a larger scene and a smaller one before (arrays grown, then reused with stale
+// entries beyond the frame's splats) draws each frame as a fresh renderer does.
+TEST(RenderFrameRenderer, ReusedRendererDrawsAsAFreshOne) {
+  const RenderScene small = make_render_scene(testing::sample_shape(Shape::kSphere, 3000), "s");
+  const RenderScene large = make_render_scene(testing::sample_shape(Shape::kTorus, 30000), "t");
+  RenderOptions o;
+  o.planes = {true, true, true};
+  FrameRenderer reused;
+  for (const RenderScene* scene : {&small, &large, &small, &large, &small}) {
+    const Camera cam = test_camera(*scene, 200, 150);
+    Framebuffer again, fresh;
+    reused.render(*scene, cam, o, again);
+    FrameRenderer{}.render(*scene, cam, o, fresh);
+    EXPECT_EQ(again.rgb8, fresh.rgb8);
+    EXPECT_EQ(again.normal, fresh.normal);
+    EXPECT_EQ(again.depth, fresh.depth);
+    EXPECT_GT(std::count(fresh.alpha.begin(), fresh.alpha.end(), 1.0f), 1000);
   }
 }
 
