@@ -130,8 +130,8 @@ const NormalComponents& normal_components() {
         for (int dv = -1; dv <= 1; ++dv) {
           const int j = at + du * kFramed + dv;
           if ((du == 0 && dv == 0) || std::isnan(t.x[j])) continue;
-          const double cj = double{t.x[at]} * t.x[j] + double{t.y[at]} * t.y[j] +
-                           double{t.z[at]} * t.z[j];
+          const double cj =
+              double{t.x[at]} * t.x[j] + double{t.y[at]} * t.y[j] + double{t.z[at]} * t.z[j];
           least = std::min(least, std::acos(std::clamp(cj, -1.0, 1.0)));
         }
       const double bound = std::cos(least / 2) + 1e-5;

@@ -31,8 +31,8 @@ struct TileSpan {
 
 struct FrameBins {
   int tiles_x = 0, tiles_y = 0;
-  SlotArray<SplatRaster> rasters;  // the first draws.count entries (grows, never shrinks)
-  SlotArray<TileSpan> spans;       // the same
+  SlotArray<SplatRaster> rasters;    // the first draws.count entries (grows, never shrinks)
+  SlotArray<TileSpan> spans;         // the same
   std::vector<uint32_t> offsets;     // #tiles + 1: tile t's splats are indices[offsets[t]...]
   std::vector<uint32_t> indices;     // splat indices, ascending within each tile
   std::vector<uint32_t> counts;      // pass 1's counts per (chunk, tile)
