@@ -168,11 +168,15 @@ TEST(QSplatCodes, NormalEncoderPicksTheClosestCodeAroundTheOriginalsCell) {
     ASSERT_LE(std::abs(v - v0), 1);
     ASSERT_TRUE(usable(u, v));
     const float chosen = dot(decode_normal(q), m);
-    if (q != code(u0, v0) && usable(u0, v0)) EXPECT_GT(chosen, dot(decode_normal(code(u0, v0)), m));
+    if (q != code(u0, v0) && usable(u0, v0)) {
+      EXPECT_GT(chosen, dot(decode_normal(code(u0, v0)), m));
+    }
     for (int du = -1; du <= 1; ++du)
-      for (int dv = -1; dv <= 1; ++dv)
-        if (usable(u0 + du, v0 + dv))
+      for (int dv = -1; dv <= 1; ++dv) {
+        if (usable(u0 + du, v0 + dv)) {
           ASSERT_GE(chosen, dot(decode_normal(code(u0 + du, v0 + dv)), m));
+        }
+      }
     ++checked;
   }
   EXPECT_GT(checked, 199000);
