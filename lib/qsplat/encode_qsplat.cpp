@@ -54,6 +54,11 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   std::vector<uint32_t> offset(m, 0);  // for nodes with children
   std::vector<uint64_t> chunk_at(chunk_count(m, kChunk) + 1, 0);
   std::vector<std::size_t> chunk_leaves(chunk_at.size(), 0);
+  // The bytes of node i's group (i has children): the offset to its first child with children,
+  // when it has one, then one record per child.
+  auto group_bytes = [&](std::size_t i) {
+    return (grand[i] ? 4u : 0u) + static_cast<uint32_t>(t.child_count[i] * nb);
+  };
   EncodedQSplat e;
   for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
     uint64_t bytes = 0;
@@ -64,7 +69,7 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
         continue;
       }
       for (int q = 0; q < k; ++q) grand[i] |= t.child_count[t.first_child[i] + q] > 0;
-      bytes += (grand[i] ? 4 : 0) + k * nb;
+      bytes += group_bytes(i);
     }
     chunk_at[c + 1] = bytes;
   });
@@ -88,10 +93,9 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   for_each_chunk(m, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
     auto here = static_cast<uint32_t>(chunk_at[c]);  // below 2^31: checked above
     for (std::size_t i = lo; i < hi; ++i) {
-      const int k = t.child_count[i];
-      if (k == 0) continue;
+      if (t.child_count[i] == 0) continue;
       offset[i] = here;
-      here += static_cast<uint32_t>((grand[i] ? 4 : 0) + static_cast<std::size_t>(k) * nb);
+      here += group_bytes(i);
     }
   });
   unsigned char* f = e.bytes.data() + frag;

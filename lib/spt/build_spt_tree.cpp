@@ -536,8 +536,8 @@ SptTree build_spt_tree(const SptSplats& in, const SptOrder& order, const SptTree
   std::vector<std::vector<SptRecord>>().swap(scratch);
   std::vector<std::vector<SptFullRecord>>().swap(full_scratch);
   tree.interiors = sum.next;
-  sum.recs = tree.records.data.get();
-  sum.fulls = o.full ? tree.full_records.data.get() : nullptr;
+  sum.recs = tree.records.get();
+  sum.fulls = o.full ? tree.full_records.get() : nullptr;
   auto finish_top = [&](auto&& self, uint32_t id) -> std::pair<uint32_t, SptDisc> {
     std::vector<uint32_t> ids;
     std::vector<SptDisc> discs;
