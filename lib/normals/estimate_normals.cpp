@@ -25,6 +25,7 @@
 #include "normals/robust_normals.h"
 #include "normals/splat_radius.h"
 #include "splatkit/error.h"
+#include "splatkit/morton_order.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"
 
@@ -276,16 +277,17 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   const std::size_t n = cloud.size();
   report.output_points = n;
   progress(0.05, "kd-tree");
-  // Every stage below runs over the points renumbered in the index's tree order (a spatial
-  // order: a point's neighbours are mostly near it in memory, whatever the input's order) and
-  // the results are put back in the input's order at the end. Ties between equally distant
-  // neighbours are broken by the new numbers.
+  // Every stage below runs over the points renumbered in Morton order (morton_order.h: a
+  // spatial order, so a point's neighbours are mostly near it in memory whatever the input's
+  // order, and one that a subset of the cloud reproduces), and the results are put back in the
+  // input's order at the end unless spatial_order. Ties between equally distant neighbours are
+  // broken by the new numbers.
   SpatialIndex index;
   std::vector<uint32_t> order;
   timed("index", [&] {
-    index = SpatialIndex(cloud.positions);
-    order = index.renumber_in_tree_order();
+    order = morton_order(cloud.positions);
     cloud.positions = gathered(cloud.positions, order);
+    index = SpatialIndex(cloud.positions);
   });
 
   cloud.normals.assign(n, Vec3f{0, 0, 1});

@@ -22,7 +22,7 @@
 //      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
 //
 // Output: the same cloud (positions, colours, extras, faces carried through; faces remapped after
-// merging), in the input's order or with spatial_order in the kd-tree's, with normals and radii
+// merging), in the input's order or with spatial_order in Morton order (morton_order.h), with normals and radii
 // replaced; never NaN. Deterministic: byte-identical results for
 // any thread count (every per-point result depends only on the point's own kNN row, and kNN rows
 // are exact with ties broken by index). Runs in parallel with TBB under the caller's limits.
@@ -69,8 +69,8 @@ struct NormalOptions {
   // no value here, the cloud's own viewpoint is used; neither present is an Error(kUsage).
   std::optional<std::array<double, 3>> viewpoint;
   bool keep_duplicates = false;
-  // Output the points in the spatial order the estimation runs in (the kd-tree's leaf order,
-  // thread-independent), not the input's: neighbours end up near each other in the file, so the
+  // Output the points in the spatial order the estimation runs in (Morton order, ties in the
+  // input's order: thread-independent), not the input's: neighbours end up near each other in the file, so the
   // splat graph's neighbour lists encode smaller and every later stage reads memory in order
   // (build-splat-graph and segment-surfaces ran 2x faster on a shuffled 16M cloud).
   bool spatial_order = false;

@@ -61,12 +61,6 @@ class SpatialIndex {
                         std::size_t max_leaf_size = kDefaultLeafSize);
 
   std::size_t size() const { return ids_.size(); }
-  // Renumbers the points by their position in the tree (leaf by leaf: a spatial order, in which
-  // points close in space are mostly close in the sequence) and returns the old numbers: point t
-  // of the index is now the point old[t] of the cloud it was built from. Queries then return, and
-  // break distance ties by, the new numbers. Callers that sweep over all points and their
-  // neighbours permute their arrays by it to stay in cache.
-  std::vector<uint32_t> renumber_in_tree_order();
   // Bytes held by the index (its arrays' capacities), for memory budgets.
   std::size_t memory_bytes() const;
 

@@ -170,18 +170,6 @@ SpatialIndex::SpatialIndex(std::span<const Vec3f> points, std::size_t max_leaf_s
   });
 }
 
-std::vector<uint32_t> SpatialIndex::renumber_in_tree_order() {
-  std::vector<uint32_t> old(ids_.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids_.size(), kCopyGrain),
-                    [&](const auto& r) {
-                      for (std::size_t t = r.begin(); t < r.end(); ++t) {
-                        old[t] = ids_[t];
-                        ids_[t] = static_cast<uint32_t>(t);
-                      }
-                    });
-  return old;
-}
-
 std::size_t SpatialIndex::memory_bytes() const {
   return (xs_.capacity() + ys_.capacity() + zs_.capacity()) * sizeof(float) +
          ids_.capacity() * sizeof(uint32_t) + boxes_.capacity() * sizeof(Box) +

@@ -15,38 +15,12 @@
 #include <utility>
 
 #include "formats/spt_codes.h"
+#include "splatkit/morton_order.h"
 #include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::spt {
 
 namespace {
-
-// Spreads the low 21 bits of v to every third bit.
-uint64_t spread(uint64_t v) {
-  v &= 0x1FFFFF;
-  v = (v | v << 32) & 0x1F00000000FFFFull;
-  v = (v | v << 16) & 0x1F0000FF0000FFull;
-  v = (v | v << 8) & 0x100F00F00F00F00Full;
-  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
-
-// Morton codes (21 bits per axis) over the bounding cube of a box.
-struct MortonFrame {
-  Vec3f lo;
-  double scale;
-  MortonFrame(const Vec3f& l, const Vec3f& h) : lo(l) {
-    const double extent = std::max({double(h.x) - l.x, double(h.y) - l.y, double(h.z) - l.z});
-    scale = extent > 0 ? 2097151.0 / extent : 0.0;
-  }
-  uint64_t code(const Vec3f& p) const {
-    auto q = [&](float v, float l) {
-      return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
-    };
-    return spread(q(p.x, lo.x)) << 2 | spread(q(p.y, lo.y)) << 1 | spread(q(p.z, lo.z));
-  }
-};
 
 struct Box {
   Vec3f lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};

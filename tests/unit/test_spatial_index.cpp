@@ -114,30 +114,6 @@ TEST(SpatialIndex, KnnAllMatchesBruteForce) {
   }
 }
 
-TEST(SpatialIndex, RenumberedInTreeOrderAnswersForThePermutedCloud) {
-  for (auto make : {random_cloud, grid_cloud}) {  // the grid: many ties, broken by new numbers
-    const std::vector<Vec3f> pts = make(900, 11);
-    SpatialIndex index(pts, 8);
-    const std::vector<uint32_t> old = index.renumber_in_tree_order();
-    ASSERT_EQ(old.size(), pts.size());
-    std::vector<Vec3f> permuted(pts.size());
-    std::vector<uint8_t> seen(pts.size(), 0);
-    for (std::size_t t = 0; t < old.size(); ++t) {
-      ASSERT_LT(old[t], pts.size());
-      ASSERT_FALSE(seen[old[t]]) << "not a permutation";
-      seen[old[t]] = 1;
-      permuted[t] = pts[old[t]];
-    }
-    for (std::size_t k : {1, 7, 16}) {
-      expect_knn_all_matches(index, permuted, k);
-      for (const Vec3f& q : random_cloud(20, 5)) expect_knn_matches(index, permuted, q, k);
-    }
-    // Renumbering again changes nothing: the numbers already follow the tree.
-    const std::vector<uint32_t> again = index.renumber_in_tree_order();
-    for (std::size_t t = 0; t < again.size(); ++t) ASSERT_EQ(again[t], t);
-  }
-}
-
 TEST(SpatialIndex, DuplicatesAndTiesGoToTheSmallerIndex) {
   std::vector<Vec3f> pts = grid_cloud(400, 11);  // 64 distinct positions, ~6 copies each
   SpatialIndex index(pts, 4);

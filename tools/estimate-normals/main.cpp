@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-duplicates", o.normals.keep_duplicates, "Do not merge exact duplicates");
   app.add_flag("--keep-order", o.keep_order,
                "Write the points in the input's order. By default they are written in a spatial "
-               "order (the kd-tree's, the same for any thread count), which makes the splat "
+               "order (Morton order, the same for any thread count), which makes the splat "
                "graph's file about a quarter smaller and the later stages up to 2x faster on "
                "shuffled input");
   app.add_option("--outliers", o.outliers,

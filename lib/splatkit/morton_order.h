@@ -1,0 +1,55 @@
+// morton_order: the Morton (Z-order) sequence of a point set, the spatial order estimate-normals
+// writes its splats in and build-spt builds over. Codes interleave 21 bits per axis over the
+// bounding cube of the points (the cube's side is the box's largest extent; coordinates are
+// quantised in double from the float positions, so a code depends only on the point and the box).
+// Points sharing a code keep their input order. The order depends only on the point set and its
+// input numbering: the same for any thread count, and reproducible piece by piece (a subset read
+// in input order, coded over the whole set's box, sorts as it does within the whole).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "splatkit/vec3.h"
+
+namespace splatkit {
+
+// Spreads the low 21 bits of v to every third bit.
+inline uint64_t spread_morton_bits(uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+
+// Morton codes (21 bits per axis, x highest) over the bounding cube of the box [l, h].
+struct MortonFrame {
+  static constexpr int kCodeBits = 63;
+  Vec3f lo;
+  double scale;
+  MortonFrame(const Vec3f& l, const Vec3f& h) : lo(l) {
+    const double extent = std::max({double(h.x) - l.x, double(h.y) - l.y, double(h.z) - l.z});
+    scale = extent > 0 ? 2097151.0 / extent : 0.0;
+  }
+  uint64_t code(const Vec3f& p) const {
+    auto q = [&](float v, float l) {
+      return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
+    };
+    return spread_morton_bits(q(p.x, lo.x)) << 2 | spread_morton_bits(q(p.y, lo.y)) << 1 |
+           spread_morton_bits(q(p.z, lo.z));
+  }
+};
+
+// The bounding box of the points (lo = +inf, hi = -inf when empty), in parallel.
+void bounding_box(std::span<const Vec3f> points, Vec3f& lo, Vec3f& hi);
+
+// The points' numbers in Morton order over their own bounding box, ties by number: order[t] is
+// the number of the t-th point. Runs in parallel; 16 bytes per point transiently.
+std::vector<uint32_t> morton_order(std::span<const Vec3f> points);
+
+}  // namespace splatkit

@@ -1,0 +1,85 @@
+// morton_order against a plain sort of (code, number) pairs, on clouds with many equal codes, a
+// far outlier (most points in one top-level bucket, sorted in parallel), and the property chunked
+// processing rests on: a subset in input order, coded over the whole set's box, keeps its order.
+#include "splatkit/morton_order.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "splatkit/deterministic_rng.h"
+
+namespace splatkit {
+namespace {
+
+std::vector<Vec3f> cloud(std::size_t n, uint64_t seed, bool snapped) {
+  DeterministicRng rng{seed};
+  std::vector<Vec3f> pts(n);
+  for (auto& p : pts) {
+    p = {rng.uniformf(), rng.uniformf(), 0.01f * rng.uniformf()};
+    if (snapped)  // 1 mm steps, as LAS coordinates are: many points share a code
+      p = {static_cast<float>(rng.next() % 50) * 1e-3f,
+           static_cast<float>(rng.next() % 50) * 1e-3f, 0.0f};
+  }
+  return pts;
+}
+
+std::vector<uint32_t> sorted_by_code(const std::vector<Vec3f>& pts, const MortonFrame& frame) {
+  std::vector<std::pair<uint64_t, uint32_t>> keys(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    keys[i] = {frame.code(pts[i]), static_cast<uint32_t>(i)};
+  std::sort(keys.begin(), keys.end());
+  std::vector<uint32_t> order;
+  for (const auto& k : keys) order.push_back(k.second);
+  return order;
+}
+
+MortonFrame frame_of(const std::vector<Vec3f>& pts) {
+  Vec3f lo, hi;
+  bounding_box(pts, lo, hi);
+  return MortonFrame(lo, hi);
+}
+
+TEST(MortonOrder, SortsByCodeThenNumber) {
+  for (bool snapped : {false, true}) {
+    for (std::size_t n : {0, 1, 5, 1000, 300000}) {
+      const std::vector<Vec3f> pts = cloud(n, 3 + n, snapped);
+      EXPECT_EQ(morton_order(pts), sorted_by_code(pts, frame_of(pts))) << n << " " << snapped;
+    }
+  }
+}
+
+TEST(MortonOrder, OneFarPointPutsTheRestInOneBucketSortedInParallel) {
+  std::vector<Vec3f> pts = cloud(1500000, 9, false);
+  pts[700000] = {1e6f, 1e6f, 1e6f};
+  const std::vector<uint32_t> order = morton_order(pts);
+  EXPECT_EQ(order, sorted_by_code(pts, frame_of(pts)));
+  EXPECT_EQ(order.back(), 700000u);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  EXPECT_EQ(morton_order(pts), order);
+}
+
+TEST(MortonOrder, ASubsetCodedOverTheWholeBoxKeepsItsPlaceInTheWholeOrder) {
+  const std::vector<Vec3f> pts = cloud(20000, 4, true);
+  const MortonFrame whole = frame_of(pts);
+  const std::vector<uint32_t> order = morton_order(pts);
+  std::vector<Vec3f> subset;
+  std::vector<uint32_t> number;
+  for (uint32_t i = 0; i < pts.size(); i += 3) {
+    subset.push_back(pts[i]);
+    number.push_back(i);
+  }
+  std::vector<uint32_t> expected;  // the whole order restricted to the subset
+  for (uint32_t i : order)
+    if (i % 3 == 0) expected.push_back(i);
+  std::vector<uint32_t> got;
+  for (uint32_t s : sorted_by_code(subset, whole)) got.push_back(number[s]);
+  EXPECT_EQ(got, expected);
+}
+
+}  // namespace
+}  // namespace splatkit
