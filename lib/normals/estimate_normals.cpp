@@ -20,6 +20,8 @@
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
+#include "normals/pca_normals_and_radii.h"
+#include "normals/refit_splats.h"
 #include "normals/orient_normals_viewpoint.h"
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
@@ -33,8 +35,6 @@ namespace splatkit {
 
 namespace {
 
-constexpr std::size_t kPrefetchRows = 4;
-
 void check_options(const NormalOptions& o) {
   if (o.k < 3) throw_usage("-k must be at least 3 (a plane needs 3 points)");
   if (o.radius_k < 1) throw_usage("--radius-k must be at least 1");
@@ -46,118 +46,6 @@ void check_options(const NormalOptions& o) {
     throw_usage("--splat ellipse needs --radius cover (ellipses are fitted to the cover cells)");
   if (o.fit_centres && o.radius_rule != RadiusRule::kCover)
     throw_usage("--fit-centres needs --radius cover");
-}
-
-std::size_t row_size(const NormalOptions& o) { return std::max(o.k, o.radius_k + 1); }
-
-// The splat of point i from its kNN row (positions' indices, the point first; squared distances),
-// by the options' rule, written to the cloud's radii (and axes, minor radii). Returns whether the
-// row left the point's cover cell open (cover_splat.h): a wider row may close it.
-bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<const uint32_t> row,
-               std::span<const float> sq_dists, std::span<const Vec3f> final_normals = {}) {
-  // The whole row, as the mean-kNN rule always read it: duplicates (distance 0) are skipped.
-  const float mean_knn = splat_radius(sq_dists, o.radius_k);
-  if (o.radius_rule == RadiusRule::kMeanKnn) {
-    cloud.radii[i] = mean_knn;
-    return false;
-  }
-  // Only duplicates in the row: phase 3 leaves 0 (an isolated point, filled later); a refit keeps
-  // the radius resolve_degenerate_normals took from a wider row.
-  if (mean_knn == 0) return false;
-  const SplatShape s = cover_splat(cloud.positions[i], cloud.normals[i], cloud.positions, row,
-                                   kCoverCapScale * mean_knn, o.ellipses, final_normals);
-  cloud.radii[i] = s.radius;
-  if (o.ellipses) {
-    cloud.axes[i] = s.axis;
-    cloud.minor_radii[i] = s.minor_radius;
-  }
-  return s.open;
-}
-
-// Fits the splats of `points` again from rows of k points, one kNN query each: points whose
-// normal changed after phase 3, and points whose cell the phase-3 row left open. Every normal is
-// final by then, so the neighbours' normals tell the sheets apart too.
-void refit_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
-                  std::span<const uint32_t> points, std::size_t k) {
-  k = std::min(k, cloud.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& range) {
-    std::vector<uint32_t> row(k, SpatialIndex::kNone);
-    std::vector<float> sq(k, std::numeric_limits<float>::infinity());
-    for (std::size_t p = range.begin(); p != range.end(); ++p) {
-      const uint32_t i = points[p];
-      const std::size_t got = index.knn(cloud.positions[i], k, row.data(), sq.data());
-      std::fill(row.begin() + got, row.end(), SpatialIndex::kNone);
-      std::fill(sq.begin() + got, sq.end(), std::numeric_limits<float>::infinity());
-      fit_splat(cloud, o, i, row, sq, cloud.normals);
-    }
-  });
-}
-
-// Calls `progress` from whichever worker gets the lock; the others skip (the tools' callbacks are
-// not thread-safe, and a skipped update is harmless).
-class SharedProgress {
- public:
-  SharedProgress(const ProgressFn& fn, double from, double to, std::size_t total, const char* phase)
-      : fn_(fn), from_(from), to_(to), total_(std::max<std::size_t>(total, 1)), phase_(phase) {}
-  void add(std::size_t done) {
-    const std::size_t now = done_.fetch_add(done) + done;
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (lock.owns_lock())
-      fn_(from_ + (to_ - from_) * static_cast<double>(now) / static_cast<double>(total_), phase_);
-  }
-
- private:
-  const ProgressFn& fn_;
-  double from_, to_;
-  std::size_t total_;
-  const char* phase_;
-  std::atomic<std::size_t> done_{0};
-  std::mutex mutex_;
-};
-
-// Flags of phase 3 per point.
-constexpr uint8_t kDegenerate = 1;  // PCA neighbourhood degenerate: phase 4 finds the normal
-constexpr uint8_t kOpenCell = 2;    // cover cell left open by the row: refitted from a wider one
-// A neighbourhood whose middle PCA eigenvalue is below this fraction of the largest is a thread
-// of points (one scan line, with none of the next lines among the k nearest): its plane is the
-// line's osculating plane, not the surface's, so its normal comes from a wider neighbourhood.
-constexpr double kThinRatio = 1e-2;
-// Rows of refitted splats are this many times the phase-3 row.
-constexpr std::size_t kWideRowFactor = 4;
-
-// Phase 3: one streamed kNN pass gives every point its PCA normal and its splat; `flags` marks
-// the points whose neighbourhood is degenerate or thin (phase 4 widens it) and those whose cover
-// cell the row left open (refitted from a wider row). `variation` (empty, or #N) receives the
-// surface variation the robust method selects its points by (-1: degenerate, skip).
-void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
-                           std::vector<uint8_t>& flags, std::vector<float>& variation,
-                           const ProgressFn& progress) {
-  const std::size_t row_k = row_size(o);
-  const std::span<const Vec3f> positions(cloud.positions);
-  SharedProgress shared(progress, 0.15, 0.6, cloud.size(), "normals");
-  index.for_each_knn_block(
-      row_k, [&](std::span<const uint32_t> queries, std::span<const uint32_t> indices,
-                 std::span<const float> sq_dists) {
-        for (std::size_t r = 0; r < queries.size(); ++r) {
-          // The rows' points are scattered over the cloud: fetch a few rows ahead.
-          if (r + kPrefetchRows < queries.size()) {
-            for (uint32_t j : indices.subspan((r + kPrefetchRows) * row_k, o.k))
-              if (j != SpatialIndex::kNone) __builtin_prefetch(&positions[j]);
-          }
-          const uint32_t i = queries[r];
-          const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
-          cloud.normals[i] = pca.normal;
-          const bool thin = pca.degenerate || pca.eigenvalues[1] < kThinRatio * pca.eigenvalues[2];
-          uint8_t f = thin ? kDegenerate : 0;
-          if (!variation.empty())
-            variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
-          if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),
-                        sq_dists.subspan(r * row_k, row_k)))
-            f |= kOpenCell;
-          flags[i] = f;
-        }
-        shared.add(queries.size());
-      });
 }
 
 nlohmann::json robust_stats_json(const RobustNormalStats& r) {
@@ -301,14 +189,14 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   timed("normals_radii",
-        [&] { pca_normals_and_radii(index, cloud, options, flags, variation, progress); });
+        [&] { pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress); });
 
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
     std::vector<uint32_t> points;
     for (std::size_t i = 0; i < n; ++i) {
-      if (flags[i] & kDegenerate) points.push_back(static_cast<uint32_t>(i));
-      if (flags[i] & kOpenCell) refit.push_back(static_cast<uint32_t>(i));
+      if (flags[i] & kDegenerateFlag) points.push_back(static_cast<uint32_t>(i));
+      if (flags[i] & kOpenCellFlag) refit.push_back(static_cast<uint32_t>(i));
     }
     const DegenerateStats stats = resolve_degenerate_normals(
         index, cloud.positions, points, options.k, options.radius_k, cloud.normals, cloud.radii);
