@@ -12,11 +12,15 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
+
+// Neighbours whose median radius bounds a splat (estimate_normals).
+inline constexpr std::size_t kBoundRadiiK = 8;
 
 struct BoundRadiiResult {
   std::size_t capped = 0;   // points whose radius was lowered (counted once)
@@ -30,8 +34,16 @@ BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radi
                              std::vector<float>& minor_radii, float ratio, std::size_t k = 8,
                              std::size_t max_passes = 4);
 
-// The median of the radii of each point's k nearest other points (#N).
+// The same passes with the medians from `medians(radii)` (#N each): for a cloud processed in
+// pieces (splats_in_pieces.h).
+BoundRadiiResult bound_radii(
+    const std::function<std::vector<float>(const std::vector<float>&)>& medians,
+    std::vector<float>& radii, std::vector<float>& minor_radii, float ratio,
+    std::size_t max_passes = 4);
+
+// The median of the radii of each point's k nearest other points (#N). sq_reach (empty, or #N)
+// receives the squared distance of each point's k-th nearest other point.
 std::vector<float> neighbour_median_radii(const SpatialIndex& index, const std::vector<float>& radii,
-                                          std::size_t k);
+                                          std::size_t k, std::span<float> sq_reach = {});
 
 }  // namespace splatkit

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <type_traits>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "normals/orient_normals_viewpoint.h"
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
+#include "normals/splat_pieces.h"
 #include "normals/splat_radius.h"
 #include "splatkit/error.h"
 #include "splatkit/morton_order.h"
@@ -103,6 +105,7 @@ nlohmann::json NormalReport::to_json() const {
           {"flipped_points", flipped_points},
           {"components", components},
           {"robust", robust},
+          {"pieces", pieces},
           {"timings_s", timings},
           {"points_per_s", total > 0 ? static_cast<double>(output_points) / total : 0.0}};
 }
@@ -141,47 +144,12 @@ void gather_extra(ExtraValues& values, const std::vector<uint32_t>& order) {
   });
 }
 
-}  // namespace
-
-NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
-                              const ProgressFn& progress) {
-  check_options(options);
-  if (options.orient == NormalOrientation::kViewpoint && !options.viewpoint && !cloud.viewpoint)
-    throw_usage(
-        "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
-  NormalReport report;
-  report.input_points = cloud.size();
-  const Clock::time_point start = Clock::now();
-  auto timed = [&](const char* phase, auto&& work) {
-    const Clock::time_point t0 = Clock::now();
-    work();
-    report.timings[phase] = seconds_since(t0);
-  };
-
-  if (!options.keep_duplicates) {
-    progress(0.0, "duplicates");
-    timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
-  }
+// Phase 3 to the refits over the whole cloud (index: over its positions, in Morton order).
+template <class Timed>
+void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& options,
+                        const std::vector<uint32_t>& order, NormalReport& report, Timed& timed,
+                        const ProgressFn& progress) {
   const std::size_t n = cloud.size();
-  report.output_points = n;
-  progress(0.05, "kd-tree");
-  // Every stage below runs over the points renumbered in Morton order (morton_order.h: a
-  // spatial order, so a point's neighbours are mostly near it in memory whatever the input's
-  // order, and one that a subset of the cloud reproduces), and the results are put back in the
-  // input's order at the end unless spatial_order. Ties between equally distant neighbours are
-  // broken by the new numbers.
-  SpatialIndex index;
-  std::vector<uint32_t> order;
-  timed("index", [&] {
-    order = morton_order(cloud.positions);
-    cloud.positions = gathered(cloud.positions, order);
-    index = SpatialIndex(cloud.positions);
-  });
-
-  cloud.normals.assign(n, Vec3f{0, 0, 1});
-  cloud.radii.assign(n, 0.0f);
-  cloud.axes.assign(options.ellipses ? n : 0, Vec3f{1, 0, 0});
-  cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
   const bool robust = options.method == NormalMethod::kRobust;
   const bool cover = options.radius_rule == RadiusRule::kCover;
   std::vector<uint8_t> flags(n, 0);  // kDegenerate, kOpenCell
@@ -229,6 +197,57 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           [&] { refit_splats(index, cloud, options, refit, kWideRowFactor * row_size(options)); });
     report.refitted_points = refit.size();
   }
+}
+
+}  // namespace
+
+NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
+                              const ProgressFn& progress) {
+  check_options(options);
+  if (options.piece_points > 0 && (options.method != NormalMethod::kPca || options.fit_centres))
+    throw_usage("processing in pieces needs --method pca and no --fit-centres");
+  if (options.orient == NormalOrientation::kViewpoint && !options.viewpoint && !cloud.viewpoint)
+    throw_usage(
+        "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
+  NormalReport report;
+  report.input_points = cloud.size();
+  const Clock::time_point start = Clock::now();
+  auto timed = [&](const char* phase, auto&& work) {
+    const Clock::time_point t0 = Clock::now();
+    work();
+    report.timings[phase] = seconds_since(t0);
+  };
+
+  if (!options.keep_duplicates) {
+    progress(0.0, "duplicates");
+    timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
+  }
+  const std::size_t n = cloud.size();
+  report.output_points = n;
+  progress(0.05, "kd-tree");
+  // Every stage below runs over the points renumbered in Morton order (morton_order.h: a
+  // spatial order, so a point's neighbours are mostly near it in memory whatever the input's
+  // order, and one that a subset of the cloud reproduces), and the results are put back in the
+  // input's order at the end unless spatial_order. Ties between equally distant neighbours are
+  // broken by the new numbers.
+  std::vector<uint32_t> order;
+  timed("order", [&] {
+    order = morton_order(cloud.positions);
+    cloud.positions = gathered(cloud.positions, order);
+  });
+  cloud.normals.assign(n, Vec3f{0, 0, 1});
+  cloud.radii.assign(n, 0.0f);
+  cloud.axes.assign(options.ellipses ? n : 0, Vec3f{1, 0, 0});
+  cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
+  SpatialIndex index;
+  std::optional<SplatPieces> pieces;
+  if (options.piece_points > 0 && n > options.piece_points) {
+    pieces.emplace(cloud.positions, options.piece_points);
+    timed("normals_radii", [&] { pieces->normals_and_splats(cloud, options, report, progress); });
+  } else {
+    timed("index", [&] { index = SpatialIndex(cloud.positions); });
+    whole_cloud_splats(index, cloud, options, order, report, timed, progress);
+  }
   if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
   if (options.ellipses)  // isolated points: circles of the radius they were given
     for (std::size_t i = 0; i < n; ++i)
@@ -241,7 +260,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     progress(0.81, "bound radii");
     timed("bound_radii", [&] {
       const BoundRadiiResult b =
-          bound_radii(index, cloud.radii, cloud.minor_radii, options.max_radius_ratio);
+          pieces ? bound_radii([&](const std::vector<float>& r) {
+            return pieces->neighbour_median_radii(r, kBoundRadiiK);
+          },
+                               cloud.radii, cloud.minor_radii, options.max_radius_ratio)
+                 : bound_radii(index, cloud.radii, cloud.minor_radii, options.max_radius_ratio,
+                               kBoundRadiiK);
       report.bounded_radii = b.capped;
       report.radii_over_bound = b.over;
     });
@@ -252,6 +276,14 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
       report.mean_centre_shift =
           fit_splat_centres(index, cloud.positions, cloud.normals, row_size(options));
     });
+  }
+  if (pieces) {
+    report.pieces = {{"pieces", pieces->stats().pieces},
+                     {"halo_points", pieces->stats().halo_points},
+                     {"reruns", pieces->stats().reruns}};
+    pieces.reset();
+    if (options.orient == NormalOrientation::kMst)
+      timed("index", [&] { index = SpatialIndex(cloud.positions); });
   }
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");

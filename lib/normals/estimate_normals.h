@@ -78,6 +78,10 @@ struct NormalOptions {
   // (bound_radii.h); 0 = no bound. Default measured on clouds whose density varies 100x
   // (tests/unit/test_normals_bound_radii.cpp).
   float max_radius_ratio = kDefaultMaxRadiusRatio;
+  // > 0: the neighbourhood phases run piece by piece, on pieces of about this many points with
+  // halos (splat_pieces.h), holding one piece's working arrays at a time; the results are the
+  // same. Method pca without fit_centres only (else Error(kUsage)).
+  std::size_t piece_points = 0;
 };
 
 struct NormalReport {
@@ -97,6 +101,8 @@ struct NormalReport {
   // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}
   // (robust_normals.h); null for pca.
   nlohmann::json robust = nullptr;
+  // With piece_points: {"pieces", "halo_points", "reruns"} (SplatPieces::Stats); else null.
+  nlohmann::json pieces = nullptr;
   // Seconds per phase: "merge_duplicates", "index", "normals_radii", "degenerate", "robust",
   // "refit_splats", "orient" (only the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();

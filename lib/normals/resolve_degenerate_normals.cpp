@@ -5,6 +5,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <vector>
 
@@ -21,8 +22,6 @@ Vec3f fallback_normal(const Vec3f& axis, double largest) {
   return squared_norm(n) > 0 ? n : Vec3f{0, 0, 1};
 }
 
-namespace {
-
 // The whole cloud's PCA: when it is degenerate every neighbourhood is, so the per-point search
 // (up to kMaxWideK neighbours each) would only burn time.
 PcaNormal whole_cloud_pca(std::span<const Vec3f> positions) {
@@ -31,17 +30,16 @@ PcaNormal whole_cloud_pca(std::span<const Vec3f> positions) {
   return neighborhood_pca(positions, all);
 }
 
-}  // namespace
-
 DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
                                            std::span<const Vec3f> positions,
                                            std::span<const uint32_t> points, std::size_t k,
                                            std::size_t radius_k, std::span<Vec3f> normals,
-                                           std::span<float> radii) {
+                                           std::span<float> radii, const WholeCloud* whole,
+                                           std::span<float> sq_reach) {
   DegenerateStats stats;
   if (points.empty()) return stats;
-  const std::size_t n = positions.size();
-  const PcaNormal global = whole_cloud_pca(positions);
+  const std::size_t n = whole ? whole->size : positions.size();
+  const PcaNormal global = whole ? whole->pca : whole_cloud_pca(positions);
   const std::size_t limit = std::min(n, std::max(kMaxWideK, 4 * k));
   if (global.degenerate) {
     const Vec3f normal = fallback_normal(global.axis, global.eigenvalues[2]);
@@ -57,15 +55,17 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
         for (std::size_t p = range.begin(); p < range.end(); ++p) {
           const uint32_t i = points[p];
           PcaNormal pca;
-          std::size_t wide = k;
+          std::size_t wide = k, got = 0;
           do {
             wide = std::min(wide * 4, limit);
             ids.resize(wide);
             d2.resize(wide);
-            const std::size_t got = index.knn(positions[i], wide, ids.data(), d2.data());
+            got = index.knn(positions[i], wide, ids.data(), d2.data());
             pca = neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), got));
           } while (pca.degenerate && wide < limit);
           if (radii[i] == 0.0f) radii[i] = splat_radius(d2, radius_k);
+          if (!sq_reach.empty()) 
+            sq_reach[i] = got == wide ? d2[wide - 1] : std::numeric_limits<float>::infinity();
           if (pca.degenerate) {
             normals[i] = fallback_normal(pca.axis, pca.eigenvalues[2]);
             ++unresolved;

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 
+#include "normals/neighborhood_pca.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
@@ -26,13 +27,27 @@ struct DegenerateStats {
   std::size_t unresolved = 0;  // got the fallback normal
 };
 
+// When `positions` is a piece of a larger cloud: the whole cloud's size and PCA, which the cap on
+// the neighbourhood's size and the test for a wholly degenerate cloud use.
+struct WholeCloud {
+  std::size_t size = 0;
+  PcaNormal pca;
+};
+
+// The whole cloud's PCA (neighborhood_pca over every point).
+PcaNormal whole_cloud_pca(std::span<const Vec3f> positions);
+
 // index: built over `positions` (#N). points: the indices to fix. normals, radii: #N, updated for
-// the listed points only (radii before any scaling). k, radius_k as in NormalOptions.
+// the listed points only (radii before any scaling). k, radius_k as in NormalOptions. whole: null
+// when `positions` is the whole cloud. sq_reach (empty, or #N) receives, for each listed point,
+// the squared distance of the farthest neighbour its widest query returned (0 when the cloud was
+// degenerate as a whole and no query ran).
 DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
                                            std::span<const Vec3f> positions,
                                            std::span<const uint32_t> points, std::size_t k,
                                            std::size_t radius_k, std::span<Vec3f> normals,
-                                           std::span<float> radii);
+                                           std::span<float> radii, const WholeCloud* whole = nullptr,
+                                           std::span<float> sq_reach = {});
 
 // The fallback normal for a degenerate set whose principal axis is `axis` and largest eigenvalue
 // `largest` (0: a single position).

@@ -1,0 +1,70 @@
+// SplatPieces: estimate_normals' neighbourhood phases (estimate_normals.h: phase 3's PCA normals
+// and splats, the degenerate neighbourhoods, the refits, and the neighbours' median radii of the
+// radius bound) computed piece by piece, each piece with a halo of the points around it, with the
+// very results of the whole-cloud run: the ground for clouds larger than memory.
+//
+// Pieces are runs of consecutive points of the cloud's Morton order (morton_order.h), of about
+// piece_points points each. A piece is processed with the points that lie within its bounding
+// box grown by its halo width, numbered in the same order as in the whole cloud, so kNN ties
+// are broken alike. A query's answer there equals the whole cloud's when the ball from the point
+// to its farthest answer lies inside the grown box (a subset's k-th distance is never shorter
+// than the whole set's, so the ball drawn from the subset's answer contains the true one). Each
+// phase checks this for every query of the piece's own points and, when a ball pokes out, runs
+// the piece again with a halo that covers it. Each phase reads only the earlier phases' results of
+// the halo's points, which the pieces that own them computed. Ties go alike only when the
+// positions are numbered in Morton order: the caller renumbers them first.
+//
+// Memory: one piece with its halo at a time (its kd-tree, its rows, a copy of its points and
+// their per-point values) besides the whole cloud's arrays, which the caller holds.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "normals/estimate_normals.h"
+#include "normals/resolve_degenerate_normals.h"
+#include "splatkit/vec3.h"
+
+namespace splatkit {
+
+class SplatPieces {
+ public:
+  struct Stats {
+    std::size_t pieces = 0;
+    std::size_t halo_points = 0;  // points loaded besides the pieces' own, summed over every load
+    std::size_t reruns = 0;       // pieces run again with a wider halo
+  };
+
+  // positions: the whole cloud (#N), in Morton order; kept by reference. piece_points >= 1.
+  SplatPieces(std::span<const Vec3f> positions, std::size_t piece_points);
+
+  std::size_t pieces() const { return ranges_.size() - 1; }
+  const Stats& stats() const { return stats_; }
+
+  // Phase 3, the degenerate neighbourhoods and the refit phase of estimate_normals for the whole
+  // cloud: cloud.normals, radii (and axes, minor radii with o.ellipses) #N, set as the
+  // whole-cloud run sets them before isolated points are filled. cloud.positions must be the span
+  // given to the constructor. Counts the degenerate, unresolved and refitted points into report.
+  // Method pca only, without fit_centres (the caller checks).
+  void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
+                          const ProgressFn& progress);
+
+  // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
+  std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);
+
+ private:
+  struct Local;
+  Local load(std::size_t piece, double halo) const;
+  template <class Attempt>
+  Local run(std::size_t piece, Attempt&& attempt);
+
+  std::span<const Vec3f> positions_;
+  std::vector<std::size_t> ranges_;  // piece p: points [ranges_[p], ranges_[p + 1])
+  std::vector<double> lo_, hi_;      // per piece, 3 each: the bounding box of its own points
+  std::vector<double> halo_;         // per piece: the halo width that served its last phase
+  Stats stats_;
+};
+
+}  // namespace splatkit
