@@ -59,12 +59,16 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
           {"noisy", r.noisy}};
 }
 
-// Phase 6.
-// The last stage: it takes the index (the MST orientation releases it before its peak).
-void orient(SplatCloud& cloud, SpatialIndex&& index, const NormalOptions& o, NormalReport& report) {
+// Phase 6. With the whole cloud's index (it takes it: the MST orientation releases it before its
+// peak), or with the cloud's pieces.
+void orient(SplatCloud& cloud, SpatialIndex&& index, SplatPieces* pieces, const NormalOptions& o,
+            NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
     const OrientStats stats =
-        orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
+        pieces ? orient_normals_mst([&](std::size_t k,
+                                        std::span<uint32_t> out) { pieces->knn_rows(k, out); },
+                                    cloud.positions, cloud.normals, kOrientK)
+               : orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
     report.flipped_points = stats.flipped;
     report.components = stats.components;
   } else if (o.orient == NormalOrientation::kViewpoint) {
@@ -277,18 +281,15 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           fit_splat_centres(index, cloud.positions, cloud.normals, row_size(options));
     });
   }
-  if (pieces) {
+  if (options.orient != NormalOrientation::kNone && n > 0) {
+    progress(0.85, "orientation");
+    timed("orient",
+          [&] { orient(cloud, std::move(index), pieces ? &*pieces : nullptr, options, report); });
+  }
+  if (pieces)
     report.pieces = {{"pieces", pieces->stats().pieces},
                      {"halo_points", pieces->stats().halo_points},
                      {"reruns", pieces->stats().reruns}};
-    pieces.reset();
-    if (options.orient == NormalOrientation::kMst)
-      timed("index", [&] { index = SpatialIndex(cloud.positions); });
-  }
-  if (options.orient != NormalOrientation::kNone && n > 0) {
-    progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, std::move(index), options, report); });
-  }
   timed("reorder", [&] {
     if (options.spatial_order) {  // the rest follows the splats into the tree's order
       if (!cloud.colors.empty()) cloud.colors = gathered(cloud.colors, order);

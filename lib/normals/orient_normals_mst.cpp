@@ -93,20 +93,13 @@ struct KnnGraph {
 
 constexpr std::size_t kRows = 1 << 15;  // rows per task of the passes below
 
-// The rows of the k nearest neighbours (k - 1 besides the point itself), then compacted. The
-// index is released once the rows are found.
+// The rows of the k nearest neighbours (k - 1 besides the point itself) from `rows`, then
+// compacted.
 template <typename Id>
-KnnGraph<Id> build_graph(SpatialIndex& index, std::size_t k) {
-  const std::size_t n = index.size(), w = k - 1;
-  ShrinkableArray nb(n * w);  // every slot is written below: k <= n
-  index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
-                                  std::span<const uint32_t> indices, std::span<const float>) {
-    for (std::size_t r = 0; r < queries.size(); ++r) {
-      // Column 0 is the point itself; the rest are its neighbours.
-      std::copy_n(indices.data() + r * k + 1, w, nb.data() + queries[r] * w);
-    }
-  });
-  index = SpatialIndex();
+KnnGraph<Id> build_graph(const KnnRowsFn& rows, std::size_t n, std::size_t k) {
+  const std::size_t w = k - 1;
+  ShrinkableArray nb(n * w);  // every slot is written by rows: k <= n
+  rows(k, std::span<uint32_t>(nb.data(), n * w));
   // Which slots stay, decided on the full rows (read-only, in parallel).
   std::vector<uint8_t> keep(n * w);
   const std::size_t chunks = chunk_count(n, kRows);
@@ -277,16 +270,32 @@ std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f
 
 OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k) {
+  if (index.size() != positions.size())
+    throw std::invalid_argument("orient_normals_mst: positions and index differ in size");
+  auto rows = [&](std::size_t row_k, std::span<uint32_t> out) {
+    const std::size_t w = row_k - 1;
+    index.for_each_knn_block(row_k, [&](std::span<const uint32_t> queries,
+                                        std::span<const uint32_t> indices, std::span<const float>) {
+      for (std::size_t r = 0; r < queries.size(); ++r)  // column 0 is the point itself
+        std::copy_n(indices.data() + r * row_k + 1, w, out.data() + queries[r] * w);
+    });
+    index = SpatialIndex();  // released before the graph's peak
+  };
+  return orient_normals_mst(rows, positions, normals, k);
+}
+
+OrientStats orient_normals_mst(const KnnRowsFn& rows, std::span<const Vec3f> positions,
+                               std::span<Vec3f> normals, std::size_t k) {
   if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
   const std::size_t n = positions.size();
-  if (normals.size() != n || index.size() != n)
-    throw std::invalid_argument("orient_normals_mst: positions, normals and index differ in size");
+  if (normals.size() != n)
+    throw std::invalid_argument("orient_normals_mst: positions and normals differ in size");
   OrientStats stats;
   if (n == 0) return stats;
 
   // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
   auto forest = [&]<typename Id>(Id) {
-    const KnnGraph<Id> graph = build_graph<Id>(index, std::min(k, n));
+    const KnnGraph<Id> graph = build_graph<Id>(rows, n, std::min(k, n));
     return spanning_forest<Id>(graph, positions, normals);
   };
   const std::size_t width = std::min(k, n) - 1;

@@ -39,6 +39,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <span>
 
 #include "splatkit/spatial_index.h"
@@ -58,6 +60,15 @@ struct OrientStats {
 // caller done with it moves it in and the forest's peak does not hold it. normals: #N unit
 // normals, re-signed in place. k >= 2 and matching sizes, else std::invalid_argument.
 OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positions,
+                               std::span<Vec3f> normals, std::size_t k = kOrientK);
+
+// Fills out (#N by k - 1, row-major) with each point's k - 1 nearest other points, ordered by
+// (squared distance, index), as SpatialIndex::knn_all's columns 1..k-1.
+using KnnRowsFn = std::function<void(std::size_t k, std::span<uint32_t> out)>;
+
+// The same with the kNN rows from `rows` instead of an index (a cloud processed in pieces,
+// splat_pieces.h).
+OrientStats orient_normals_mst(const KnnRowsFn& rows, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k = kOrientK);
 
 }  // namespace splatkit

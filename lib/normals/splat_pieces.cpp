@@ -112,6 +112,8 @@ SplatPieces::Local SplatPieces::load(std::size_t piece, double halo) const {
   return l;
 }
 
+constexpr double kHaloGrowth = 1.25;
+
 // Runs attempt(local) on the piece, which returns the halo its queries needed, until the halo
 // it ran with was wide enough (or held the whole cloud); returns that last load.
 template <class Attempt>
@@ -122,7 +124,8 @@ SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
     stats_.halo_points += l.ids.size() - (l.core_end - l.core_begin);
     const double need = attempt(l);
     if (l.whole || need <= halo_[piece]) return l;
-    halo_[piece] = std::max(need * 1.01, halo_[piece]);
+    // A rerun costs a whole attempt and a wider halo only its extra points: grow with margin.
+    halo_[piece] = std::max(need * kHaloGrowth, halo_[piece]);
     ++stats_.reruns;
   }
 }
@@ -171,11 +174,11 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
 
   // The refits read the neighbours' final normals, which the first pass wrote for every piece.
   const std::size_t k = kWideRowFactor * row_size(o);
+  auto refitted = [&](std::size_t g) { return flags[g] != 0; };  // degenerate or open cell
   for (std::size_t p = 0; p < pieces(); ++p) {
-    auto refitted = [&](std::size_t g) { return (flags[g] & (kDegenerateFlag | kOpenCellFlag)) != 0; };
-    if (std::none_of(flags.begin() + static_cast<std::ptrdiff_t>(ranges_[p]),
-                     flags.begin() + static_cast<std::ptrdiff_t>(ranges_[p + 1]),
-                     [](uint8_t f) { return f != 0; }))
+    const auto first = flags.begin() + static_cast<std::ptrdiff_t>(ranges_[p]);
+    if (std::all_of(first, first + static_cast<std::ptrdiff_t>(ranges_[p + 1] - ranges_[p]),
+                    [](uint8_t f) { return f == 0; }))
       continue;
     SplatCloud local;
     std::vector<uint32_t> points;
@@ -219,6 +222,30 @@ std::vector<float> SplatPieces::neighbour_median_radii(const std::vector<float>&
     l.put_back(local, median);
   }
   return median;
+}
+
+void SplatPieces::knn_rows(std::size_t k, std::span<uint32_t> out) {
+  const std::size_t w = k - 1;
+  for (std::size_t p = 0; p < pieces(); ++p) {
+    std::vector<uint32_t> rows;  // the piece's own points' rows, in whole-cloud numbers
+    run(p, [&](const Local& at) {
+      std::vector<float> reach(at.ids.size(), 0.0f);
+      rows.assign((at.core_end - at.core_begin) * w, 0);
+      at.index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
+                                         std::span<const uint32_t> indices,
+                                         std::span<const float> sq_dists) {
+        for (std::size_t r = 0; r < queries.size(); ++r) {
+          const uint32_t i = queries[r];
+          reach[i] = sq_dists[r * k + k - 1];
+          if (i < at.core_begin || i >= at.core_end) continue;
+          for (std::size_t s = 0; s < w; ++s)
+            rows[(i - at.core_begin) * w + s] = at.ids[indices[r * k + 1 + s]];
+        }
+      });
+      return at.halo_needed(reach, [](std::size_t) { return true; });
+    });
+    std::copy(rows.begin(), rows.end(), out.begin() + static_cast<std::ptrdiff_t>(ranges_[p] * w));
+  }
 }
 
 }  // namespace splatkit

@@ -54,6 +54,9 @@ class SplatPieces {
   // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
   std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);
 
+  // Every point's k - 1 nearest other points (out: #N by k - 1), as orient_normals_mst's KnnRowsFn.
+  void knn_rows(std::size_t k, std::span<uint32_t> out);
+
  private:
   struct Local;
   Local load(std::size_t piece, double halo) const;
