@@ -4,8 +4,9 @@
 
 namespace splatkit {
 
-std::vector<float> neighbour_median_radii(const SpatialIndex& index, const std::vector<float>& radii,
-                                          std::size_t k, std::span<float> sq_reach) {
+std::vector<float> neighbour_median_radii(const SpatialIndex& index,
+                                          const std::vector<float>& radii, std::size_t k,
+                                          std::span<float> sq_reach) {
   std::vector<float> median(radii.size(), 0.0f);
   if (radii.size() < 2) return median;
   k = std::min(k, radii.size() - 1);
@@ -27,8 +28,9 @@ std::vector<float> neighbour_median_radii(const SpatialIndex& index, const std::
 BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radii,
                              std::vector<float>& minor_radii, float ratio, std::size_t k,
                              std::size_t max_passes) {
-  return bound_radii([&](const std::vector<float>& r) { return neighbour_median_radii(index, r, k); },
-                     radii, minor_radii, ratio, max_passes);
+  return bound_radii(
+      [&](const std::vector<float>& r) { return neighbour_median_radii(index, r, k); }, radii,
+      minor_radii, ratio, max_passes);
 }
 
 BoundRadiiResult bound_radii(

@@ -43,7 +43,8 @@ BoundRadiiResult bound_radii(
 
 // The median of the radii of each point's k nearest other points (#N). sq_reach (empty, or #N)
 // receives the squared distance of each point's k-th nearest other point.
-std::vector<float> neighbour_median_radii(const SpatialIndex& index, const std::vector<float>& radii,
-                                          std::size_t k, std::span<float> sq_reach = {});
+std::vector<float> neighbour_median_radii(const SpatialIndex& index,
+                                          const std::vector<float>& radii, std::size_t k,
+                                          std::span<float> sq_reach = {});
 
 }  // namespace splatkit

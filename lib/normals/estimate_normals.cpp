@@ -21,9 +21,9 @@
 #include "normals/merge_duplicates.h"
 #include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
+#include "normals/orient_normals_viewpoint.h"
 #include "normals/pca_normals_and_radii.h"
 #include "normals/refit_splats.h"
-#include "normals/orient_normals_viewpoint.h"
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
 #include "normals/splat_pieces.h"
@@ -65,9 +65,9 @@ void orient(SplatCloud& cloud, SpatialIndex&& index, SplatPieces* pieces, const 
             NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
     const OrientStats stats =
-        pieces ? orient_normals_mst([&](std::size_t k,
-                                        std::span<uint32_t> out) { pieces->knn_rows(k, out); },
-                                    cloud.positions, cloud.normals, kOrientK)
+        pieces ? orient_normals_mst(
+                     [&](std::size_t k, std::span<uint32_t> out) { pieces->knn_rows(k, out); },
+                     cloud.positions, cloud.normals, kOrientK)
                : orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
     report.flipped_points = stats.flipped;
     report.components = stats.components;
@@ -263,13 +263,14 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (options.max_radius_ratio > 0 && n > 1) {
     progress(0.81, "bound radii");
     timed("bound_radii", [&] {
-      const BoundRadiiResult b =
-          pieces ? bound_radii([&](const std::vector<float>& r) {
-            return pieces->neighbour_median_radii(r, kBoundRadiiK);
-          },
-                               cloud.radii, cloud.minor_radii, options.max_radius_ratio)
-                 : bound_radii(index, cloud.radii, cloud.minor_radii, options.max_radius_ratio,
-                               kBoundRadiiK);
+      const BoundRadiiResult b = pieces
+                                     ? bound_radii(
+                                           [&](const std::vector<float>& r) {
+                                             return pieces->neighbour_median_radii(r, kBoundRadiiK);
+                                           },
+                                           cloud.radii, cloud.minor_radii, options.max_radius_ratio)
+                                     : bound_radii(index, cloud.radii, cloud.minor_radii,
+                                                   options.max_radius_ratio, kBoundRadiiK);
       report.bounded_radii = b.capped;
       report.radii_over_bound = b.over;
     });

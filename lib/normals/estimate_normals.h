@@ -22,10 +22,10 @@
 //      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
 //
 // Output: the same cloud (positions, colours, extras, faces carried through; faces remapped after
-// merging), in the input's order or with spatial_order in Morton order (morton_order.h), with normals and radii
-// replaced; never NaN. Deterministic: byte-identical results for
-// any thread count (every per-point result depends only on the point's own kNN row, and kNN rows
-// are exact with ties broken by index). Runs in parallel with TBB under the caller's limits.
+// merging), in the input's order or with spatial_order in Morton order (morton_order.h), with
+// normals and radii replaced; never NaN. Deterministic: byte-identical results for any thread count
+// (every per-point result depends only on the point's own kNN row, and kNN rows are exact with ties
+// broken by index). Runs in parallel with TBB under the caller's limits.
 #pragma once
 
 #include <array>
@@ -70,9 +70,9 @@ struct NormalOptions {
   std::optional<std::array<double, 3>> viewpoint;
   bool keep_duplicates = false;
   // Output the points in the spatial order the estimation runs in (Morton order, ties in the
-  // input's order: thread-independent), not the input's: neighbours end up near each other in the file, so the
-  // splat graph's neighbour lists encode smaller and every later stage reads memory in order
-  // (build-splat-graph and segment-surfaces ran 2x faster on a shuffled 16M cloud).
+  // input's order: thread-independent), not the input's: neighbours end up near each other in the
+  // file, so the splat graph's neighbour lists encode smaller and every later stage reads memory in
+  // order (build-splat-graph and segment-surfaces ran 2x faster on a shuffled 16M cloud).
   bool spatial_order = false;
   // No radius above max_radius_ratio × the median radius of its 8 nearest neighbours
   // (bound_radii.h); 0 = no bound. Default measured on clouds whose density varies 100x

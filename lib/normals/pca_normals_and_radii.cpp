@@ -95,5 +95,4 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
       });
 }
 
-
 }  // namespace splatkit

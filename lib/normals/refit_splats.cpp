@@ -28,5 +28,4 @@ void refit_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOpti
   });
 }
 
-
 }  // namespace splatkit

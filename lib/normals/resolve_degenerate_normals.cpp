@@ -5,8 +5,8 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "normals/neighborhood_pca.h"
@@ -64,7 +64,7 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
             pca = neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), got));
           } while (pca.degenerate && wide < limit);
           if (radii[i] == 0.0f) radii[i] = splat_radius(d2, radius_k);
-          if (!sq_reach.empty()) 
+          if (!sq_reach.empty())
             sq_reach[i] = got == wide ? d2[wide - 1] : std::numeric_limits<float>::infinity();
           if (pca.degenerate) {
             normals[i] = fallback_normal(pca.axis, pca.eigenvalues[2]);

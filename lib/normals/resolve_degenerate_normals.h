@@ -42,12 +42,10 @@ PcaNormal whole_cloud_pca(std::span<const Vec3f> positions);
 // when `positions` is the whole cloud. sq_reach (empty, or #N) receives, for each listed point,
 // the squared distance of the farthest neighbour its widest query returned (0 when the cloud was
 // degenerate as a whole and no query ran).
-DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
-                                           std::span<const Vec3f> positions,
-                                           std::span<const uint32_t> points, std::size_t k,
-                                           std::size_t radius_k, std::span<Vec3f> normals,
-                                           std::span<float> radii, const WholeCloud* whole = nullptr,
-                                           std::span<float> sq_reach = {});
+DegenerateStats resolve_degenerate_normals(
+    const SpatialIndex& index, std::span<const Vec3f> positions, std::span<const uint32_t> points,
+    std::size_t k, std::size_t radius_k, std::span<Vec3f> normals, std::span<float> radii,
+    const WholeCloud* whole = nullptr, std::span<float> sq_reach = {});
 
 // The fallback normal for a degenerate set whose principal axis is `axis` and largest eigenvalue
 // `largest` (0: a single position).

@@ -16,7 +16,7 @@ namespace splatkit {
 
 // A piece loaded with its halo: the points of the grown box, in the whole cloud's order.
 struct SplatPieces::Local {
-  std::vector<uint32_t> ids;  // whole-cloud numbers, ascending
+  std::vector<uint32_t> ids;                 // whole-cloud numbers, ascending
   std::size_t core_begin = 0, core_end = 0;  // the piece's own points: ids[core_begin, core_end)
   bool whole = false;                        // every point of the cloud is here
   std::vector<Vec3f> positions;
@@ -154,9 +154,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       degenerate.clear();
       for (std::size_t i = at.core_begin; i < at.core_end; ++i)
         if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
-      degenerate_stats = resolve_degenerate_normals(at.index, local.positions, degenerate, o.k,
-                                                    o.radius_k, local.normals, local.radii,
-                                                    &whole, wide);
+      degenerate_stats =
+          resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
+                                     local.normals, local.radii, &whole, wide);
       return std::max(at.halo_needed(reach, everything), at.halo_needed(wide, everything));
     });
     l.put_back(local.normals, cloud.normals);
@@ -210,7 +210,7 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
 }
 
 std::vector<float> SplatPieces::neighbour_median_radii(const std::vector<float>& radii,
-                                                        std::size_t k) {
+                                                       std::size_t k) {
   std::vector<float> median(radii.size(), 0.0f);
   for (std::size_t p = 0; p < pieces(); ++p) {
     std::vector<float> local;
@@ -231,17 +231,17 @@ void SplatPieces::knn_rows(std::size_t k, std::span<uint32_t> out) {
     run(p, [&](const Local& at) {
       std::vector<float> reach(at.ids.size(), 0.0f);
       rows.assign((at.core_end - at.core_begin) * w, 0);
-      at.index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
-                                         std::span<const uint32_t> indices,
-                                         std::span<const float> sq_dists) {
-        for (std::size_t r = 0; r < queries.size(); ++r) {
-          const uint32_t i = queries[r];
-          reach[i] = sq_dists[r * k + k - 1];
-          if (i < at.core_begin || i >= at.core_end) continue;
-          for (std::size_t s = 0; s < w; ++s)
-            rows[(i - at.core_begin) * w + s] = at.ids[indices[r * k + 1 + s]];
-        }
-      });
+      at.index.for_each_knn_block(
+          k, [&](std::span<const uint32_t> queries, std::span<const uint32_t> indices,
+                 std::span<const float> sq_dists) {
+            for (std::size_t r = 0; r < queries.size(); ++r) {
+              const uint32_t i = queries[r];
+              reach[i] = sq_dists[r * k + k - 1];
+              if (i < at.core_begin || i >= at.core_end) continue;
+              for (std::size_t s = 0; s < w; ++s)
+                rows[(i - at.core_begin) * w + s] = at.ids[indices[r * k + 1 + s]];
+            }
+          });
       return at.halo_needed(reach, [](std::size_t) { return true; });
     });
     std::copy(rows.begin(), rows.end(), out.begin() + static_cast<std::ptrdiff_t>(ranges_[p] * w));

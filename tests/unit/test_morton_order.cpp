@@ -22,8 +22,8 @@ std::vector<Vec3f> cloud(std::size_t n, uint64_t seed, bool snapped) {
   for (auto& p : pts) {
     p = {rng.uniformf(), rng.uniformf(), 0.01f * rng.uniformf()};
     if (snapped)  // 1 mm steps, as LAS coordinates are: many points share a code
-      p = {static_cast<float>(rng.next() % 50) * 1e-3f,
-           static_cast<float>(rng.next() % 50) * 1e-3f, 0.0f};
+      p = {static_cast<float>(rng.next() % 50) * 1e-3f, static_cast<float>(rng.next() % 50) * 1e-3f,
+           0.0f};
   }
   return pts;
 }
