@@ -4,11 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <mutex>
 #include <optional>
 #include <span>
 #include <type_traits>
@@ -19,7 +16,6 @@
 #include "normals/fill_isolated_radii.h"
 #include "normals/fit_splat_centres.h"
 #include "normals/merge_duplicates.h"
-#include "normals/neighborhood_pca.h"
 #include "normals/orient_normals_mst.h"
 #include "normals/orient_normals_viewpoint.h"
 #include "normals/pca_normals_and_radii.h"
@@ -27,7 +23,6 @@
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
 #include "normals/splat_pieces.h"
-#include "normals/splat_radius.h"
 #include "splatkit/error.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/seconds_since.h"

@@ -6,7 +6,9 @@
 // Pipeline, each phase timed in the report:
 //   1. merge exact duplicates (merge_duplicates.h) unless keep_duplicates: fewer points out, the
 //      first occurrence's attributes kept;
-//   2. build the kd-tree (SpatialIndex) over the positions;
+//   2. renumber the points in Morton order (morton_order.h; kNN ties are broken by these numbers)
+//      and build the kd-tree (SpatialIndex) over them, or, with piece_points, split them into
+//      pieces that phases 3 to 5 and the orientation's kNN rows run on (splat_pieces.h);
 //   3. one streamed kNN pass with max(k, radius_k + 1) points per row (the point itself first):
 //      PCA normal over the first k entries (neighborhood_pca.h), splat radius from the first
 //      radius_k neighbours (splat_radius.h) or, by default, the splat that covers the point's
@@ -25,7 +27,7 @@
 // merging), in the input's order or with spatial_order in Morton order (morton_order.h), with
 // normals and radii replaced; never NaN. Deterministic: byte-identical results for any thread count
 // (every per-point result depends only on the point's own kNN row, and kNN rows are exact with ties
-// broken by index). Runs in parallel with TBB under the caller's limits.
+// broken by index), and the same with or without pieces. Runs in parallel with TBB under the caller's limits.
 #pragma once
 
 #include <array>
@@ -103,7 +105,7 @@ struct NormalReport {
   nlohmann::json robust = nullptr;
   // With piece_points: {"pieces", "halo_points", "reruns"} (SplatPieces::Stats); else null.
   nlohmann::json pieces = nullptr;
-  // Seconds per phase: "merge_duplicates", "index", "normals_radii", "degenerate", "robust",
+  // Seconds per phase: "merge_duplicates", "order", "index", "normals_radii", "degenerate", "robust",
   // "refit_splats", "orient" (only the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
 
