@@ -113,12 +113,19 @@ SplatPieces::Local SplatPieces::load(std::size_t piece, double halo) const {
 }
 
 constexpr double kHaloGrowth = 1.25;
+constexpr double kInheritedHaloCap = 4;
 
 // Runs attempt(local) on the piece, which returns the halo its queries needed, until the halo
 // it ran with was wide enough (or held the whole cloud); returns that last load.
 template <class Attempt>
 SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
-  if (halo_[piece] == 0 && piece > 0) halo_[piece] = halo_[piece - 1];  // neighbours look alike
+  // Pieces run in order within a phase, so the previous piece's halo is this phase's latest
+  // guess; capped at a few times the piece's own from the last phase, so that the wide halo of a
+  // piece with a far outlier does not spread to the pieces after it.
+  if (piece > 0) {
+    const double own = halo_[piece], previous = halo_[piece - 1];
+    halo_[piece] = own > 0 ? std::max(own, std::min(previous, kInheritedHaloCap * own)) : previous;
+  }
   for (;;) {
     Local l = load(piece, halo_[piece]);
     stats_.halo_points += l.ids.size() - (l.core_end - l.core_begin);

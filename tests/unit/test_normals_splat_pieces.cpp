@@ -35,7 +35,8 @@ SplatCloud shape(ShapeKind kind, std::size_t n, double scan_lines, double noise)
 
 template <class T>
 bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // Runs the whole cloud and pieces of `piece` points; expects the same splats and counts.
