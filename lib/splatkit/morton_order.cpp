@@ -2,23 +2,16 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <cmath>
 #include <memory>
 
+#include "splatkit/splat_cloud.h"
+
 namespace splatkit {
 
 namespace {
-
-struct Box {
-  Vec3f lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  void add(const Vec3f& p) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-};
 
 struct Key {
   uint64_t code;
@@ -34,27 +27,10 @@ constexpr std::size_t kParallelSortSize = std::size_t{1} << 20;
 
 }  // namespace
 
-void bounding_box(std::span<const Vec3f> points, Vec3f& lo, Vec3f& hi) {
-  const Box box = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, points.size(), 1 << 16), Box{},
-      [&](const auto& r, Box b) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) b.add(points[i]);
-        return b;
-      },
-      [](Box a, const Box& b) {
-        a.add(b.lo);
-        a.add(b.hi);
-        return a;
-      });
-  lo = box.lo;
-  hi = box.hi;
-}
-
 std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
   const std::size_t n = points.size();
-  Vec3f lo, hi;
-  bounding_box(points, lo, hi);
-  const MortonFrame frame(lo, hi);
+  const Bounds box = compute_bounds(points);
+  const MortonFrame frame(box.min, box.max);
   const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
   const std::size_t blocks = (n + block - 1) / block;
   auto top = [](uint64_t code) { return code >> (MortonFrame::kCodeBits - kTopBits); };

@@ -45,9 +45,6 @@ struct MortonFrame {
   }
 };
 
-// The bounding box of the points (lo = +inf, hi = -inf when empty), in parallel.
-void bounding_box(std::span<const Vec3f> points, Vec3f& lo, Vec3f& hi);
-
 // The points' numbers in Morton order over their own bounding box, ties by number: order[t] is
 // the number of the t-th point. Runs in parallel; 16 bytes per point transiently.
 std::vector<uint32_t> morton_order(std::span<const Vec3f> points);

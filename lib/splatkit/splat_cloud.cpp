@@ -1,5 +1,8 @@
 #include "splatkit/splat_cloud.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -53,14 +56,23 @@ void SplatCloud::check_consistent() const {
   }
 }
 
-Bounds compute_bounds(const SplatCloud& cloud) {
+Bounds compute_bounds(const SplatCloud& cloud) { return compute_bounds(cloud.positions); }
+
+Bounds compute_bounds(std::span<const Vec3f> positions) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  Bounds b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
-  for (const Vec3f& p : cloud.positions) {
-    b.min = {std::min(b.min.x, p.x), std::min(b.min.y, p.y), std::min(b.min.z, p.z)};
-    b.max = {std::max(b.max.x, p.x), std::max(b.max.y, p.y), std::max(b.max.z, p.z)};
-  }
-  return b;
+  auto add = [](Bounds b, const Vec3f& lo, const Vec3f& hi) {
+    b.min = {std::min(b.min.x, lo.x), std::min(b.min.y, lo.y), std::min(b.min.z, lo.z)};
+    b.max = {std::max(b.max.x, hi.x), std::max(b.max.y, hi.y), std::max(b.max.z, hi.z)};
+    return b;
+  };
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, positions.size(), 1 << 16),
+      Bounds{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}},
+      [&](const auto& r, Bounds b) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) b = add(b, positions[i], positions[i]);
+        return b;
+      },
+      [&](const Bounds& a, const Bounds& b) { return add(a, b.min, b.max); });
 }
 
 std::array<double, 3> choose_origin(const std::array<double, 3>& p) {

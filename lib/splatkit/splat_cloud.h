@@ -84,6 +84,8 @@ struct SplatCloud {
 
 // Bounding box of the positions (local frame).
 Bounds compute_bounds(const SplatCloud& cloud);
+// The bounds of the positions, in parallel (min > max when empty).
+Bounds compute_bounds(std::span<const Vec3f> positions);
 
 // Origin for a cloud whose first point (file coordinates) is p: zero when every |p_i| < 1e4,
 // otherwise p truncated to a multiple of 1000 — keeps local float coordinates small.

@@ -22,31 +22,6 @@ namespace splatkit::spt {
 
 namespace {
 
-struct Box {
-  Vec3f lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  void add(const Vec3f& p) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  void add(const Box& b) {
-    add(b.lo);
-    add(b.hi);
-  }
-};
-
-Box box_of(std::span<const Vec3f> p) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, p.size(), 1 << 16), Box{},
-      [&](const auto& r, Box b) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) b.add(p[i]);
-        return b;
-      },
-      [](Box a, const Box& b) {
-        a.add(b);
-        return a;
-      });
-}
-
 // Levels: a run ordered again over its own cube (a cluster) ranks below every level outside it.
 constexpr int kMaxClusterDepth = 10;
 uint8_t level_of(uint64_t x, int depth) {
@@ -153,9 +128,8 @@ struct Sorter {
   // levels for `depth`, and does the same for the clusters inside it.
   void recode(std::size_t b, std::size_t e, int depth) {
     if (depth > kMaxClusterDepth) return;
-    Box box;
-    for (std::size_t i = b; i < e; ++i) box.add(s.positions[i]);
-    const MortonFrame frame(box.lo, box.hi);
+    const Bounds box = compute_bounds(std::span<const Vec3f>(s.positions).subspan(b, e - b));
+    const MortonFrame frame(box.min, box.max);
     std::vector<std::pair<uint64_t, uint32_t>> keys(e - b);
     for (std::size_t i = b; i < e; ++i)
       keys[i - b] = {frame.code(s.positions[i]), static_cast<uint32_t>(i - b)};
@@ -338,10 +312,10 @@ SptSplats take_spt_splats(SplatCloud& cloud) {
 SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
   const std::size_t n = s.size();
   SptOrder order;
-  const Box box = box_of(s.positions);
-  order.lo = box.lo;
-  order.hi = box.hi;
-  const MortonFrame frame(box.lo, box.hi);
+  const Bounds box = compute_bounds(s.positions);
+  order.lo = box.min;
+  order.hi = box.max;
+  const MortonFrame frame(box.min, box.max);
   // Sorted by code, ties in input order, in two steps so that the splats are never read at
   // random over whole arrays: a stable pass by the codes' top 8 bits moves each array into 256
   // buckets (read in order, written to 256 places), then each bucket's codes are made again from

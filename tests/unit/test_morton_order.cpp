@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/splat_cloud.h"
 
 namespace splatkit {
 namespace {
@@ -39,9 +40,8 @@ std::vector<uint32_t> sorted_by_code(const std::vector<Vec3f>& pts, const Morton
 }
 
 MortonFrame frame_of(const std::vector<Vec3f>& pts) {
-  Vec3f lo, hi;
-  bounding_box(pts, lo, hi);
-  return MortonFrame(lo, hi);
+  const Bounds box = compute_bounds(pts);
+  return MortonFrame(box.min, box.max);
 }
 
 TEST(MortonOrder, SortsByCodeThenNumber) {

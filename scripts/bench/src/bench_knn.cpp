@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/morton_order.h"
 #include "splatkit/spatial_index.h"
 
 using splatkit::SpatialIndex;
@@ -66,15 +67,7 @@ std::vector<Vec3f> cube_cloud(std::size_t n, uint64_t seed) {
 }
 
 uint64_t morton_code(const Vec3f& p, const Vec3f& lo, float scale) {
-  auto spread = [](uint64_t v) {
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-  };
+  const auto spread = splatkit::spread_morton_bits;
   auto cell = [&](float c, float l) { return static_cast<uint64_t>((c - l) * scale); };
   return spread(cell(p.x, lo.x)) | spread(cell(p.y, lo.y)) << 1 | spread(cell(p.z, lo.z)) << 2;
 }
