@@ -10,36 +10,70 @@
 #include "normals/bound_radii.h"
 #include "normals/pca_normals_and_radii.h"
 #include "normals/refit_splats.h"
+#include "splatkit/morton_order.h"
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
 
-// A piece loaded with its halo: the points of the grown box, in the whole cloud's order.
+namespace {
+
+// The distance from c to the box [lo, hi] (0 inside).
+double distance_to_box(const double* c, const double* lo, const double* hi) {
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = std::max({lo[a] - c[a], 0.0, c[a] - hi[a]});
+    d2 += d * d;
+  }
+  return std::sqrt(d2);
+}
+
+// The distance between two boxes (0 when they meet).
+double distance_between_boxes(const double* lo0, const double* hi0, const double* lo1,
+                              const double* hi1) {
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = std::max({lo1[a] - hi0[a], 0.0, lo0[a] - hi1[a]});
+    d2 += d * d;
+  }
+  return std::sqrt(d2);
+}
+
+// Cells: a piece's runs of points that share an octree cell, split until they hold at most
+// 1/kCellsPerPiece of the piece (kMinCellPoints at least). Each has its own box and halo, so that
+// an outlier, or a sparse corner, widens the region of its own cell only.
+constexpr std::size_t kCellsPerPiece = 64;
+constexpr std::size_t kMinCellPoints = 64;
+constexpr double kHaloGrowth = 1.25;
+constexpr double kInheritedHaloCap = 4;
+
+}  // namespace
+
+// A piece loaded with its halo: the points within each of its cells' halo of the cell's box, in
+// the whole cloud's order.
 struct SplatPieces::Local {
   std::vector<uint32_t> ids;                 // whole-cloud numbers, ascending
   std::size_t core_begin = 0, core_end = 0;  // the piece's own points: ids[core_begin, core_end)
   bool whole = false;                        // every point of the cloud is here
   std::vector<Vec3f> positions;
   SpatialIndex index;
-  double lo[3], hi[3];  // the piece's own box (not grown)
+  std::vector<uint32_t> cell_of;  // per own point (i - core_begin): its cell within the piece
+  std::size_t cells = 0;
 
-  // The halo width that puts the ball of squared radius sq around x inside the grown box. The
-  // radius is widened by a relative 1e-5, far above the rounding of a float squared distance.
-  double halo_for(const Vec3f& x, float sq) const {
-    if (!(sq < std::numeric_limits<float>::infinity()))
-      return std::numeric_limits<double>::infinity();
-    const double r = std::sqrt(static_cast<double>(sq)) * (1 + 1e-5);
-    const double c[3] = {x.x, x.y, x.z};
-    double need = 0;
-    for (int a = 0; a < 3; ++a) need = std::max({need, lo[a] - (c[a] - r), c[a] + r - hi[a]});
-    return need;
-  }
-  // The largest halo_for over the piece's own points i with reach[i] (squared) and keep(i).
+  // Widens `need` (per cell of the piece) to the reach of the own points i with keep(i): the
+  // ball of squared radius reach[i] around a point lies in its cell's region when the halo is at
+  // least its radius (the point is in its cell's box). The radius is widened by a relative 1e-5,
+  // far above the rounding of a float squared distance.
   template <class Keep>
-  double halo_needed(std::span<const float> reach, Keep&& keep) const {
-    double need = 0;
-    for (std::size_t i = core_begin; i < core_end; ++i)
-      if (keep(i)) need = std::max(need, halo_for(positions[i], reach[i]));
+  std::vector<double> halo_needed(std::span<const float> reach, Keep&& keep) const {
+    std::vector<double> need(cells, 0.0);
+    for (std::size_t i = core_begin; i < core_end; ++i) {
+      if (!keep(i)) continue;
+      const double r = reach[i] < std::numeric_limits<float>::infinity()
+                           ? std::sqrt(static_cast<double>(reach[i])) * (1 + 1e-5)
+                           : std::numeric_limits<double>::infinity();
+      double& n = need[cell_of[i - core_begin]];
+      n = std::max(n, r);
+    }
     return need;
   }
   // dst[ids[i]] = src[i] for the piece's own points i.
@@ -60,50 +94,90 @@ SplatPieces::SplatPieces(std::span<const Vec3f> positions, std::size_t piece_poi
     : positions_(positions) {
   const std::size_t n = positions.size();
   const std::size_t count = std::max<std::size_t>(1, (n + piece_points - 1) / piece_points);
-  ranges_.resize(count + 1);
-  for (std::size_t p = 0; p <= count; ++p) ranges_[p] = p * n / count;
-  lo_.assign(3 * count, std::numeric_limits<double>::infinity());
-  hi_.assign(3 * count, -std::numeric_limits<double>::infinity());
+  std::vector<std::size_t> ranges(count + 1);
+  for (std::size_t p = 0; p <= count; ++p) ranges[p] = p * n / count;
+  const Bounds box = compute_bounds(positions);
+  const MortonFrame frame(box.min, box.max);
+  const std::size_t cell_points = std::max(kMinCellPoints, piece_points / kCellsPerPiece);
+  std::vector<std::vector<Cell>> cells(count);
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t p) {
-    for (std::size_t i = ranges_[p]; i < ranges_[p + 1]; ++i) {
-      const double c[3] = {positions[i].x, positions[i].y, positions[i].z};
-      for (int a = 0; a < 3; ++a) {
-        lo_[3 * p + a] = std::min(lo_[3 * p + a], c[a]);
-        hi_[3 * p + a] = std::max(hi_[3 * p + a], c[a]);
+    const std::size_t first = ranges[p];
+    std::vector<uint64_t> codes(ranges[p + 1] - first);
+    for (std::size_t i = 0; i < codes.size(); ++i) codes[i] = frame.code(positions[first + i]);
+    // Splits [b, e) (sharing the codes' top 3d bits) into octree cells of at most cell_points
+    // points, or of one code.
+    auto split = [&](auto&& self, std::size_t b, std::size_t e, int d) -> void {
+      if (e - b <= cell_points || codes[b] == codes[e - 1]) {
+        Cell c;
+        c.begin = first + b;
+        c.end = first + e;
+        for (std::size_t i = c.begin; i < c.end; ++i) {
+          const double x[3] = {positions[i].x, positions[i].y, positions[i].z};
+          for (int a = 0; a < 3; ++a) {
+            c.lo[a] = std::min(c.lo[a], x[a]);
+            c.hi[a] = std::max(c.hi[a], x[a]);
+          }
+        }
+        cells[p].push_back(c);
+        return;
       }
-    }
+      const int shift = MortonFrame::kCodeBits - 3 * (d + 1);
+      for (std::size_t lo = b; lo < e;) {
+        const uint64_t octant = codes[lo] >> shift;
+        std::size_t hi = lo + 1;
+        while (hi < e && codes[hi] >> shift == octant) ++hi;
+        self(self, lo, hi, d + 1);
+        lo = hi;
+      }
+    };
+    if (!codes.empty()) split(split, 0, codes.size(), 0);
   });
-  halo_.assign(count, 0.0);
+  piece_cells_.push_back(0);
+  for (std::size_t p = 0; p < count; ++p) {
+    cells_.insert(cells_.end(), cells[p].begin(), cells[p].end());
+    piece_cells_.push_back(cells_.size());
+  }
+  halo_.assign(cells_.size(), 0.0);
+  ranges_ = std::move(ranges);
   stats_.pieces = count;
 }
 
-SplatPieces::Local SplatPieces::load(std::size_t piece, double halo) const {
+SplatPieces::Local SplatPieces::load(std::size_t piece) const {
   Local l;
-  double glo[3], ghi[3];
-  for (int a = 0; a < 3; ++a) {
-    l.lo[a] = lo_[3 * piece + a];
-    l.hi[a] = hi_[3 * piece + a];
-    glo[a] = l.lo[a] - halo;
-    ghi[a] = l.hi[a] + halo;
-  }
-  auto inside = [&](const double* plo, const double* phi) {
-    for (int a = 0; a < 3; ++a)
-      if (phi[a] < glo[a] || plo[a] > ghi[a]) return false;
-    return true;
-  };
-  const std::size_t count = pieces();
-  std::vector<std::vector<uint32_t>> found(count);
-  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t q) {
-    if (!inside(&lo_[3 * q], &hi_[3 * q])) return;
-    for (std::size_t i = ranges_[q]; i < ranges_[q + 1]; ++i) {
+  const std::size_t first = piece_cells_[piece], last = piece_cells_[piece + 1];
+  l.cells = last - first;
+  // Per cell t of the cloud: the cells of the piece whose region may reach it.
+  std::vector<std::vector<uint32_t>> reach(cells_.size());
+  tbb::parallel_for(std::size_t{0}, cells_.size(), [&](std::size_t t) {
+    if (t >= first && t < last) return;
+    for (std::size_t s = first; s < last; ++s)
+      if (distance_between_boxes(cells_[s].lo, cells_[s].hi, cells_[t].lo, cells_[t].hi) <=
+          halo_[s])
+        reach[t].push_back(static_cast<uint32_t>(s));
+  });
+  std::vector<std::vector<uint32_t>> found(cells_.size());
+  tbb::parallel_for(std::size_t{0}, cells_.size(), [&](std::size_t t) {
+    if (reach[t].empty()) return;
+    for (std::size_t i = cells_[t].begin; i < cells_[t].end; ++i) {
       const double c[3] = {positions_[i].x, positions_[i].y, positions_[i].z};
-      if (inside(c, c)) found[q].push_back(static_cast<uint32_t>(i));
+      for (uint32_t s : reach[t])
+        if (distance_to_box(c, cells_[s].lo, cells_[s].hi) <= halo_[s]) {
+          found[t].push_back(static_cast<uint32_t>(i));
+          break;
+        }
     }
   });
-  for (std::size_t q = 0; q < count; ++q) {
-    if (q == piece) l.core_begin = l.ids.size();
-    l.ids.insert(l.ids.end(), found[q].begin(), found[q].end());
-    if (q == piece) l.core_end = l.ids.size();
+  for (std::size_t t = 0; t < cells_.size(); ++t) {
+    if (t == first) {
+      l.core_begin = l.ids.size();
+      for (std::size_t s = first; s < last; ++s)
+        for (std::size_t i = cells_[s].begin; i < cells_[s].end; ++i) {
+          l.ids.push_back(static_cast<uint32_t>(i));
+          l.cell_of.push_back(static_cast<uint32_t>(s - first));
+        }
+      l.core_end = l.ids.size();
+    }
+    l.ids.insert(l.ids.end(), found[t].begin(), found[t].end());
   }
   l.whole = l.ids.size() == positions_.size();
   l.positions.resize(l.ids.size());
@@ -112,27 +186,30 @@ SplatPieces::Local SplatPieces::load(std::size_t piece, double halo) const {
   return l;
 }
 
-constexpr double kHaloGrowth = 1.25;
-constexpr double kInheritedHaloCap = 4;
-
-// Runs attempt(local) on the piece, which returns the halo its queries needed, until the halo
-// it ran with was wide enough (or held the whole cloud); returns that last load.
+// Runs attempt(local) on the piece, which returns the halo each of its cells needed, until every
+// cell's halo was wide enough (or the load held the whole cloud); returns that last load.
 template <class Attempt>
 SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
-  // Pieces run in order within a phase, so the previous piece's halo is this phase's latest
-  // guess; capped at a few times the piece's own from the last phase, so that the wide halo of a
-  // piece with a far outlier does not spread to the pieces after it.
-  if (piece > 0) {
-    const double own = halo_[piece], previous = halo_[piece - 1];
-    halo_[piece] = own > 0 ? std::max(own, std::min(previous, kInheritedHaloCap * own)) : previous;
+  const std::size_t first = piece_cells_[piece], last = piece_cells_[piece + 1];
+  // Cells run in order within a phase, so the previous cell's halo is this phase's latest
+  // guess; capped at a few times the cell's own from the last phase, so that the wide halo of
+  // an outlier's cell does not spread to the cells after it.
+  for (std::size_t c = std::max<std::size_t>(first, 1); c < last; ++c) {
+    const double own = halo_[c], previous = halo_[c - 1];
+    halo_[c] = own > 0 ? std::max(own, std::min(previous, kInheritedHaloCap * own)) : previous;
   }
   for (;;) {
-    Local l = load(piece, halo_[piece]);
+    Local l = load(piece);
     stats_.halo_points += l.ids.size() - (l.core_end - l.core_begin);
-    const double need = attempt(l);
-    if (l.whole || need <= halo_[piece]) return l;
-    // A rerun costs a whole attempt and a wider halo only its extra points: grow with margin.
-    halo_[piece] = std::max(need * kHaloGrowth, halo_[piece]);
+    const std::vector<double> need = attempt(l);
+    bool enough = true;
+    for (std::size_t s = 0; s < need.size(); ++s) {
+      if (need[s] <= halo_[first + s]) continue;
+      // A rerun costs a whole attempt and a wider halo only its extra points: grow with margin.
+      halo_[first + s] = need[s] * kHaloGrowth;
+      enough = false;
+    }
+    if (l.whole || enough) return l;
     ++stats_.reruns;
   }
 }
@@ -164,7 +241,10 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       degenerate_stats =
           resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
                                      local.normals, local.radii, &whole, wide);
-      return std::max(at.halo_needed(reach, everything), at.halo_needed(wide, everything));
+      std::vector<double> need = at.halo_needed(reach, everything);
+      const std::vector<double> wider = at.halo_needed(wide, everything);
+      for (std::size_t c = 0; c < need.size(); ++c) need[c] = std::max(need[c], wider[c]);
+      return need;
     });
     l.put_back(local.normals, cloud.normals);
     l.put_back(local.radii, cloud.radii);

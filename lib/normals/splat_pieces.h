@@ -4,13 +4,15 @@
 // very results of the whole-cloud run: the ground for clouds larger than memory.
 //
 // Pieces are runs of consecutive points of the cloud's Morton order (morton_order.h), of about
-// piece_points points each. A piece is processed with the points that lie within its bounding
-// box grown by its halo width, numbered in the same order as in the whole cloud, so kNN ties
-// are broken alike. A query's answer there equals the whole cloud's when the ball from the point
-// to its farthest answer lies inside the grown box (a subset's k-th distance is never shorter
-// than the whole set's, so the ball drawn from the subset's answer contains the true one). Each
-// phase checks this for every query of the piece's own points and, when a ball pokes out, runs
-// the piece again with a halo that covers it. Each phase reads only the earlier phases' results of
+// piece_points points each, cut into cells (the runs that share an octree cell four levels below
+// the cloud's cube). A piece is processed with the points that lie within its cells' halo widths
+// of their bounding boxes, numbered in the same order as in the whole cloud, so kNN ties are
+// broken alike. A query's answer there equals the whole cloud's when the ball from the point to
+// its farthest answer lies inside its cell's region (a subset's k-th distance is never shorter
+// than the whole set's, so the ball drawn from the subset's answer contains the true one): when
+// the ball's radius is at most the cell's halo. Each phase checks this for every query of the
+// piece's own points and, when a ball is wider, runs the piece again with that cell's halo
+// widened. A far outlier thus loads only the points within its own reach. Each phase reads only the earlier phases' results of
 // the halo's points, which the pieces that own them computed. Ties go alike only when the
 // positions are numbered in Morton order: the caller renumbers them first.
 //
@@ -20,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -58,15 +61,21 @@ class SplatPieces {
   void knn_rows(std::size_t k, std::span<uint32_t> out);
 
  private:
+  struct Cell {
+    std::size_t begin = 0, end = 0;  // points [begin, end)
+    double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};  // their bounding box
+  };
   struct Local;
-  Local load(std::size_t piece, double halo) const;
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  Local load(std::size_t piece) const;
   template <class Attempt>
   Local run(std::size_t piece, Attempt&& attempt);
 
   std::span<const Vec3f> positions_;
-  std::vector<std::size_t> ranges_;  // piece p: points [ranges_[p], ranges_[p + 1])
-  std::vector<double> lo_, hi_;      // per piece, 3 each: the bounding box of its own points
-  std::vector<double> halo_;         // per piece: the halo width that served its last phase
+  std::vector<std::size_t> ranges_;       // piece p: points [ranges_[p], ranges_[p + 1])
+  std::vector<Cell> cells_;               // the pieces' cells, in order
+  std::vector<std::size_t> piece_cells_;  // piece p: cells [piece_cells_[p], piece_cells_[p + 1])
+  std::vector<double> halo_;              // per cell: the halo width that served its last phase
   Stats stats_;
 };
 
