@@ -1,20 +1,23 @@
 // SplatPieces: estimate_normals' neighbourhood phases (estimate_normals.h: phase 3's PCA normals
-// and splats, the degenerate neighbourhoods, the refits, and the neighbours' median radii of the
-// radius bound) computed piece by piece, each piece with a halo of the points around it, with the
-// very results of the whole-cloud run: the ground for clouds larger than memory.
+// and splats, the degenerate neighbourhoods, the refits, the neighbours' median radii of the
+// radius bound, and the kNN rows of the MST orientation) computed piece by piece, each piece with
+// a halo of the points around it, with the very results of the whole-cloud run: the ground for
+// clouds larger than memory.
 //
 // Pieces are runs of consecutive points of the cloud's Morton order (morton_order.h), of about
-// piece_points points each, cut into cells (the runs that share an octree cell four levels below
-// the cloud's cube). A piece is processed with the points that lie within its cells' halo widths
-// of their bounding boxes, numbered in the same order as in the whole cloud, so kNN ties are
-// broken alike. A query's answer there equals the whole cloud's when the ball from the point to
-// its farthest answer lies inside its cell's region (a subset's k-th distance is never shorter
-// than the whole set's, so the ball drawn from the subset's answer contains the true one): when
-// the ball's radius is at most the cell's halo. Each phase checks this for every query of the
-// piece's own points and, when a ball is wider, runs the piece again with that cell's halo
-// widened. A far outlier thus loads only the points within its own reach. Each phase reads only the earlier phases' results of
-// the halo's points, which the pieces that own them computed. Ties go alike only when the
-// positions are numbered in Morton order: the caller renumbers them first.
+// piece_points points each, cut into cells: runs that share an octree cell, split until each
+// holds at most 1/64 of the piece. A piece is processed with the points that lie within its
+// cells' halo widths of the cells' bounding boxes, numbered in the same order as in the whole
+// cloud, so kNN ties are broken alike. A query's answer there equals the whole cloud's when the
+// ball from the point to its farthest answer lies inside its cell's region, that is when the
+// ball's radius is at most the cell's halo: a subset's k-th distance is never shorter than the
+// whole set's, so the ball drawn from the subset's answer contains the true one. Each phase
+// checks this for every query of the piece's own points and, when a ball is wider, runs the
+// piece again with that cell's halo widened. An outlier or a sparse corner so widens only its own
+// cell's region (around a lone point, a ball), though a point far from everything still reaches
+// much of the cloud. Each phase reads only the earlier phases' results of the halo's points,
+// which the pieces that own them computed. Ties go alike only when the positions are numbered in
+// Morton order: the caller renumbers them first.
 //
 // Memory: one piece with its halo at a time (its kd-tree, its rows, a copy of its points and
 // their per-point values) besides the whole cloud's arrays, which the caller holds.
