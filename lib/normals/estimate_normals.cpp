@@ -8,6 +8,7 @@
 #include <cmath>
 #include <optional>
 #include <span>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -208,6 +209,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (options.orient == NormalOrientation::kViewpoint && !options.viewpoint && !cloud.viewpoint)
     throw_usage(
         "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
+  // Named by its input number, before merging and renumbering.
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (!std::isfinite(cloud.positions[i].x) || !std::isfinite(cloud.positions[i].y) ||
+        !std::isfinite(cloud.positions[i].z))
+      throw Error(ErrorKind::kBadInput,
+                  "point " + std::to_string(i) + " has a non-finite coordinate");
   NormalReport report;
   report.input_points = cloud.size();
   const Clock::time_point start = Clock::now();

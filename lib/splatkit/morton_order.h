@@ -36,9 +36,11 @@ struct MortonFrame {
     const double extent = std::max({double(h.x) - l.x, double(h.y) - l.y, double(h.z) - l.z});
     scale = extent > 0 ? 2097151.0 / extent : 0.0;
   }
+  // A NaN or infinite coordinate gives 0 on its axis (no undefined conversion).
   uint64_t code(const Vec3f& p) const {
     auto q = [&](float v, float l) {
-      return static_cast<uint64_t>(std::clamp((double(v) - l) * scale, 0.0, 2097151.0));
+      const double t = (double(v) - l) * scale;
+      return t > 0 ? static_cast<uint64_t>(t < 2097151.0 ? t : 2097151.0) : uint64_t{0};
     };
     return spread_morton_bits(q(p.x, lo.x)) << 2 | spread_morton_bits(q(p.y, lo.y)) << 1 |
            spread_morton_bits(q(p.z, lo.z));

@@ -128,6 +128,19 @@ TEST(NormalsEstimate, TwentyPercentDuplicatesChangeNothing) {
   EXPECT_EQ(rb.duplicates_merged, 0u);
 }
 
+TEST(NormalsEstimate, ANonFiniteCoordinateIsBadInputNamedByItsInputNumber) {
+  SplatCloud c = normals_test::jittered_plane(20, 20, 0.1f, 0.0f, 3);
+  c.positions.push_back(c.positions[0]);  // a duplicate before it: numbers are the input's
+  c.positions.push_back({0.5f, std::nanf(""), 0.0f});
+  try {
+    estimate_normals(c, NormalOptions{});
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("point 401 "), std::string::npos) << e.what();
+  }
+}
+
 TEST(NormalsEstimate, KeptDuplicatesGiveNoNaN) {
   ShapeOptions shape;
   shape.kind = ShapeKind::kSphere;
