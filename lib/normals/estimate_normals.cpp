@@ -25,6 +25,7 @@
 #include "normals/robust_normals.h"
 #include "normals/splat_pieces.h"
 #include "splatkit/error.h"
+#include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/spatial_index.h"
@@ -111,16 +112,6 @@ nlohmann::json NormalReport::to_json() const {
 }
 
 namespace {
-
-// v'[t] = v[order[t]] (v: a vector or a span).
-template <class Values>
-auto gathered(const Values& v, const std::vector<uint32_t>& order) {
-  std::vector<std::remove_cv_t<typename Values::value_type>> out(order.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1 << 14), [&](const auto& r) {
-    for (std::size_t t = r.begin(); t < r.end(); ++t) out[t] = v[order[t]];
-  });
-  return out;
-}
 
 // The inverse of gathered, in place: v becomes w with w[order[t]] = v[t] (empty stays empty).
 template <class T>

@@ -10,6 +10,7 @@
 #include "normals/bound_radii.h"
 #include "normals/pca_normals_and_radii.h"
 #include "normals/refit_splats.h"
+#include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/spatial_index.h"
 
@@ -59,9 +60,9 @@ struct SplatPieces::Local {
   std::vector<uint32_t> cell_of;  // per own point (i - core_begin): its cell within the piece
   std::size_t cells = 0;
 
-  // Widens `need` (per cell of the piece) to the reach of the own points i with keep(i): the
-  // ball of squared radius reach[i] around a point lies in its cell's region when the halo is at
-  // least its radius (the point is in its cell's box). The radius is widened by a relative 1e-5,
+  // Per cell of the piece, the halo its own points i with keep(i) need: the ball of squared
+  // radius reach[i] around a point lies in its cell's region when the halo is at least its
+  // radius (the point is in its cell's box). The radius is widened by a relative 1e-5,
   // far above the rounding of a float squared distance.
   template <class Keep>
   std::vector<double> halo_needed(std::span<const float> reach, Keep&& keep) const {
@@ -84,9 +85,7 @@ struct SplatPieces::Local {
   // The values of the loaded points.
   template <class T>
   std::vector<T> gather(const std::vector<T>& whole_values) const {
-    std::vector<T> out(ids.size());
-    for (std::size_t i = 0; i < ids.size(); ++i) out[i] = whole_values[ids[i]];
-    return out;
+    return gathered(whole_values, ids);
   }
 };
 
@@ -180,8 +179,7 @@ SplatPieces::Local SplatPieces::load(std::size_t piece) const {
     l.ids.insert(l.ids.end(), found[t].begin(), found[t].end());
   }
   l.whole = l.ids.size() == positions_.size();
-  l.positions.resize(l.ids.size());
-  for (std::size_t i = 0; i < l.ids.size(); ++i) l.positions[i] = positions_[l.ids[i]];
+  l.positions = gathered(positions_, l.ids);
   l.index = SpatialIndex(l.positions);
   return l;
 }
@@ -225,9 +223,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
     std::vector<uint8_t> local_flags;
     std::vector<uint32_t> degenerate;
     DegenerateStats degenerate_stats;
-    const Local l = run(p, [&](const Local& at) {
+    const Local l = run(p, [&](Local& at) {
       const std::size_t m = at.ids.size();
-      local.positions = at.positions;
+      local.positions = std::move(at.positions);  // the index holds its own copy
       local.normals.assign(m, Vec3f{0, 0, 1});
       local.radii.assign(m, 0.0f);
       local.axes.assign(o.ellipses ? m : 0, Vec3f{1, 0, 0});
@@ -241,10 +239,8 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       degenerate_stats =
           resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
                                      local.normals, local.radii, &whole, wide);
-      std::vector<double> need = at.halo_needed(reach, everything);
-      const std::vector<double> wider = at.halo_needed(wide, everything);
-      for (std::size_t c = 0; c < need.size(); ++c) need[c] = std::max(need[c], wider[c]);
-      return need;
+      for (std::size_t i = 0; i < m; ++i) reach[i] = std::max(reach[i], wide[i]);
+      return at.halo_needed(reach, everything);
     });
     l.put_back(local.normals, cloud.normals);
     l.put_back(local.radii, cloud.radii);
@@ -269,8 +265,8 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       continue;
     SplatCloud local;
     std::vector<uint32_t> points;
-    const Local l = run(p, [&](const Local& at) {
-      local.positions = at.positions;
+    const Local l = run(p, [&](Local& at) {
+      local.positions = std::move(at.positions);
       local.normals = at.gather(cloud.normals);
       local.radii = at.gather(cloud.radii);
       if (o.ellipses) {
