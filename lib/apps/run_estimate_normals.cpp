@@ -1,5 +1,6 @@
 #include "apps/run_estimate_normals.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string_view>
@@ -10,6 +11,9 @@
 namespace splatkit::apps {
 
 namespace {
+
+constexpr std::size_t kPieceBytesPerPoint = 200;
+constexpr std::size_t kMinPiecePoints = 1 << 16;
 
 // The output format: --format, else OUT's extension (.ply, .splk), else .splk for '-'.
 FileFormat output_format(const std::string& output, const std::string& format) {
@@ -143,7 +147,13 @@ std::vector<OutlierOptions> parse_outliers(const std::string& text) {
 StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const ProgressFn& progress) {
   WriteOptions write;
   write.format = output_format(o.paths.output, o.format);
-  const NormalOptions options = normal_options(o);
+  NormalOptions options = normal_options(o);
+  // With a memory limit the neighbourhood phases run in pieces of a quarter of it (a piece with
+  // its halo, kd-tree and per-point values takes about kPieceBytesPerPoint per point); method
+  // robust and --fit-centres run over the whole cloud, its arrays paged from the spill file.
+  if (o.memory.max_bytes > 0 && options.method == NormalMethod::kPca && !options.fit_centres)
+    options.piece_points =
+        std::max<std::size_t>(kMinPiecePoints, o.memory.max_bytes / 4 / kPieceBytesPerPoint);
   const std::vector<OutlierOptions> outliers = parse_outliers(o.outliers);
   if (!o.outliers_out.empty()) {
     if (outliers.empty()) throw_usage("--outliers-out needs --outliers sor or radius");

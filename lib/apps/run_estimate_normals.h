@@ -35,6 +35,9 @@ struct EstimateNormalsOptions {
   // anything else, all passes' written to `outliers_out` when it is not empty.
   std::string outliers;
   std::string outliers_out;
+  // --max-memory: the cloud is processed in pieces that fit the limit (piece_points), and the
+  // tool's frame spills its large arrays to --tmp-dir (splatkit/spill_arena.h).
+  MemoryLimit memory;
 };
 
 // Parses --outliers into its passes (none for "" and "none"); throws Error(kUsage) naming the

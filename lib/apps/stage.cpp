@@ -13,6 +13,7 @@
 #include "formats/splk.h"
 #include "splatkit/progress.h"
 #include "splatkit/same_file.h"
+#include "splatkit/spill_arena.h"
 
 namespace splatkit::apps {
 
@@ -119,6 +120,12 @@ void Stage::commit(std::span<OutputFile* const> outputs, nlohmann::json report) 
     timings_["command"] = seconds_since(start_);
     for (const auto& [key, seconds] : timings_.items()) report["timings_s"][key] = seconds;
     report["peak_rss_bytes"] = peak_rss_bytes();
+    if (spill::active()) {
+      const spill::Stats s = spill::stats();
+      report["spill"] = {{"max_memory_bytes", s.max_memory},
+                         {"temporary_peak_bytes", s.peak_file_bytes},
+                         {"trims", s.trims}};
+    }
     file = std::make_unique<OutputFile>(paths_.report);
     file->write(report.dump(2) + "\n");
   }

@@ -14,6 +14,13 @@ struct StagePaths {
   std::string report;  // JSON report; empty = none; "-" = standard output
 };
 
+// --max-memory and --tmp-dir (Tool::add_memory_options): the process's limit, 0 = none, and where
+// its temporary file goes (empty: $TMPDIR, else /tmp).
+struct MemoryLimit {
+  uint64_t max_bytes = 0;
+  std::string tmp_dir;
+};
+
 // The summary line's count, unit and extra text: "<tool>: <count> <unit> in <t> s (...), peak RSS
 // <m> MiB, <extra>".
 struct StageSummary {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "splatkit/for_each_chunk.h"
+#include "splatkit/spill_arena.h"
 
 namespace splatkit {
 
@@ -43,12 +44,12 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-// A uint32 array in one malloc block, so that it shrinks in place (realloc keeps a shrinking
-// block where it is): the compacted rows need no second array at the peak.
+// A uint32 array in one malloc block (or the spill arena's), so that it shrinks in place (realloc
+// keeps a shrinking block where it is): the compacted rows need no second array at the peak.
 class ShrinkableArray {
  public:
   explicit ShrinkableArray(std::size_t size)
-      : data_(static_cast<uint32_t*>(std::malloc(std::max<std::size_t>(size, 1) * 4))),
+      : data_(static_cast<uint32_t*>(spill::allocate_block(size * 4))),
         size_(size) {
     if (!data_) throw std::bad_alloc();
   }
@@ -59,9 +60,13 @@ class ShrinkableArray {
     std::swap(size_, o.size_);
     return *this;
   }
-  ~ShrinkableArray() { std::free(data_); }
+  ~ShrinkableArray() { spill::free_block(data_); }
   void shrink(std::size_t size) {
     if (size >= size_) return;
+    if (spill::shrink(data_, size * 4)) {
+      size_ = size;
+      return;
+    }
     if (void* p = std::realloc(data_, std::max<std::size_t>(size, 1) * 4))
       data_ = static_cast<uint32_t*>(p);
     size_ = size;

@@ -1,13 +1,14 @@
-// SlotArray: n uninitialised elements of a trivially copyable T (malloc: large blocks are fresh
-// pages, and pages never written take no memory), for arrays of which only some entries are
-// ever written.
+// SlotArray: n uninitialised elements of a trivially copyable T (malloc, or the spill arena's
+// file when it runs: large blocks are fresh pages, and pages never written take no memory), for
+// arrays of which only some entries are ever written.
 #pragma once
 
 #include <cstddef>
-#include <cstdlib>
 #include <memory>
 #include <new>
 #include <type_traits>
+
+#include "splatkit/spill_arena.h"
 
 namespace splatkit {
 
@@ -15,12 +16,12 @@ template <class T>
 struct SlotArray {
   static_assert(std::is_trivially_copyable_v<T>);
   struct Free {
-    void operator()(T* p) const { std::free(p); }
+    void operator()(T* p) const { spill::free_block(p); }
   };
   std::unique_ptr<T, Free> data;
   std::size_t size = 0;
   void allocate(std::size_t n) {
-    data.reset(static_cast<T*>(std::malloc((n > 0 ? n : 1) * sizeof(T))));
+    data.reset(static_cast<T*>(spill::allocate_block(n * sizeof(T))));
     if (!data) throw std::bad_alloc();
     size = n;
   }

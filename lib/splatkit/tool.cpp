@@ -12,9 +12,14 @@
 #include <new>
 
 #include "splatkit/error.h"
+#include "splatkit/spill_arena.h"
 #include "splatkit/version.h"
 
 namespace splatkit {
+
+namespace {
+constexpr uint64_t kMinMaxMemory = uint64_t{64} << 20;  // the tool's own code and libraries: ~30M
+}  // namespace
 
 Tool::Tool(std::string name, std::string description, std::string examples)
     : name_(std::move(name)), app_(std::move(description), name_) {
@@ -31,6 +36,19 @@ void Tool::add_threads_option() {
   app_.add_option("--threads", threads_, "Worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(0);
+}
+
+void Tool::add_memory_options(apps::MemoryLimit& limit, const std::string& work_help) {
+  memory_ = &limit;
+  CLI::Option* max = app_.add_option("--max-memory", limit.max_bytes,
+                  "Keep the resident memory under SIZE (e.g. 2G, 512M; at least 64M): the large "
+                  "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
+                  "are paged in as the work reaches them. " +
+                      work_help)
+      ->transform(CLI::AsSizeValue(false));
+  app_.add_option("--tmp-dir", limit.tmp_dir,
+                  "Directory of --max-memory's temporary file (default: $TMPDIR, else /tmp)")
+      ->needs(max);
 }
 
 void Tool::add_columns_option(std::string& columns) {
@@ -78,6 +96,10 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   else
     threads_ = tbb::info::default_concurrency();
   try {
+    if (memory_ && memory_->max_bytes > 0) {
+      if (memory_->max_bytes < kMinMaxMemory) throw_usage("--max-memory must be at least 64M");
+      spill::start(memory_->max_bytes, memory_->tmp_dir);
+    }
     work();
     return 0;
   } catch (const Error& e) {

@@ -33,6 +33,10 @@ class Tool {
   void add_ply_encoding_options(bool& ascii, bool& big_endian);
   // Declares the required positionals IN and OUT into paths.input and paths.output.
   void add_in_out(apps::StagePaths& paths, const std::string& in_help, const std::string& out_help);
+  // --max-memory SIZE and --tmp-dir DIR into `limit`; run() starts the spill arena
+  // (spill_arena.h) with them before the work when a limit is given. `work_help` says how the
+  // tool keeps its working set small.
+  void add_memory_options(apps::MemoryLimit& limit, const std::string& work_help);
   // By default run() has blocks of 1 MiB and more mapped on their own and handed back when freed,
   // so that the per-point arrays of a finished phase leave the peak RSS (glibc otherwise keeps
   // them in the heap once a large block has been freed). A tool that allocates the same large
@@ -54,6 +58,7 @@ class Tool {
   bool quiet_ = false;
   int threads_ = 0;
   bool map_large_blocks_ = true;
+  apps::MemoryLimit* memory_ = nullptr;
 };
 
 // A check for a floating-point option: a finite number in [lo, hi] (CLI::Range lets NaN pass).

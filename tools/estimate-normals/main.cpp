@@ -94,6 +94,10 @@ int main(int argc, char** argv) {
   tool.add_columns_option(o.read.columns);
   app.add_option("--report", o.paths.report, "Write counts, timings and peak RSS as JSON here");
   tool.add_threads_option();
+  tool.add_memory_options(o.memory,
+                          "The cloud is then processed piece by piece (pieces of about "
+                          "SIZE/800 points, each with a halo of its neighbours), with the same "
+                          "output as without a limit");
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_estimate_normals(o, progress);
   });

@@ -1,0 +1,267 @@
+#include "splatkit/spill_arena.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "splatkit/error.h"
+
+namespace splatkit::spill {
+
+namespace {
+
+constexpr std::size_t kGranule = std::size_t{1} << 16;  // blocks are multiples of 64 KiB
+constexpr std::size_t kMaxCapacity = std::size_t{8} << 40;  // 8 TiB of address space at most
+constexpr auto kWatchPeriod = std::chrono::milliseconds(2);
+
+struct Arena {
+  int fd = -1;
+  char* base = nullptr;
+  std::size_t capacity = 0;
+  std::size_t max_memory = 0;
+  std::size_t trigger = 0;        // resident bytes that start a trim
+  std::size_t min_file_pages = 0;  // file pages resident besides the libraries' worth a trim
+  std::string dir;
+  std::mutex mutex;                           // guards the maps and top
+  std::map<std::size_t, std::size_t> unused;  // offset -> bytes: freed blocks, coalesced
+  std::map<std::size_t, std::size_t> used;    // offset -> bytes
+  std::atomic<std::size_t> top{0};            // offsets [0, top) have been carved
+  std::atomic<std::size_t> file_bytes{0}, peak_file_bytes{0}, trims{0};
+};
+
+std::atomic<Arena*> g_arena{nullptr};
+std::atomic<char*> g_begin{nullptr}, g_end{nullptr};
+std::once_flag g_started;
+
+// The resident and file-backed resident pages (/proc/self/statm's 2nd and 3rd fields).
+bool read_statm(std::size_t& resident, std::size_t& shared) {
+  const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  char text[128];
+  const ssize_t got = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  if (got <= 0) return false;
+  text[got] = 0;
+  char* p = text;
+  std::strtoull(p, &p, 10);  // size
+  resident = std::strtoull(p, &p, 10);
+  shared = std::strtoull(p, &p, 10);
+  return true;
+}
+
+// Drops the file's pages from the process whenever the resident memory reaches the trigger and
+// enough of it is the file's.
+[[noreturn]] void watch(Arena* a) {
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  std::size_t resident = 0, shared = 0, libraries = 0;
+  if (read_statm(resident, shared)) libraries = shared;
+  for (;;) {
+    std::this_thread::sleep_for(kWatchPeriod);
+    if (!read_statm(resident, shared)) continue;
+    if (resident * page < a->trigger || shared < libraries + a->min_file_pages) continue;
+    const std::size_t top = a->top.load(std::memory_order_acquire);
+    // MADV_DONTNEED on a shared file mapping unmaps the pages; dirty ones stay dirty in the
+    // page cache, so nothing is lost, and a later touch maps them again.
+    ::madvise(a->base, top, MADV_DONTNEED);
+    a->trims.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+int open_temporary_file(const std::string& dir) {
+  int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (fd >= 0) return fd;
+  std::string name = dir + "/splatkit-spill-XXXXXX";
+  fd = ::mkstemp(name.data());
+  if (fd >= 0) ::unlink(name.c_str());
+  return fd;
+}
+
+std::size_t round_up(std::size_t n, std::size_t to) { return (n + to - 1) / to * to; }
+
+}  // namespace
+
+const char* TempDiskFull::what() const noexcept {
+  return "the temporary directory is full (free disk space, or give --tmp-dir elsewhere)";
+}
+
+std::string temporary_directory(const std::string& tmp_dir) {
+  if (!tmp_dir.empty()) return tmp_dir;
+  const char* env = std::getenv("TMPDIR");
+  return env && *env ? env : "/tmp";
+}
+
+std::size_t free_disk_bytes(const std::string& dir) {
+  struct statvfs s {};
+  if (::statvfs(dir.c_str(), &s) != 0) return 0;
+  return static_cast<std::size_t>(s.f_bavail) * s.f_frsize;
+}
+
+std::size_t resident_bytes() {
+  std::size_t resident = 0, shared = 0;
+  if (!read_statm(resident, shared)) return 0;
+  return resident * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+
+void start(std::size_t max_memory, const std::string& tmp_dir) {
+  bool first = false;
+  std::call_once(g_started, [&] { first = true; });
+  if (!first) throw std::logic_error("spill::start called twice");
+  auto* a = new Arena;  // lives as long as the process: blocks may be freed at exit
+  a->dir = temporary_directory(tmp_dir);
+  a->fd = open_temporary_file(a->dir);
+  if (a->fd < 0)
+    throw Error(ErrorKind::kUsage, "cannot create a temporary file in " + a->dir + " (" +
+                                       std::strerror(errno) + "): give --tmp-dir DIR");
+  a->capacity = std::min(kMaxCapacity, free_disk_bytes(a->dir) / kGranule * kGranule);
+  if (a->capacity < kGranule || ::ftruncate(a->fd, static_cast<off_t>(a->capacity)) != 0)
+    throw Error(ErrorKind::kUsage, "the temporary directory " + a->dir +
+                                       " has no room for a temporary file: give --tmp-dir DIR");
+  void* base = ::mmap(nullptr, a->capacity, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_NORESERVE,
+                      a->fd, 0);
+  if (base == MAP_FAILED)
+    throw Error(ErrorKind::kUsage,
+                "cannot map a temporary file in " + a->dir + ": " + std::strerror(errno));
+  a->base = static_cast<char*>(base);
+  a->max_memory = max_memory;
+  a->trigger = static_cast<std::size_t>(static_cast<double>(max_memory) * kTrimFraction);
+  a->min_file_pages =
+      std::max<std::size_t>(1, max_memory / 16 / static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)));
+  g_begin.store(a->base, std::memory_order_release);
+  g_end.store(a->base + a->capacity, std::memory_order_release);
+  g_arena.store(a, std::memory_order_release);
+  std::thread(watch, a).detach();
+}
+
+bool active() { return g_arena.load(std::memory_order_acquire) != nullptr; }
+
+void* allocate(std::size_t size) {
+  Arena* a = g_arena.load(std::memory_order_acquire);
+  if (!a || size < kMinBlock) return nullptr;
+  const std::size_t bytes = round_up(size, kGranule);
+  std::size_t offset = 0;
+  {
+    std::lock_guard lock(a->mutex);
+    auto fit = std::find_if(a->unused.begin(), a->unused.end(),
+                            [&](const auto& u) { return u.second >= bytes; });
+    if (fit != a->unused.end()) {
+      offset = fit->first;
+      const std::size_t rest = fit->second - bytes;
+      a->unused.erase(fit);
+      if (rest > 0) a->unused.emplace(offset + bytes, rest);
+    } else {
+      const std::size_t top = a->top.load(std::memory_order_relaxed);
+      if (bytes > a->capacity - top) throw TempDiskFull();
+      offset = top;
+      a->top.store(top + bytes, std::memory_order_release);
+    }
+    a->used.emplace(offset, bytes);
+  }
+  // Reserve the disk blocks now (EOPNOTSUPP: a file system that cannot; then a full disk shows
+  // as SIGBUS, as with any mapped file).
+  if (::fallocate(a->fd, 0, static_cast<off_t>(offset), static_cast<off_t>(bytes)) != 0 &&
+      errno != EOPNOTSUPP) {
+    release(a->base + offset);
+    throw TempDiskFull();
+  }
+  const std::size_t now = a->file_bytes.fetch_add(bytes) + bytes;
+  std::size_t peak = a->peak_file_bytes.load(std::memory_order_relaxed);
+  while (now > peak && !a->peak_file_bytes.compare_exchange_weak(peak, now)) {
+  }
+  return a->base + offset;
+}
+
+namespace {
+
+// The arena's block at p: its offset, or nullptr when p is not in the arena.
+Arena* arena_of(const void* p, std::size_t& offset) {
+  const char* c = static_cast<const char*>(p);
+  const char* begin = g_begin.load(std::memory_order_acquire);
+  if (!begin || c < begin || c >= g_end.load(std::memory_order_acquire)) return nullptr;
+  offset = static_cast<std::size_t>(c - begin);
+  return g_arena.load(std::memory_order_acquire);
+}
+
+// Frees [offset, offset + bytes) of the file (the disk blocks and the cached pages, which also
+// leave the process) and adds it to the unused ranges. Under the lock.
+void free_range(Arena* a, std::size_t offset, std::size_t bytes) {
+  ::fallocate(a->fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(offset),
+              static_cast<off_t>(bytes));
+  a->file_bytes.fetch_sub(bytes);
+  std::size_t start = offset, merged = bytes;
+  auto next = a->unused.lower_bound(offset);
+  if (next != a->unused.begin()) {
+    auto previous = std::prev(next);
+    if (previous->first + previous->second == offset) {
+      start = previous->first;
+      merged += previous->second;
+      a->unused.erase(previous);
+    }
+  }
+  if (next != a->unused.end() && next->first == offset + bytes) {
+    merged += next->second;
+    a->unused.erase(next);
+  }
+  a->unused[start] = merged;
+}
+
+}  // namespace
+
+bool release(void* p) noexcept {
+  std::size_t offset = 0;
+  Arena* a = arena_of(p, offset);
+  if (!a) return false;
+  std::lock_guard lock(a->mutex);
+  const auto it = a->used.find(offset);
+  if (it == a->used.end()) return true;  // not a block start: never handed out
+  const std::size_t bytes = it->second;
+  a->used.erase(it);
+  free_range(a, offset, bytes);
+  return true;
+}
+
+bool shrink(void* p, std::size_t size) noexcept {
+  std::size_t offset = 0;
+  Arena* a = arena_of(p, offset);
+  if (!a) return false;
+  std::lock_guard lock(a->mutex);
+  const auto it = a->used.find(offset);
+  const std::size_t keep = round_up(std::max<std::size_t>(size, 1), kGranule);
+  if (it == a->used.end() || keep >= it->second) return true;
+  free_range(a, offset + keep, it->second - keep);
+  it->second = keep;
+  return true;
+}
+
+void* allocate_block(std::size_t size) {
+  if (void* p = allocate(size)) return p;
+  return std::malloc(size > 0 ? size : 1);
+}
+
+void free_block(void* p) noexcept {
+  if (p && !release(p)) std::free(p);
+}
+
+Stats stats() {
+  Stats s;
+  if (const Arena* a = g_arena.load(std::memory_order_acquire)) {
+    s.max_memory = a->max_memory;
+    s.file_bytes = a->file_bytes.load();
+    s.peak_file_bytes = a->peak_file_bytes.load();
+    s.trims = a->trims.load();
+  }
+  return s;
+}
+
+}  // namespace splatkit::spill
