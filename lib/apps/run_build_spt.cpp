@@ -8,10 +8,16 @@
 
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
+#include "splatkit/spill_arena.h"
 #include "spt/build_spt_tree.h"
 #include "spt/encode_spt.h"
 
 namespace splatkit::apps {
+
+namespace {
+// The spill file's peak per point with --max-memory (measured: see the README), with a margin.
+constexpr std::size_t kSpillBytesPerPoint = 80;
+}  // namespace
 
 StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
@@ -23,6 +29,7 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
     throw_usage("--color-weight must be zero or positive");
   Stage stage("build-spt", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
+  spill::check_room(doc.cloud.size() * kSpillBytesPerPoint);
   SplatCloud& cloud = doc.cloud;
   if (cloud.size() == 0) throw_unsupported(stage.input_name(), "no points");
   if (cloud.size() >= (std::size_t{1} << 31))

@@ -16,6 +16,9 @@ struct BuildSptOptions {
   float epsilon = 1e-3f;   // screen error (radians) the stored r values are stated for, > 0
   float color_weight = 1;  // L: weight of the colour deviation in the error, >= 0
   bool full = false;       // --precision full: 40-byte float entries
+  // --max-memory: the tool's frame spills the large arrays to --tmp-dir
+  // (splatkit/spill_arena.h); the passes run through them in Morton order.
+  MemoryLimit memory;
 };
 
 // Throws Error(kUsage) for bad paths or options (before reading), Error(kBadInput) for splats

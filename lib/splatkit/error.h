@@ -37,7 +37,8 @@ class Error : public std::runtime_error {
 [[noreturn]] void throw_output(const std::string& file, const std::string& what);
 [[noreturn]] void throw_usage(const std::string& what);
 // "out of memory while <what>", kind kOutOfMemory: for a std::bad_alloc caught where the work in
-// progress can be named.
+// progress can be named. A spill::TempDiskFull (spill_arena.h) becomes kOutput, "no room left in
+// the temporary directory ... while <what>".
 [[noreturn]] void throw_out_of_memory(const std::string& what);
 
 // The name to show for a path: "<stdin>" / "<stdout>" for "-", else the path itself.

@@ -34,6 +34,7 @@ struct Arena {
   std::size_t trigger = 0;        // resident bytes that start a trim
   std::size_t min_file_pages = 0;  // file pages resident besides the libraries' worth a trim
   std::string dir;
+  std::string full_message;  // TempDiskFull's
   std::mutex mutex;                           // guards the maps and top
   std::map<std::size_t, std::size_t> unused;  // offset -> bytes: freed blocks, coalesced
   std::map<std::size_t, std::size_t> used;    // offset -> bytes
@@ -93,7 +94,8 @@ std::size_t round_up(std::size_t n, std::size_t to) { return (n + to - 1) / to *
 }  // namespace
 
 const char* TempDiskFull::what() const noexcept {
-  return "the temporary directory is full (free disk space, or give --tmp-dir elsewhere)";
+  const Arena* a = g_arena.load(std::memory_order_acquire);
+  return a ? a->full_message.c_str() : "the temporary directory is full";
 }
 
 std::string temporary_directory(const std::string& tmp_dir) {
@@ -120,6 +122,8 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
   if (!first) throw std::logic_error("spill::start called twice");
   auto* a = new Arena;  // lives as long as the process: blocks may be freed at exit
   a->dir = temporary_directory(tmp_dir);
+  a->full_message = "no room left in the temporary directory " + a->dir +
+                    " (free disk space there, or give --tmp-dir elsewhere)";
   a->fd = open_temporary_file(a->dir);
   if (a->fd < 0)
     throw Error(ErrorKind::kUsage, "cannot create a temporary file in " + a->dir + " (" +
@@ -251,6 +255,17 @@ void* allocate_block(std::size_t size) {
 
 void free_block(void* p) noexcept {
   if (p && !release(p)) std::free(p);
+}
+
+void check_room(std::size_t bytes) {
+  const Arena* a = g_arena.load(std::memory_order_acquire);
+  if (!a) return;
+  const std::size_t in_use = a->file_bytes.load(), room = in_use + free_disk_bytes(a->dir);
+  if (bytes <= room) return;
+  auto mib = [](std::size_t b) { return std::to_string((b + (1 << 20) - 1) >> 20) + " MiB"; };
+  throw Error(ErrorKind::kOutput, "the temporary directory " + a->dir + " has room for " +
+                                      mib(room) + ", and this run needs about " + mib(bytes) +
+                                      " there: free space, or give --tmp-dir elsewhere");
 }
 
 Stats stats() {

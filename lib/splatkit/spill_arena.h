@@ -57,6 +57,10 @@ bool shrink(void* p, std::size_t size) noexcept;
 void* allocate_block(std::size_t size);
 void free_block(void* p) noexcept;
 
+// When the arena runs: throws Error(kOutput) naming the temporary directory when the file cannot
+// grow to `bytes` in all (its blocks in use now included). A run checks this before its work.
+void check_room(std::size_t bytes);
+
 struct Stats {
   std::size_t max_memory = 0;
   std::size_t file_bytes = 0;       // the file's blocks in use now

@@ -105,6 +105,9 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   } catch (const Error& e) {
     std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());
     return e.exit_code();
+  } catch (const spill::TempDiskFull& e) {
+    std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());
+    return static_cast<int>(ErrorKind::kOutput);
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "%s: out of memory\n", name_.c_str());
     return static_cast<int>(ErrorKind::kOutOfMemory);

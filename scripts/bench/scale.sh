@@ -5,13 +5,18 @@
 # and splat-view's load (a 64x36 frame, so the time is the read and the scene set-up). Prints
 # seconds, microseconds per point, and peak RSS per point (bytes), then each tool's time per
 # point at the largest size over the smallest (the target: at most 1.3).
-# usage: scripts/bench/scale.sh [millions of points...]   (default: 1 4 16)
-#        (build dir: $BUILD_DIR, default build; temporary files in $TMPDIR)
+# With OUT_OF_CORE=M (and MAX_MEMORY, default 2G), then one out-of-core run: estimate-normals
+# --max-memory on M million points (its output then through build-spt --max-memory), printing
+# time per point, peak RSS against the limit, and the temporary disk used (the spill file's peak,
+# from the report), and its time per point over the in-memory one at the largest size above.
+# usage: [OUT_OF_CORE=200 MAX_MEMORY=2G] scripts/bench/scale.sh [millions of points...]
+#        (default sizes: 1 4 16; build dir: $BUILD_DIR, default build; temporary files, the
+#        spill file included, in $TMPDIR)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build}
 ninja -C "$build" -j2 splat-synth estimate-normals build-splat-graph segment-surfaces \
-  splat-view >/dev/null
+  splat-view build-spt >/dev/null
 bin=$build/tools
 sizes=("$@")
 [ ${#sizes[@]} -gt 0 ] || sizes=(1 4 16)
@@ -71,3 +76,30 @@ for name in estimate-normals build-splat-graph segment-surfaces "splat-view load
     'BEGIN {printf "  %-18s %.2fx\n", t, b / a}'
 done
 awk -v a="$orient_first" -v b="$orient_last" 'BEGIN {printf "  %-18s %.2fx\n", "orient", b / a}'
+
+[ -n "${OUT_OF_CORE:-}" ] || exit 0
+limit=${MAX_MEMORY:-2G}
+n=$((OUT_OF_CORE * 1000000))
+echo "out of core: $OUT_OF_CORE M points, --max-memory $limit"
+"$bin/splat-synth" -q torus "$work/in.splk" -n "$n" --random --no-color
+rm -f "$work/normals.splk"
+limit_bytes=$(numfmt --from=iec "$limit")
+for tool in estimate-normals build-spt; do
+  if [ $tool = estimate-normals ]; then
+    args=("$work/in.splk" "$work/normals.splk")
+  else
+    rm -f "$work/in.splk"  # (disk: only what the next command reads)
+    args=("$work/normals.splk" "$work/out.spt")
+  fi
+  /usr/bin/time -f "%e %M" -o "$work/time" "$bin/$tool" -q "${args[@]}" --threads 2 \
+    --max-memory "$limit" --report "$work/ooc.json"
+  read -r s k <"$work/time"
+  spill=$(tr -d '\n ' <"$work/ooc.json" | grep -o '"temporary_peak_bytes":[0-9]*' | cut -d: -f2)
+  awk -v s="$s" -v n="$n" -v k="$k" -v l="$limit_bytes" -v d="$spill" -v t="$tool" 'BEGIN {
+    printf "%-18s %8.1f s %8.3f us/point  peak RSS %.0f MiB (%.2f of the limit)  temporary disk %.1f GiB (%.0f B/point)\n",
+      t, s, s / n * 1e6, k / 1024, k * 1024 / l, d / 2^30, d / n }'
+  if [ $tool = estimate-normals ]; then
+    awk -v s="$s" -v n="$n" -v b="${last[estimate-normals]}" \
+      'BEGIN {printf "  time per point over the in-memory one: %.2fx (target <= 2)\n", s / n * 1e6 / b}'
+  fi
+done

@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
                  "time per phase, points/s and peak RSS as JSON");
   tool.add_columns_option(o.read.columns);
   tool.add_threads_option();
+  tool.add_memory_options(o.memory,
+                          "The tree is built in passes that run through the splats in Morton "
+                          "order, so a pass holds few of them at a time; the output is the same");
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     o.full = precision == "full";
     return splatkit::apps::run_build_spt(o, progress);

@@ -1,0 +1,83 @@
+# estimate-normals --max-memory: with a limit below what the run takes in memory, the output is
+# byte for byte the in-memory one and the peak RSS stays under the limit (+10 %), on an i.i.d.
+# random torus and on a noisy scan-line CAD part with duplicates and a far outlier; the temporary
+# directory stays empty (the spill file is unlinked) through the run and a Ctrl-C; a temporary
+# directory too small is an error before the work; bad options are usage errors.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+set -m  # Ctrl-C below: a background job of a script would otherwise ignore SIGINT
+EN=$BIN/estimate-normals
+# A sanitizer build keeps its own operator new (nothing but a few arrays spills) and its shadow
+# memory inflates the RSS: the outputs are compared there, the RSS only in a release build.
+sanitized=0
+grep -q __asan_init "$EN" 2>/dev/null && sanitized=1
+
+json_value() { grep -m1 "\"$1\":" "$2" | sed 's/.*: *//; s/,$//'; }
+mkdir -p "$WORK/tmp"
+
+"$BIN/splat-synth" -q torus "$WORK/torus.splk" -n 1000000 --random --no-color
+"$BIN/splat-synth" -q cad "$WORK/cad.xyz" -n 600000 --scan-lines 8 --noise 0.002 --no-color
+# Duplicates (the first 2000 points again) and one point far from everything.
+{ cat "$WORK/cad.xyz"; grep -v '^#' "$WORK/cad.xyz" | head -2000;
+  grep -v '^#' "$WORK/cad.xyz" | head -1 | awk '{ $1 = 1000; $2 = -1000; $3 = 500; print }'; } \
+  > "$WORK/cad-dirty.xyz"
+
+# cloud:limit in MiB, each below what the cloud takes in memory (checked below)
+for run in torus.splk:96 cad-dirty.xyz:64; do
+  cloud=${run%:*} limit_mib=${run#*:}
+  name=${cloud%.*}
+  expect_exit 0 "$EN" -q "$WORK/$cloud" "$WORK/$name-ref.splk" --threads 2 --report "$WORK/ref.json"
+  "$EN" -q "$WORK/$cloud" "$WORK/$name-lim.splk" --threads 2 --max-memory ${limit_mib}M \
+    --tmp-dir "$WORK/tmp" --report "$WORK/lim.json" 2>"$WORK/stderr" &
+  pid=$!
+  sleep 0.5
+  expect_eq "$name: files in --tmp-dir during the run" "$(ls -A "$WORK/tmp" | wc -l)" 0
+  wait $pid
+  expect_eq "$name: exit with --max-memory" "$?" 0
+  cmp -s "$WORK/$name-ref.splk" "$WORK/$name-lim.splk" && pass ||
+    fail "$name: --max-memory output differs from the in-memory one"
+  pieces=$(grep -o '"pieces": [0-9]*' "$WORK/lim.json" | sed 's/.*: //')
+  [ "${pieces:-0}" -gt 1 ] && pass || fail "$name: not run in pieces"
+  if [ $sanitized = 0 ]; then
+    ref=$(json_value peak_rss_bytes "$WORK/ref.json")
+    lim=$(json_value peak_rss_bytes "$WORK/lim.json")
+    [ "$ref" -gt $((limit_mib << 20)) ] && pass ||
+      fail "$name: the in-memory run takes $ref bytes, not more than the limit"
+    [ "$lim" -le $((limit_mib * 11 / 10 << 20)) ] && pass ||
+      fail "$name: peak RSS $lim bytes over --max-memory ${limit_mib}M + 10 %"
+    [ "$(json_value trims "$WORK/lim.json")" -gt 0 ] && pass || fail "$name: no page ever dropped"
+  fi
+  expect_eq "$name: files left in --tmp-dir" "$(ls -A "$WORK/tmp" | wc -l)" 0
+done
+
+# Ctrl-C in the middle: dies of SIGINT, leaves no output and nothing in --tmp-dir.
+"$EN" -q "$WORK/torus.splk" "$WORK/int.splk" --threads 2 --max-memory 96M \
+  --tmp-dir "$WORK/tmp" 2>/dev/null &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+expect_eq "SIGINT: exit status" "$?" 130
+expect_eq "SIGINT: files left in --tmp-dir" "$(ls -A "$WORK/tmp" | wc -l)" 0
+ls "$WORK" | grep -q '^int\.splk' && fail "SIGINT: an output was left" || pass
+
+# A temporary directory without room: an error naming it, before the work (needs a small file
+# system: a tmpfs, when this machine lets us mount one).
+mkdir -p "$WORK/small"
+if mount -t tmpfs -o size=4m tmpfs "$WORK/small" 2>/dev/null; then
+  "$BIN/splat-synth" -q sphere "$WORK/s.splk" -n 200000 --random --no-color
+  expect_exit 4 "$EN" -q "$WORK/s.splk" "$WORK/s-n.splk" --max-memory 64M --tmp-dir "$WORK/small"
+  expect_stderr "^estimate-normals: the temporary directory $WORK/small has room for [0-9]+ MiB, and this run needs about [0-9]+ MiB"
+  [ ! -e "$WORK/s-n.splk" ] && pass || fail "no room: an output was written"
+  umount "$WORK/small"
+else
+  echo "note: cannot mount a tmpfs here; the full-directory case is left to the unit tests"
+fi
+
+expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --tmp-dir "$WORK/tmp"
+expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory 10M
+expect_stderr "max-memory must be at least 64M"
+expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory lots
+expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory 1G --tmp-dir "$WORK/none"
+expect_stderr "^estimate-normals: cannot create a temporary file in $WORK/none"
+
+finish
