@@ -229,9 +229,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // broken by the new numbers.
   std::vector<uint32_t> order;
   timed("order", [&] {
-    std::vector<Vec3f> sorted;
-    order = morton_order(cloud.positions, &sorted);
-    cloud.positions = std::move(sorted);
+    order = morton_order(cloud.positions);
+    cloud.positions = gathered(cloud.positions, order);
   });
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);

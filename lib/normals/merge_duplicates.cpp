@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <utility>
-#include <vector>
 
 namespace splatkit {
 
@@ -44,50 +42,40 @@ void compact(ExtraValues& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
-// A point as the buckets hold it: its hash, number and position side by side, so that a bucket
-// is resolved without reading the positions array at random (whose pages may be paged from a
-// file: splatkit/spill_arena.h).
-struct Entry {
-  uint32_t hash;
-  uint32_t index;
-  Vec3f position;
-};
-
-// Appends (i, j) to `copies` for each point i of one bucket (entries in ascending index order)
-// whose position an earlier point j has, j the first occurrence: each point looks for it in a
-// small open-addressing table (slots hold entry places; the first occurrences only), and enters
-// the table when there is none.
-void resolve_bucket(const Entry* entries, std::size_t n,
-                    std::vector<std::pair<uint32_t, uint32_t>>& copies,
-                    std::vector<uint32_t>& table) {
+// Sets first[] for one bucket of keys in ascending index order: each point looks for an earlier
+// first occurrence with its position in a small open-addressing table (slots hold key positions;
+// the first occurrences only), and enters the table when there is none.
+void resolve_bucket(const std::vector<Vec3f>& positions, const uint64_t* keys, std::size_t n,
+                    std::vector<uint32_t>& first, std::vector<uint32_t>& table) {
   constexpr uint32_t kEmpty = 0xFFFFFFFF;
   const std::size_t mask = std::bit_ceil(std::max<std::size_t>(2 * n, 16)) - 1;
   table.assign(mask + 1, kEmpty);
   for (std::size_t t = 0; t < n; ++t) {
-    const Entry& e = entries[t];
-    std::size_t slot = e.hash & mask;
-    bool copy = false;
+    const uint32_t hash = static_cast<uint32_t>(keys[t] >> 32);
+    const uint32_t i = static_cast<uint32_t>(keys[t]);
+    first[i] = i;
+    std::size_t slot = hash & mask;
     for (; table[slot] != kEmpty; slot = (slot + 1) & mask) {
-      const Entry& other = entries[table[slot]];
-      if (other.hash == e.hash && same_position(other.position, e.position)) {
-        copies.emplace_back(e.index, other.index);
-        copy = true;
+      const uint64_t other = keys[table[slot]];
+      const uint32_t j = static_cast<uint32_t>(other);
+      if (other >> 32 == hash && same_position(positions[j], positions[i])) {
+        first[i] = j;
         break;
       }
     }
-    if (!copy) table[slot] = static_cast<uint32_t>(t);
+    if (first[i] == i) table[slot] = static_cast<uint32_t>(t);
   }
 }
 
 // first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
-// Entries are distributed by the hash's top bits into at most 4096 buckets (one stable counting
-// pass, so each bucket is in index order, writing that many streams at a time), then each bucket
-// is resolved on its own, in parallel: equal positions share a bucket, and the result does not
-// depend on the thread count.
+// Keys (hash << 32 | index) are distributed by the hash's top bits into buckets of ~256 (one
+// stable counting pass, so each bucket is in index order), then each bucket is resolved on its
+// own, in parallel: equal positions share a bucket, and the result does not depend on the thread
+// count.
 std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
   const std::size_t n = positions.size();
   int bits = 0;
-  while (bits < 12 && (n >> bits) > 256) ++bits;
+  while (bits < 20 && (n >> bits) > 256) ++bits;
   const std::size_t buckets = std::size_t{1} << bits;
   std::vector<uint32_t> hashes(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
@@ -99,26 +87,19 @@ std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
   auto bucket_of = [&](uint32_t h) { return bits == 0 ? 0 : std::size_t{h >> shift}; };
   for (uint32_t h : hashes) ++start[bucket_of(h) + 1];
   for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<Entry> entries(n);
+  std::vector<uint64_t> keys(n);
   {
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
-      entries[fill[bucket_of(hashes[i])]++] = {hashes[i], static_cast<uint32_t>(i), positions[i]};
+      keys[fill[bucket_of(hashes[i])]++] = uint64_t{hashes[i]} << 32 | i;
   }
   std::vector<uint32_t>().swap(hashes);  // (`= {}` would keep the capacity)
-  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> copies(buckets);
+  std::vector<uint32_t> first(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 16), [&](const auto& r) {
     std::vector<uint32_t> table;
     for (std::size_t b = r.begin(); b < r.end(); ++b)
-      resolve_bucket(entries.data() + start[b], start[b + 1] - start[b], copies[b], table);
+      resolve_bucket(positions, keys.data() + start[b], start[b + 1] - start[b], first, table);
   });
-  std::vector<Entry>().swap(entries);
-  std::vector<uint32_t> first(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) first[i] = static_cast<uint32_t>(i);
-  });
-  for (const auto& bucket : copies)
-    for (const auto& [i, j] : bucket) first[i] = j;
   return first;
 }
 

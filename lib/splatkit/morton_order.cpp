@@ -3,7 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <memory>
@@ -17,7 +16,6 @@ namespace {
 struct Key {
   uint64_t code;
   uint32_t index;
-  Vec3f point;
   bool operator<(const Key& o) const { return code != o.code ? code < o.code : index < o.index; }
 };
 
@@ -29,14 +27,11 @@ constexpr std::size_t kParallelSortSize = std::size_t{1} << 20;
 
 }  // namespace
 
-std::vector<uint32_t> morton_order(std::span<const Vec3f> points, std::vector<Vec3f>* sorted) {
+std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
   const std::size_t n = points.size();
   const Bounds box = compute_bounds(points);
   const MortonFrame frame(box.min, box.max);
-  // A few blocks per thread: the scatter writes blocks x buckets streams (the order within a
-  // bucket does not matter, each is sorted afterwards).
-  const std::size_t tasks = 2 * static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
-  const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + tasks - 1) / tasks);
+  const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
   const std::size_t blocks = (n + block - 1) / block;
   auto top = [](uint64_t code) { return code >> (MortonFrame::kCodeBits - kTopBits); };
   // Per block and bucket: the count, then the block's first place in the bucket.
@@ -58,7 +53,7 @@ std::vector<uint32_t> morton_order(std::span<const Vec3f> points, std::vector<Ve
     std::size_t* next = first.data() + b * kBuckets;
     for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i) {
       const uint64_t code = frame.code(points[i]);
-      keys[next[top(code)]++] = {code, static_cast<uint32_t>(i), points[i]};
+      keys[next[top(code)]++] = {code, static_cast<uint32_t>(i)};
     }
   });
   tbb::parallel_for(std::size_t{0}, kBuckets, [&](std::size_t d) {
@@ -70,11 +65,8 @@ std::vector<uint32_t> morton_order(std::span<const Vec3f> points, std::vector<Ve
       std::sort(b, e);
   });
   std::vector<uint32_t> order(n);
-  if (sorted) sorted->resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
     for (std::size_t t = r.begin(); t < r.end(); ++t) order[t] = keys[t].index;
-    if (sorted)
-      for (std::size_t t = r.begin(); t < r.end(); ++t) (*sorted)[t] = keys[t].point;
   });
   return order;
 }

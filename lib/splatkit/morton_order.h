@@ -48,12 +48,7 @@ struct MortonFrame {
 };
 
 // The points' numbers in Morton order over their own bounding box, ties by number: order[t] is
-// the number of the t-th point; with `sorted`, also the points in that order (sorted[t] =
-// points[order[t]]). Runs in parallel; 24 bytes per point transiently. Memory is visited in order
-// but for the scatter into buckets, which writes a few thousand streams at a time: the points
-// travel with their codes, so that no random gather is needed, which keeps the pages it touches
-// at a time few when the arrays are paged from a file (splatkit/spill_arena.h).
-std::vector<uint32_t> morton_order(std::span<const Vec3f> points,
-                                   std::vector<Vec3f>* sorted = nullptr);
+// the number of the t-th point. Runs in parallel; 16 bytes per point transiently.
+std::vector<uint32_t> morton_order(std::span<const Vec3f> points);
 
 }  // namespace splatkit
