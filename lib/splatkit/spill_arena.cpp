@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -40,6 +41,12 @@ struct Arena {
   std::map<std::size_t, std::size_t> used;    // offset -> bytes
   std::atomic<std::size_t> top{0};            // offsets [0, top) have been carved
   std::atomic<std::size_t> file_bytes{0}, peak_file_bytes{0}, trims{0};
+
+  // Runs only when start() fails half way: a started arena lives as long as the process.
+  ~Arena() {
+    if (base) ::munmap(base, capacity);
+    if (fd >= 0) ::close(fd);
+  }
 };
 
 std::atomic<Arena*> g_arena{nullptr};
@@ -120,7 +127,8 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
   bool first = false;
   std::call_once(g_started, [&] { first = true; });
   if (!first) throw std::logic_error("spill::start called twice");
-  auto* a = new Arena;  // lives as long as the process: blocks may be freed at exit
+  auto owner = std::make_unique<Arena>();  // released below: blocks may be freed at exit
+  Arena* a = owner.get();
   a->dir = temporary_directory(tmp_dir);
   a->full_message = "no room left in the temporary directory " + a->dir +
                     " (free disk space there, or give --tmp-dir elsewhere)";
@@ -148,7 +156,7 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
       std::max<std::size_t>(1, max_memory / 16 / static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)));
   g_begin.store(a->base, std::memory_order_release);
   g_end.store(a->base + a->capacity, std::memory_order_release);
-  g_arena.store(a, std::memory_order_release);
+  g_arena.store(owner.release(), std::memory_order_release);
   std::thread(watch, a).detach();
 }
 
