@@ -229,8 +229,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // broken by the new numbers.
   std::vector<uint32_t> order;
   timed("order", [&] {
-    order = morton_order(cloud.positions);
-    cloud.positions = gathered(cloud.positions, order);
+    order = morton_sort(cloud.positions);
   });
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);

@@ -2,9 +2,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
+#include <memory>
+#include <utility>
 
 namespace splatkit {
 
@@ -42,65 +46,106 @@ void compact(ExtraValues& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
-// Sets first[] for one bucket of keys in ascending index order: each point looks for an earlier
-// first occurrence with its position in a small open-addressing table (slots hold key positions;
-// the first occurrences only), and enters the table when there is none.
-void resolve_bucket(const std::vector<Vec3f>& positions, const uint64_t* keys, std::size_t n,
-                    std::vector<uint32_t>& first, std::vector<uint32_t>& table) {
-  constexpr uint32_t kEmpty = 0xFFFFFFFF;
+// A point as the duplicate search carries it: its position travels with its number, so that the
+// search reads the cloud once in order and then works bucket by bucket, never at random over the
+// whole cloud (which, when the arrays are paged from disk, would fault pages in faster than they
+// can be dropped).
+struct Record {
+  uint32_t hash;
+  uint32_t index;
+  Vec3f position;
+};
+static_assert(sizeof(Record) == 20);
+
+struct Duplicate {
+  uint32_t copy;   // a point whose position an earlier point has
+  uint32_t first;  // the lowest index with that position
+};
+
+// Records are distributed by their hash's top bits into at most 4096 buckets: few enough that
+// the scatter writes to a few thousand places at a time, many enough that a bucket and its table
+// stay in cache (about 50 000 records per bucket at 200 M points).
+constexpr int kMaxBucketBits = 12;
+constexpr uint32_t kEmpty = 0xFFFFFFFF;
+
+// Finds the duplicates of one bucket of records in ascending index order: each looks for an
+// earlier first occurrence of its position in a small open-addressing table of first
+// occurrences, and enters the table when there is none. The duplicates found are written over
+// the front of the bucket (the k-th at byte 8k, in records that have been read by then);
+// returns their number.
+std::size_t resolve_bucket(Record* records, std::size_t n, std::vector<Record>& table) {
   const std::size_t mask = std::bit_ceil(std::max<std::size_t>(2 * n, 16)) - 1;
-  table.assign(mask + 1, kEmpty);
+  table.assign(mask + 1, Record{0, kEmpty, {}});
+  std::size_t found = 0;
   for (std::size_t t = 0; t < n; ++t) {
-    const uint32_t hash = static_cast<uint32_t>(keys[t] >> 32);
-    const uint32_t i = static_cast<uint32_t>(keys[t]);
-    first[i] = i;
-    std::size_t slot = hash & mask;
-    for (; table[slot] != kEmpty; slot = (slot + 1) & mask) {
-      const uint64_t other = keys[table[slot]];
-      const uint32_t j = static_cast<uint32_t>(other);
-      if (other >> 32 == hash && same_position(positions[j], positions[i])) {
-        first[i] = j;
+    const Record r = records[t];
+    std::size_t slot = r.hash & mask;
+    uint32_t first = r.index;
+    for (; table[slot].index != kEmpty; slot = (slot + 1) & mask)
+      if (table[slot].hash == r.hash && same_position(table[slot].position, r.position)) {
+        first = table[slot].index;
         break;
       }
+    if (first == r.index)
+      table[slot] = r;
+    else {
+      const Duplicate d{r.index, first};
+      std::memcpy(reinterpret_cast<char*>(records) + sizeof d * found++, &d, sizeof d);
     }
-    if (first[i] == i) table[slot] = static_cast<uint32_t>(t);
   }
+  return found;
 }
 
-// first[i] = the lowest index whose position equals point i's (i itself for a first occurrence).
-// Keys (hash << 32 | index) are distributed by the hash's top bits into buckets of ~256 (one
-// stable counting pass, so each bucket is in index order), then each bucket is resolved on its
-// own, in parallel: equal positions share a bucket, and the result does not depend on the thread
-// count.
-std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
+// Every point whose position an earlier point has, with that earlier point's index, ascending by
+// the copy's index. One pass over the positions in order hashes them and counts per block and
+// bucket; a second scatters the records into their buckets (stable: each bucket in index order);
+// the buckets are resolved on their own, in parallel. Equal positions share a bucket, and the
+// result does not depend on the thread count.
+std::vector<Duplicate> find_duplicates(const std::vector<Vec3f>& positions) {
   const std::size_t n = positions.size();
   int bits = 0;
-  while (bits < 20 && (n >> bits) > 256) ++bits;
+  while (bits < kMaxBucketBits && (n >> bits) > 256) ++bits;
   const std::size_t buckets = std::size_t{1} << bits;
-  std::vector<uint32_t> hashes(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i)
-      hashes[i] = static_cast<uint32_t>(position_hash(positions[i]));
+  auto bucket_of = [&](uint32_t h) { return bits == 0 ? 0 : std::size_t{h >> (32 - bits)}; };
+  auto hash_of = [](const Vec3f& p) { return static_cast<uint32_t>(position_hash(p)); };
+  const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
+  const std::size_t blocks = (n + block - 1) / block;
+  // Per block and bucket: the count, then the block's next place in the bucket.
+  std::vector<std::size_t> next(blocks * buckets, 0);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    std::size_t* c = next.data() + b * buckets;
+    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i)
+      ++c[bucket_of(hash_of(positions[i]))];
   });
-  std::vector<std::size_t> start(buckets + 1, 0);
-  const int shift = 32 - bits;
-  auto bucket_of = [&](uint32_t h) { return bits == 0 ? 0 : std::size_t{h >> shift}; };
-  for (uint32_t h : hashes) ++start[bucket_of(h) + 1];
-  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<uint64_t> keys(n);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      keys[fill[bucket_of(hashes[i])]++] = uint64_t{hashes[i]} << 32 | i;
+  std::vector<std::size_t> start(buckets + 1);
+  std::size_t sum = 0;
+  for (std::size_t d = 0; d < buckets; ++d) {
+    start[d] = sum;
+    for (std::size_t b = 0; b < blocks; ++b) sum += std::exchange(next[b * buckets + d], sum);
   }
-  std::vector<uint32_t>().swap(hashes);  // (`= {}` would keep the capacity)
-  std::vector<uint32_t> first(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 16), [&](const auto& r) {
-    std::vector<uint32_t> table;
-    for (std::size_t b = r.begin(); b < r.end(); ++b)
-      resolve_bucket(positions, keys.data() + start[b], start[b + 1] - start[b], first, table);
+  start[buckets] = sum;
+  const std::unique_ptr<Record[]> records(new Record[n]);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+    std::size_t* place = next.data() + b * buckets;
+    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i) {
+      const uint32_t h = hash_of(positions[i]);
+      records[place[bucket_of(h)]++] = {h, static_cast<uint32_t>(i), positions[i]};
+    }
   });
-  return first;
+  std::vector<std::size_t> found(buckets);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 4), [&](const auto& r) {
+    std::vector<Record> table;
+    for (std::size_t d = r.begin(); d < r.end(); ++d)
+      found[d] = resolve_bucket(records.get() + start[d], start[d + 1] - start[d], table);
+  });
+  std::size_t total = 0;
+  for (std::size_t f : found) total += f;
+  std::vector<Duplicate> duplicates(total);
+  for (std::size_t d = 0, at = 0; d < buckets; at += found[d++])
+    std::memcpy(duplicates.data() + at, records.get() + start[d], sizeof(Duplicate) * found[d]);
+  tbb::parallel_sort(duplicates.begin(), duplicates.end(),
+                     [](const Duplicate& a, const Duplicate& b) { return a.copy < b.copy; });
+  return duplicates;
 }
 
 }  // namespace
@@ -108,20 +153,32 @@ std::vector<uint32_t> first_occurrences(const std::vector<Vec3f>& positions) {
 MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
   const std::size_t n = cloud.size();
   MergeResult result;
-  std::vector<uint32_t> first = first_occurrences(cloud.positions);
-
-  std::vector<uint32_t> kept;  // input indices of the output points, ascending
-  for (std::size_t i = 0; i < n; ++i)
-    if (first[i] == i) kept.push_back(static_cast<uint32_t>(i));
-  result.merged = n - kept.size();
+  const std::vector<Duplicate> duplicates = find_duplicates(cloud.positions);
+  result.merged = duplicates.size();
   if (result.merged == 0 && !want_map) return result;
 
-  // Reuse `first` as the map input index -> output index: a first occurrence's output slot is its
-  // rank among the kept points, and every copy points at its first occurrence, which precedes it.
-  for (std::size_t i = 0, out = 0; i < n; ++i)
-    first[i] = first[i] == i ? static_cast<uint32_t>(out++) : first[first[i]];
-
+  // The map input index -> output index, in one pass in index order: a first occurrence's output
+  // slot is its rank among the kept points, and every copy takes its first occurrence's, which
+  // precedes it.
+  std::vector<uint32_t> representative;
+  if (want_map || (result.merged > 0 && !cloud.face_indices.empty())) {
+    representative.resize(n);
+    auto copy = duplicates.begin();
+    for (std::size_t i = 0, out = 0; i < n; ++i)
+      if (copy != duplicates.end() && copy->copy == i)
+        representative[i] = representative[(copy++)->first];
+      else
+        representative[i] = static_cast<uint32_t>(out++);
+  }
   if (result.merged > 0) {
+    std::vector<uint32_t> kept;  // input indices of the output points, ascending
+    kept.reserve(n - result.merged);
+    auto copy = duplicates.begin();
+    for (std::size_t i = 0; i < n; ++i)
+      if (copy != duplicates.end() && copy->copy == i)
+        ++copy;
+      else
+        kept.push_back(static_cast<uint32_t>(i));
     compact(cloud.positions, kept);
     compact(cloud.normals, kept);
     compact(cloud.radii, kept);
@@ -129,9 +186,9 @@ MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
     compact(cloud.minor_radii, kept);
     compact(cloud.colors, kept);
     for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
-    for (uint32_t& v : cloud.face_indices) v = first[v];
+    for (uint32_t& v : cloud.face_indices) v = representative[v];
   }
-  if (want_map) result.representative = std::move(first);
+  if (want_map) result.representative = std::move(representative);
   return result;
 }
 

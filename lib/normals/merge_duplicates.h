@@ -6,8 +6,10 @@
 // order, so a cloud without duplicates is returned unchanged. Face indices are remapped to the kept
 // point of their position (faces are kept even if they become degenerate).
 //
-// Cost: a bucket pass and small hash tables over 8-byte keys (position hash, index; 16 bytes/point
-// transient), then a linear compaction.
+// Cost: two passes over the positions in order (hash and count, then scatter 20-byte records of
+// hash, index and position into at most 4096 buckets), small hash tables per bucket, then a
+// linear compaction; 20 bytes per point transient. Nothing reads the cloud at random, so the
+// search stays fast when the arrays are paged from disk (--max-memory).
 // Deterministic: the result does not depend on the thread count.
 #pragma once
 

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <memory>
+#include <type_traits>
+#include <utility>
 
 #include "splatkit/splat_cloud.h"
 
@@ -19,15 +21,27 @@ struct Key {
   bool operator<(const Key& o) const { return code != o.code ? code < o.code : index < o.index; }
 };
 
+// A key that carries its point, for morton_sort (24 bytes: the point fills Key's padding).
+struct PointKey {
+  uint64_t code;
+  uint32_t index;
+  Vec3f point;
+  bool operator<(const PointKey& o) const {
+    return code != o.code ? code < o.code : index < o.index;
+  }
+};
+static_assert(sizeof(PointKey) == 24);
+
 // Keys go first to buckets by their top bits (a counting pass over fixed blocks), then each
 // bucket is sorted on its own; buckets larger than this are sorted in parallel.
 constexpr int kTopBits = 12;
 constexpr std::size_t kBuckets = std::size_t{1} << kTopBits;
 constexpr std::size_t kParallelSortSize = std::size_t{1} << 20;
 
-}  // namespace
-
-std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
+// The Morton order of `points`; with a PointKey, also writes the points in that order to
+// *sorted, from the keys (so that no pass reads the points at random).
+template <typename K>
+std::vector<uint32_t> sort_by_code(std::span<const Vec3f> points, std::vector<Vec3f>* sorted) {
   const std::size_t n = points.size();
   const Bounds box = compute_bounds(points);
   const MortonFrame frame(box.min, box.max);
@@ -48,26 +62,46 @@ std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
     for (std::size_t b = 0; b < blocks; ++b) sum += std::exchange(first[b * kBuckets + d], sum);
   }
   start[kBuckets] = sum;
-  const std::unique_ptr<Key[]> keys(new Key[n]);
+  const std::unique_ptr<K[]> keys(new K[n]);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
     std::size_t* next = first.data() + b * kBuckets;
     for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i) {
       const uint64_t code = frame.code(points[i]);
-      keys[next[top(code)]++] = {code, static_cast<uint32_t>(i)};
+      K& key = keys[next[top(code)]++];
+      key.code = code;
+      key.index = static_cast<uint32_t>(i);
+      if constexpr (std::is_same_v<K, PointKey>) key.point = points[i];
     }
   });
   tbb::parallel_for(std::size_t{0}, kBuckets, [&](std::size_t d) {
-    Key* b = keys.get() + start[d];
-    Key* e = keys.get() + start[d + 1];
+    K* b = keys.get() + start[d];
+    K* e = keys.get() + start[d + 1];
     if (static_cast<std::size_t>(e - b) > kParallelSortSize)
       tbb::parallel_sort(b, e);
     else
       std::sort(b, e);
   });
   std::vector<uint32_t> order(n);
+  if constexpr (std::is_same_v<K, PointKey>) sorted->resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-    for (std::size_t t = r.begin(); t < r.end(); ++t) order[t] = keys[t].index;
+    for (std::size_t t = r.begin(); t < r.end(); ++t) {
+      order[t] = keys[t].index;
+      if constexpr (std::is_same_v<K, PointKey>) (*sorted)[t] = keys[t].point;
+    }
   });
+  return order;
+}
+
+}  // namespace
+
+std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
+  return sort_by_code<Key>(points, nullptr);
+}
+
+std::vector<uint32_t> morton_sort(std::vector<Vec3f>& points) {
+  std::vector<Vec3f> sorted;
+  std::vector<uint32_t> order = sort_by_code<PointKey>(points, &sorted);
+  points = std::move(sorted);
   return order;
 }
 

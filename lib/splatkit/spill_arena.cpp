@@ -146,10 +146,14 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
     throw Error(ErrorKind::kUsage,
                 "cannot map a temporary file in " + a->dir + ": " + std::strerror(errno));
   a->base = static_cast<char*>(base);
-  // File systems with large folios (ext4 since Linux 6.16) map 2 MiB of the file at a fault:
-  // with a few thousand streams written at a time (a scatter into buckets) that alone would be
-  // gigabytes resident. Pages of 4 KiB keep what a stream holds small.
+  // File systems with large folios (ext4 since Linux 6.16) cache the file in blocks of up to
+  // 2 MiB and map a whole block at a fault: with a few thousand streams written at a time (a
+  // scatter into buckets) that alone would be gigabytes resident, and the pages come back faster
+  // than a trim drops them. MADV_NOHUGEPAGE stops the 2 MiB mappings; MADV_RANDOM stops the
+  // read-ahead that allocates the large blocks (measured on a 40M-point cloud under a 400M
+  // limit: the peak went from 801 to 389 MB, and a scatter from 18.5 to 3 s).
   ::madvise(a->base, a->capacity, MADV_NOHUGEPAGE);
+  ::madvise(a->base, a->capacity, MADV_RANDOM);
   a->max_memory = max_memory;
   a->trigger = static_cast<std::size_t>(static_cast<double>(max_memory) * kTrimFraction);
   a->min_file_pages =

@@ -63,6 +63,17 @@ TEST(MortonOrder, OneFarPointPutsTheRestInOneBucketSortedInParallel) {
   EXPECT_EQ(morton_order(pts), order);
 }
 
+TEST(MortonOrder, SortRearrangesThePointsIntoTheOrder) {
+  for (bool snapped : {false, true}) {
+    const std::vector<Vec3f> pts = cloud(300000, 12, snapped);
+    std::vector<Vec3f> sorted = pts;
+    const std::vector<uint32_t> order = morton_sort(sorted);
+    ASSERT_EQ(order, morton_order(pts)) << snapped;
+    ASSERT_EQ(sorted.size(), pts.size());
+    for (std::size_t t = 0; t < pts.size(); ++t) ASSERT_EQ(sorted[t], pts[order[t]]) << t;
+  }
+}
+
 TEST(MortonOrder, ASubsetCodedOverTheWholeBoxKeepsItsPlaceInTheWholeOrder) {
   const std::vector<Vec3f> pts = cloud(20000, 4, true);
   const MortonFrame whole = frame_of(pts);
