@@ -38,8 +38,9 @@ constexpr int kTopBits = 12;
 constexpr std::size_t kBuckets = std::size_t{1} << kTopBits;
 constexpr std::size_t kParallelSortSize = std::size_t{1} << 20;
 
-// The Morton order of `points`; with a PointKey, also writes the points in that order to
-// *sorted, from the keys (so that no pass reads the points at random).
+// The Morton order of `points`; with a PointKey, also rewrites *sorted (the vector `points` views)
+// as the points in that order, from the keys: it is freed once the keys hold the points, and no
+// pass reads the points at random.
 template <typename K>
 std::vector<uint32_t> sort_by_code(std::span<const Vec3f> points, std::vector<Vec3f>* sorted) {
   const std::size_t n = points.size();
@@ -73,6 +74,8 @@ std::vector<uint32_t> sort_by_code(std::span<const Vec3f> points, std::vector<Ve
       if constexpr (std::is_same_v<K, PointKey>) key.point = points[i];
     }
   });
+  if constexpr (std::is_same_v<K, PointKey>)
+    std::vector<Vec3f>().swap(*sorted);  // the keys hold the points: `points` is gone from here on
   tbb::parallel_for(std::size_t{0}, kBuckets, [&](std::size_t d) {
     K* b = keys.get() + start[d];
     K* e = keys.get() + start[d + 1];
@@ -99,10 +102,7 @@ std::vector<uint32_t> morton_order(std::span<const Vec3f> points) {
 }
 
 std::vector<uint32_t> morton_sort(std::vector<Vec3f>& points) {
-  std::vector<Vec3f> sorted;
-  std::vector<uint32_t> order = sort_by_code<PointKey>(points, &sorted);
-  points = std::move(sorted);
-  return order;
+  return sort_by_code<PointKey>(points, &points);
 }
 
 }  // namespace splatkit

@@ -52,9 +52,10 @@ struct MortonFrame {
 std::vector<uint32_t> morton_order(std::span<const Vec3f> points);
 
 // The same order, and `points` rearranged into it (points[t] becomes the old points[order[t]]).
-// The keys carry the points (28 bytes per point transiently), so that nothing reads the points
-// at random: a gather through the order would, and with the arrays paged from disk
-// (--max-memory) random reads fault pages in faster than they can be dropped.
+// The keys carry the points (24 bytes per point; the input is freed once they hold it, so at most
+// 40 bytes per point with the order and the output), so that nothing reads the points at random:
+// a gather through the order would, and with the arrays paged from disk (--max-memory) random
+// reads fault pages in faster than they can be dropped.
 std::vector<uint32_t> morton_sort(std::vector<Vec3f>& points);
 
 }  // namespace splatkit

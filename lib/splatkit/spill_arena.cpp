@@ -26,31 +26,85 @@ namespace {
 constexpr std::size_t kGranule = std::size_t{1} << 16;  // blocks are multiples of 64 KiB
 constexpr std::size_t kMaxCapacity = std::size_t{8} << 40;  // 8 TiB of address space at most
 constexpr auto kWatchPeriod = std::chrono::milliseconds(2);
+// Blocks stay anonymous while their total is within max_memory / kAnonymousShare (see the header).
+constexpr std::size_t kAnonymousShare = 4;
+
+// A reserved range of address space that blocks are carved from: offsets [0, top) have been
+// carved; freed ranges are kept coalesced for reuse. Guarded by the arena's mutex (top is also
+// read by the watcher).
+struct Blocks {
+  char* base = nullptr;
+  std::size_t capacity = 0;
+  std::map<std::size_t, std::size_t> unused;  // offset -> bytes: freed blocks, coalesced
+  std::map<std::size_t, std::size_t> used;    // offset -> bytes
+  std::atomic<std::size_t> top{0};
+
+  bool holds(const void* p) const {
+    const char* c = static_cast<const char*>(p);
+    return base && c >= base && c < base + capacity;
+  }
+  // The offset of a new block of `bytes` (first fit among the freed ranges, else at the top), or
+  // false when it does not fit.
+  bool carve(std::size_t bytes, std::size_t& offset) {
+    auto fit = std::find_if(unused.begin(), unused.end(),
+                            [&](const auto& u) { return u.second >= bytes; });
+    if (fit != unused.end()) {
+      offset = fit->first;
+      const std::size_t rest = fit->second - bytes;
+      unused.erase(fit);
+      if (rest > 0) unused.emplace(offset + bytes, rest);
+    } else {
+      const std::size_t t = top.load(std::memory_order_relaxed);
+      if (bytes > capacity - t) return false;
+      offset = t;
+      top.store(t + bytes, std::memory_order_release);
+    }
+    used.emplace(offset, bytes);
+    return true;
+  }
+  // Adds [offset, offset + bytes) to the freed ranges, merged with its neighbours.
+  void give_back(std::size_t offset, std::size_t bytes) {
+    std::size_t start = offset, merged = bytes;
+    auto next = unused.lower_bound(offset);
+    if (next != unused.begin()) {
+      auto previous = std::prev(next);
+      if (previous->first + previous->second == offset) {
+        start = previous->first;
+        merged += previous->second;
+        unused.erase(previous);
+      }
+    }
+    if (next != unused.end() && next->first == offset + bytes) {
+      merged += next->second;
+      unused.erase(next);
+    }
+    unused[start] = merged;
+  }
+};
 
 struct Arena {
   int fd = -1;
-  char* base = nullptr;
-  std::size_t capacity = 0;
+  Blocks file;       // the temporary file, mapped shared
+  Blocks anonymous;  // anonymous memory, for blocks within anonymous_budget
   std::size_t max_memory = 0;
-  std::size_t trigger = 0;        // resident bytes that start a trim
-  std::size_t min_file_pages = 0;  // file pages resident besides the libraries' worth a trim
+  std::size_t trigger = 0;          // resident bytes that start a trim
+  std::size_t min_file_pages = 0;   // file pages resident besides the libraries' worth a trim
+  std::size_t anonymous_budget = 0;
+  std::size_t anonymous_bytes = 0;  // anonymous blocks in use (under the mutex)
   std::string dir;
   std::string full_message;  // TempDiskFull's
-  std::mutex mutex;                           // guards the maps and top
-  std::map<std::size_t, std::size_t> unused;  // offset -> bytes: freed blocks, coalesced
-  std::map<std::size_t, std::size_t> used;    // offset -> bytes
-  std::atomic<std::size_t> top{0};            // offsets [0, top) have been carved
+  std::mutex mutex;          // guards the Blocks and anonymous_bytes
   std::atomic<std::size_t> file_bytes{0}, peak_file_bytes{0}, trims{0};
 
   // Runs only when start() fails half way: a started arena lives as long as the process.
   ~Arena() {
-    if (base) ::munmap(base, capacity);
+    if (file.base) ::munmap(file.base, file.capacity);
+    if (anonymous.base) ::munmap(anonymous.base, anonymous.capacity);
     if (fd >= 0) ::close(fd);
   }
 };
 
 std::atomic<Arena*> g_arena{nullptr};
-std::atomic<char*> g_begin{nullptr}, g_end{nullptr};
 std::once_flag g_started;
 
 // The resident and file-backed resident pages (/proc/self/statm's 2nd and 3rd fields).
@@ -79,10 +133,10 @@ bool read_statm(std::size_t& resident, std::size_t& shared) {
     std::this_thread::sleep_for(kWatchPeriod);
     if (!read_statm(resident, shared)) continue;
     if (resident * page < a->trigger || shared < libraries + a->min_file_pages) continue;
-    const std::size_t top = a->top.load(std::memory_order_acquire);
+    const std::size_t top = a->file.top.load(std::memory_order_acquire);
     // MADV_DONTNEED on a shared file mapping unmaps the pages; dirty ones stay dirty in the
     // page cache, so nothing is lost, and a later touch maps them again.
-    ::madvise(a->base, top, MADV_DONTNEED);
+    ::madvise(a->file.base, top, MADV_DONTNEED);
     a->trims.fetch_add(1, std::memory_order_relaxed);
   }
 }
@@ -136,30 +190,37 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
   if (a->fd < 0)
     throw Error(ErrorKind::kUsage, "cannot create a temporary file in " + a->dir + " (" +
                                        std::strerror(errno) + "): give --tmp-dir DIR");
-  a->capacity = std::min(kMaxCapacity, free_disk_bytes(a->dir) / kGranule * kGranule);
-  if (a->capacity < kGranule || ::ftruncate(a->fd, static_cast<off_t>(a->capacity)) != 0)
+  a->file.capacity = std::min(kMaxCapacity, free_disk_bytes(a->dir) / kGranule * kGranule);
+  if (a->file.capacity < kGranule ||
+      ::ftruncate(a->fd, static_cast<off_t>(a->file.capacity)) != 0)
     throw Error(ErrorKind::kUsage, "the temporary directory " + a->dir +
                                        " has no room for a temporary file: give --tmp-dir DIR");
-  void* base = ::mmap(nullptr, a->capacity, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_NORESERVE,
-                      a->fd, 0);
+  void* base = ::mmap(nullptr, a->file.capacity, PROT_READ | PROT_WRITE,
+                      MAP_SHARED | MAP_NORESERVE, a->fd, 0);
   if (base == MAP_FAILED)
     throw Error(ErrorKind::kUsage,
                 "cannot map a temporary file in " + a->dir + ": " + std::strerror(errno));
-  a->base = static_cast<char*>(base);
+  a->file.base = static_cast<char*>(base);
   // File systems with large folios (ext4 since Linux 6.16) cache the file in blocks of up to
   // 2 MiB and map a whole block at a fault: with a few thousand streams written at a time (a
   // scatter into buckets) that alone would be gigabytes resident, and the pages come back faster
   // than a trim drops them. MADV_NOHUGEPAGE stops the 2 MiB mappings; MADV_RANDOM stops the
   // read-ahead that allocates the large blocks (measured on a 40M-point cloud under a 400M
   // limit: the peak went from 801 to 389 MB, and a scatter from 18.5 to 3 s).
-  ::madvise(a->base, a->capacity, MADV_NOHUGEPAGE);
-  ::madvise(a->base, a->capacity, MADV_RANDOM);
+  ::madvise(a->file.base, a->file.capacity, MADV_NOHUGEPAGE);
+  ::madvise(a->file.base, a->file.capacity, MADV_RANDOM);
+  a->anonymous_budget = round_up(max_memory / kAnonymousShare, kGranule);
+  // Address space only (MAP_NORESERVE): twice the budget leaves room for fragmentation.
+  base = ::mmap(nullptr, 2 * a->anonymous_budget, PROT_READ | PROT_WRITE,
+                MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (base != MAP_FAILED) {
+    a->anonymous.base = static_cast<char*>(base);
+    a->anonymous.capacity = 2 * a->anonymous_budget;
+  }
   a->max_memory = max_memory;
   a->trigger = static_cast<std::size_t>(static_cast<double>(max_memory) * kTrimFraction);
   a->min_file_pages =
       std::max<std::size_t>(1, max_memory / 16 / static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)));
-  g_begin.store(a->base, std::memory_order_release);
-  g_end.store(a->base + a->capacity, std::memory_order_release);
   g_arena.store(owner.release(), std::memory_order_release);
   std::thread(watch, a).detach();
 }
@@ -173,93 +234,76 @@ void* allocate(std::size_t size) {
   std::size_t offset = 0;
   {
     std::lock_guard lock(a->mutex);
-    auto fit = std::find_if(a->unused.begin(), a->unused.end(),
-                            [&](const auto& u) { return u.second >= bytes; });
-    if (fit != a->unused.end()) {
-      offset = fit->first;
-      const std::size_t rest = fit->second - bytes;
-      a->unused.erase(fit);
-      if (rest > 0) a->unused.emplace(offset + bytes, rest);
-    } else {
-      const std::size_t top = a->top.load(std::memory_order_relaxed);
-      if (bytes > a->capacity - top) throw TempDiskFull();
-      offset = top;
-      a->top.store(top + bytes, std::memory_order_release);
+    if (a->anonymous_bytes + bytes <= a->anonymous_budget && a->anonymous.carve(bytes, offset)) {
+      a->anonymous_bytes += bytes;
+      return a->anonymous.base + offset;
     }
-    a->used.emplace(offset, bytes);
+    if (!a->file.carve(bytes, offset)) throw TempDiskFull();
   }
+  const std::size_t now = a->file_bytes.fetch_add(bytes) + bytes;
   // Reserve the disk blocks now (EOPNOTSUPP: a file system that cannot; then a full disk shows
   // as SIGBUS, as with any mapped file).
   if (::fallocate(a->fd, 0, static_cast<off_t>(offset), static_cast<off_t>(bytes)) != 0 &&
       errno != EOPNOTSUPP) {
-    release(a->base + offset);
+    release(a->file.base + offset);
     throw TempDiskFull();
   }
-  const std::size_t now = a->file_bytes.fetch_add(bytes) + bytes;
   std::size_t peak = a->peak_file_bytes.load(std::memory_order_relaxed);
   while (now > peak && !a->peak_file_bytes.compare_exchange_weak(peak, now)) {
   }
-  return a->base + offset;
+  return a->file.base + offset;
 }
 
 namespace {
 
-// The arena's block at p: its offset, or nullptr when p is not in the arena.
-Arena* arena_of(const void* p, std::size_t& offset) {
-  const char* c = static_cast<const char*>(p);
-  const char* begin = g_begin.load(std::memory_order_acquire);
-  if (!begin || c < begin || c >= g_end.load(std::memory_order_acquire)) return nullptr;
-  offset = static_cast<std::size_t>(c - begin);
-  return g_arena.load(std::memory_order_acquire);
+// The arena, when p lies in one of its ranges (read without the lock: the ranges never move).
+Arena* arena_of(const void* p, Blocks*& blocks) {
+  Arena* a = g_arena.load(std::memory_order_acquire);
+  if (!a) return nullptr;
+  blocks = a->file.holds(p) ? &a->file : a->anonymous.holds(p) ? &a->anonymous : nullptr;
+  return blocks ? a : nullptr;
 }
 
-// Frees [offset, offset + bytes) of the file (the disk blocks and the cached pages, which also
-// leave the process) and adds it to the unused ranges. Under the lock.
-void free_range(Arena* a, std::size_t offset, std::size_t bytes) {
-  ::fallocate(a->fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(offset),
-              static_cast<off_t>(bytes));
-  a->file_bytes.fetch_sub(bytes);
-  std::size_t start = offset, merged = bytes;
-  auto next = a->unused.lower_bound(offset);
-  if (next != a->unused.begin()) {
-    auto previous = std::prev(next);
-    if (previous->first + previous->second == offset) {
-      start = previous->first;
-      merged += previous->second;
-      a->unused.erase(previous);
-    }
+// Frees [offset, offset + bytes) of `blocks`: a file range's disk blocks and cached pages (which
+// also leave the process), an anonymous range's pages. Under the lock.
+void free_range(Arena* a, Blocks& blocks, std::size_t offset, std::size_t bytes) {
+  if (&blocks == &a->file) {
+    ::fallocate(a->fd, FALLOC_FL_PUNCH_HOLE | FALLOC_FL_KEEP_SIZE, static_cast<off_t>(offset),
+                static_cast<off_t>(bytes));
+    a->file_bytes.fetch_sub(bytes);
+  } else {
+    ::madvise(blocks.base + offset, bytes, MADV_DONTNEED);
+    a->anonymous_bytes -= bytes;
   }
-  if (next != a->unused.end() && next->first == offset + bytes) {
-    merged += next->second;
-    a->unused.erase(next);
-  }
-  a->unused[start] = merged;
+  blocks.give_back(offset, bytes);
 }
 
 }  // namespace
 
 bool release(void* p) noexcept {
-  std::size_t offset = 0;
-  Arena* a = arena_of(p, offset);
+  Blocks* blocks = nullptr;
+  Arena* a = arena_of(p, blocks);
   if (!a) return false;
   std::lock_guard lock(a->mutex);
-  const auto it = a->used.find(offset);
-  if (it == a->used.end()) return true;  // not a block start: never handed out
+  const std::size_t offset = static_cast<std::size_t>(static_cast<char*>(p) - blocks->base);
+  const auto it = blocks->used.find(offset);
+  if (it == blocks->used.end()) return true;  // not a block start: never handed out
   const std::size_t bytes = it->second;
-  a->used.erase(it);
-  free_range(a, offset, bytes);
+  blocks->used.erase(it);
+  free_range(a, *blocks, offset, bytes);
   return true;
 }
 
 bool shrink(void* p, std::size_t size) noexcept {
-  std::size_t offset = 0;
-  Arena* a = arena_of(p, offset);
+  Blocks* blocks = nullptr;
+  Arena* a = arena_of(p, blocks);
   if (!a) return false;
   std::lock_guard lock(a->mutex);
-  const auto it = a->used.find(offset);
+  const std::size_t offset = static_cast<std::size_t>(static_cast<char*>(p) - blocks->base);
+  const auto it = blocks->used.find(offset);
   const std::size_t keep = round_up(std::max<std::size_t>(size, 1), kGranule);
-  if (it == a->used.end() || keep >= it->second) return true;
-  free_range(a, offset + keep, it->second - keep);
+  if (it == blocks->used.end() || keep >= it->second) return true;
+  free_range(a, *blocks, offset + keep, it->second - keep);
   it->second = keep;
   return true;
 }

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <map>
 #include <tuple>
+#include <unordered_map>
 
 #include "splatkit/deterministic_rng.h"
 
@@ -75,6 +77,34 @@ TEST(NormalsMergeDuplicates, ManyBucketsMatchAMapOfFirstOccurrences) {
   }
   MergeResult r = merge_duplicates(c, true);
   EXPECT_EQ(r.merged, 60000u - kept.size());
+  EXPECT_EQ(c.positions, kept);
+  EXPECT_EQ(r.representative, expected);
+}
+
+TEST(NormalsMergeDuplicates, MoreThanAMillionPointsFillEveryBucket) {
+  // 1.5M points (over 256 per bucket at the 4096-bucket cap), a third of them copies of earlier
+  // ones at random, checked against an unordered_map from position to output index.
+  DeterministicRng rng{11};
+  SplatCloud c;
+  for (int i = 0; i < 1500000; ++i)
+    if (i > 0 && rng.next() % 3 == 0)
+      c.positions.push_back(c.positions[rng.next() % c.positions.size()]);
+    else
+      c.positions.push_back({rng.uniformf(), rng.uniformf(), rng.uniformf()});
+  std::unordered_map<uint64_t, uint32_t> first_of;  // (x, y) bits -> output index; z checked
+  std::vector<uint32_t> expected(c.size());
+  std::vector<Vec3f> kept;
+  for (uint32_t i = 0; i < c.size(); ++i) {
+    const Vec3f& p = c.positions[i];
+    const uint64_t key = uint64_t{std::bit_cast<uint32_t>(p.x)} << 32 | std::bit_cast<uint32_t>(p.y);
+    auto [it, inserted] = first_of.insert({key, static_cast<uint32_t>(kept.size())});
+    if (inserted) kept.push_back(p);
+    ASSERT_EQ(kept[it->second], p) << i;  // no two distinct points share x and y here
+    expected[i] = it->second;
+  }
+  ASSERT_GT(c.size() - kept.size(), 400000u);
+  MergeResult r = merge_duplicates(c, true);
+  EXPECT_EQ(r.merged, 1500000u - kept.size());
   EXPECT_EQ(c.positions, kept);
   EXPECT_EQ(r.representative, expected);
 }

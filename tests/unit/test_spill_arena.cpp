@@ -1,5 +1,5 @@
-// spill arena (splatkit/spill_arena.h): blocks carved from an unlinked temporary file, freed and
-// reused, shrunk in place, and kept intact while the watcher drops their pages to hold the
+// spill arena (splatkit/spill_arena.h): blocks carved from anonymous memory up to a quarter of
+// the limit, then from an unlinked temporary file, freed and reused, shrunk in place, and kept intact while the watcher drops their pages to hold the
 // resident memory under the limit. The arena is started once per process, so each test runs in
 // a child process (a death test that must exit with 0).
 #include <gtest/gtest.h>
@@ -70,6 +70,11 @@ std::string fresh_directory(const char* name) {
   require(deleted_files_in(dir) == 1, "one open, deleted file in the directory");
   require(entries_in(dir) == 0, "the directory stays empty");
   require(spill::allocate(spill::kMinBlock - 1) == nullptr, "a block below kMinBlock");
+  // The first quarter of the limit's worth of blocks is anonymous memory, the rest the file's.
+  auto* anonymous = static_cast<unsigned char*>(spill::allocate(std::size_t{64} << 20));
+  require(anonymous != nullptr, "no anonymous block");
+  require(spill::stats().file_bytes == 0, "a block within a quarter of the limit in the file");
+  std::memset(anonymous, 0xcd, std::size_t{64} << 20);
   auto* a = static_cast<unsigned char*>(spill::allocate(std::size_t{8} << 20));
   require(a != nullptr, "no block");
   require(reinterpret_cast<std::uintptr_t>(a) % 4096 == 0, "block not page-aligned");
@@ -89,6 +94,14 @@ std::string fresh_directory(const char* name) {
   spill::release(c);
   require(spill::stats().file_bytes == 0, "file bytes after freeing everything");
   require(spill::stats().peak_file_bytes >= std::size_t{11} << 20, "peak file bytes");
+  require(spill::shrink(anonymous, std::size_t{60} << 20), "shrink: not the anonymous block");
+  require(anonymous[(std::size_t{60} << 20) - 1] == 0xcd, "anonymous data kept by shrinking");
+  void* d = spill::allocate(std::size_t{4} << 20);  // the shrunk tail's room
+  require(d != nullptr && spill::stats().file_bytes == 0, "a shrunk anonymous block's room");
+  require(spill::release(anonymous) && spill::release(d), "release: not the anonymous blocks");
+  void* e = spill::allocate(std::size_t{64} << 20);
+  require(e == anonymous && spill::stats().file_bytes == 0, "the anonymous room is reused");
+  spill::release(e);
   std::_Exit(0);
 }
 
