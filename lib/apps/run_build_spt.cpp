@@ -15,8 +15,8 @@
 namespace splatkit::apps {
 
 namespace {
-// The spill file's peak per point with --max-memory: an estimate (build-spt peaks at 59 bytes per
-// point in memory), not yet measured under a limit.
+// The spill file's peak per point with --max-memory, with a margin: 57 bytes per point measured on
+// a 200M-point torus under a 2G limit (scripts/bench/scale.sh).
 constexpr std::size_t kSpillBytesPerPoint = 80;
 }  // namespace
 

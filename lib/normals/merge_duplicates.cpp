@@ -10,6 +10,8 @@
 #include <memory>
 #include <utility>
 
+#include "splatkit/bucket_scatter.h"
+
 namespace splatkit {
 
 namespace {
@@ -97,41 +99,24 @@ std::size_t resolve_bucket(Record* records, std::size_t n, std::vector<Record>& 
 }
 
 // Every point whose position an earlier point has, with that earlier point's index, ascending by
-// the copy's index. One pass over the positions in order hashes them and counts per block and
-// bucket; a second scatters the records into their buckets (stable: each bucket in index order);
-// the buckets are resolved on their own, in parallel. Equal positions share a bucket, and the
-// result does not depend on the thread count.
+// the copy's index. Records are scattered into buckets by their hash's top bits (bucket_scatter.h:
+// two passes over the positions in order; each bucket in index order), and the buckets are
+// resolved on their own, in parallel. Equal positions share a bucket, and the result does not
+// depend on the thread count.
 std::vector<Duplicate> find_duplicates(const std::vector<Vec3f>& positions) {
   const std::size_t n = positions.size();
   int bits = 0;
   while (bits < kMaxBucketBits && (n >> bits) > 256) ++bits;
   const std::size_t buckets = std::size_t{1} << bits;
-  auto bucket_of = [&](uint32_t h) { return bits == 0 ? 0 : std::size_t{h >> (32 - bits)}; };
-  auto hash_of = [](const Vec3f& p) { return static_cast<uint32_t>(position_hash(p)); };
-  const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
-  const std::size_t blocks = (n + block - 1) / block;
-  // Per block and bucket: the count, then the block's next place in the bucket.
-  std::vector<std::size_t> next(blocks * buckets, 0);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    std::size_t* c = next.data() + b * buckets;
-    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i)
-      ++c[bucket_of(hash_of(positions[i]))];
-  });
-  std::vector<std::size_t> start(buckets + 1);
-  std::size_t sum = 0;
-  for (std::size_t d = 0; d < buckets; ++d) {
-    start[d] = sum;
-    for (std::size_t b = 0; b < blocks; ++b) sum += std::exchange(next[b * buckets + d], sum);
-  }
-  start[buckets] = sum;
+  auto hash_of = [&](std::size_t i) { return static_cast<uint32_t>(position_hash(positions[i])); };
+  auto bucket_of = [&](std::size_t i) {
+    return bits == 0 ? 0 : std::size_t{hash_of(i) >> (32 - bits)};
+  };
   const std::unique_ptr<Record[]> records(new Record[n]);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    std::size_t* place = next.data() + b * buckets;
-    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i) {
-      const uint32_t h = hash_of(positions[i]);
-      records[place[bucket_of(h)]++] = {h, static_cast<uint32_t>(i), positions[i]};
-    }
-  });
+  const std::vector<std::size_t> start =
+      bucket_scatter(n, buckets, bucket_of, [&](std::size_t i, std::size_t place) {
+        records[place] = {hash_of(i), static_cast<uint32_t>(i), positions[i]};
+      });
   std::vector<std::size_t> found(buckets);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buckets, 4), [&](const auto& r) {
     std::vector<Record> table;

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "splatkit/bucket_scatter.h"
 #include "splatkit/splat_cloud.h"
 
 namespace splatkit {
@@ -32,8 +33,8 @@ struct PointKey {
 };
 static_assert(sizeof(PointKey) == 24);
 
-// Keys go first to buckets by their top bits (a counting pass over fixed blocks), then each
-// bucket is sorted on its own; buckets larger than this are sorted in parallel.
+// Keys go first to buckets by their top bits (bucket_scatter.h), then each bucket is sorted on
+// its own; buckets larger than this are sorted in parallel.
 constexpr int kTopBits = 12;
 constexpr std::size_t kBuckets = std::size_t{1} << kTopBits;
 constexpr std::size_t kParallelSortSize = std::size_t{1} << 20;
@@ -46,34 +47,16 @@ std::vector<uint32_t> sort_by_code(std::span<const Vec3f> points, std::vector<Ve
   const std::size_t n = points.size();
   const Bounds box = compute_bounds(points);
   const MortonFrame frame(box.min, box.max);
-  const std::size_t block = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
-  const std::size_t blocks = (n + block - 1) / block;
   auto top = [](uint64_t code) { return code >> (MortonFrame::kCodeBits - kTopBits); };
-  // Per block and bucket: the count, then the block's first place in the bucket.
-  std::vector<std::size_t> first(blocks * kBuckets, 0);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    std::size_t* c = first.data() + b * kBuckets;
-    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i)
-      ++c[top(frame.code(points[i]))];
-  });
-  std::vector<std::size_t> start(kBuckets + 1);
-  std::size_t sum = 0;
-  for (std::size_t d = 0; d < kBuckets; ++d) {
-    start[d] = sum;
-    for (std::size_t b = 0; b < blocks; ++b) sum += std::exchange(first[b * kBuckets + d], sum);
-  }
-  start[kBuckets] = sum;
   const std::unique_ptr<K[]> keys(new K[n]);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    std::size_t* next = first.data() + b * kBuckets;
-    for (std::size_t i = b * block, e = std::min(n, i + block); i < e; ++i) {
-      const uint64_t code = frame.code(points[i]);
-      K& key = keys[next[top(code)]++];
-      key.code = code;
-      key.index = static_cast<uint32_t>(i);
-      if constexpr (std::is_same_v<K, PointKey>) key.point = points[i];
-    }
-  });
+  const std::vector<std::size_t> start = bucket_scatter(
+      n, kBuckets, [&](std::size_t i) { return top(frame.code(points[i])); },
+      [&](std::size_t i, std::size_t place) {
+        K& key = keys[place];
+        key.code = frame.code(points[i]);
+        key.index = static_cast<uint32_t>(i);
+        if constexpr (std::is_same_v<K, PointKey>) key.point = points[i];
+      });
   if constexpr (std::is_same_v<K, PointKey>)
     std::vector<Vec3f>().swap(*sorted);  // the keys hold the points: `points` is gone from here on
   tbb::parallel_for(std::size_t{0}, kBuckets, [&](std::size_t d) {

@@ -26,8 +26,11 @@ namespace {
 constexpr std::size_t kGranule = std::size_t{1} << 16;  // blocks are multiples of 64 KiB
 constexpr std::size_t kMaxCapacity = std::size_t{8} << 40;  // 8 TiB of address space at most
 constexpr auto kWatchPeriod = std::chrono::milliseconds(2);
-// Blocks stay anonymous while their total is within max_memory / kAnonymousShare (see the header).
+// Blocks stay anonymous while their total is within max_memory / kAnonymousShare, less what the
+// process holds besides (libraries, small allocations, thread stacks: about kBaseline), so that
+// small limits keep their blocks in the file (see the header).
 constexpr std::size_t kAnonymousShare = 4;
+constexpr std::size_t kBaseline = std::size_t{32} << 20;
 
 // A reserved range of address space that blocks are carved from: offsets [0, top) have been
 // carved; freed ranges are kept coalesced for reuse. Guarded by the arena's mutex (top is also
@@ -209,13 +212,16 @@ void start(std::size_t max_memory, const std::string& tmp_dir) {
   // limit: the peak went from 801 to 389 MB, and a scatter from 18.5 to 3 s).
   ::madvise(a->file.base, a->file.capacity, MADV_NOHUGEPAGE);
   ::madvise(a->file.base, a->file.capacity, MADV_RANDOM);
-  a->anonymous_budget = round_up(max_memory / kAnonymousShare, kGranule);
+  a->anonymous_budget =
+      max_memory / kAnonymousShare > kBaseline ? max_memory / kAnonymousShare - kBaseline : 0;
   // Address space only (MAP_NORESERVE): twice the budget leaves room for fragmentation.
-  base = ::mmap(nullptr, 2 * a->anonymous_budget, PROT_READ | PROT_WRITE,
-                MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-  if (base != MAP_FAILED) {
-    a->anonymous.base = static_cast<char*>(base);
-    a->anonymous.capacity = 2 * a->anonymous_budget;
+  if (a->anonymous_budget > 0) {
+    base = ::mmap(nullptr, 2 * a->anonymous_budget, PROT_READ | PROT_WRITE,
+                  MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (base != MAP_FAILED) {
+      a->anonymous.base = static_cast<char*>(base);
+      a->anonymous.capacity = 2 * a->anonymous_budget;
+    }
   }
   a->max_memory = max_memory;
   a->trigger = static_cast<std::size_t>(static_cast<double>(max_memory) * kTrimFraction);

@@ -10,7 +10,8 @@
 // work that visits memory region by region (the cloud processed piece by piece in Morton order,
 // splat_pieces.h, and the sequential passes), that is far less than the whole. Allocations below
 // kMinBlock (headers, per-cell lists, small buffers) stay anonymous, and so do large blocks while
-// those in use total at most a quarter of the limit: the work buffers of a piece, short-lived,
+// those in use total at most a quarter of the limit less 32 MiB (what the process holds besides:
+// libraries, small allocations, thread stacks): the work buffers of a piece, short-lived,
 // which in the file would be written to disk for nothing (the kernel writes a file's dirty pages
 // back once they pass a share of the machine's memory, however soon they are freed).
 //

@@ -70,11 +70,11 @@ std::string fresh_directory(const char* name) {
   require(deleted_files_in(dir) == 1, "one open, deleted file in the directory");
   require(entries_in(dir) == 0, "the directory stays empty");
   require(spill::allocate(spill::kMinBlock - 1) == nullptr, "a block below kMinBlock");
-  // The first quarter of the limit's worth of blocks is anonymous memory, the rest the file's.
-  auto* anonymous = static_cast<unsigned char*>(spill::allocate(std::size_t{64} << 20));
+  // Blocks up to a quarter of the limit less 32 MiB are anonymous memory, the rest the file's.
+  auto* anonymous = static_cast<unsigned char*>(spill::allocate(std::size_t{32} << 20));
   require(anonymous != nullptr, "no anonymous block");
   require(spill::stats().file_bytes == 0, "a block within a quarter of the limit in the file");
-  std::memset(anonymous, 0xcd, std::size_t{64} << 20);
+  std::memset(anonymous, 0xcd, std::size_t{32} << 20);
   auto* a = static_cast<unsigned char*>(spill::allocate(std::size_t{8} << 20));
   require(a != nullptr, "no block");
   require(reinterpret_cast<std::uintptr_t>(a) % 4096 == 0, "block not page-aligned");
@@ -94,12 +94,12 @@ std::string fresh_directory(const char* name) {
   spill::release(c);
   require(spill::stats().file_bytes == 0, "file bytes after freeing everything");
   require(spill::stats().peak_file_bytes >= std::size_t{11} << 20, "peak file bytes");
-  require(spill::shrink(anonymous, std::size_t{60} << 20), "shrink: not the anonymous block");
-  require(anonymous[(std::size_t{60} << 20) - 1] == 0xcd, "anonymous data kept by shrinking");
+  require(spill::shrink(anonymous, std::size_t{28} << 20), "shrink: not the anonymous block");
+  require(anonymous[(std::size_t{28} << 20) - 1] == 0xcd, "anonymous data kept by shrinking");
   void* d = spill::allocate(std::size_t{4} << 20);  // the shrunk tail's room
   require(d != nullptr && spill::stats().file_bytes == 0, "a shrunk anonymous block's room");
   require(spill::release(anonymous) && spill::release(d), "release: not the anonymous blocks");
-  void* e = spill::allocate(std::size_t{64} << 20);
+  void* e = spill::allocate(std::size_t{32} << 20);
   require(e == anonymous && spill::stats().file_bytes == 0, "the anonymous room is reused");
   spill::release(e);
   std::_Exit(0);
