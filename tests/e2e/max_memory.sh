@@ -1,6 +1,7 @@
 # estimate-normals --max-memory: with a limit below what the run takes in memory, the output is
 # byte for byte the in-memory one and the peak RSS stays under the limit (+10 %), on an i.i.d.
-# random torus and on a noisy scan-line CAD part with duplicates and a far outlier; the temporary
+# random torus and on a noisy scan-line CAD part with duplicates and a far outlier (and build-spt
+# --max-memory on the torus' splats); the temporary
 # directory stays empty (the spill file is unlinked) through the run and a Ctrl-C; a temporary
 # directory too small is an error before the work; bad options are usage errors.
 source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
@@ -48,6 +49,24 @@ for run in torus.splk:96 cad-dirty.xyz:64; do
   fi
   expect_eq "$name: files left in --tmp-dir" "$(ls -A "$WORK/tmp" | wc -l)" 0
 done
+
+# build-spt --max-memory on the torus' splats (1M): the same .spt as in memory, under the limit.
+expect_exit 0 "$BIN/build-spt" -q "$WORK/torus-ref.splk" "$WORK/ref.spt" --threads 2 \
+  --report "$WORK/spt-ref.json"
+expect_exit 0 "$BIN/build-spt" -q "$WORK/torus-ref.splk" "$WORK/lim.spt" --threads 2 \
+  --max-memory 64M --tmp-dir "$WORK/tmp" --report "$WORK/spt-lim.json"
+cmp -s "$WORK/ref.spt" "$WORK/lim.spt" && pass ||
+  fail "build-spt: --max-memory output differs from the in-memory one"
+if [ $sanitized = 0 ]; then
+  ref=$(json_value peak_rss_bytes "$WORK/spt-ref.json")
+  lim=$(json_value peak_rss_bytes "$WORK/spt-lim.json")
+  [ "$ref" -gt $((64 << 20)) ] && pass ||
+    fail "build-spt: the in-memory run takes $ref bytes, not more than the limit"
+  [ "$lim" -le $((64 * 11 / 10 << 20)) ] && pass ||
+    fail "build-spt: peak RSS $lim bytes over --max-memory 64M + 10 %"
+  [ "$(json_value trims "$WORK/spt-lim.json")" -gt 0 ] && pass || fail "build-spt: no page ever dropped"
+fi
+expect_eq "build-spt: files left in --tmp-dir" "$(ls -A "$WORK/tmp" | wc -l)" 0
 
 # Ctrl-C in the middle: dies of SIGINT, leaves no output and nothing in --tmp-dir.
 "$EN" -q "$WORK/torus.splk" "$WORK/int.splk" --threads 2 --max-memory 96M \
