@@ -127,7 +127,8 @@ std::vector<Duplicate> find_duplicates(const std::vector<Vec3f>& positions) {
   for (std::size_t f : found) total += f;
   std::vector<Duplicate> duplicates(total);
   for (std::size_t d = 0, at = 0; d < buckets; at += found[d++])
-    std::memcpy(duplicates.data() + at, records.get() + start[d], sizeof(Duplicate) * found[d]);
+    if (found[d] > 0)  // (duplicates.data() is null when there are none)
+      std::memcpy(duplicates.data() + at, records.get() + start[d], sizeof(Duplicate) * found[d]);
   tbb::parallel_sort(duplicates.begin(), duplicates.end(),
                      [](const Duplicate& a, const Duplicate& b) { return a.copy < b.copy; });
   return duplicates;
