@@ -143,28 +143,24 @@ MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
   result.merged = duplicates.size();
   if (result.merged == 0 && !want_map) return result;
 
-  // The map input index -> output index, in one pass in index order: a first occurrence's output
-  // slot is its rank among the kept points, and every copy takes its first occurrence's, which
-  // precedes it.
-  std::vector<uint32_t> representative;
-  if (want_map || (result.merged > 0 && !cloud.face_indices.empty())) {
-    representative.resize(n);
-    auto copy = duplicates.begin();
-    for (std::size_t i = 0, out = 0; i < n; ++i)
-      if (copy != duplicates.end() && copy->copy == i)
-        representative[i] = representative[(copy++)->first];
-      else
-        representative[i] = static_cast<uint32_t>(out++);
+  // One pass in index order: the kept points (input indices, ascending), and the map input index
+  // -> output index when it is needed: a first occurrence's output slot is its rank among the
+  // kept points, and every copy takes its first occurrence's, which precedes it.
+  const bool map = want_map || (result.merged > 0 && !cloud.face_indices.empty());
+  std::vector<uint32_t> representative(map ? n : 0);
+  std::vector<uint32_t> kept;
+  kept.reserve(n - result.merged);
+  auto copy = duplicates.begin();
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool is_copy = copy != duplicates.end() && copy->copy == i;
+    if (map)
+      representative[i] = is_copy ? representative[copy->first] : static_cast<uint32_t>(kept.size());
+    if (is_copy)
+      ++copy;
+    else
+      kept.push_back(static_cast<uint32_t>(i));
   }
   if (result.merged > 0) {
-    std::vector<uint32_t> kept;  // input indices of the output points, ascending
-    kept.reserve(n - result.merged);
-    auto copy = duplicates.begin();
-    for (std::size_t i = 0; i < n; ++i)
-      if (copy != duplicates.end() && copy->copy == i)
-        ++copy;
-      else
-        kept.push_back(static_cast<uint32_t>(i));
     compact(cloud.positions, kept);
     compact(cloud.normals, kept);
     compact(cloud.radii, kept);
