@@ -1,8 +1,24 @@
 #include "normals/bound_radii.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 
 namespace splatkit {
+
+namespace {
+
+// The lower median (for an even k the smaller middle value) of the radii of the k points
+// neighbours[0 .. k); r: room for k values.
+float lower_median(const uint32_t* neighbours, std::size_t k, const std::vector<float>& radii,
+                   std::vector<float>& r) {
+  for (std::size_t j = 0; j < k; ++j) r[j] = radii[neighbours[j]];
+  std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>((k - 1) / 2), r.end());
+  return r[(k - 1) / 2];
+}
+
+}  // namespace
 
 std::vector<float> neighbour_median_radii(const SpatialIndex& index,
                                           const std::vector<float>& radii, std::size_t k,
@@ -15,12 +31,22 @@ std::vector<float> neighbour_median_radii(const SpatialIndex& index,
                                       std::span<const float> sq_dists) {
     std::vector<float> r(k);
     for (std::size_t q = 0; q < queries.size(); ++q) {
-      for (std::size_t j = 0; j < k; ++j) r[j] = radii[rows[q * (k + 1) + 1 + j]];
-      // Lower median: for an even k the smaller middle value.
-      std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>((k - 1) / 2), r.end());
-      median[queries[q]] = r[(k - 1) / 2];
+      median[queries[q]] = lower_median(rows.data() + q * (k + 1) + 1, k, radii, r);
       if (!sq_reach.empty()) sq_reach[queries[q]] = sq_dists[q * (k + 1) + k];
     }
+  });
+  return median;
+}
+
+std::vector<float> row_median_radii(std::span<const uint32_t> rows, std::size_t width,
+                                    const std::vector<float>& radii, std::size_t k) {
+  std::vector<float> median(radii.size(), 0.0f);
+  k = std::min(k, width);
+  if (k == 0) return median;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, radii.size(), 1 << 14), [&](const auto& b) {
+    std::vector<float> r(k);
+    for (std::size_t i = b.begin(); i < b.end(); ++i)
+      median[i] = lower_median(rows.data() + i * width, k, radii, r);
   });
   return median;
 }

@@ -7,12 +7,15 @@
 // minor radius of an ellipse by the same factor. Passes repeat, at most max_passes times, until
 // one caps nothing; then every radius is within ratio × its neighbours' final median. Radii stay
 // positive when they all were (fill_isolated_radii runs first). Deterministic for any thread
-// count. Cost per pass: one streamed kNN pass (k + 1 per row), and one more to count the radii
-// still over their bound only when max_passes run out before a pass caps nothing.
+// count. Cost per pass: one streamed kNN pass (k + 1 per row), or a pass over rows found ahead,
+// and one more to count the radii still over their bound only when max_passes run out before a
+// pass caps nothing.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "splatkit/spatial_index.h"
@@ -46,5 +49,11 @@ BoundRadiiResult bound_radii(
 std::vector<float> neighbour_median_radii(const SpatialIndex& index,
                                           const std::vector<float>& radii, std::size_t k,
                                           std::span<float> sq_reach = {});
+
+// The same medians from kNN rows found ahead (#N rows of `width` >= k entries: each point's
+// nearest other points, nearest first, as orient_knn_rows gives them): the rows of a kNN query of
+// more than k + 1 points start with the k + 1 nearest, so the medians are the same.
+std::vector<float> row_median_radii(std::span<const uint32_t> rows, std::size_t width,
+                                    const std::vector<float>& radii, std::size_t k);
 
 }  // namespace splatkit

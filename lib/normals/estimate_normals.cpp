@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <optional>
 #include <span>
@@ -28,6 +29,7 @@
 #include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/seconds_since.h"
+#include "splatkit/shrinkable_array.h"
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
@@ -56,16 +58,13 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
           {"noisy", r.noisy}};
 }
 
-// Phase 6. With the whole cloud's index (it takes it: the MST orientation releases it before its
-// peak), or with the cloud's pieces.
-void orient(SplatCloud& cloud, SpatialIndex&& index, SplatPieces* pieces, const NormalOptions& o,
+// Phase 6. --orient mst joins the kNN rows found before the radius bound (it takes them).
+void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
             NormalReport& report) {
   if (o.orient == NormalOrientation::kMst) {
     const OrientStats stats =
-        pieces ? orient_normals_mst(
-                     [&](std::size_t k, std::span<uint32_t> out) { pieces->knn_rows(k, out); },
-                     cloud.positions, cloud.normals, kOrientK)
-               : orient_normals_mst(std::move(index), cloud.positions, cloud.normals, kOrientK);
+        orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK);
+    rows.reset();
     report.flipped_points = stats.flipped;
     report.components = stats.components;
   } else if (o.orient == NormalOrientation::kViewpoint) {
@@ -252,17 +251,41 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
         cloud.axes[i] = tangent_axis(cloud.normals[i]);
       }
 
+  // The MST orientation's kNN rows, found here: the radius bound reads its neighbours from them
+  // instead of a kNN pass of its own per pass (the nearest of a longer row are the same points),
+  // and without centre fitting the index goes before the bound and the orientation's peaks.
+  std::optional<ShrinkableArray> rows;
+  if (options.orient == NormalOrientation::kMst && n > 0)
+    timed("knn_rows", [&] {
+      rows = orient_knn_rows(
+          [&](std::size_t k, std::span<uint32_t> out) {
+            if (pieces)
+              pieces->knn_rows(k, out);
+            else
+              index_knn_rows(index, k, out);
+          },
+          n, kOrientK);
+      if (!options.fit_centres) index = SpatialIndex();
+    });
   if (options.max_radius_ratio > 0 && n > 1) {
     progress(0.81, "bound radii");
     timed("bound_radii", [&] {
-      const BoundRadiiResult b = pieces
-                                     ? bound_radii(
-                                           [&](const std::vector<float>& r) {
-                                             return pieces->neighbour_median_radii(r, kBoundRadiiK);
-                                           },
-                                           cloud.radii, cloud.minor_radii, options.max_radius_ratio)
-                                     : bound_radii(index, cloud.radii, cloud.minor_radii,
-                                                   options.max_radius_ratio, kBoundRadiiK);
+      std::function<std::vector<float>(const std::vector<float>&)> medians;
+      if (rows)
+        medians = [&](const std::vector<float>& r) {
+          return row_median_radii(std::span<const uint32_t>(rows->data(), rows->size()),
+                                  std::min(kOrientK, n) - 1, r, kBoundRadiiK);
+        };
+      else if (pieces)
+        medians = [&](const std::vector<float>& r) {
+          return pieces->neighbour_median_radii(r, kBoundRadiiK);
+        };
+      else
+        medians = [&](const std::vector<float>& r) {
+          return neighbour_median_radii(index, r, kBoundRadiiK);
+        };
+      const BoundRadiiResult b =
+          bound_radii(medians, cloud.radii, cloud.minor_radii, options.max_radius_ratio);
       report.bounded_radii = b.capped;
       report.radii_over_bound = b.over;
     });
@@ -274,10 +297,10 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           fit_splat_centres(index, cloud.positions, cloud.normals, row_size(options));
     });
   }
+  index = SpatialIndex();
   if (options.orient != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient",
-          [&] { orient(cloud, std::move(index), pieces ? &*pieces : nullptr, options, report); });
+    timed("orient", [&] { orient(cloud, rows, options, report); });
   }
   if (pieces)
     report.pieces = {{"pieces", pieces->stats().pieces},

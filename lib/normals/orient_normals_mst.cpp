@@ -9,13 +9,11 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
-#include <new>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "splatkit/for_each_chunk.h"
-#include "splatkit/spill_arena.h"
 
 namespace splatkit {
 
@@ -44,43 +42,6 @@ uint16_t weight_key(float agree) {
   return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
 }
 
-// A uint32 array in one malloc block (or the spill arena's), so that it shrinks in place (realloc
-// keeps a shrinking block where it is): the compacted rows need no second array at the peak.
-class ShrinkableArray {
- public:
-  explicit ShrinkableArray(std::size_t size)
-      : data_(static_cast<uint32_t*>(spill::allocate_block(size * 4))),
-        size_(size) {
-    if (!data_) throw std::bad_alloc();
-  }
-  ShrinkableArray(ShrinkableArray&& o) noexcept
-      : data_(std::exchange(o.data_, nullptr)), size_(o.size_) {}
-  ShrinkableArray& operator=(ShrinkableArray&& o) noexcept {
-    std::swap(data_, o.data_);
-    std::swap(size_, o.size_);
-    return *this;
-  }
-  ~ShrinkableArray() { spill::free_block(data_); }
-  void shrink(std::size_t size) {
-    if (size >= size_) return;
-    if (spill::shrink(data_, size * 4)) {
-      size_ = size;
-      return;
-    }
-    if (void* p = std::realloc(data_, std::max<std::size_t>(size, 1) * 4))
-      data_ = static_cast<uint32_t*>(p);
-    size_ = size;
-  }
-  uint32_t* data() { return data_; }
-  const uint32_t* data() const { return data_; }
-  uint32_t& operator[](std::size_t i) { return data_[i]; }
-  uint32_t operator[](std::size_t i) const { return data_[i]; }
-
- private:
-  uint32_t* data_;
-  std::size_t size_;
-};
-
 // The kNN graph with every edge once: row i holds, in rank order, the neighbours j of i whose
 // reverse edge j -> i is not in the earlier row j (the agreement is symmetric, so Kruskal would
 // meet that one first and always reject this one; in a kNN graph most edges come in such pairs).
@@ -98,13 +59,10 @@ struct KnnGraph {
 
 constexpr std::size_t kRows = 1 << 15;  // rows per task of the passes below
 
-// The rows of the k nearest neighbours (k - 1 besides the point itself) from `rows`, then
-// compacted.
+// The rows of the k nearest neighbours (k - 1 besides the point itself), compacted in place.
 template <typename Id>
-KnnGraph<Id> build_graph(const KnnRowsFn& rows, std::size_t n, std::size_t k) {
+KnnGraph<Id> build_graph(ShrinkableArray nb, std::size_t n, std::size_t k) {
   const std::size_t w = k - 1;
-  ShrinkableArray nb(n * w);  // every slot is written by rows: k <= n
-  rows(k, std::span<uint32_t>(nb.data(), n * w));
   // Which slots stay, decided on the full rows (read-only, in parallel).
   std::vector<uint8_t> keep(n * w);
   const std::size_t chunks = chunk_count(n, kRows);
@@ -273,34 +231,53 @@ std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f
 
 }  // namespace
 
+void index_knn_rows(const SpatialIndex& index, std::size_t k, std::span<uint32_t> out) {
+  const std::size_t w = k - 1;
+  index.for_each_knn_block(k, [&](std::span<const uint32_t> queries,
+                                  std::span<const uint32_t> indices, std::span<const float>) {
+    for (std::size_t r = 0; r < queries.size(); ++r)  // column 0 is the point itself
+      std::copy_n(indices.data() + r * k + 1, w, out.data() + queries[r] * w);
+  });
+}
+
+ShrinkableArray orient_knn_rows(const KnnRowsFn& rows, std::size_t n, std::size_t k) {
+  if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
+  k = std::min(k, n);
+  ShrinkableArray out(n * (k > 0 ? k - 1 : 0));  // every slot is written by rows: k <= n
+  if (k > 1) rows(k, std::span<uint32_t>(out.data(), out.size()));
+  return out;
+}
+
 OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k) {
   if (index.size() != positions.size())
     throw std::invalid_argument("orient_normals_mst: positions and index differ in size");
-  auto rows = [&](std::size_t row_k, std::span<uint32_t> out) {
-    const std::size_t w = row_k - 1;
-    index.for_each_knn_block(row_k, [&](std::span<const uint32_t> queries,
-                                        std::span<const uint32_t> indices, std::span<const float>) {
-      for (std::size_t r = 0; r < queries.size(); ++r)  // column 0 is the point itself
-        std::copy_n(indices.data() + r * row_k + 1, w, out.data() + queries[r] * w);
-    });
-    index = SpatialIndex();  // released before the graph's peak
-  };
-  return orient_normals_mst(rows, positions, normals, k);
+  ShrinkableArray rows = orient_knn_rows(
+      [&](std::size_t row_k, std::span<uint32_t> out) { index_knn_rows(index, row_k, out); },
+      positions.size(), k);
+  index = SpatialIndex();  // released before the graph's peak
+  return orient_normals_mst(std::move(rows), positions, normals, k);
 }
 
 OrientStats orient_normals_mst(const KnnRowsFn& rows, std::span<const Vec3f> positions,
+                               std::span<Vec3f> normals, std::size_t k) {
+  return orient_normals_mst(orient_knn_rows(rows, positions.size(), k), positions, normals, k);
+}
+
+OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k) {
   if (k < 2) throw std::invalid_argument("orient_normals_mst: k must be at least 2");
   const std::size_t n = positions.size();
   if (normals.size() != n)
     throw std::invalid_argument("orient_normals_mst: positions and normals differ in size");
+  if (rows.size() != n * (std::min(k, n) > 0 ? std::min(k, n) - 1 : 0))
+    throw std::invalid_argument("orient_normals_mst: the kNN rows do not match the points");
   OrientStats stats;
   if (n == 0) return stats;
 
   // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
   auto forest = [&]<typename Id>(Id) {
-    const KnnGraph<Id> graph = build_graph<Id>(rows, n, std::min(k, n));
+    const KnnGraph<Id> graph = build_graph<Id>(std::move(rows), n, std::min(k, n));
     return spanning_forest<Id>(graph, positions, normals);
   };
   const std::size_t width = std::min(k, n) - 1;

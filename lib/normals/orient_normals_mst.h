@@ -43,6 +43,7 @@
 #include <functional>
 #include <span>
 
+#include "splatkit/shrinkable_array.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
@@ -66,9 +67,21 @@ OrientStats orient_normals_mst(SpatialIndex index, std::span<const Vec3f> positi
 // (squared distance, index), as SpatialIndex::knn_all's columns 1..k-1.
 using KnnRowsFn = std::function<void(std::size_t k, std::span<uint32_t> out)>;
 
+// A KnnRowsFn's work over the whole cloud's index.
+void index_knn_rows(const SpatialIndex& index, std::size_t k, std::span<uint32_t> out);
+
+// The rows the orientation joins, #N by min(k, N) - 1, from `rows`: found ahead by a caller that
+// reads them first (estimate_normals bounds the radii by the nearest of them). k >= 2.
+ShrinkableArray orient_knn_rows(const KnnRowsFn& rows, std::size_t n, std::size_t k = kOrientK);
+
 // The same with the kNN rows from `rows` instead of an index (a cloud processed in pieces,
 // splat_pieces.h).
 OrientStats orient_normals_mst(const KnnRowsFn& rows, std::span<const Vec3f> positions,
+                               std::span<Vec3f> normals, std::size_t k = kOrientK);
+
+// The same over rows from orient_knn_rows(…, positions.size(), k), which it takes (their memory
+// becomes the graph's).
+OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> positions,
                                std::span<Vec3f> normals, std::size_t k = kOrientK);
 
 }  // namespace splatkit

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "normals/estimate_normals.h"
+#include "normals/orient_normals_mst.h"
 #include "splatkit/deterministic_rng.h"
 
 namespace splatkit {
@@ -92,6 +93,33 @@ TEST(NormalsBoundRadii, CapsAtRatioTimesNeighbourMedianAndScalesEllipses) {
   EXPECT_FLOAT_EQ(radii[5], 2.0f);
   EXPECT_FLOAT_EQ(minor[5], 1.0f);
   EXPECT_FLOAT_EQ(radii[4], 1.0f);
+}
+
+TEST(NormalsBoundRadii, MediansFromTheOrientationsRowsEqualTheirOwnKnnPass) {
+  // estimate_normals bounds the radii with the nearest 8 of the MST orientation's 9-wide rows: the
+  // same points as a 9-NN query's, ties included. Clouds with ties everywhere (a 1/64 grid
+  // snap), exact duplicates and strays; and fewer points than a row.
+  DeterministicRng rng(7);
+  for (const std::size_t n : {std::size_t{5}, std::size_t{9}, std::size_t{20000}}) {
+    SplatCloud c = gradient_plane(n, n / 400, 3);
+    for (Vec3f& q : c.positions)
+      for (int a = 0; a < 3; ++a) q[a] = std::round(q[a] * 64) / 64;
+    for (std::size_t i = 0; i < n / 40; ++i) c.positions.push_back(c.positions[i * 7]);
+    std::vector<float> radii(c.size());
+    for (float& r : radii) r = static_cast<float>(rng.uniform(0.01, 1.0));
+    const SpatialIndex index(c.positions);
+    const ShrinkableArray rows = orient_knn_rows(
+        [&](std::size_t k, std::span<uint32_t> out) { index_knn_rows(index, k, out); },
+        c.size(), kOrientK);
+    const std::size_t width = std::min(kOrientK, c.size()) - 1;
+    ASSERT_EQ(rows.size(), c.size() * width);
+    const std::vector<float> from_rows = row_median_radii(
+        std::span<const uint32_t>(rows.data(), rows.size()), width, radii, kBoundRadiiK);
+    const std::vector<float> own = neighbour_median_radii(index, radii, kBoundRadiiK);
+    ASSERT_EQ(from_rows.size(), own.size());
+    for (std::size_t i = 0; i < own.size(); ++i)
+      ASSERT_EQ(from_rows[i], own[i]) << "point " << i << " of " << c.size();
+  }
 }
 
 }  // namespace
