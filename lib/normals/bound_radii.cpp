@@ -9,10 +9,32 @@ namespace splatkit {
 
 namespace {
 
+// The 4th smallest of 8 values: they are sorted by Batcher's odd-even merge sort network (19
+// minima and maxima, no branches: which way a comparison of radii goes is a coin flip).
+float fourth_of_eight(float v[8]) {
+  auto sort2 = [&](int a, int b) {
+    const float lo = std::min(v[a], v[b]), hi = std::max(v[a], v[b]);
+    v[a] = lo;
+    v[b] = hi;
+  };
+  sort2(0, 1), sort2(2, 3), sort2(4, 5), sort2(6, 7);
+  sort2(0, 2), sort2(1, 3), sort2(4, 6), sort2(5, 7);
+  sort2(1, 2), sort2(5, 6);
+  sort2(0, 4), sort2(1, 5), sort2(2, 6), sort2(3, 7);
+  sort2(2, 4), sort2(3, 5);
+  sort2(1, 2), sort2(3, 4), sort2(5, 6);
+  return v[3];
+}
+
 // The lower median (for an even k the smaller middle value) of the radii of the k points
 // neighbours[0 .. k); r: room for k values.
 float lower_median(const uint32_t* neighbours, std::size_t k, const std::vector<float>& radii,
                    std::vector<float>& r) {
+  if (k == 8) {
+    float v[8];
+    for (int j = 0; j < 8; ++j) v[j] = radii[neighbours[j]];
+    return fourth_of_eight(v);
+  }
   for (std::size_t j = 0; j < k; ++j) r[j] = radii[neighbours[j]];
   std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>((k - 1) / 2), r.end());
   return r[(k - 1) / 2];

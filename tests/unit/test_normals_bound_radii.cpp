@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -119,6 +120,34 @@ TEST(NormalsBoundRadii, MediansFromTheOrientationsRowsEqualTheirOwnKnnPass) {
     ASSERT_EQ(from_rows.size(), own.size());
     for (std::size_t i = 0; i < own.size(); ++i)
       ASSERT_EQ(from_rows[i], own[i]) << "point " << i << " of " << c.size();
+  }
+}
+
+TEST(NormalsBoundRadii, MedianOfEightIsTheFourthSmallestOfEveryOrderAndTie) {
+  // Rows of 8 own neighbours: every tuple of {1, 2, 3}^8 (ties), then every permutation of 8
+  // distinct values.
+  std::vector<std::array<float, 8>> tuples;
+  for (int code = 0; code < 6561; ++code) {
+    std::array<float, 8> t;
+    for (int j = 0, c = code; j < 8; ++j, c /= 3) t[j] = static_cast<float>(1 + c % 3);
+    tuples.push_back(t);
+  }
+  std::array<float, 8> p = {0.5f, 1, 2, 3, 4, 5, 6, 7.5f};
+  do tuples.push_back(p);
+  while (std::next_permutation(p.begin(), p.end()));
+  std::vector<float> radii;
+  std::vector<uint32_t> rows;
+  for (const auto& t : tuples)
+    for (const float v : t) {
+      rows.push_back(static_cast<uint32_t>(radii.size()));
+      radii.push_back(v);
+    }
+  rows.resize(radii.size() * 8, 0);  // the values' own points: a row each (of point 0), unread
+  const std::vector<float> m = row_median_radii(rows, 8, radii, 8);
+  for (std::size_t i = 0; i < tuples.size(); ++i) {
+    std::array<float, 8> sorted = tuples[i];
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(m[i], sorted[3]) << "tuple " << i;
   }
 }
 
