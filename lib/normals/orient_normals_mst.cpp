@@ -168,15 +168,18 @@ class SignedUnionFind {
     flip = acc;
     return x;
   }
-  // Joins the sets of a and b so that b's sign is a's (opposite: a's negated); false when they
-  // were already one set.
-  bool unite(uint32_t a, uint32_t b, bool opposite) {
+  // Joins the sets of a and b so that b's sign is a's (opposite(): a's negated); false when they
+  // were already one set. opposite() is asked only when they were not: most edges Kruskal meets
+  // join nothing, and their relation would cost the reads of both points' data.
+  template <class Opposite>
+  bool unite(uint32_t a, uint32_t b, Opposite&& opposite) {
     uint8_t fa, fb;
     a = find(a, fa), b = find(b, fb);
     if (a == b) return false;
+    const bool flip = fa ^ fb ^ (opposite() ? 1 : 0);
     if (rank_[a] < rank_[b]) std::swap(a, b);
     parent_[b] = a;
-    flip_[b] = static_cast<uint8_t>(fa ^ fb ^ (opposite ? 1 : 0));
+    flip_[b] = static_cast<uint8_t>(flip);
     if (rank_[a] == rank_[b]) ++rank_[a];
     return true;
   }
@@ -199,7 +202,9 @@ SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> po
   for (const Id e : order) {
     const auto i = static_cast<uint32_t>(e >> g.shift);
     const uint32_t j = g.neighbors[g.start[i] + (e & mask)];
-    const bool opposite = agreement(positions[i], normals[i], positions[j], normals[j]) < 0;
+    const auto opposite = [&] {
+      return agreement(positions[i], normals[i], positions[j], normals[j]) < 0;
+    };
     if (sets.unite(i, j, opposite) && ++joined + 1 == n) break;  // one set: the forest is whole
   }
   return sets;
