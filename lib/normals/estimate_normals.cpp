@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -227,18 +227,28 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // input's order at the end unless spatial_order. Ties between equally distant neighbours are
   // broken by the new numbers.
   std::vector<uint32_t> order;
-  timed("order", [&] {
-    order = morton_sort(cloud.positions);
-  });
+  timed("order", [&] { order = morton_sort(cloud.positions); });
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
   cloud.axes.assign(options.ellipses ? n : 0, Vec3f{1, 0, 0});
   cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
   SpatialIndex index;
   std::optional<SplatPieces> pieces;
+  // The MST orientation's kNN rows (the radius bound reads its neighbours from them too).
+  std::optional<ShrinkableArray> rows;
+  const bool mst = options.orient == NormalOrientation::kMst && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
     pieces.emplace(cloud.positions, options.piece_points);
-    timed("normals_radii", [&] { pieces->normals_and_splats(cloud, options, report, progress); });
+    // In pieces they are the heads of the normals' own rows, when those are longer (without
+    // pieces that would hold them through the normals' peak; a pass of their own is cheap there,
+    // and a second load of every piece is not).
+    const std::size_t head = kOrientK - 1;
+    if (mst && row_size(options) > head && n >= row_size(options)) rows.emplace(n * head);
+    timed("normals_radii", [&] {
+      pieces->normals_and_splats(
+          cloud, options, report, progress,
+          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>());
+    });
   } else {
     timed("index", [&] { index = SpatialIndex(cloud.positions); });
     whole_cloud_splats(index, cloud, options, order, report, timed, progress);
@@ -251,11 +261,10 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
         cloud.axes[i] = tangent_axis(cloud.normals[i]);
       }
 
-  // The MST orientation's kNN rows, found here: the radius bound reads its neighbours from them
-  // instead of a kNN pass of its own per pass (the nearest of a longer row are the same points),
-  // and without centre fitting the index goes before the bound and the orientation's peaks.
-  std::optional<ShrinkableArray> rows;
-  if (options.orient == NormalOrientation::kMst && n > 0)
+  // Otherwise they are found here: the radius bound reads its neighbours from them instead of a
+  // kNN pass of its own per pass (the nearest of a longer row are the same points), and without
+  // centre fitting the index goes before the bound and the orientation's peaks.
+  if (mst && !rows)
     timed("knn_rows", [&] {
       rows = orient_knn_rows(
           [&](std::size_t k, std::span<uint32_t> out) {

@@ -65,8 +65,10 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
-                           std::span<float> sq_reach, const ProgressFn& progress) {
+                           std::span<float> sq_reach, const ProgressFn& progress,
+                           std::span<uint32_t> head_rows) {
   const std::size_t row_k = row_size(o);
+  const std::size_t head = cloud.size() ? head_rows.size() / cloud.size() : 0;
   const std::span<const Vec3f> positions(cloud.positions);
   SharedProgress shared(progress, 0.15, 0.6, cloud.size(), "normals");
   index.for_each_knn_block(
@@ -90,6 +92,7 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
             f |= kOpenCellFlag;
           flags[i] = f;
           if (!sq_reach.empty()) sq_reach[i] = sq_dists[r * row_k + row_k - 1];
+          std::copy_n(indices.data() + r * row_k + 1, head, head_rows.data() + i * head);
         }
         shared.add(queries.size());
       });

@@ -39,9 +39,12 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 // those whose cover cell the row left open (refitted from a wider row). variation (empty, or #N)
 // receives the surface variation the robust method selects its points by (-1: degenerate, skip).
 // sq_reach (empty, or #N) receives the squared distance of each row's last entry (+inf when the
-// cloud has fewer points than a row). Progress runs from 0.15 to 0.6.
+// cloud has fewer points than a row). head_rows (empty, or #N by w, w < row_size(o)) receives each
+// row's first w entries after the point itself: its w nearest other points, as a kNN query of
+// w + 1 points gives them. Progress runs from 0.15 to 0.6.
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
-                           std::span<float> sq_reach, const ProgressFn& progress);
+                           std::span<float> sq_reach, const ProgressFn& progress,
+                           std::span<uint32_t> head_rows = {});
 
 }  // namespace splatkit

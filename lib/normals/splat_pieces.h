@@ -54,8 +54,10 @@ class SplatPieces {
   // whole-cloud run sets them before isolated points are filled. cloud.positions must be the span
   // given to the constructor. Counts the degenerate, unresolved and refitted points into report.
   // Method pca only, without fit_centres (the caller checks).
+  // head_rows (empty, or #N by w, w < row_size(o)): each point's w nearest other points, taken
+  // from the rows the normals are computed from (pca_normals_and_radii), in whole-cloud numbers.
   void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
-                          const ProgressFn& progress);
+                          const ProgressFn& progress, std::span<uint32_t> head_rows = {});
 
   // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
   std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);
