@@ -20,8 +20,12 @@
 //   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
 //      splats of the points whose normal phases 4 and 5 changed are fitted again in their new
 //      tangent plane (one kNN query each);
-//   6. orientation: mst (consistent over a minimum spanning tree, outward per component), viewpoint
-//      (towards a scanner position) or none (canonical sign, see neighborhood_pca.h).
+//   6. with orient mst, each point's kOrientK - 1 nearest other points ("knn_rows": one kNN pass,
+//      or in pieces the heads of phase 3's rows); the radius bound (bound_radii.h, max_radius_ratio)
+//      reads its neighbours from them when they exist, else runs kNN passes of its own;
+//   7. orientation: mst (consistent over a minimum spanning tree of those rows, outward per
+//      component), viewpoint (towards a scanner position) or none (canonical sign, see
+//      neighborhood_pca.h).
 //
 // Output: the same cloud (positions, colours, extras, faces carried through; faces remapped after
 // merging), in the input's order or with spatial_order in Morton order (morton_order.h), with
@@ -106,7 +110,8 @@ struct NormalReport {
   // With piece_points: {"pieces", "halo_points", "reruns"} (SplatPieces::Stats); else null.
   nlohmann::json pieces = nullptr;
   // Seconds per phase: "merge_duplicates", "order", "index", "normals_radii", "degenerate", "robust",
-  // "refit_splats", "orient" (only the phases that ran), and "total" (all of them).
+  // "refit_splats", "knn_rows", "bound_radii", "fit_centres", "orient", "reorder" (only the phases
+  // that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
 
   // {"input_points", "output_points", "duplicates_merged", "degenerate_points", ...,
