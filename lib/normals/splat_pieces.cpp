@@ -220,52 +220,50 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
   const WholeCloud whole{n, whole_cloud_pca(positions_)};
   std::vector<uint8_t> flags(n, 0);
   auto everything = [](std::size_t) { return true; };
-  {
-    // Each piece's arrays, reused by the next: their pages stay mapped (a fresh page costs more
-    // than most of the work done on it).
-    SplatCloud local;
-    std::vector<uint8_t> local_flags;
-    std::vector<uint32_t> degenerate, local_rows;
-    std::vector<float> reach, wide;
-    for (std::size_t p = 0; p < pieces(); ++p) {
-      DegenerateStats degenerate_stats;
-      const Local l = run(p, [&](Local& at) {
-        const std::size_t m = at.ids.size();
-        local.positions = std::move(at.positions);  // the index holds its own copy
-        local.normals.assign(m, Vec3f{0, 0, 1});
-        local.radii.assign(m, 0.0f);
-        local.axes.assign(o.ellipses ? m : 0, Vec3f{1, 0, 0});
-        local.minor_radii.assign(o.ellipses ? m : 0, 0.0f);
-        local_flags.assign(m, 0);
-        std::vector<float> variation;  // (the robust method's, which pieces do not run)
-        reach.assign(m, 0.0f);
-        wide.assign(m, 0.0f);
-        local_rows.resize(m * head);
-        pca_normals_and_radii(at.index, local, o, local_flags, variation, reach, no_progress(),
-                              local_rows);
-        degenerate.clear();
-        for (std::size_t i = at.core_begin; i < at.core_end; ++i)
-          if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
-        degenerate_stats =
-            resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
-                                       local.normals, local.radii, &whole, wide);
-        for (std::size_t i = 0; i < m; ++i) reach[i] = std::max(reach[i], wide[i]);
-        return at.halo_needed(reach, everything);
-      });
-      l.put_back(local.normals, cloud.normals);
-      l.put_back(local.radii, cloud.radii);
-      l.put_back(local_flags, flags);
-      for (std::size_t i = l.core_begin; i < l.core_end; ++i)
-        for (std::size_t s = 0; s < head; ++s)
-          head_rows[std::size_t{l.ids[i]} * head + s] = l.ids[local_rows[i * head + s]];
-      if (o.ellipses) {
-        l.put_back(local.axes, cloud.axes);
-        l.put_back(local.minor_radii, cloud.minor_radii);
-      }
-      report.degenerate_points += degenerate.size();
-      report.unresolved_points += degenerate_stats.unresolved;
-      progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");
+  // Each piece's arrays, reused by the next (and by the refits below): their pages stay mapped (a
+  // fresh page costs more than most of the work done on it).
+  SplatCloud local;
+  std::vector<uint8_t> local_flags;
+  std::vector<uint32_t> degenerate, local_rows;
+  std::vector<float> reach, wide;
+  for (std::size_t p = 0; p < pieces(); ++p) {
+    DegenerateStats degenerate_stats;
+    const Local l = run(p, [&](Local& at) {
+      const std::size_t m = at.ids.size();
+      local.positions = std::move(at.positions);  // the index holds its own copy
+      local.normals.assign(m, Vec3f{0, 0, 1});
+      local.radii.assign(m, 0.0f);
+      local.axes.assign(o.ellipses ? m : 0, Vec3f{1, 0, 0});
+      local.minor_radii.assign(o.ellipses ? m : 0, 0.0f);
+      local_flags.assign(m, 0);
+      std::vector<float> variation;  // (the robust method's, which pieces do not run)
+      reach.assign(m, 0.0f);
+      wide.assign(m, 0.0f);
+      local_rows.resize(m * head);
+      pca_normals_and_radii(at.index, local, o, local_flags, variation, reach, no_progress(),
+                            local_rows);
+      degenerate.clear();
+      for (std::size_t i = at.core_begin; i < at.core_end; ++i)
+        if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
+      degenerate_stats =
+          resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
+                                     local.normals, local.radii, &whole, wide);
+      for (std::size_t i = 0; i < m; ++i) reach[i] = std::max(reach[i], wide[i]);
+      return at.halo_needed(reach, everything);
+    });
+    l.put_back(local.normals, cloud.normals);
+    l.put_back(local.radii, cloud.radii);
+    l.put_back(local_flags, flags);
+    for (std::size_t i = l.core_begin; i < l.core_end; ++i)
+      for (std::size_t s = 0; s < head; ++s)
+        head_rows[std::size_t{l.ids[i]} * head + s] = l.ids[local_rows[i * head + s]];
+    if (o.ellipses) {
+      l.put_back(local.axes, cloud.axes);
+      l.put_back(local.minor_radii, cloud.minor_radii);
     }
+    report.degenerate_points += degenerate.size();
+    report.unresolved_points += degenerate_stats.unresolved;
+    progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");
   }
   if (o.radius_rule != RadiusRule::kCover) return;
 
@@ -277,7 +275,6 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
     if (std::all_of(first, first + static_cast<std::ptrdiff_t>(ranges_[p + 1] - ranges_[p]),
                     [](uint8_t f) { return f == 0; }))
       continue;
-    SplatCloud local;
     std::vector<uint32_t> points;
     const Local l = run(p, [&](Local& at) {
       local.positions = std::move(at.positions);
@@ -290,7 +287,7 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       points.clear();
       for (std::size_t i = at.core_begin; i < at.core_end; ++i)
         if (refitted(at.ids[i])) points.push_back(static_cast<uint32_t>(i));
-      std::vector<float> reach(at.ids.size(), 0.0f);
+      reach.assign(at.ids.size(), 0.0f);
       refit_splats(at.index, local, o, points, k, reach);
       return at.halo_needed(reach, [&](std::size_t i) { return refitted(at.ids[i]); });
     });
