@@ -107,29 +107,21 @@ inline bool zbuffer_splat(DepthKeyBuffer& b, const Projection& p, const Vec3f& c
   }
   const float r2 = rp * rp;
   bool any = false;
-  // The columns' squared offsets once, not once per row (small splats; wide ones recompute).
-  constexpr int kColumns = 32;
-  float dx2[kColumns];
-  const int columns = x1 - x0 + 1;
-  for (int i = 0; i < std::min(columns, kColumns); ++i) {
-    const float dx = static_cast<float>(x0 + i) + 0.5f - px;
-    dx2[i] = dx * dx;
-  }
+  // One branch per pixel, taken only where the splat is nearer: whether the pixel centre lies in
+  // the disc is folded into it (an edge of the disc is as hard to predict as the depth test).
   for (int y = y0; y <= y1; ++y) {
     const float dy = static_cast<float>(y) + 0.5f - py;
     const float rest = r2 - dy * dy;
-    const std::size_t row = static_cast<std::size_t>(y) * b.width;
-    for (int i = 0; i < columns; ++i) {
-      float d2;
-      if (i < kColumns) {
-        d2 = dx2[i];
-      } else {
-        const float dx = static_cast<float>(x0 + i) + 0.5f - px;
-        d2 = dx * dx;
-      }
-      if (d2 > rest) continue;
-      any = true;
-      put(row + x0 + i);
+    uint64_t* row = b.keys.data() + static_cast<std::size_t>(y) * b.width;
+    for (int x = x0; x <= x1; ++x) {
+      const float dx = static_cast<float>(x) + 0.5f - px;
+      const bool in = !(dx * dx > rest);
+      any |= in;
+      std::atomic_ref<uint64_t> slot(row[x]);
+      uint64_t cur = slot.load(std::memory_order_relaxed);
+      if (in & (key < cur))
+        while (key < cur && !slot.compare_exchange_weak(cur, key, std::memory_order_relaxed)) {
+        }
     }
   }
   return any;
