@@ -5,13 +5,12 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <vector>
 
 #include "qsplat/enclose_spheres.h"
 #include "splatkit/for_each_chunk.h"
+#include "splatkit/select_rank.h"
 #include "splatkit/sized_in_parallel.h"
 #include "splatkit/slot_array.h"
 
@@ -19,126 +18,16 @@ namespace splatkit::qsplat {
 
 namespace {
 
-// A leaf's centre and index as two words, (x, y) and (z, leaf): the partition below stores and
-// reloads points, and a 16-byte load of a point just stored as 12 + 4 bytes would miss the store
-// forwarding (a stall per point).
-struct Point {
-  uint64_t xy, zl;
-  static Point make(const Vec3f& p, uint32_t leaf) {
-    uint32_t u[3];
-    std::memcpy(u, &p, sizeof u);
-    return {uint64_t{u[1]} << 32 | u[0], uint64_t{leaf} << 32 | u[2]};
-  }
-  uint32_t bits(int axis) const {
-    return static_cast<uint32_t>(axis == 0 ? xy : axis == 1 ? xy >> 32 : zl);
-  }
-  float coord(int axis) const { return std::bit_cast<float>(bits(axis)); }
-  Vec3f position() const { return {coord(0), coord(1), coord(2)}; }
-  uint32_t leaf() const { return static_cast<uint32_t>(zl >> 32); }
-};
-
-// Ranges at least this long are cut by sampled pivots (select_rank).
-constexpr std::size_t kSampledSelect = std::size_t{1} << 13;
-
 struct Box {
   Vec3f lo, hi;
 };
 
-// The order leaves are cut in along axis A, as one integer: the coordinate's float bits made to
-// sort as unsigned integers (-0 as +0, so that equal floats tie), then the leaf index. Keys are
-// unique, so the ranks, and so the leaves of every child, do not depend on how they are found.
-template <int A>
-uint64_t cut_key(const Point& q) {
-  uint32_t u = q.bits(A);
-  u = u == 0x80000000u ? 0 : u;
-  u ^= (u >> 31) != 0 ? 0xFFFFFFFFu : 0x80000000u;
-  return uint64_t{u} << 32 | q.leaf();
-}
-
-// Moves the points of [first, last) whose key is below `pivot` to the front, in one branch-free
-// Lomuto pass (the comparisons of a cut are coin flips, which a branch mispredicts half the
-// time), and returns the end of that front part.
-template <int A>
-Point* partition_below(Point* first, Point* last, uint64_t pivot) {
-  Point* i = first;
-  for (Point* j = first; j < last; ++j) {
-    const Point q = *j;
-    const bool less = cut_key<A>(q) < pivot;
-    *j = *i;
-    *i = q;
-    i += less;
-  }
-  return i;
-}
-
-// Puts the point of rank nth - first in [first, last) by cut_key<A> at nth, smaller keys before
-// it, larger after. A large range is cut by two pivots drawn from a sample of its keys, which
-// bracket the rank with near certainty [Floyd75]: one pass keeps the side that holds nth, the
-// next pass over that side leaves a sliver of a few percent around it (about n + min(k, n - k)
-// moves, against about 2.75 n for quickselect with a median-of-3 pivot, which finishes the small
-// ranges). A range that shrinks too slowly is left to std::nth_element, whose worst case is
-// n log n.
-template <int A>
-void select_rank(Point* first, Point* nth, Point* last) {
-  const auto before = [](const Point& p, const Point& q) { return cut_key<A>(p) < cut_key<A>(q); };
-  int budget = 2 * std::bit_width(static_cast<std::size_t>(last - first));
-  std::vector<uint64_t> sample;
-  while (last - first > 16) {
-    if (budget-- == 0) {
-      std::nth_element(first, nth, last, before);
-      return;
-    }
-    const std::size_t n = static_cast<std::size_t>(last - first);
-    const std::size_t k = static_cast<std::size_t>(nth - first);
-    if (n >= kSampledSelect) {
-      // n^(2/3) keys at even strides; pivots 2 sqrt(s) sample ranks either side of k's (four
-      // standard deviations of the sample rank of the true k-th key).
-      const auto s = static_cast<std::size_t>(std::cbrt(static_cast<double>(n)) *
-                                              std::cbrt(static_cast<double>(n)));
-      sample.resize(s);
-      for (std::size_t i = 0; i < s; ++i) sample[i] = cut_key<A>(first[i * n / s]);
-      const auto spread = static_cast<std::size_t>(2 * std::sqrt(static_cast<double>(s))) + 1;
-      const std::size_t at = k * s / n;
-      const std::size_t lo = at > spread ? at - spread : 0, hi = std::min(s - 1, at + spread);
-      std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(hi),
-                       sample.end());
-      const uint64_t upper = sample[hi];
-      std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(lo),
-                       sample.begin() + static_cast<std::ptrdiff_t>(hi));
-      const uint64_t lower = sample[lo];
-      // The pivot beyond k on the longer side first: the second pass runs over the shorter.
-      const auto keep = [&](uint64_t pivot) {
-        Point* i = partition_below<A>(first, last, pivot);
-        (nth < i ? last : first) = i;
-      };
-      if (2 * k < n) {
-        keep(upper);
-        keep(lower);
-      } else {
-        keep(lower);
-        keep(upper);
-      }
-      continue;
-    }
-    const uint64_t a = cut_key<A>(*first), b = cut_key<A>(first[n / 2]), c = cut_key<A>(last[-1]);
-    const uint64_t pivot = std::max(std::min(a, b), std::min(std::max(a, b), c));
-    // [first, i) < pivot <= [i, last): both sides keep at least one of a, b, c, so both shrink.
-    Point* i = partition_below<A>(first, last, pivot);
-    (nth < i ? last : first) = i;
-  }
-  std::sort(first, last, before);
-}
-
 // Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it,
 // and cuts the box there into `left` and `right`.
-void split_at(std::vector<Point>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
+void split_at(std::vector<RankedPoint>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
               Box& left, Box& right) {
-  const Vec3f ext = box.hi - box.lo;
-  const int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
-  Point *const first = pts.data() + b, *const nth = pts.data() + m, *const last = pts.data() + e;
-  if (axis == 0) select_rank<0>(first, nth, last);
-  if (axis == 1) select_rank<1>(first, nth, last);
-  if (axis == 2) select_rank<2>(first, nth, last);
+  const int axis = longest_axis(box.lo, box.hi);
+  select_rank(pts.data() + b, pts.data() + m, pts.data() + e, axis);
   left = right = box;
   left.hi[axis] = right.lo[axis] = pts[m].coord(axis);
 }
@@ -168,45 +57,12 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
   return children;
 }
 
-// The bounding box of the centres of pts[b, e): in parallel chunks for the few largest nodes
-// (minima and maxima do not depend on the order they are taken in).
-Box bounds(const std::vector<Point>& pts, uint32_t b, uint32_t e) {
-  // Four lanes per point, x, y, z and the leaf index's bits (ignored), in a generic vector: the
-  // minima and maxima of a point's lanes in one instruction each.
-  static_assert(std::endian::native == std::endian::little, "the lanes follow Point's bytes");
-  using Lanes = float __attribute__((vector_size(16)));
-  auto serial = [&](uint32_t from, uint32_t to) {
-    Lanes lo, hi;
-    std::memcpy(&lo, &pts[from], sizeof lo);
-    hi = lo;
-    for (uint32_t i = from + 1; i < to; ++i) {
-      Lanes v;
-      std::memcpy(&v, &pts[i], sizeof v);
-      lo = v < lo ? v : lo;
-      hi = hi < v ? v : hi;
-    }
-    return Box{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-  };
-  constexpr std::size_t kChunk = std::size_t{1} << 18;
-  if (e - b < 2 * kChunk) return serial(b, e);
-  std::vector<Box> part(chunk_count(e - b, kChunk));
-  for_each_chunk(e - b, kChunk, [&](std::size_t c, std::size_t lo, std::size_t hi) {
-    part[c] = serial(b + static_cast<uint32_t>(lo), b + static_cast<uint32_t>(hi));
-  });
-  Box box = part[0];
-  for (const Box& q : part)
-    for (int k = 0; k < 3; ++k) {
-      box.lo[k] = std::min(box.lo[k], q.lo[k]);
-      box.hi[k] = std::max(box.hi[k], q.hi[k]);
-    }
-  return box;
-}
-
 // Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
 // consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
 // each half along the longest axis of its part of that box.
-void cut_node(std::vector<Point>& pts, uint32_t b, uint32_t e) {
-  const Box box = bounds(pts, b, e);
+void cut_node(std::vector<RankedPoint>& pts, uint32_t b, uint32_t e) {
+  Box box;
+  point_bounds(pts.data() + b, pts.data() + e, box.lo, box.hi);
   Box boxes[4];
   uint32_t sizes[4] = {0, 0, 0, 0};
   const int children = child_sizes(e - b, sizes);
@@ -241,11 +97,11 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
                              bool measure_centroid_rule) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
-  std::vector<Point> pts;
+  std::vector<RankedPoint> pts;
   sized_in_parallel(pts, n);  // its pages mapped in parallel, not by the zeroing
   for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
-      pts[i] = Point::make(leaves.positions[i], static_cast<uint32_t>(i));
+      pts[i] = RankedPoint::make(leaves.positions[i], static_cast<uint32_t>(i));
   });
   std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
   t.level_begin = {0, 1};
@@ -300,7 +156,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
           cut_node(pts, b, e);
         else  // a node over its leaves: they follow in input order
           std::sort(pts.begin() + b, pts.begin() + e,
-                    [](const Point& p, const Point& q) { return p.leaf() < q.leaf(); });
+                    [](const RankedPoint& p, const RankedPoint& q) { return p.index() < q.index(); });
       }
     });
     t.first_child.resize(next, 0);
@@ -325,7 +181,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
         t.leaf.resize(m);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1 << 16), [&](const auto& r) {
           for (std::size_t i = r.begin(); i < r.end(); ++i)
-            t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].leaf() : kNoLeaf;
+            t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].index() : kNoLeaf;
         });
       },
       [&] { t.spheres.resize(m); },

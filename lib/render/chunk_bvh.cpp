@@ -9,6 +9,7 @@
 
 #include "splatkit/error.h"
 #include "splatkit/seconds_since.h"
+#include "splatkit/select_rank.h"
 
 namespace splatkit::render {
 
@@ -34,18 +35,31 @@ namespace {
 
 inline float axis(const Vec3f& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : v.z; }
 
+Box3 splat_box(const RenderScene& s, std::size_t i) {
+  const Vec3f c = s.positions[i], n = s.normals[i];
+  const float r = s.radii[i];
+  Vec3f h{r, r, r};
+  if (s.axes.empty()) {
+    auto ext = [&](float ni) { return r * std::sqrt(std::max(0.0f, 1.0f - ni * ni)); };
+    // A little more than the exact extent: the disc's arithmetic is in float.
+    h = Vec3f{ext(n.x), ext(n.y), ext(n.z)} * 1.0001f + Vec3f{r, r, r} * 1e-4f;
+  }
+  return {c - h, c + h};
+}
+
 struct Builder {
   const RenderScene& scene;
   uint32_t leaf_size;
   BvhSplit split;
-  std::vector<Box3> boxes;  // per splat
+  std::vector<Box3> boxes;  // per splat (the surface area heuristic's bins)
   ChunkBvh bvh;
 
   Box3 range_box(uint32_t b, uint32_t e) const {
     if (b == e) return {};
-    Vec3f lo = boxes[bvh.order[b]].min, hi = boxes[bvh.order[b]].max;
+    const Box3 first = splat_box(scene, bvh.order[b]);
+    Vec3f lo = first.min, hi = first.max;
     for (uint32_t i = b + 1; i < e; ++i) {
-      const Box3& x = boxes[bvh.order[i]];
+      const Box3 x = splat_box(scene, bvh.order[i]);
       lo = {std::min(lo.x, x.min.x), std::min(lo.y, x.min.y), std::min(lo.z, x.min.z)};
       hi = {std::max(hi.x, x.max.x), std::max(hi.y, x.max.y), std::max(hi.z, x.max.z)};
     }
@@ -160,35 +174,33 @@ uint32_t median_nodes(uint32_t n, uint32_t leaf_size) {
 }
 
 // The median hierarchy in pre-order (a node's left child right after it, its right child after
-// the left subtree), so that subtrees are built in parallel into slots known in advance.
-void build_median(Builder& bld, uint32_t node, uint32_t parent, uint32_t depth, uint32_t b,
-                  uint32_t e) {
+// the left subtree), so that subtrees are built in parallel into slots known in advance. The
+// splats' centres travel with their indices (`pts`), so that the cuts read no position at
+// random; a leaf's range of `order` takes its indices, ascending.
+void build_median(Builder& bld, std::vector<RankedPoint>& pts, uint32_t node, uint32_t parent,
+                  uint32_t depth, uint32_t b, uint32_t e) {
   ChunkBvh& bvh = bld.bvh;
   ChunkBvhNode& n = bvh.nodes[node];
   n.parent = parent;
   n.depth = depth;
   if (e - b <= bld.leaf_size) {
+    for (uint32_t i = b; i < e; ++i) bvh.order[i] = pts[i].index();
+    std::sort(bvh.order.begin() + b, bvh.order.begin() + e);
     n.box = bld.range_box(b, e);
     n.leaf = true;
     n.left = b;
     n.right = e;
-    std::sort(bvh.order.begin() + b, bvh.order.begin() + e);
     return;
   }
-  Vec3f lo = bld.scene.positions[bvh.order[b]], hi = lo;
-  for (uint32_t i = b + 1; i < e; ++i) {
-    const Vec3f p = bld.scene.positions[bvh.order[i]];
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const Vec3f d = hi - lo;
-  const int longest = d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
-  const uint32_t m = bld.median_split(b, e, longest);
+  Vec3f lo, hi;
+  point_bounds(pts.data() + b, pts.data() + e, lo, hi);
+  const uint32_t m = b + (e - b) / 2;
+  select_rank(pts.data() + b, pts.data() + m, pts.data() + e, longest_axis(lo, hi));
   const uint32_t left = node + 1, right = left + median_nodes(m - b, bld.leaf_size);
   n.left = left;
   n.right = right;
-  auto l = [&] { build_median(bld, left, node, depth + 1, b, m); };
-  auto r = [&] { build_median(bld, right, node, depth + 1, m, e); };
+  auto l = [&] { build_median(bld, pts, left, node, depth + 1, b, m); };
+  auto r = [&] { build_median(bld, pts, right, node, depth + 1, m, e); };
   if (e - b > (1u << 16))
     tbb::parallel_invoke(l, r);
   else {
@@ -198,18 +210,6 @@ void build_median(Builder& bld, uint32_t node, uint32_t parent, uint32_t depth, 
   Box3 box = bvh.nodes[left].box;
   box.extend(bvh.nodes[right].box);
   bvh.nodes[node].box = box;
-}
-
-Box3 splat_box(const RenderScene& s, std::size_t i) {
-  const Vec3f c = s.positions[i], n = s.normals[i];
-  const float r = s.radii[i];
-  Vec3f h{r, r, r};
-  if (s.axes.empty()) {
-    auto ext = [&](float ni) { return r * std::sqrt(std::max(0.0f, 1.0f - ni * ni)); };
-    // A little more than the exact extent: the disc's arithmetic is in float.
-    h = Vec3f{ext(n.x), ext(n.y), ext(n.z)} * 1.0001f + Vec3f{r, r, r} * 1e-4f;
-  }
-  return {c - h, c + h};
 }
 
 }  // namespace
@@ -229,21 +229,26 @@ ChunkBvh build_chunk_bvh(const RenderScene& scene, uint32_t leaf_size, BvhSplit 
   Builder b{scene, leaf_size, split, {}, {}};
   const std::size_t n = scene.size();
   if (n >= UINT32_MAX) throw_usage("too many splats for the chunk hierarchy (2^32)");
-  b.boxes.resize(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) b.boxes[i] = splat_box(scene, i);
-  });
   b.bvh.order.resize(n);
-  for (std::size_t i = 0; i < n; ++i) b.bvh.order[i] = uint32_t(i);
   if (split == BvhSplit::kMedian) {
+    std::vector<RankedPoint> pts(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i)
+        pts[i] = RankedPoint::make(scene.positions[i], uint32_t(i));
+    });
     b.bvh.nodes.resize(median_nodes(uint32_t(n), leaf_size));
-    build_median(b, 0, UINT32_MAX, 0, 0, uint32_t(n));
+    build_median(b, pts, 0, UINT32_MAX, 0, 0, uint32_t(n));
     for (const ChunkBvhNode& x : b.bvh.nodes)
       if (x.leaf) {
         ++b.bvh.leaf_count;
         b.bvh.max_leaf = std::max(b.bvh.max_leaf, x.size());
       }
   } else {
+    b.boxes.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) b.boxes[i] = splat_box(scene, i);
+    });
+    for (std::size_t i = 0; i < n; ++i) b.bvh.order[i] = uint32_t(i);
     b.bvh.nodes.reserve(2 * (n / std::max<uint32_t>(1, leaf_size / 2) + 1));
     b.bvh.nodes.resize(1);
     b.build(0, 0, uint32_t(n));
