@@ -131,6 +131,10 @@ if n > 1:
          warm["frustum"] / warm["chc++"] >= 4)
     line("without frame 0: fps ratio chc++ / none", warm["none"] / warm["chc++"], ">= 8",
          warm["none"] / warm["chc++"] >= 8)
+    warm_q = {m: q[m] - fr(m, 0)["occlusion"]["queries"] for m in ("hierarchical", "chc++")}
+    line("without frame 0: queries chc++ / hierarchical",
+         warm_q["chc++"] / max(1, warm_q["hierarchical"]), "<= 1/3",
+         warm_q["chc++"] <= warm_q["hierarchical"] / 3)
     line("without frame 0: best possible none / floor", warm["none"] / warm_floor, "-", True)
     line("without frame 0: best possible frustum / floor", warm["frustum"] / warm_floor, "-", True)
 PY
