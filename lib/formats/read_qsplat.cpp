@@ -7,6 +7,7 @@
 
 #include "formats/qsplat_codes.h"
 #include "splatkit/error.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit {
 
@@ -104,6 +105,20 @@ class Parser {
       fail(frag + 36, "root has " + std::to_string(root_children) + " children (1 to 4 allowed)");
     const std::size_t end = frag + length;
     const std::size_t node_bytes = m_.has_color ? 6 : 4;
+    // At most one node per node_bytes of the fragment, and the root: the arrays never move, and
+    // their pages are mapped in parallel up front (a fresh page costs more than filling it).
+    const std::size_t most = m_.size() + 1 + (length - kHeaderBytes) / node_bytes;
+    auto make_room = [&](auto& v) {
+      v.reserve(most);
+      map_pages_in_parallel(v.data() + v.size(), v.data() + most);
+    };
+    make_room(m_.centres);
+    make_room(m_.radii);
+    make_room(m_.normal_codes);
+    make_room(m_.cones);
+    if (m_.has_color) make_room(m_.colors);
+    make_room(m_.first_child);
+    make_room(m_.child_count);
     const auto root = static_cast<uint32_t>(push_node(c, r, 0, 3, 0));
     m_.roots.push_back(root);
     m_.child_count[root] = static_cast<uint8_t>(root_children);
@@ -185,7 +200,10 @@ QSplatModel parse_qsplat(std::span<const unsigned char> bytes, const std::string
 
 QSplatModel read_qsplat(InputStream& in) {
   std::vector<unsigned char> bytes;
-  if (in.size_hint()) bytes.reserve(*in.size_hint());
+  if (in.size_hint()) {
+    bytes.reserve(*in.size_hint());
+    map_pages_in_parallel(bytes.data(), bytes.data() + bytes.capacity());
+  }
   unsigned char buf[1 << 16];
   for (std::size_t n; (n = in.read_some(buf, sizeof buf)) > 0;)
     bytes.insert(bytes.end(), buf, buf + n);
