@@ -10,6 +10,7 @@
 #include "splatkit/error.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/select_rank.h"
+#include "splatkit/slot_array.h"
 
 namespace splatkit::render {
 
@@ -177,8 +178,8 @@ uint32_t median_nodes(uint32_t n, uint32_t leaf_size) {
 // the left subtree), so that subtrees are built in parallel into slots known in advance. The
 // splats' centres travel with their indices (`pts`), so that the cuts read no position at
 // random; a leaf's range of `order` takes its indices, ascending.
-void build_median(Builder& bld, std::vector<RankedPoint>& pts, uint32_t node, uint32_t parent,
-                  uint32_t depth, uint32_t b, uint32_t e) {
+void build_median(Builder& bld, RankedPoint* pts, uint32_t node, uint32_t parent, uint32_t depth,
+                  uint32_t b, uint32_t e) {
   ChunkBvh& bvh = bld.bvh;
   ChunkBvhNode& n = bvh.nodes[node];
   n.parent = parent;
@@ -193,9 +194,9 @@ void build_median(Builder& bld, std::vector<RankedPoint>& pts, uint32_t node, ui
     return;
   }
   Vec3f lo, hi;
-  point_bounds(pts.data() + b, pts.data() + e, lo, hi);
+  point_bounds(pts + b, pts + e, lo, hi);
   const uint32_t m = b + (e - b) / 2;
-  select_rank(pts.data() + b, pts.data() + m, pts.data() + e, longest_axis(lo, hi));
+  select_rank(pts + b, pts + m, pts + e, longest_axis(lo, hi));
   const uint32_t left = node + 1, right = left + median_nodes(m - b, bld.leaf_size);
   n.left = left;
   n.right = right;
@@ -231,13 +232,14 @@ ChunkBvh build_chunk_bvh(const RenderScene& scene, uint32_t leaf_size, BvhSplit 
   if (n >= UINT32_MAX) throw_usage("too many splats for the chunk hierarchy (2^32)");
   b.bvh.order.resize(n);
   if (split == BvhSplit::kMedian) {
-    std::vector<RankedPoint> pts(n);
+    SlotArray<RankedPoint> pts;  // uninitialised: filled below, its pages faulted in parallel
+    pts.allocate(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i)
         pts[i] = RankedPoint::make(scene.positions[i], uint32_t(i));
     });
     b.bvh.nodes.resize(median_nodes(uint32_t(n), leaf_size));
-    build_median(b, pts, 0, UINT32_MAX, 0, 0, uint32_t(n));
+    build_median(b, pts.get(), 0, UINT32_MAX, 0, 0, uint32_t(n));
     for (const ChunkBvhNode& x : b.bvh.nodes)
       if (x.leaf) {
         ++b.bvh.leaf_count;
