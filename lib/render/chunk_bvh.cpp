@@ -144,14 +144,12 @@ struct Builder {
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
     const Box3 centres{lo, hi};
-    const Vec3f d = centres.max - centres.min;
-    const int longest = d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
     uint32_t m = b;
     if (split == BvhSplit::kSah) {
       int ax = 0;
       m = sah_split(b, e, centres, ax);
     }
-    if (m <= b || m >= e) m = median_split(b, e, longest);
+    if (m <= b || m >= e) m = median_split(b, e, longest_axis(lo, hi));
     const uint32_t left = uint32_t(bvh.nodes.size());
     bvh.nodes.resize(bvh.nodes.size() + 2);
     for (uint32_t c : {left, left + 1}) {
