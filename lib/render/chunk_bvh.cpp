@@ -76,11 +76,10 @@ struct Builder {
     return m;
   }
 
-  uint32_t sah_split(uint32_t b, uint32_t e, const Box3& centres, int& best_axis) {
+  uint32_t sah_split(uint32_t b, uint32_t e, const Box3& centres) {
     constexpr int kBins = 16;
     float best = INFINITY;
-    int best_bin = -1;
-    best_axis = -1;
+    int best_bin = -1, best_axis = -1;
     for (int ax = 0; ax < 3; ++ax) {
       const float lo = axis(centres.min, ax), hi = axis(centres.max, ax);
       if (!(hi > lo)) continue;
@@ -144,11 +143,7 @@ struct Builder {
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
     const Box3 centres{lo, hi};
-    uint32_t m = b;
-    if (split == BvhSplit::kSah) {
-      int ax = 0;
-      m = sah_split(b, e, centres, ax);
-    }
+    uint32_t m = split == BvhSplit::kSah ? sah_split(b, e, centres) : b;
     if (m <= b || m >= e) m = median_split(b, e, longest_axis(lo, hi));
     const uint32_t left = uint32_t(bvh.nodes.size());
     bvh.nodes.resize(bvh.nodes.size() + 2);
