@@ -7,6 +7,7 @@
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 
 namespace splatkit::apps {
 
@@ -25,6 +26,7 @@ nlohmann::json stats_json(const graph::SplatGraphStats& s) {
           {"clip_partners", s.clip_partners},
           {"surfaces", s.surfaces},
           {"normal_noise_degrees", s.surface_method.normal_noise_degrees},
+          {"sharp_edges_within_surfaces", s.surface_method.sharp_edges_within},
           {"core_threshold", s.surface_method.core_threshold}};
 }
 
@@ -47,7 +49,7 @@ graph::SplatGraphOptions graph_options(const BuildSplatGraphOptions& o) {
 
 StageSummary run_build_splat_graph(const BuildSplatGraphOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && !std::string_view(output).ends_with(".splk"))
+  if (output != "-" && lower_extension(output) != "splk")
     throw_usage("OUT must end in .splk or be '-' (the graph chunks need .splk): " + output);
   const graph::SplatGraphOptions options = graph_options(o);
   Stage stage("build-splat-graph", o.paths);

@@ -112,6 +112,21 @@ void label_the_rest(const Rows& rows, std::vector<uint32_t>& label, std::vector<
     if (label[i] == kUnset) label[i] = find_root(parent, uint32_t(i));
 }
 
+// The share of the sharp edges (each counted once) whose two splats lie in one surface of
+// `segmentation`; 0 when there is no sharp edge.
+double share_of_sharp_edges_within(const Rows& rows, const Segmentation& segmentation) {
+  const NeighborGraph& g = rows.graph;
+  uint64_t sharp = 0, within = 0;
+  for (std::size_t i = 0; i < g.num_points(); ++i)
+    for (uint64_t k = g.offsets[i]; k < g.offsets[i + 1]; ++k) {
+      const uint32_t j = g.neighbors[k];
+      if (!(rows.flags[k] & rows.sharp) || j <= i) continue;
+      ++sharp;
+      within += segmentation.surface[i] == segmentation.surface[j];
+    }
+  return sharp ? double(within) / double(sharp) : 0.0;
+}
+
 }  // namespace
 
 float default_core_threshold(float sharp_threshold) {
@@ -137,9 +152,17 @@ Segmentation segment_surfaces_robust(const NeighborGraph& graph,
   } else {
     chosen.normal_noise_degrees =
         estimate_normal_noise(graph, edge_flags, sharp_mask, positions, normals);
-    chosen.core_threshold = chosen.normal_noise_degrees >= options.noisy_degrees
-                                ? default_core_threshold(options.sharp_threshold)
-                                : options.sharp_threshold;
+    chosen.core_threshold = default_core_threshold(options.sharp_threshold);
+    if (chosen.normal_noise_degrees < options.noisy_degrees) {
+      // Clean normals: the components, unless they run across the creases.
+      Segmentation components = segment_surfaces(graph, edge_flags, sharp_mask);
+      chosen.sharp_edges_within = share_of_sharp_edges_within(rows, components);
+      if (chosen.sharp_edges_within < options.leak_share) {
+        chosen.core_threshold = options.sharp_threshold;
+        if (info) *info = chosen;
+        return components;
+      }
+    }
   }
   if (info) *info = chosen;
   // Every continuous edge has n_i·n_j >= w_s, so with a threshold at or below it every splat

@@ -38,19 +38,30 @@ namespace splatkit::graph {
 struct RobustSegmentOptions {
   // n_i·n_j every continuous neighbour of a core splat reaches, in [-1, 1]. None: automatic —
   // default_core_threshold(sharp_threshold) when estimate_normal_noise finds the normals noisy
-  // (>= noisy_degrees), else sharp_threshold itself, which makes every splat a core and the
-  // result exactly segment_surfaces' (clean normals need no protection, and a curved patch
-  // sampled coarsely — neighbours 13°–26° apart — would otherwise fall apart into islands).
+  // (>= noisy_degrees); for clean normals sharp_threshold itself, which makes every splat a core
+  // and the result exactly segment_surfaces' (a curved patch sampled coarsely — neighbours
+  // 13°–26° apart — would otherwise fall apart into islands), unless those components run across
+  // the creases: when at least leak_share of the sharp edges join two splats of one component,
+  // default_core_threshold again. (PCA normals of a clean scan are exact on the faces, so not
+  // noisy, but blend from face to face across every crease: components merged all faces of a
+  // clean cube, CAD part or pair of crossing spheres into one.)
   std::optional<float> core_threshold;
   float sharp_threshold = 0.9f;  // w_s the edge flags were computed with
   double noisy_degrees = 0.75;   // measured: exact or clean robust normals <= 0.4° (a torus of
                                  // 10 k splats), the noisy CAD part >= 1.25° (50 k–1 M splats)
+  double leak_share = 0.5;       // measured on clean cube, CAD part and crossing spheres, random
+                                 // and scan-line samplings, 6 k–300 k splats: PCA normals
+                                 // 0.74–1.0 (every one a single surface), exact normals <= 0.09,
+                                 // robust normals <= 0.47 except a scan-line cube at 0.87 (which
+                                 // leaked too)
   uint32_t min_core_size = 10;   // smaller core components are not cores (>= 1)
 };
 
 // What the automatic choice saw and chose.
 struct RobustSegmentInfo {
   double normal_noise_degrees = 0;  // estimate_normal_noise (0 when not needed: threshold given)
+  double sharp_edges_within = 0;    // share of the sharp edges inside one component (0 when not
+                                    // needed: threshold given or noisy normals)
   float core_threshold = 0;         // the threshold used
 };
 

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <stdexcept>
 #include <vector>
 
 #include "graph/build_splat_graph.h"
 #include "graph/segment_surfaces_robust.h"
+#include "normals/estimate_normals.h"
 #include "splatkit/synthetic_shapes.h"
 
 namespace splatkit::graph {
@@ -128,6 +130,60 @@ TEST(GraphSegmentSurfacesRobust, CleanShapesGiveTheComponents) {
                                 fixed(default_core_threshold(0.9f), 10));
     EXPECT_EQ(seg.surface, g.surfaces.surface) << shape_kind_name(kind);
     EXPECT_EQ(seg.count(), kind == ShapeKind::kCube ? 6u : 2u) << shape_kind_name(kind);
+  }
+}
+
+// PCA normals of clean scans: exact on the faces (no noise) but blended from face to face across
+// every crease, so the components run across them; the automatic threshold sees that from the
+// sharp edges inside the components and takes the core angle, which gives every patch its own
+// surface. Random and scan-line samplings, the default estimate-normals options.
+TEST(GraphSegmentSurfacesRobust, CleanPcaNormalsDoNotMergeTheFaces) {
+  struct Case {
+    ShapeKind kind;
+    double scan_lines;
+    uint32_t patches;
+  };
+  for (const Case& k : {Case{ShapeKind::kCube, 0, 6}, Case{ShapeKind::kCube, 8, 6},
+                        Case{ShapeKind::kCadPart, 0, 9}}) {
+    ShapeOptions so;
+    so.kind = k.kind;
+    so.points = 40000;
+    so.random = true;
+    so.scan_lines = k.scan_lines;
+    SplatCloud cloud = make_shape(so);
+    estimate_normals(cloud, NormalOptions{});
+    const ExtraAttribute* patch_id = cloud.find_extra("patch_id");
+    ASSERT_NE(patch_id, nullptr);
+    const std::vector<double> patch = patch_id->values.doubles();
+    SplatGraphOptions go;
+    go.robust_surfaces = false;
+    const SplatGraph g = build_splat_graph(cloud, go);
+    const std::string name =
+        std::string(shape_kind_name(k.kind)) + (k.scan_lines > 0 ? " scan lines" : " random");
+    RobustSegmentInfo info;
+    const Segmentation seg = segment_surfaces_robust(g.graph, g.edge_flags, kEdgeSharp,
+                                                     cloud.positions, cloud.normals, {}, &info);
+    // The components merge the faces (what the automatic choice guards against): one of them
+    // holds more than half the splats.
+    std::vector<uint32_t> component_size(g.surfaces.count(), 0);
+    for (uint32_t c : g.surfaces.surface) ++component_size[c];
+    EXPECT_GT(*std::max_element(component_size.begin(), component_size.end()),
+              cloud.size() / 2)
+        << name;
+    EXPECT_LT(info.normal_noise_degrees, 0.75) << name;
+    EXPECT_GE(info.sharp_edges_within, 0.5) << name;
+    EXPECT_FLOAT_EQ(info.core_threshold, default_core_threshold(0.9f)) << name;
+    // Every patch's splats mostly in one surface of their own.
+    std::vector<std::vector<uint32_t>> count(k.patches, std::vector<uint32_t>(seg.count(), 0));
+    for (std::size_t i = 0; i < patch.size(); ++i) ++count[std::size_t(patch[i])][seg.surface[i]];
+    std::vector<uint32_t> owner(k.patches);
+    for (uint32_t p = 0; p < k.patches; ++p) {
+      owner[p] = uint32_t(std::max_element(count[p].begin(), count[p].end()) - count[p].begin());
+      const uint32_t total = std::accumulate(count[p].begin(), count[p].end(), 0u);
+      EXPECT_GE(count[p][owner[p]], 0.9 * total) << name << " patch " << p;
+    }
+    std::sort(owner.begin(), owner.end());
+    EXPECT_EQ(std::unique(owner.begin(), owner.end()) - owner.begin(), k.patches) << name;
   }
 }
 

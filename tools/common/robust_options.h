@@ -16,7 +16,8 @@ inline void add_robust_options(CLI::App& app, graph::RobustSegmentOptions& o) {
   app.add_option("--core", o.core_threshold,
                  "robust: n_i.n_j a core splat's continuous neighbours reach at least "
                  "(default: automatic, the cosine of half the sharp angle when the normals are "
-                 "noisy, else the sharp threshold itself)")
+                 "noisy or when half the sharp edges lie inside components of the continuous "
+                 "edges, else the sharp threshold itself)")
       ->check(finite_range(-1.0, 1.0));
   app.add_option("--min-core", o.min_core_size,
                  "robust: core components with fewer splats are not cores")
