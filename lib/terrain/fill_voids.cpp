@@ -56,6 +56,7 @@ VoidFiller::VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, i
   rows_.resize(std::size_t(capacity_) * w);
   voids_.resize(rows_.size());
   counts_.assign(std::size_t(capacity_), 0);
+  sums_.assign(std::size_t(capacity_), 0.0);
   up_val_.assign(w, 0.0f);
   up_row_.assign(w, -1);
   down_row_.assign(w, -1);
@@ -74,13 +75,26 @@ void VoidFiller::load_more() {
     const float* in = row(y);
     uint8_t* v = voids_.data() + slot(y) * w;
     int64_t count = 0;
+    double sum = 0;
     for (int64_t x = 0; x < w; ++x) {
       v[x] = is_void(in[x], has_nodata_, nodata_) ? 1 : 0;
       count += v[x];
+      sum += v[x] ? 0.0 : double(in[x]);
     }
     counts_[std::size_t(slot(y))] = count;
+    sums_[std::size_t(slot(y))] = sum;
   }
   loaded_ += n;
+}
+
+float VoidFiller::mean_in_reach(int64_t r) const {
+  double sum = 0;
+  int64_t count = 0;
+  for (int64_t y = r; y < loaded_; ++y) {
+    sum += sums_[std::size_t(slot(y))];
+    count += width_ - counts_[std::size_t(slot(y))];
+  }
+  return count > 0 ? float(sum / double(count)) : 0.0f;
 }
 
 int VoidFiller::good(int64_t y, int64_t x) const {
@@ -186,7 +200,7 @@ VoidFiller::Staged VoidFiller::fill_next() {
         else if (r + k < loaded_ && !voids_[std::size_t(slot(r + k) * w + x)])
           out[x] = row(r + k)[x], done = true;
       }
-      if (!done) out[x] = prev ? prev[x] : 0.0f;
+      if (!done) out[x] = prev ? prev[x] : mean_in_reach(r);
     }
   }
   for (int64_t x = 0; x < w; ++x)

@@ -44,8 +44,10 @@ class VoidFiller {
   VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, int64_t lookahead,
              int smoothing = kSmoothing);
   // Writes the next row, filled, into `out` (width floats) and returns its number of no-data
-  // samples; mask() then flags them (1 = no-data). Samples with no good neighbour in any
-  // direction within reach take the filled row above, or 0 at the top.
+  // samples; mask() then flags them (1 = no-data). Samples with no good neighbour in their row or
+  // column within reach take the filled row above, or at the top the mean of the valid samples
+  // of the rows in reach (0 when there is none: a map that starts with more void rows than the
+  // look-ahead).
   int64_t next(float* out);
   const std::vector<uint8_t>& mask() const { return mask_; }
   // The samples of that row that were replaced (voids and void edges: 1), valid when
@@ -69,6 +71,7 @@ class VoidFiller {
   const float* values(const Staged& s) const;
   void load_more();
   int good(int64_t y, int64_t x) const;  // 1 good, 0 void or beside one, 2 not yet known
+  float mean_in_reach(int64_t r) const;   // of the valid samples of rows r to the last loaded
   Staged fill_next();                     // step 1 for the next input row
   void push(int pass, Staged staged);     // step 2, pass by pass
 
@@ -81,6 +84,7 @@ class VoidFiller {
   std::vector<float> rows_;          // ring of original rows (capacity_ rows)
   std::vector<uint8_t> voids_;       // their no-data flags
   std::vector<int64_t> counts_;      // no-data samples per ring row
+  std::vector<double> sums_;         // and the sum of its valid samples
   std::vector<float> up_val_;        // last good sample above, per column
   std::vector<int64_t> up_row_, down_row_, down_scanned_;
   std::vector<int64_t> left_, right_;

@@ -296,6 +296,31 @@ TEST(TerrainComputeHam, AllVoidRowsAreFilledFromAboveAndBelow) {
   EXPECT_EQ(r.tiles.voids[0], uint32_t(4 * w));
 }
 
+// A map that is mostly void (an island in a no-data sea, as coastal DEMs and clipped rasters
+// are): samples whose row and column hold no valid height still take heights from the island,
+// never 0 (which made 0 -> 500 m cliffs around it). Also a single valid sample.
+TEST(TerrainFillVoids, AnIslandInAVoidSeaFillsWithinItsHeights) {
+  const int64_t w = 200, h = 200;
+  std::vector<float> v(std::size_t(w * h), -32768.0f);
+  float lo = 1e30f, hi = -1e30f;
+  for (int64_t y = 85; y < 115; ++y)
+    for (int64_t x = 85; x < 115; ++x) {
+      const float z =
+          500.0f + 100.0f * float(std::exp(-double((x - 100) * (x - 100) + (y - 100) * (y - 100)) /
+                                           200.0));
+      v[std::size_t(y * w + x)] = z;
+      lo = std::min(lo, z);
+      hi = std::max(hi, z);
+    }
+  const Filled filled = filled_copy(v, w, h, true, -32768);
+  const auto [mn, mx] = std::minmax_element(filled.heights.begin(), filled.heights.end());
+  EXPECT_GE(*mn, lo);
+  EXPECT_LE(*mx, hi);
+  std::vector<float> one(100, -32768.0f);
+  one[55] = 3.0f;
+  for (float z : filled_copy(one, 10, 10, true, -32768).heights) EXPECT_EQ(z, 3.0f);
+}
+
 TEST(TerrainFillVoids, RunsBecomeLinesBetweenTheirNeighbours) {
   std::vector<float> row = {-32768, 10, -32768, -32768, -32768, 20, NAN, -32768};
   EXPECT_EQ(fill_row_voids(row.data(), int64_t(row.size()), true, -32768), 6);
