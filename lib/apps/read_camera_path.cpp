@@ -10,7 +10,9 @@ namespace splatkit::apps {
 
 namespace {
 
-Vec3f vec3(const nlohmann::json& e, const char* key, const std::string& name, std::size_t i) {
+// `origin` is subtracted (zero for directions).
+Vec3f vec3(const nlohmann::json& e, const char* key, const std::string& name, std::size_t i,
+           const std::array<double, 3>& origin = {0, 0, 0}) {
   const auto& v = e.at(key);
   auto bad = [&]() -> Vec3f {
     throw_bad_input(name, "camera " + std::to_string(i) + ": \"" + key +
@@ -22,8 +24,8 @@ Vec3f vec3(const nlohmann::json& e, const char* key, const std::string& name, st
   for (int k = 0; k < 3; ++k) {
     if (!v[k].is_number()) return bad();
     const double d = v[k].get<double>();
-    if (!std::isfinite(d) || std::fabs(d) > 3e38) return bad();
-    *c[k] = static_cast<float>(d);
+    if (!std::isfinite(d) || std::fabs(d - origin[k]) > 3e38) return bad();
+    *c[k] = static_cast<float>(d - origin[k]);
   }
   return out;
 }
@@ -32,7 +34,7 @@ Vec3f vec3(const nlohmann::json& e, const char* key, const std::string& name, st
 
 std::vector<render::Camera> read_camera_path(const std::string& text, const std::string& name,
                                              const Vec3f& default_up, float default_fov, int width,
-                                             int height) {
+                                             int height, const std::array<double, 3>& origin) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text);
@@ -54,8 +56,8 @@ std::vector<render::Camera> read_camera_path(const std::string& text, const std:
     if (!e.contains("eye") || !e.contains("target"))
       throw_bad_input(name, where + ": needs \"eye\" and \"target\"");
     render::Camera c;
-    c.eye = vec3(e, "eye", name, i);
-    c.target = vec3(e, "target", name, i);
+    c.eye = vec3(e, "eye", name, i, origin);
+    c.target = vec3(e, "target", name, i, origin);
     c.width = width;
     c.height = height;
     c.fov_y_deg = default_fov;

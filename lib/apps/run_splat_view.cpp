@@ -58,9 +58,11 @@ const std::regex& frame_pattern() {
   return re;
 }
 
+constexpr float kMaxSceneRadius = 1e18f;
+
 // The options with their texts parsed and every number checked (NaN, infinity, range).
 struct Resolved {
-  std::optional<Vec3f> eye, target;
+  std::optional<std::array<double, 3>> eye, target;  // the file's coordinates
   std::optional<std::array<float, 2>> view;
   std::optional<float> view_distance;
   Vec3f up{0, 0, 1};
@@ -164,8 +166,8 @@ void check_explicit_up(const SplatViewOptions& o, const Vec3f& eye, const Vec3f&
 Resolved resolve(const SplatViewOptions& o) {
   Resolved r;
   r.render = o.render;
-  if (!o.eye.empty()) r.eye = to_vec3(parse_triple(o.eye, "--eye"));
-  if (!o.target.empty()) r.target = to_vec3(parse_triple(o.target, "--target"));
+  if (!o.eye.empty()) r.eye = parse_triple(o.eye, "--eye");
+  if (!o.target.empty()) r.target = parse_triple(o.target, "--target");
   if (!o.up.empty()) r.up = to_vec3(parse_triple(o.up, "--up"));
   if (!o.view.empty()) parse_view(o.view, r);
   if (!o.background.empty()) r.render.background = parse_background(o.background);
@@ -174,7 +176,8 @@ Resolved resolve(const SplatViewOptions& o) {
   if (r.eye && r.view) throw_usage("--eye and --view are alternatives; give one of them");
   if (r.target && !r.eye) throw_usage("--target needs --eye");
   if (!(norm(r.up) > 0)) throw_usage("--up must not be zero");
-  if (r.eye && r.target && !o.up.empty()) check_explicit_up(o, *r.eye, *r.target, r.up);
+  if (r.eye && r.target && !o.up.empty())
+    check_explicit_up(o, to_vec3(*r.eye), to_vec3(*r.target), r.up);
   if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180)) throw_usage("--fov must be in (0, 180) degrees");
   if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide)
     throw_usage("--width and --height must be in [1, " + std::to_string(kMaxImageSide) + "]");
@@ -202,11 +205,17 @@ Resolved resolve(const SplatViewOptions& o) {
   return r;
 }
 
-Camera base_camera(const SplatViewOptions& o, const Resolved& r, const BoundingSphere& bounds) {
+// `p` (the file's coordinates) in the scene's local frame.
+Vec3f local_point(const std::array<double, 3>& p, const RenderScene& scene) {
+  return to_vec3({p[0] - scene.origin[0], p[1] - scene.origin[1], p[2] - scene.origin[2]});
+}
+
+Camera base_camera(const SplatViewOptions& o, const Resolved& r, const RenderScene& scene) {
+  const BoundingSphere& bounds = scene.bounds;
   if (r.eye) {
     Camera c;
-    c.eye = *r.eye;
-    c.target = r.target ? *r.target : bounds.center;
+    c.eye = local_point(*r.eye, scene);
+    c.target = r.target ? local_point(*r.target, scene) : bounds.center;
     if (o.up.empty()) {
       c.up = automatic_up(c.target - c.eye, r.up);
     } else {
@@ -359,6 +368,8 @@ StageSummary SplatViewSummary::line() const {
 
 SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& progress) {
   const Resolved r = resolve(o);
+  // The path is checked before the scene loads, and read again in the scene's local frame once
+  // its origin is known.
   std::vector<Camera> path;
   if (!o.path.empty())
     path = read_camera_path(read_text_file(o.path), o.path, r.up, o.fov_y_deg, o.width, o.height);
@@ -366,11 +377,14 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   const int frames = !path.empty() ? int(path.size()) : o.turntable > 0 ? o.turntable : 1;
   auto image_path = [&](int i) { return numbered ? frame_path(o.output, i) : o.output; };
   Stage stage("splat-view", {o.input, image_path(0), o.stats_path}, "--stats");
-  for (int i = 0; i < frames; ++i)  // the other frames of a turntable or a path; the path file
+  for (int i = 0; i < frames; ++i) {  // the other frames of a turntable or a path; the path file
     if ((i > 0 &&
          (same_file(o.input, image_path(i)) || same_file(o.stats_path, image_path(i), 1, 1))) ||
         (!o.path.empty() && same_file(o.path, image_path(i))))
       throw_usage("frame " + image_path(i) + " would overwrite an input or the stats");
+    // Before any frame is written: a frame that could not be would stop the run midway.
+    if (i > 0) check_can_create(image_path(i));
+  }
 
   SplatViewSummary summary;
   const auto t0 = Clock::now();
@@ -388,7 +402,22 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   summary.load_seconds = seconds_since(t0);
   const bool use_ids = r.render.surface_ids && !scene.surface_ids.empty();
 
-  const Camera base = base_camera(o, r, scene.bounds);
+  // The default camera frames the whole scene, in float32 arithmetic that squares distances: a
+  // scene wider than this (a splat 1e20 away from the rest, or a radius of 1e30) cannot be
+  // framed. (With --eye or --path the outlier just stays out of view.)
+  if (!r.eye && o.path.empty() && !(scene.bounds.radius <= kMaxSceneRadius)) {
+    char what[256];
+    std::snprintf(what, sizeof what,
+                  "the splats span a bounding sphere of radius %.3g, beyond the %.0e the default "
+                  "camera can frame in float32 (a far outlier or a huge radius? estimate-normals "
+                  "--outliers removes outliers; --eye and --target place the camera)",
+                  double(scene.bounds.radius), double(kMaxSceneRadius));
+    throw_bad_input(name, what);
+  }
+  const Camera base = base_camera(o, r, scene);
+  if (!o.path.empty() && scene.origin != std::array<double, 3>{0, 0, 0})  // now in the local frame
+    path = read_camera_path(read_text_file(o.path), o.path, r.up, o.fov_y_deg, o.width, o.height,
+                            scene.origin);
   RenderOptions render = r.render;
   render.planes = planes_for_output(o.output, use_ids);
   // Occlusion culling: the chunk hierarchy once, then per frame the splats to draw as a scene of

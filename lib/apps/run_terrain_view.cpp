@@ -124,8 +124,10 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
     report = {{"mode", "terrain"},
               {"heightmap", stage.input_name()},
               {"ham", t.ham},
-              {"width", map.width},
-              {"height", map.height},
+              {"width", o.width},  // the image's, as in splat mode; the heightmap's below
+              {"height", o.height},
+              {"map_width", map.width},
+              {"map_height", map.height},
               {"tile", tiles.tile},
               {"texel_size", {sx, sy}},
               {"tess_error_px", t.tess_error_px},

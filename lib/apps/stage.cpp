@@ -19,8 +19,13 @@ namespace splatkit::apps {
 
 namespace {
 
-// The checks OutputFile would fail on, made before the work: a directory, a missing or
-// unwritable parent directory, an existing special file (FIFO, device) that cannot be written.
+int thread_count() {
+  return static_cast<int>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+}
+
+}  // namespace
+
 void check_can_create(const std::string& path) {
   if (path.empty() || path == "-") return;
   struct stat st {};
@@ -37,13 +42,6 @@ void check_can_create(const std::string& path) {
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw_output(path, std::string("cannot create: ") + std::strerror(errno));
 }
-
-int thread_count() {
-  return static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-}
-
-}  // namespace
 
 Stage::Stage(std::string tool, StagePaths paths, std::string report_option)
     : tool_(std::move(tool)),

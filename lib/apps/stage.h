@@ -30,6 +30,11 @@
 
 namespace splatkit::apps {
 
+// The checks OutputFile would fail on, made before the work (Error(kOutput) naming `path`): a
+// directory, a missing or unwritable parent directory, an existing special file (FIFO, device)
+// that cannot be written. "-" and "" pass.
+void check_can_create(const std::string& path);
+
 class Stage {
  public:
   // `report_option` names the report in messages ("--report", "--stats"). Throws Error(kUsage)

@@ -68,6 +68,7 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
   check_splats(cloud, name);
   RenderScene s;
   s.colors = linear_colors(cloud);
+  s.origin = cloud.origin;
   s.positions = std::move(cloud.positions);
   s.normals = std::move(cloud.normals);
   s.radii = std::move(cloud.radii);

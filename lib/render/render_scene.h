@@ -3,6 +3,7 @@
 // shared by every frame (turntables render many frames of one scene).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -34,6 +35,9 @@ struct RenderScene {
   graph::ClipPartnerTable clip;
   std::vector<graph::ClipPlane> clip_planes;
   BoundingSphere bounds;  // encloses every disc
+  // Added to the local frame above to give the file's coordinates (SplatCloud::origin); zero for
+  // QSplat and SPT files, whose coordinates are the local frame.
+  std::array<double, 3> origin{0, 0, 0};
   float mean_radius = 0, max_radius = 0;
   // A QSplat hierarchy (qsplat_scene.h) instead of the arrays above, which then stay empty: each
   // frame draws the nodes its traversal selects.

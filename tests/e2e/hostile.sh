@@ -246,9 +246,12 @@ python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert len(d) >= 2,
 hostile 2 "one.xyz" -- "$BIN/estimate-normals" "$IN/one.xyz" "$OUT/one.splk"
 hostile 2 "same.xyz" -- "$BIN/estimate-normals" "$IN/same.xyz" "$OUT/same.splk"
 "$BIN/estimate-normals" -q "$IN/big.xyz" "$WORK/outlier.splk"
-# (an explicit camera: the default one frames the outlier too, 1e20 away, beyond float's reach)
+# (an explicit camera: the default one frames the outlier too, 1e20 away, beyond float's reach,
+# which is said as such: bad input, naming the file)
 hostile 0 "" -- "$BIN/splat-view" -q "$WORK/outlier.splk" -o "$OUT/o.png" --width 64 --height 48 \
   --eye 3,3,3 --target 0,0,0
+hostile 2 "outlier.splk.*bounding sphere.*--eye" -- "$BIN/splat-view" "$WORK/outlier.splk" \
+  -o "$OUT/o2.png" --width 64 --height 48
 hostile 2 "dup-grph.splk.*GRPH" -- "$BIN/segment-surfaces" "$IN/dup-grph.splk" "$OUT/s.splk"
 hostile 2 "bad-clip.splk.*CLIP" -- "$BIN/segment-surfaces" "$IN/bad-clip.splk" "$OUT/s.splk"
 for f in nan-normal.ply zero-normal.ply; do

@@ -32,8 +32,11 @@ int main(int argc, char** argv) {
                  "surface_id channel when the file has surface ids and --no-surface-ids is not "
                  "given); '-' = PNG to stdout")
       ->required();
-  app.add_option("--eye", o.eye, "Camera position x,y,z")->type_name("X,Y,Z");
-  app.add_option("--target", o.target, "Point looked at x,y,z (default: model centre)")
+  app.add_option("--eye", o.eye,
+                 "Camera position x,y,z, in the file's coordinates (georeferenced ones too)")
+      ->type_name("X,Y,Z");
+  app.add_option("--target", o.target,
+                 "Point looked at x,y,z, in the file's coordinates (default: model centre)")
       ->type_name("X,Y,Z");
   app.add_option("--up", o.up,
                  "Up direction x,y,z (default 0,0,1); turntables turn about it. A top or bottom "
@@ -80,7 +83,7 @@ int main(int argc, char** argv) {
                "Skip splats facing away (closed, consistently oriented models only)");
   app.add_option("--qsplat-threshold", o.render.qsplat_threshold_px,
                  "QSplat .qs input: recurse until a node's projected size is at most PX pixels "
-                 "(1 to 50); nodes are drawn as discs of their sphere's size")
+                 "(0.25 to 50); nodes are drawn as discs of their sphere's size")
       ->default_val(1.0f)
       ->type_name("PX")
       ->check(splatkit::finite_range(0.25, 50.0));
@@ -100,7 +103,8 @@ int main(int argc, char** argv) {
       ->type_name("R,G,B");
   app.add_option("--path", o.path,
                  "Camera path: a JSON array of {\"eye\": [x,y,z], \"target\": [x,y,z]} with "
-                 "optional \"up\" and \"fov\"; one frame per camera, OUT needs a %04d field")
+                 "optional \"up\" and \"fov\" (points in the file's coordinates); one frame per "
+                 "camera, OUT needs a %04d field")
       ->type_name("CAMERAS.json");
   app.add_option("--occlusion", o.occlusion,
                  "Occlusion culling over a hierarchy of splat chunks built at load: none, "
@@ -122,7 +126,10 @@ int main(int argc, char** argv) {
                "z-buffer pass) into the --stats report as occlusion.splats_visible, and the time "
                "to render those splats alone as occlusion.floor_ms (the least any culling could "
                "leave)");
-  app.add_option("--stats", o.stats_path, "Write a JSON report (counts, time per stage)");
+  app.add_option("--stats", o.stats_path,
+                 "Write a JSON report (counts, time per stage). With several frames, \"frames\" "
+                 "holds each frame's counts and times, \"mean_frame_ms\" and the occlusion "
+                 "totals all of them, and the top-level counts are the last frame's");
   splatkit::apps::TerrainViewOptions terrain;
   app.add_option("--terrain", terrain.heightmap,
                  "Render this heightmap (any build-ham input) instead of splats, tessellated per "
