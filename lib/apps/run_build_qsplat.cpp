@@ -7,6 +7,7 @@
 #include "qsplat/encode_qsplat.h"
 #include "qsplat/make_qsplat_leaves.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 
 namespace splatkit::apps {
 
@@ -27,7 +28,7 @@ std::string comment_text(const LoadedCloud& doc) {
 
 StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && !std::string_view(output).ends_with(".qs"))
+  if (output != "-" && lower_extension(output) != "qs")
     throw_usage("OUT must end in .qs or be '-': " + output);
   Stage stage("build-qsplat", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
@@ -50,7 +51,12 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   const bool color = !leaves.colors.empty();
   { const qsplat::QSplatLeaves done = std::move(leaves); }
   qsplat::EncodedQSplat file = stage.phase("quantise", "quantising the QSplat tree", [&] {
-    return qsplat::encode_qsplat(tree, comment_text(doc));
+    try {
+      return qsplat::encode_qsplat(tree, comment_text(doc));
+    } catch (const Error& e) {  // input that the format cannot hold: named as such
+      if (e.kind() == ErrorKind::kBadInput) throw_bad_input(stage.input_name(), e.what());
+      throw;
+    }
   });
   const Clock::time_point t0 = Clock::now();
   OutputFile out(output);

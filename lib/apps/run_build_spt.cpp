@@ -8,6 +8,7 @@
 
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 #include "splatkit/spill_arena.h"
 #include "spt/build_spt_tree.h"
 #include "spt/encode_spt.h"
@@ -22,7 +23,7 @@ constexpr std::size_t kSpillBytesPerPoint = 80;
 
 StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && !std::string_view(output).ends_with(".spt"))
+  if (output != "-" && lower_extension(output) != "spt")
     throw_usage("OUT must end in .spt or be '-': " + output);
   if (!(o.epsilon > 0) || !std::isfinite(o.epsilon))
     throw_usage("--epsilon must be a positive number of radians");
@@ -32,7 +33,7 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   LoadedCloud doc = stage.read(o.read, progress);
   spill::check_room(doc.cloud.size() * kSpillBytesPerPoint);
   SplatCloud& cloud = doc.cloud;
-  if (cloud.size() == 0) throw_unsupported(stage.input_name(), "no points");
+  if (cloud.size() == 0) throw_bad_input(stage.input_name(), "the file has no points");
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");
   check_splats(cloud, stage.input_name());

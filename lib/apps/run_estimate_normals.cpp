@@ -7,6 +7,7 @@
 
 #include "apps/parse_triple.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 #include "splatkit/spill_arena.h"
 
 namespace splatkit::apps {
@@ -26,7 +27,7 @@ FileFormat output_format(const std::string& output, const std::string& format) {
   if (!format.empty()) throw_usage("--format must be ply or splk, got '" + format + "'");
   if (output == "-") return FileFormat::kSplk;
   const FileFormat f = output_format_for(output);
-  if (f == FileFormat::kPly || std::string_view(output).ends_with(".splk")) return f;
+  if (f == FileFormat::kPly || lower_extension(output) == "splk") return f;
   throw_usage("OUT must end in .ply or .splk, or be '-' (or give --format ply|splk): " + output);
 }
 
@@ -167,6 +168,9 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   }
   Stage stage("estimate-normals", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
+  // As for a single point: no splat can be made (and an empty file with no normals would only
+  // fail the next tool, with a message about normals).
+  if (doc.cloud.size() == 0) throw_bad_input(stage.input_name(), "the file has no points");
   spill::check_room(doc.cloud.size() * (kSpillBytesPerPoint +
                                         (options.ellipses ? kSpillEllipseBytesPerPoint : 0)));
   // Outliers go first, on the cloud as read (duplicates included), as PCL's filters see it.

@@ -11,6 +11,7 @@
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
+#include "splatkit/lower_extension.h"
 
 namespace splatkit::apps {
 
@@ -74,8 +75,8 @@ GraphChunks decode_chunks(const LoadedCloud& doc, const std::string& name) {
 
 StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  const bool ply = std::string_view(output).ends_with(".ply");
-  if (output != "-" && !ply && !std::string_view(output).ends_with(".splk"))
+  const bool ply = lower_extension(output) == "ply";
+  if (output != "-" && !ply && lower_extension(output) != "splk")
     throw_usage("OUT must end in .splk or .ply, or be '-': " + output);
   if (o.method != "robust" && o.method != "components")
     throw_usage("--method must be robust or components, got '" + o.method + "'");
@@ -155,6 +156,7 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
                         {"moved_splats", refined.moved}};
     if (robust) {
       report["normal_noise_degrees"] = chosen.normal_noise_degrees;
+      report["sharp_edges_within_surfaces"] = chosen.sharp_edges_within;
       report["core_threshold"] = chosen.core_threshold;
     }
   }

@@ -1,5 +1,6 @@
 #include "apps/run_splat_convert.h"
 
+#include "formats/write_cloud.h"
 #include "splatkit/error.h"
 
 namespace splatkit::apps {
@@ -22,6 +23,11 @@ FileFormat format_option(const std::string& format) {
 StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& progress) {
   WriteOptions write = o.write;
   write.format = format_option(o.format);
+  if (write.format == FileFormat::kUnknown && o.paths.output != "-" &&
+      format_of_extension(o.paths.output) == FileFormat::kUnknown)
+    throw_usage("OUT's extension names no format (.ply, .splk, .xyz, .txt, .pts, .csv, .off, "
+                ".las, .laz), and no --format is given: " +
+                o.paths.output);
   if (write.ascii && write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
   Stage stage("splat-convert", o.paths);
   stage.check_output_format(write);

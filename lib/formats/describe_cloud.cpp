@@ -98,8 +98,10 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
   if (n > 0) {
     json mn = json::array(), mx = json::array();
     for (int k = 0; k < 3; ++k) {
-      mn.push_back(tidy(pos[k].min + c.origin[k]));
-      mx.push_back(tidy(pos[k].max + c.origin[k]));
+      // The float32 part tidied, the origin (a round number) added as it is: UTM coordinates
+      // keep their millimetres.
+      mn.push_back(tidy(pos[k].min) + c.origin[k]);
+      mx.push_back(tidy(pos[k].max) + c.origin[k]);
     }
     r["bounds"] = {{"min", mn}, {"max", mx}};
   }
@@ -110,11 +112,12 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
   return r;
 }
 
-// Numbers as a person reads them: integers without ".0", others with up to 9 significant digits.
-static std::string num(const json& v) {
+// Numbers as a person reads them: integers without ".0", others with up to `digits` significant
+// digits (9 holds a float32; bounds, a float32 plus the origin, get 12).
+static std::string num(const json& v, int digits = 9) {
   if (!v.is_number_float()) return v.dump();
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v.get<double>());
   return buf;
 }
 
@@ -126,7 +129,9 @@ std::string describe_cloud_text(const json& r) {
   o << "\nPoints: " << r["points"].get<uint64_t>() << "\n";
   if (r["faces"].get<uint64_t>() > 0) o << "Faces: " << r["faces"].get<uint64_t>() << "\n";
   if (r.contains("bounds")) {
-    auto v3 = [](const json& a) { return num(a[0]) + ", " + num(a[1]) + ", " + num(a[2]); };
+    auto v3 = [](const json& a) {
+      return num(a[0], 12) + ", " + num(a[1], 12) + ", " + num(a[2], 12);
+    };
     o << "Bounds: min (" << v3(r["bounds"]["min"]) << ")\n";
     o << "        max (" << v3(r["bounds"]["max"]) << ")\n";
   }

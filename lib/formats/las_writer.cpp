@@ -162,8 +162,10 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
   }
   const std::size_t rl = layout.record_length;
   std::vector<unsigned char> records(c.size() * rl, 0);
-  auto value = [&](const ExtraAttribute* e, std::size_t i, double lo, double hi) {
-    if (!e) return 0.0;
+  // A field the cloud has no attribute for gets `absent`.
+  auto value = [&](const ExtraAttribute* e, std::size_t i, double lo, double hi,
+                   double absent = 0.0) {
+    if (!e) return absent;
     const double v = e->values[i];
     return std::isfinite(v) ? std::clamp(std::round(v), lo, hi) : 0.0;
   };
@@ -187,8 +189,10 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
     put16(r + 12, static_cast<uint32_t>(value(intensity, i, 0, 65535)));
     std::size_t at;
     if (v14) {
-      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 15)) |
-                                         static_cast<int>(value(rets, i, 0, 15)) << 4);
+      // A cloud without returns (not from a LAS file): each point its own single return, the
+      // valid value (return 0 is not).
+      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 15, 1)) |
+                                         static_cast<int>(value(rets, i, 0, 15, 1)) << 4);
       r[16] = static_cast<unsigned char>(value(cls, i, 0, 255));
       r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
       // Degrees to LAS 1.4's 0.006 degree steps (the int16 range: files beyond +-30000 read back).
@@ -200,8 +204,8 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
       putf64(r + 22, gps ? gps->values[i] : 0.0);
       at = 30;
     } else {
-      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7)) |
-                                         static_cast<int>(value(rets, i, 0, 7)) << 3);
+      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7, 1)) |
+                                         static_cast<int>(value(rets, i, 0, 7, 1)) << 3);
       r[15] = static_cast<unsigned char>(value(cls, i, 0, 31));
       r[16] = static_cast<unsigned char>(static_cast<int8_t>(value(angle, i, -128, 127)));
       r[17] = static_cast<unsigned char>(value(user, i, 0, 255));

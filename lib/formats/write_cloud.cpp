@@ -10,7 +10,7 @@
 
 namespace splatkit {
 
-FileFormat output_format_for(const std::string& path) {
+FileFormat format_of_extension(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == "ply") return FileFormat::kPly;
   if (ext == "xyz" || ext == "txt" || ext == "pts" || ext == "csv") return FileFormat::kXyz;
@@ -18,7 +18,13 @@ FileFormat output_format_for(const std::string& path) {
   if (ext == "las") return FileFormat::kLas;
   if (ext == "laz") return FileFormat::kLaz;
   if (ext == "pcd") return FileFormat::kPcd;
-  return FileFormat::kSplk;
+  if (ext == "splk") return FileFormat::kSplk;
+  return FileFormat::kUnknown;
+}
+
+FileFormat output_format_for(const std::string& path) {
+  const FileFormat f = format_of_extension(path);
+  return f == FileFormat::kUnknown ? FileFormat::kSplk : f;
 }
 
 FileFormat writable_format(const std::string& path, const WriteOptions& options) {

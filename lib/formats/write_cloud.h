@@ -20,6 +20,9 @@ struct WriteOptions {
 
 // Format for an output path: by extension; "-" and unknown extensions give .splk.
 FileFormat output_format_for(const std::string& path);
+// The format an output path's extension names (any case), or kUnknown (none, or one that names
+// no format).
+FileFormat format_of_extension(const std::string& path);
 // The format write_cloud writes `path` in with `options`; throws Error(kUnsupported) for one it
 // cannot write (PCD). For checking an output before the work.
 FileFormat writable_format(const std::string& path, const WriteOptions& options);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "splatkit/error.h"
@@ -39,6 +40,29 @@ void write_comment_fragment(std::vector<unsigned char>& out, const std::string& 
   put32(&out[at + 12], 0);
   put32(&out[at + 16], 2);
   std::memcpy(&out[at + 20], text.data(), text.size());
+}
+
+// Node j found no code inside its decoded parent. When float32's steps across the model are wider
+// than its smallest leaf (a splat 1e20 away from the rest), rounding can leave a node on its
+// parent's edge: the input's fault, Error(kBadInput); otherwise Error(kInternal).
+[[noreturn]] void fail_outside_parent(const QSplatTree& t, uint32_t j) {
+  const Sphere& root = t.spheres[0];
+  const float far = std::max({std::fabs(root.centre.x), std::fabs(root.centre.y),
+                              std::fabs(root.centre.z)}) +
+                    root.radius;
+  float smallest = far;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t.child_count[i] == 0) smallest = std::min(smallest, t.spheres[i].radius);
+  if (far * 0x1p-23f > smallest) {
+    char what[256];
+    std::snprintf(what, sizeof what,
+                  "the splats span %.3g units, too wide for QSplat's float32 spheres to hold "
+                  "splats of radius %.3g (a far outlier? estimate-normals --outliers removes them)",
+                  double(far), double(smallest));
+    throw Error(ErrorKind::kBadInput, what);
+  }
+  throw Error(ErrorKind::kInternal,
+              "QSplat node " + std::to_string(j) + " lies outside its decoded parent");
 }
 
 }  // namespace
@@ -142,9 +166,7 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
           const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
           const int code = encode_sphere(parent, centre, need);
-          if (code < 0)
-            throw Error(ErrorKind::kInternal,
-                        "QSplat node " + std::to_string(j) + " lies outside its decoded parent");
+          if (code < 0) fail_outside_parent(t, j);
           t.spheres[j] = decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], parent);
           if (t.child_count[j] == 0) {
             const double g = double{t.spheres[j].radius} / s.radius;

@@ -77,6 +77,7 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
 }
 
 QSplatLeaves from_splats(SplatCloud& cloud, const std::string& name) {
+  if (cloud.size() == 0) throw_bad_input(name, "the file has no points");
   if (!cloud.has_normals() || !cloud.has_radii())
     throw_bad_input(name, std::string("the splats have no ") +
                               (cloud.has_normals() ? "radii" : "normals") +

@@ -34,7 +34,14 @@ Tool::Tool(std::string name, std::string description, std::string examples)
 
 void Tool::add_threads_option() {
   app_.add_option("--threads", threads_, "Worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            int v = 0;
+            if (!CLI::detail::lexical_cast(text, v) || v < 0)
+              return "must be 0 (all cores) or a positive number of threads, got " + text;
+            return {};
+          },
+          "NONNEGATIVE"))
       ->default_val(0);
 }
 

@@ -72,9 +72,10 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
       o.full ? 0.0f
              : static_cast<float>(
                    0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
-  if (tree.radius_lo <= tree.radius_hi) {
-    h.d_lo = 2 * tree.radius_lo + 2 * slack;
-    h.d_hi = (2 * tree.radius_hi + 2 * slack) * 1.000001f;
+  if (tree.radius_lo <= tree.radius_hi) {  // kept finite likewise (a radius near 3e38)
+    constexpr float kMax = std::numeric_limits<float>::max();
+    h.d_lo = std::min(2 * tree.radius_lo + 2 * slack, kMax);
+    h.d_hi = std::min((2 * tree.radius_hi + 2 * slack) * 1.000001f, kMax);
   } else {
     h.d_lo = 1;
     h.d_hi = 1.000001f;

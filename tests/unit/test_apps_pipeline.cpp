@@ -48,6 +48,30 @@ TEST(AppsSplatConvert, RoundTripThroughEveryWritableFormat) {
   o.paths = {temp_path("convert", "missing.ply"), temp_path("convert", "t.pcd"), ""};
   expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUnsupported,
                      "writing pcd is not supported");
+  // Extensions in any case; one that names no format is refused (not written as .splk).
+  o.paths = {ply, temp_path("convert", "T.PLY"), ""};
+  run_splat_convert(o);
+  EXPECT_EQ(read_cloud(o.paths.output).format, "ply");
+  o.paths = {ply, temp_path("convert", "t.foo"), ""};
+  expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUsage,
+                     "OUT's extension names no format");
+  EXPECT_FALSE(fs::exists(o.paths.output));
+}
+
+// A file of no points is refused by every tool that makes splats of it (a cloud without normals
+// would only fail the next tool, with a message about normals); output names in any case.
+TEST(AppsEstimateNormals, EmptyInputIsRefusedAndExtensionsInAnyCase) {
+  const std::string empty = temp_path("normals", "empty.xyz");
+  std::ofstream(empty) << "# x y z\n";
+  EstimateNormalsOptions o;
+  o.paths = {empty, temp_path("normals", "e.splk"), ""};
+  expect_stage_error([&] { run_estimate_normals(o); }, ErrorKind::kBadInput,
+                     "empty.xyz: the file has no points");
+  const std::string in = temp_path("normals", "c.ply");
+  test::synth("cube", in, 500);
+  o.paths = {in, temp_path("normals", "C.SPLK"), ""};
+  run_estimate_normals(o);
+  EXPECT_EQ(read_cloud(o.paths.output).format, "splk");
 }
 
 TEST(AppsEstimateNormals, SphereGetsRadialNormalsAndAReport) {
@@ -237,6 +261,55 @@ TEST(AppsSplatView, RendersAndRejectsBadNumbers) {
   expect_stage_error([&] { run_splat_view(o); }, ErrorKind::kUsage,
                      "--stats must not be the input file");
   EXPECT_EQ(slurp(o.output), good);  // no failed run touched the image
+}
+
+// A georeferenced scan (UTM-like coordinates, held in a local frame near the data): --eye,
+// --target and the path's points are the file's coordinates.
+TEST(AppsSplatView, CamerasAreInTheFileCoordinates) {
+  const std::string in = temp_path("view", "utm.splk");
+  test::synth("sphere", in, 3000);
+  LoadedCloud doc = read_cloud(in);
+  doc.cloud.origin = {500000.0, 4000000.0, 100.0};
+  write_cloud(doc, in);
+  SplatViewOptions o;
+  o.input = in;
+  o.output = temp_path("view", "utm.png");
+  o.stats_path = temp_path("view", "utm.json");
+  o.width = 64;
+  o.height = 48;
+  o.eye = "500003.5,4000002,101";
+  o.target = "500000,4000000,100";
+  run_splat_view(o);
+  const uint64_t covered = read_json(o.stats_path)["pixels_covered"].get<uint64_t>();
+  EXPECT_GT(covered, 300u);
+  o.eye = "3.5,2,1";  // the local frame is not the file's: the sphere is 4 million units away
+  o.target = "0,0,0";
+  run_splat_view(o);
+  EXPECT_EQ(read_json(o.stats_path)["pixels_covered"].get<uint64_t>(), 0u);
+  const std::string path = temp_path("view", "utm-path.json");
+  std::ofstream(path) << R"([{"eye": [500003.5, 4000002, 101], "target": [500000, 4000000, 100]}])";
+  o.eye = o.target = "";
+  o.path = path;
+  o.output = temp_path("view", "utm_%02d.png");
+  run_splat_view(o);
+  EXPECT_EQ(read_json(o.stats_path)["pixels_covered"].get<uint64_t>(), covered);
+}
+
+// Every frame's name is checked before the first frame is written: a frame that cannot be
+// written fails the run with the earlier frames untouched.
+TEST(AppsSplatView, AFrameThatCannotBeWrittenFailsBeforeAnyIs) {
+  const std::string in = temp_path("view", "tt.ply");
+  test::synth("sphere", in, 500);
+  SplatViewOptions o;
+  o.input = in;
+  o.output = temp_path("view", "tt/f_%04d.png");
+  o.turntable = 3;
+  o.width = 32;
+  o.height = 24;
+  fs::create_directories(temp_path("view", "tt/f_0001.png"));
+  std::ofstream(temp_path("view", "tt/f_0000.png")) << "old";
+  expect_stage_error([&] { run_splat_view(o); }, ErrorKind::kOutput, "is a directory");
+  EXPECT_EQ(slurp(temp_path("view", "tt/f_0000.png")), "old");
 }
 
 TEST(AppsSplatView, TurntableFrameNames) {

@@ -7,9 +7,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
+#include "formats/read_cloud.h"
+#include "formats/write_cloud.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -248,6 +251,29 @@ TEST(Las, PinnedBytesOfTheSmallestFile) {
   // The point record: X=1 Y=0 Z=0, intensity 0, returns 1/1, class 0 (+withheld), angle, user, src.
   EXPECT_EQ(s.substr(227), std::string("\x01\0\0\0\0\0\0\0\0\0\0\0\0\0\x09\x80\0\0\0\0", 20));
   EXPECT_EQ(read_bytes(s).cloud.positions[0], (Vec3f{0.01f, 0, 0}));
+}
+
+// A cloud that did not come from LAS (no return extras) is written with each point its own
+// single return (return number 0 is not valid LAS), and the header counts them as first returns.
+TEST(Las, WrittenWithoutReturnsEachPointIsASingleReturn) {
+  for (const char* name : {"r.las", "r6.las"}) {
+    LoadedCloud doc;
+    doc.cloud.positions = {{0, 0, 0}, {1, 2, 3}, {4, 5, 6}};
+    WriteOptions w;
+    w.las_format = name[1] == '6' ? 6 : -1;
+    const std::string path = test::temp_path("las", name);
+    write_cloud(doc, path, w);
+    const LoadedCloud back = read_cloud(path);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(back.cloud.find_extra("return_number")->values[i], 1.0) << name;
+      EXPECT_EQ(back.cloud.find_extra("number_of_returns")->values[i], 1.0) << name;
+    }
+    std::ifstream in(path, std::ios::binary);
+    std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), {});
+    const std::size_t at = w.las_format == 6 ? 255 : 111;  // points by return, the first
+    ASSERT_GT(b.size(), at + 4);
+    EXPECT_EQ(b[at], 3) << name;
+  }
 }
 
 TEST(Las, ScaleOffsetAndOrigin) {

@@ -7,12 +7,14 @@
 #include <cstring>
 #include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "formats/qsplat_codes.h"
 #include "formats/read_qsplat.h"
 #include "qsplat/build_qsplat_tree.h"
 #include "qsplat/encode_qsplat.h"
+#include "splatkit/error.h"
 #include "splatkit/synthetic_shapes.h"
 #include "tbb/global_control.h"
 
@@ -210,6 +212,27 @@ TEST(QSplatEncode, TheOriginalWalkReachesEveryPointOnceInsideItsLeaf) {
   check_structure(shape_leaves(ShapeKind::kSphere, 5000, false), false);
   check_structure(shape_leaves(ShapeKind::kTorus, 7001, true), false);
   check_structure(shape_leaves(ShapeKind::kCadPart, 3000, false), true);
+}
+
+// A splat 1e20 away from the rest: float32 steps there are wider than the splats, so a node can
+// end on its parent's edge after rounding. The input's fault, said so (Error kBadInput), not an
+// internal error.
+TEST(QSplatEncode, AFarOutlierBeyondFloatPrecisionIsBadInput) {
+  QSplatLeaves l;
+  for (const Vec3f& p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{1, 1, 0},
+                         Vec3f{0.5f, 0.5f, 0.1f}, Vec3f{1e20f, 0, 0}}) {
+    l.positions.push_back(p);
+    l.normals.push_back({0, 0, 1});
+    l.radii.push_back(0.1f);
+  }
+  QSplatTree tree = build_qsplat_tree(l);
+  try {
+    encode_qsplat(tree, "");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kBadInput) << e.what();
+    EXPECT_NE(std::string(e.what()).find("too wide"), std::string::npos) << e.what();
+  }
 }
 
 TEST(QSplatEncode, CoincidentPointsStillSplit) {
