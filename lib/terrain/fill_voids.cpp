@@ -57,6 +57,7 @@ VoidFiller::VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, i
   voids_.resize(rows_.size());
   counts_.assign(std::size_t(capacity_), 0);
   sums_.assign(std::size_t(capacity_), 0.0);
+  summed_.assign(std::size_t(capacity_), 0);
   up_val_.assign(w, 0.0f);
   up_row_.assign(w, -1);
   down_row_.assign(w, -1);
@@ -75,24 +76,31 @@ void VoidFiller::load_more() {
     const float* in = row(y);
     uint8_t* v = voids_.data() + slot(y) * w;
     int64_t count = 0;
-    double sum = 0;
     for (int64_t x = 0; x < w; ++x) {
       v[x] = is_void(in[x], has_nodata_, nodata_) ? 1 : 0;
       count += v[x];
-      sum += v[x] ? 0.0 : double(in[x]);
     }
     counts_[std::size_t(slot(y))] = count;
-    sums_[std::size_t(slot(y))] = sum;
+    summed_[std::size_t(slot(y))] = 0;
   }
   loaded_ += n;
 }
 
-float VoidFiller::mean_in_reach(int64_t r) const {
+float VoidFiller::mean_in_reach(int64_t r) {
   double sum = 0;
   int64_t count = 0;
   for (int64_t y = r; y < loaded_; ++y) {
-    sum += sums_[std::size_t(slot(y))];
-    count += width_ - counts_[std::size_t(slot(y))];
+    const auto s = std::size_t(slot(y));
+    if (!summed_[s]) {  // each row's sum once, and only for maps that need it (rare)
+      const float* in = row(y);
+      const uint8_t* v = voids_.data() + s * std::size_t(width_);
+      double row_sum = 0;
+      for (int64_t x = 0; x < width_; ++x) row_sum += v[x] ? 0.0 : double(in[x]);
+      sums_[s] = row_sum;
+      summed_[s] = 1;
+    }
+    sum += sums_[s];
+    count += width_ - counts_[s];
   }
   return count > 0 ? float(sum / double(count)) : 0.0f;
 }

@@ -71,7 +71,7 @@ class VoidFiller {
   const float* values(const Staged& s) const;
   void load_more();
   int good(int64_t y, int64_t x) const;  // 1 good, 0 void or beside one, 2 not yet known
-  float mean_in_reach(int64_t r) const;   // of the valid samples of rows r to the last loaded
+  float mean_in_reach(int64_t r);         // of the valid samples of rows r to the last loaded
   Staged fill_next();                     // step 1 for the next input row
   void push(int pass, Staged staged);     // step 2, pass by pass
 
@@ -84,7 +84,8 @@ class VoidFiller {
   std::vector<float> rows_;          // ring of original rows (capacity_ rows)
   std::vector<uint8_t> voids_;       // their no-data flags
   std::vector<int64_t> counts_;      // no-data samples per ring row
-  std::vector<double> sums_;         // and the sum of its valid samples
+  std::vector<double> sums_;         // and the sum of its valid samples (mean_in_reach),
+  std::vector<uint8_t> summed_;      // once that is computed
   std::vector<float> up_val_;        // last good sample above, per column
   std::vector<int64_t> up_row_, down_row_, down_scanned_;
   std::vector<int64_t> left_, right_;

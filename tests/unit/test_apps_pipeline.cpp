@@ -220,15 +220,21 @@ TEST(AppsSegmentSurfaces, RejectsDuplicateAndCorruptGraphChunks) {
   EXPECT_FALSE(fs::exists(o.paths.output));
 }
 
+// A 64 x 48 render of `in` to <stem>.png with stats in <stem>.json.
+SplatViewOptions small_view(const std::string& in, const std::string& stem) {
+  SplatViewOptions o;
+  o.input = in;
+  o.output = temp_path("view", stem + ".png");
+  o.stats_path = temp_path("view", stem + ".json");
+  o.width = 64;
+  o.height = 48;
+  return o;
+}
+
 TEST(AppsSplatView, RendersAndRejectsBadNumbers) {
   const std::string in = temp_path("view", "s.ply");
   test::synth("sphere", in, 3000);
-  SplatViewOptions o;
-  o.input = in;
-  o.output = temp_path("view", "s.png");
-  o.stats_path = temp_path("view", "s.json");
-  o.width = 64;
-  o.height = 48;
+  SplatViewOptions o = small_view(in, "s");
   const SplatViewSummary s = run_splat_view(o);
   EXPECT_EQ(s.frames, 1u);
   EXPECT_GT(fs::file_size(o.output), 100u);
@@ -271,12 +277,7 @@ TEST(AppsSplatView, CamerasAreInTheFileCoordinates) {
   LoadedCloud doc = read_cloud(in);
   doc.cloud.origin = {500000.0, 4000000.0, 100.0};
   write_cloud(doc, in);
-  SplatViewOptions o;
-  o.input = in;
-  o.output = temp_path("view", "utm.png");
-  o.stats_path = temp_path("view", "utm.json");
-  o.width = 64;
-  o.height = 48;
+  SplatViewOptions o = small_view(in, "utm");
   o.eye = "500003.5,4000002,101";
   o.target = "500000,4000000,100";
   run_splat_view(o);
