@@ -72,7 +72,7 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
               {"dropped_unused", leaves.dropped_unused},
               {"dropped_zero_radius", leaves.dropped_zero_radius},
               {"dropped_zero_normal", leaves.dropped_zero_normal},
-              {"nodes", tree.size()},
+              {"nodes", tree.size() - 1},  // the file's (the root is in the header)
               {"levels", tree.levels() - 1},
               {"color", color},
               {"file_bytes", file.bytes.size()},
@@ -92,7 +92,7 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   const uint64_t dropped =
       leaves.dropped_unused + leaves.dropped_zero_radius + leaves.dropped_zero_normal;
   std::ostringstream extra;
-  extra << tree.size() << " nodes, " << tree.levels() - 1 << " levels, " << file.bytes.size()
+  extra << tree.size() - 1 << " nodes, " << tree.levels() - 1 << " levels, " << file.bytes.size()
         << " bytes (" << static_cast<double>(file.bytes.size()) / static_cast<double>(file.leaves)
         << " per leaf)";
   if (dropped > 0) extra << ", " << dropped << " points dropped";

@@ -29,6 +29,14 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
                 ".las, .laz), and no --format is given: " +
                 o.paths.output);
   if (write.ascii && write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
+  // Options for another format than the one written would be ignored: said instead.
+  const FileFormat f = write.format != FileFormat::kUnknown ? write.format
+                                                              : output_format_for(o.paths.output);
+  if ((write.ascii || write.big_endian) && f != FileFormat::kPly)
+    throw_usage(std::string(write.ascii ? "--ascii" : "--big-endian") +
+                " is for PLY output; OUT is " + std::string(format_name(f)));
+  if (write.las_format >= 0 && f != FileFormat::kLas && f != FileFormat::kLaz)
+    throw_usage("--las-format is for LAS or LAZ output; OUT is " + std::string(format_name(f)));
   Stage stage("splat-convert", o.paths);
   stage.check_output_format(write);
   progress(0.0, "reading");

@@ -6,7 +6,9 @@
 #include "formats/las.h"
 #include "formats/off.h"
 #include "formats/ply.h"
+#include "formats/read_qsplat.h"
 #include "formats/splk.h"
+#include "formats/spt_codes.h"
 #include "formats/text_numbers.h"
 #include "formats/xyz.h"
 #include "splatkit/error.h"
@@ -161,6 +163,12 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options, const Progre
       throw_unsupported(in.path(), "PCD support was not built (SPLATKIT_WITH_PCL=OFF)");
 #endif
     case FileFormat::kUnknown:
+      if (looks_like_qsplat(head) || spt::looks_like_spt(head))
+        throw_unsupported(in.path(), std::string("a ") +
+                                         (looks_like_qsplat(head) ? "QSplat hierarchy (.qs)"
+                                                                  : "Sequential Point Tree (.spt)") +
+                                         ", not a point cloud: splat-view renders it and "
+                                         "splat-info describes it");
       throw_unsupported(in.path(),
                         "unknown file format (not PLY, PCD, LAS, OFF, .splk or text columns by "
                         "content; name it .xyz/.pts/.txt/.csv or give --columns for text)");

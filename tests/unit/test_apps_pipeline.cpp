@@ -56,6 +56,15 @@ TEST(AppsSplatConvert, RoundTripThroughEveryWritableFormat) {
   expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUsage,
                      "OUT's extension names no format");
   EXPECT_FALSE(fs::exists(o.paths.output));
+  // Options for another format than the one written are refused, not ignored.
+  o.paths = {ply, temp_path("convert", "t.xyz"), ""};
+  o.write.ascii = true;
+  expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUsage, "--ascii is for PLY");
+  o.write.ascii = false;
+  o.write.las_format = 3;
+  expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kUsage,
+                     "--las-format is for LAS or LAZ output");
+  EXPECT_FALSE(fs::exists(o.paths.output));
 }
 
 // A file of no points is refused by every tool that makes splats of it (a cloud without normals
