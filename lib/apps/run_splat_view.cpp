@@ -370,9 +370,10 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   const Resolved r = resolve(o);
   // The path is checked before the scene loads, and read again in the scene's local frame once
   // its origin is known.
+  const std::string path_text = o.path.empty() ? "" : read_text_file(o.path);
   std::vector<Camera> path;
   if (!o.path.empty())
-    path = read_camera_path(read_text_file(o.path), o.path, r.up, o.fov_y_deg, o.width, o.height);
+    path = read_camera_path(path_text, o.path, r.up, o.fov_y_deg, o.width, o.height);
   const bool numbered = o.turntable > 0 || !o.path.empty();
   const int frames = !path.empty() ? int(path.size()) : o.turntable > 0 ? o.turntable : 1;
   auto image_path = [&](int i) { return numbered ? frame_path(o.output, i) : o.output; };
@@ -416,8 +417,7 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
   }
   const Camera base = base_camera(o, r, scene);
   if (!o.path.empty() && scene.origin != std::array<double, 3>{0, 0, 0})  // now in the local frame
-    path = read_camera_path(read_text_file(o.path), o.path, r.up, o.fov_y_deg, o.width, o.height,
-                            scene.origin);
+    path = read_camera_path(path_text, o.path, r.up, o.fov_y_deg, o.width, o.height, scene.origin);
   RenderOptions render = r.render;
   render.planes = planes_for_output(o.output, use_ids);
   // Occlusion culling: the chunk hierarchy once, then per frame the splats to draw as a scene of

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 
 namespace splatkit::terrain {
 
@@ -170,6 +171,7 @@ VoidFiller::Staged VoidFiller::fill_next() {
   const float* prev = r == 0 ? nullptr : (last_clean_ == r - 1 ? row(r - 1) : prev_filled_->data());
   auto filled_values = std::make_shared<std::vector<float>>(in, in + w);
   float* out = filled_values->data();
+  std::optional<float> row_mean;  // mean_in_reach(r), once, when a sample needs it
   for (int64_t x = 0; x < w; ++x) {
     if (!f[x]) continue;
     const auto i = std::size_t(x);
@@ -208,7 +210,10 @@ VoidFiller::Staged VoidFiller::fill_next() {
         else if (r + k < loaded_ && !voids_[std::size_t(slot(r + k) * w + x)])
           out[x] = row(r + k)[x], done = true;
       }
-      if (!done) out[x] = prev ? prev[x] : mean_in_reach(r);
+      if (!done) {
+        if (!prev && !row_mean) row_mean = mean_in_reach(r);
+        out[x] = prev ? prev[x] : *row_mean;
+      }
     }
   }
   for (int64_t x = 0; x < w; ++x)
