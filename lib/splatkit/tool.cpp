@@ -5,6 +5,7 @@
 
 #include <malloc.h>
 
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -19,6 +20,30 @@ namespace splatkit {
 
 namespace {
 constexpr uint64_t kMinMaxMemory = uint64_t{64} << 20;  // the tool's own code and libraries: ~30M
+
+bool knows_option(const CLI::App& app, const std::string& name) {
+  if (app.get_option_no_throw(name)) return true;
+  for (const CLI::App* sub : app.get_subcommands({}))
+    if (knows_option(*sub, name)) return true;
+  return false;
+}
+
+// The first argument that looks like an option ("--name[=value]" or "-x") and that neither the
+// tool nor any of its subcommands knows; empty when there is none. CLI11 reports a missing
+// positional before an unknown option ("IN is required" for `tool --bogus`): the unknown option
+// is the user's real mistake.
+std::string unknown_option(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") break;
+    const bool long_name = a.size() > 2 && a.compare(0, 2, "--") == 0;
+    const bool short_name = a.size() == 2 && a[0] == '-' && std::isalpha(static_cast<unsigned char>(a[1]));
+    if (!long_name && !short_name) continue;
+    const std::string name = a.substr(0, a.find('='));
+    if (!knows_option(app, name)) return name;
+  }
+  return {};
+}
 }  // namespace
 
 Tool::Tool(std::string name, std::string description, std::string examples)
@@ -84,7 +109,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   } catch (const CLI::CallForVersion& e) {
     return app_.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: %s\nRun '%s --help' for usage.\n", name_.c_str(), e.what(),
+    const std::string unknown = dynamic_cast<const CLI::RequiredError*>(&e)
+                                    ? unknown_option(app_, argc, argv)
+                                    : std::string();
+    std::fprintf(stderr, "%s: %s\nRun '%s --help' for usage.\n", name_.c_str(),
+                 unknown.empty() ? e.what() : ("unknown option " + unknown).c_str(),
                  name_.c_str());
     return static_cast<int>(ErrorKind::kUsage);
   } catch (const Error& e) {

@@ -13,6 +13,9 @@ for t in "${tools[@]}"; do
   expect_exit 0 "$BIN/$t" --help
   grep -q "Examples:" "$WORK/stdout" && pass || fail "$t --help has no examples"
   expect_exit 1 "$BIN/$t" --no-such-option
+  # An unknown option is named, before any missing argument.
+  head -1 "$WORK/stderr" | grep -q "^$t: unknown option --no-such-option" && pass ||
+    fail "$t --no-such-option: $(head -1 "$WORK/stderr")"
 done
 
 # Missing file: exit 2, one line naming the tool and the file.
