@@ -3,13 +3,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <numbers>
-#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -53,9 +53,40 @@ enum class ColorBy {
   kClipped,  // splats with clip partners orange, the rest grey (needs CLIP: build-splat-graph)
 };
 
-const std::regex& frame_pattern() {
-  static const std::regex re("%0?[0-9]*d");
-  return re;
+// A frame name pattern as printf reads it: text, one field "%d" (or "%Nd", "%0Nd", N < 10) for
+// the frame number, and "%%" for a literal '%'.
+struct FramePattern {
+  std::string prefix, field, suffix;  // prefix and suffix with "%%" already made '%'
+  int fields = 0;                     // the number fields found
+  bool other = false;                 // a '%' that is neither "%%" nor a number field
+};
+
+FramePattern parse_frame_pattern(const std::string& pattern) {
+  FramePattern f;
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    std::string& text = f.fields == 0 ? f.prefix : f.suffix;
+    if (pattern[i] != '%') {
+      text += pattern[i];
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      text += '%';
+      ++i;
+      continue;
+    }
+    std::size_t j = i + 1;
+    if (j < pattern.size() && pattern[j] == '0') ++j;
+    const std::size_t digits = j;
+    while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j]))) ++j;
+    if (j < pattern.size() && pattern[j] == 'd' && j - digits <= 1) {
+      if (++f.fields == 1) f.field = pattern.substr(i, j + 1 - i);
+      i = j;
+    } else {
+      f.other = true;
+      text += '%';
+    }
+  }
+  return f;
 }
 
 constexpr float kMaxSceneRadius = 1e18f;
@@ -194,11 +225,11 @@ Resolved resolve(const SplatViewOptions& o) {
   if (!o.path.empty() && (r.eye || r.view || o.turntable > 0))
     throw_usage("--path gives the cameras; it does not go with --eye, --view or --turntable");
   if (o.turntable > 0 || !o.path.empty()) {
-    const auto begin = std::sregex_iterator(o.output.begin(), o.output.end(), frame_pattern());
-    if (std::distance(begin, std::sregex_iterator()) != 1 ||
-        std::count(o.output.begin(), o.output.end(), '%') != 1)
+    const FramePattern f = parse_frame_pattern(o.output);
+    if (f.fields != 1 || f.other)
       throw_usage(std::string(o.turntable > 0 ? "--turntable" : "--path") +
-                  " needs an output name with one frame number field such as %04d, got '" +
+                  " needs an output name with one frame number field such as %04d (and %% for "
+                  "a '%'), got '" +
                   o.output + "'");
   }
   check_output_format(o.turntable > 0 || !o.path.empty() ? frame_path(o.output, 0) : o.output);
@@ -352,11 +383,11 @@ uint64_t surface_count(const std::vector<uint32_t>& ids) {
 }  // namespace
 
 std::string frame_path(const std::string& pattern, int index) {
-  std::smatch m;
-  if (!std::regex_search(pattern, m, frame_pattern())) return pattern;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, m.str().c_str(), index);
-  return m.prefix().str() + buf + m.suffix().str();
+  const FramePattern f = parse_frame_pattern(pattern);
+  if (f.fields == 0) return pattern;
+  char buf[32];  // a width below 10: at most 11 characters
+  std::snprintf(buf, sizeof buf, f.field.c_str(), index);
+  return f.prefix + buf + f.suffix;
 }
 
 StageSummary SplatViewSummary::line() const {

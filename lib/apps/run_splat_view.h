@@ -70,7 +70,8 @@ struct SplatViewSummary {
 SplatViewSummary run_splat_view(const SplatViewOptions& options,
                                 const ProgressFn& progress = no_progress());
 
-// The frame file name for frame `index` of a turntable pattern (validated by run_splat_view).
+// The frame file name for frame `index` of a turntable or path pattern (validated by
+// run_splat_view): its one %d, %Nd or %0Nd field replaced by the number, each %% by a %.
 std::string frame_path(const std::string& pattern, int index);
 
 }  // namespace splatkit::apps

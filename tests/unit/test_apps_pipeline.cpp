@@ -325,11 +325,17 @@ TEST(AppsSplatView, AFrameThatCannotBeWrittenFailsBeforeAnyIs) {
 TEST(AppsSplatView, TurntableFrameNames) {
   EXPECT_EQ(frame_path("out/turn_%04d.png", 7), "out/turn_0007.png");
   EXPECT_EQ(frame_path("f%d.exr", 12), "f12.exr");
+  EXPECT_EQ(frame_path("50%%/f%3d_%%.png", 7), "50%/f  7_%.png");  // printf's %%
+  EXPECT_EQ(frame_path("no_number.png", 3), "no_number.png");
   SplatViewOptions o;
   o.input = temp_path("view", "unused.ply");
   o.output = temp_path("view", "no_number.png");
   o.turntable = 4;
   expect_stage_error([&] { run_splat_view(o); }, ErrorKind::kUsage, "--turntable needs");
+  for (const char* bad : {"f_%04d_%d.png", "f_%s%04d.png", "f_%04d%.png", "f_%010d.png"}) {
+    o.output = temp_path("view", bad);
+    expect_stage_error([&] { run_splat_view(o); }, ErrorKind::kUsage, "--turntable needs");
+  }
   o.output = temp_path("view", "x.png");
   o.turntable = 0;
   o.eye = "1,1,1";
