@@ -42,8 +42,15 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   progress(0.0, "reading");
   LoadedCloud doc = stage.read(o.read, progress);
   stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
+  write.format = f;
   stage.write(doc, write);
-  return {doc.cloud.size(), "points", ""};
+  // What the output format cannot hold, said in the summary line (not an error: converting to a
+  // plainer format is often the point).
+  std::string lost;
+  for (const std::string& what : fields_not_written(doc, f, write))
+    lost += (lost.empty() ? "" : ", ") + what;
+  return {doc.cloud.size(), "points",
+          lost.empty() ? "" : std::string(format_name(f)) + " does not keep " + lost};
 }
 
 }  // namespace splatkit::apps

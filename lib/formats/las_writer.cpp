@@ -121,19 +121,31 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
   out.write(data.data(), data.size());
 }
 
+int las_output_format(const LoadedCloud& doc, int las_format) {
+  const SplatCloud& c = doc.cloud;
+  if (las_format >= 0) return las_format;
+  if ((doc.format == "las" || doc.format == "laz") && doc.header.contains("point_format") &&
+      doc.header["point_format"].is_number_integer() &&
+      doc.header["point_format"].get<int>() >= 6)
+    return !c.has_colors() ? 6 : c.find_extra("nir") ? 8 : 7;
+  return (c.has_colors() ? 2 : 0) + (c.find_extra("gps_time") ? 1 : 0);
+}
+
+std::vector<std::string> las_kept_attributes(int format) {
+  std::vector<std::string> kept = {"intensity",   "return_number", "number_of_returns",
+                                   "classification", "scan_angle", "user_data",
+                                   "point_source_id"};
+  if (format == 1 || format == 3 || format >= 6) kept.push_back("gps_time");
+  if (format == 8) kept.push_back("nir");
+  return kept;
+}
+
 void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las_format) {
   const SplatCloud& c = doc.cloud;
   auto extra = [&](const char* name) { return c.find_extra(name); };
   const ExtraAttribute* gps = extra("gps_time");
   LasRecordsLayout layout;
-  layout.format = (c.has_colors() ? 2 : 0) + (gps ? 1 : 0);
-  if (las_format >= 0) {
-    layout.format = las_format;
-  } else if ((doc.format == "las" || doc.format == "laz") && doc.header.contains("point_format") &&
-             doc.header["point_format"].is_number_integer() &&
-             doc.header["point_format"].get<int>() >= 6) {
-    layout.format = !c.has_colors() ? 6 : extra("nir") ? 8 : 7;
-  }
+  layout.format = las_output_format(doc, las_format);
   layout.record_length = kFormatSize[layout.format];
   const bool v14 = layout.format >= 6;
   // Scale and offset: the source's when it was LAS, so that LAS -> LAZ keeps every integer.

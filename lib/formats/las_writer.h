@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "formats/loaded_cloud.h"
 #include "splatkit/output_file.h"
@@ -36,5 +38,9 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout, const un
 // user_data, point_source_id, gps_time) go back to their fields. Scale and offset are the source
 // file's when it was LAS/LAZ, else 0.001 (coarser when the extent needs it) and the cloud's origin.
 void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las_format = -1);
+// The point data format write_las writes `doc` in for `las_format` (-1: chosen as above).
+int las_output_format(const LoadedCloud& doc, int las_format);
+// The names of the cloud attributes (extras) that a LAS record of point data `format` holds.
+std::vector<std::string> las_kept_attributes(int format);
 
 }  // namespace splatkit

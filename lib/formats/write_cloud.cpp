@@ -1,5 +1,7 @@
 #include "formats/write_cloud.h"
 
+#include <algorithm>
+
 #include "formats/las_writer.h"
 #include "formats/off.h"
 #include "formats/ply.h"
@@ -33,6 +35,44 @@ FileFormat writable_format(const std::string& path, const WriteOptions& options)
     throw_unsupported(path, std::string("writing ") + std::string(format_name(f)) +
                                 " is not supported; write .ply, .splk, .xyz, .off, .las or .laz");
   return f;
+}
+
+std::vector<std::string> fields_not_written(const LoadedCloud& doc, FileFormat format,
+                                            const WriteOptions& options) {
+  const SplatCloud& c = doc.cloud;
+  std::vector<std::string> lost;
+  if (format == FileFormat::kSplk) return lost;
+  const bool las = format == FileFormat::kLas || format == FileFormat::kLaz;
+  const bool off = format == FileFormat::kOff;
+  const int las_format = las ? las_output_format(doc, options.las_format) : 0;
+  if (las && c.has_normals()) lost.push_back("normals");
+  if ((las || off) && c.has_radii()) lost.push_back("radii");
+  if (format != FileFormat::kPly && c.has_ellipses()) lost.push_back("ellipse axes");
+  const bool las_rgb = las_format == 2 || las_format == 3 || las_format >= 7;
+  if (las && !las_rgb && c.has_colors()) lost.push_back("colours");
+  if ((las || format == FileFormat::kXyz) && c.face_count() > 0) lost.push_back("faces");
+  if (c.viewpoint) lost.push_back("viewpoint");
+  const std::vector<std::string> las_kept = las ? las_kept_attributes(las_format)
+                                                : std::vector<std::string>{};
+  for (const ExtraAttribute& e : c.extras) {
+    const bool kept = las ? std::find(las_kept.begin(), las_kept.end(), e.name) != las_kept.end()
+                          : !off;
+    if (!kept) lost.push_back("attribute " + e.name);
+  }
+  for (const RawChunk& r : doc.chunks) {
+    std::string type(r.type, 4);
+    for (char& ch : type)
+      if (ch < 0x20 || ch > 0x7e) ch = '?';  // a hostile file's type, printed
+    const std::pair<const char*, const char*> known[] = {{kSplkGraphType, "neighbour graph"},
+                                                         {kSplkClassType, "sharp edges"},
+                                                         {kSplkClipType, "clip partners"},
+                                                         {kSplkSurfaceType, "surface ids"}};
+    std::string what = "chunk";
+    for (const auto& [t, name] : known)
+      if (type == std::string(t, 4)) what = name;
+    lost.push_back(what + " (" + type + ")");
+  }
+  return lost;
 }
 
 void write_cloud(const LoadedCloud& doc, const std::string& path, const WriteOptions& options) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "formats/loaded_cloud.h"
 #include "formats/read_cloud.h"
@@ -26,6 +27,12 @@ FileFormat format_of_extension(const std::string& path);
 // The format write_cloud writes `path` in with `options`; throws Error(kUnsupported) for one it
 // cannot write (PCD). For checking an output before the work.
 FileFormat writable_format(const std::string& path, const WriteOptions& options);
+
+// What `doc` holds that writing it as `format` (a writable one; `options` for LAS's point format)
+// leaves out, in words: e.g. {"normals", "radii", "attribute surface_id", "chunk SURF"}. Empty
+// when the format keeps everything.
+std::vector<std::string> fields_not_written(const LoadedCloud& doc, FileFormat format,
+                                            const WriteOptions& options = {});
 
 // Writes `doc` (its cloud; for .splk also its metadata and carried chunks) through an atomic
 // OutputFile and commits it. Throws Error(kOutput) or Error(kUnsupported) (e.g. PCD output).

@@ -48,4 +48,17 @@ expect_eq "ascii vs big-endian PLY" "$(summary "$S/torus-ascii.ply")" "$(summary
 attrs() { "$BIN/splat-info" "$1" | sed -n '/^Attributes:/,/^Header:/p' | grep -v '^Header:'; }
 expect_eq "attributes after .splk round trip" "$(attrs "$WORK/cad-back.ply")" "$(attrs "$S/cad.ply")"
 
+# What a plainer format cannot hold is said in the summary line (and -q silences it).
+expect_exit 0 "$BIN/splat-convert" "$S/cad.ply" "$WORK/cad.las"
+expect_stderr "las does not keep normals, radii, attribute patch_id$"
+expect_exit 0 "$BIN/splat-convert" "$S/cad.ply" "$WORK/cad.off"
+expect_stderr "off does not keep radii, attribute patch_id$"
+expect_exit 0 "$BIN/splat-convert" "$S/cad.ply" "$WORK/cad.xyz"
+grep -q "does not keep" "$WORK/stderr" && fail "xyz keeps every field of cad.ply" || pass
+"$BIN/build-splat-graph" -q "$WORK/cad.splk" "$WORK/cad-graph.splk"
+expect_exit 0 "$BIN/splat-convert" "$WORK/cad-graph.splk" "$WORK/cad-graph.ply"
+expect_stderr "ply does not keep neighbour graph \\(GRPH\\), sharp edges \\(CLAS\\), clip partners \\(CLIP\\)$"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/cad-graph.splk" "$WORK/cad-graph.las"
+expect_eq "-q: no summary" "$(cat "$WORK/stderr")" ""
+
 finish
