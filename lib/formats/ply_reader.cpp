@@ -858,6 +858,13 @@ class PlyDecoder {
       const std::size_t n = static_cast<std::size_t>(
           std::min<uint64_t>(done == 0 ? first_rows : block_rows, e.count - done));
       const uint64_t block_offset = in_.offset();
+      // A stream that ends early (a file's size is checked against the counts up front): where.
+      const std::size_t have = in_.peek(n * row_bytes).size();
+      if (have < n * row_bytes)
+        throw_bad_input(in_.path(), "byte " + std::to_string(block_offset + have) +
+                                        ": element 'vertex': truncated data: end of file after " +
+                                        std::to_string(done + have / row_bytes) + " of " +
+                                        std::to_string(e.count) + " rows");
       const char* data = in_.take(n * row_bytes, "element 'vertex' (truncated data)").data();
       if (!size_known) resize_vertices(done + n);
       if (done == 0 && plan_.wide) cloud_.origin = origin_from_rows(data, row_bytes, n);

@@ -404,6 +404,18 @@ TEST(Ply, ManyBlocksFromAFileAndFromAPipe) {
     expect_same(c, read_ply(pipe).cloud);
   }
   writer.join();
+  // Cut short in a pipe (whose size is unknown up front): the row where the data ends.
+  std::thread cut([&] {
+    std::ofstream f(fifo, std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  });
+  test::expect_read_error(
+      [&] {
+        InputStream pipe(fifo);
+        read_ply(pipe);
+      },
+      ErrorKind::kBadInput, "element 'vertex': truncated data: end of file after ");
+  cut.join();
   std::remove(fifo.c_str());
   std::remove(path.c_str());
 }
