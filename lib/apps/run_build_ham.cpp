@@ -1,5 +1,6 @@
 #include "apps/run_build_ham.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,7 +13,6 @@
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 #include "splatkit/remove_on_signal.h"
-#include "splatkit/same_file.h"
 #include "terrain/compute_ham.h"
 #include "terrain/encode_ham_tiles.h"
 #include "terrain/terrain_map.h"
@@ -72,9 +72,23 @@ class FullHamFile {
     const std::string why = writer_->write(rows, data);
     if (!why.empty()) throw_output(path_, why);
   }
-  void commit() {
+  // Writes out the last tiles and the offsets (where a full disk shows).
+  void finish() {
     const std::string why = writer_->close();
     if (!why.empty()) throw_output(path_, why);
+  }
+  void commit() {
+    // mkstemps made it 0600: the mode a new file gets (or the replaced file's), as OutputFile.
+    struct stat st {};
+    mode_t mode;
+    if (::stat(path_.c_str(), &st) == 0) {
+      mode = st.st_mode & 0777;
+    } else {
+      const mode_t mask = ::umask(0);
+      ::umask(mask);
+      mode = 0666 & ~mask;
+    }
+    ::chmod(temp_.c_str(), mode);
     if (std::rename(temp_.c_str(), path_.c_str()) != 0) throw_output(path_, std::strerror(errno));
     temp_.clear();
     guard_.reset();
@@ -90,17 +104,14 @@ class FullHamFile {
 
 StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && lower_extension(output) != "exr")
+  if (!is_stream_path(output) && lower_extension(output) != "exr")
     throw_usage("OUT must end in .exr or be '-': " + output);
-  if (!o.ham_full.empty()) {
-    if (lower_extension(o.ham_full) != "exr") throw_usage("--ham-full must end in .exr");
-    if (o.ham_full == output || same_file(o.ham_full, output, 1, 1) ||
-        (o.paths.input != "-" && same_file(o.paths.input, o.ham_full, 0, 1)))
-      throw_usage("--ham-full must name a file of its own (not IN or OUT)");
-  }
+  if (!o.ham_full.empty() && lower_extension(o.ham_full) != "exr")
+    throw_usage("--ham-full must end in .exr");
   if (!(o.z_scale > 0) || !std::isfinite(o.z_scale)) throw_usage("--z-scale must be > 0");
   if (o.tile < 1 || o.tile > 65536) throw_usage("--tile must be in [1, 65536]");
   Stage stage("build-ham", o.paths);
+  stage.check_side_output("--ham-full", o.ham_full);
   std::unique_ptr<HeightmapSource> source =
       stage.phase(nullptr, "opening " + stage.input_name(), [&] { return open_source(o); });
   const terrain::HeightmapInfo& info = source->info();
@@ -137,7 +148,7 @@ StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress)
   const std::vector<unsigned char> bytes = terrain::encode_ham_tiles(tiles);
   OutputFile out(output);
   out.write(bytes.data(), bytes.size());
-  if (full) full->commit();
+  if (full) full->finish();
   stage.record("write", seconds_since(t0));
 
   nlohmann::json report;
@@ -165,6 +176,7 @@ StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress)
   }
   OutputFile* outputs[] = {&out};
   stage.commit(outputs, std::move(report));
+  if (full) full->commit();
   std::ostringstream extra;
   extra << info.width << " x " << info.height << " " << info.sample_type << ", "
         << tiles.tiles_x * tiles.tiles_y << " tiles, " << stats.voids << " voids filled";

@@ -28,7 +28,7 @@ std::string comment_text(const LoadedCloud& doc) {
 
 StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && lower_extension(output) != "qs")
+  if (!is_stream_path(output) && lower_extension(output) != "qs")
     throw_usage("OUT must end in .qs or be '-': " + output);
   Stage stage("build-qsplat", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);

@@ -49,7 +49,7 @@ graph::SplatGraphOptions graph_options(const BuildSplatGraphOptions& o) {
 
 StageSummary run_build_splat_graph(const BuildSplatGraphOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && lower_extension(output) != "splk")
+  if (!is_stream_path(output) && lower_extension(output) != "splk")
     throw_usage("OUT must end in .splk or be '-' (the graph chunks need .splk): " + output);
   const graph::SplatGraphOptions options = graph_options(o);
   Stage stage("build-splat-graph", o.paths);

@@ -23,7 +23,7 @@ constexpr std::size_t kSpillBytesPerPoint = 80;
 
 StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
-  if (output != "-" && lower_extension(output) != "spt")
+  if (!is_stream_path(output) && lower_extension(output) != "spt")
     throw_usage("OUT must end in .spt or be '-': " + output);
   if (!(o.epsilon > 0) || !std::isfinite(o.epsilon))
     throw_usage("--epsilon must be a positive number of radians");

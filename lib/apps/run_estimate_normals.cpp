@@ -25,7 +25,7 @@ FileFormat output_format(const std::string& output, const std::string& format) {
   if (format == "ply") return FileFormat::kPly;
   if (format == "splk") return FileFormat::kSplk;
   if (!format.empty()) throw_usage("--format must be ply or splk, got '" + format + "'");
-  if (output == "-") return FileFormat::kSplk;
+  if (is_stream_path(output)) return FileFormat::kSplk;
   const FileFormat f = output_format_for(output);
   if (f == FileFormat::kPly || lower_extension(output) == "splk") return f;
   throw_usage("OUT must end in .ply or .splk, or be '-' (or give --format ply|splk): " + output);
@@ -162,11 +162,14 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   const std::vector<OutlierOptions> outliers = parse_outliers(o.outliers);
   if (!o.outliers_out.empty()) {
     if (outliers.empty()) throw_usage("--outliers-out needs --outliers sor or radius");
-    if (o.outliers_out == o.paths.input || o.outliers_out == o.paths.output)
-      throw_usage("--outliers-out must differ from IN and OUT: " + o.outliers_out);
+    if (format_of_extension(o.outliers_out) == FileFormat::kUnknown &&
+        !is_stream_path(o.outliers_out))
+      throw_usage("--outliers-out's extension names no format (.ply, .splk, .xyz, .off, .las, "
+                  ".laz): " + o.outliers_out);
     writable_format(o.outliers_out, {});
   }
   Stage stage("estimate-normals", o.paths);
+  stage.check_side_output("--outliers-out", o.outliers_out);
   LoadedCloud doc = stage.read(o.read, progress);
   // As for a single point: no splat can be made (and an empty file with no normals would only
   // fail the next tool, with a message about normals).
@@ -174,14 +177,22 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   spill::check_room(doc.cloud.size() * (kSpillBytesPerPoint +
                                         (options.ellipses ? kSpillEllipseBytesPerPoint : 0)));
   // Outliers go first, on the cloud as read (duplicates included), as PCL's filters see it.
+  const std::size_t points_read = doc.cloud.size();
   OutlierPassesResult removed;
+  std::unique_ptr<OutputFile> aside_file;
   if (!outliers.empty()) {
     removed = stage.phase(nullptr, "removing outliers",
                           [&] { return find_outliers(doc.cloud.positions, outliers); });
     LoadedCloud aside;
     aside.cloud = split_cloud(doc.cloud, removed.outlier);
     aside.format = doc.format;
-    if (!o.outliers_out.empty()) write_cloud(aside, o.outliers_out);
+    if (!o.outliers_out.empty()) {  // committed with OUT
+      aside_file = std::make_unique<OutputFile>(o.outliers_out);
+      write_cloud(aside, *aside_file);
+    }
+    if (doc.cloud.size() == 0)
+      throw_bad_input(stage.input_name(), "--outliers " + o.outliers + " removed every one of its " +
+                                              std::to_string(points_read) + " points");
   }
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
     return estimate_normals(doc.cloud, options, progress);
@@ -193,11 +204,12 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   if (!o.paths.report.empty()) {
     report = result.to_json();
     if (!outliers.empty()) report["outliers"] = removed.to_json(outliers);
+    report["input_points"] = points_read;  // before the outliers went
     const uint64_t rss = peak_rss_bytes();
-    report["peak_rss_bytes_per_point"] =
-        result.input_points > 0 ? static_cast<double>(rss) / result.input_points : 0.0;
+    report["peak_rss_bytes_per_point"] = static_cast<double>(rss) / static_cast<double>(points_read);
   }
-  stage.write(doc, write, std::move(report));
+  OutputFile* also[] = {aside_file.get()};
+  stage.write(doc, write, std::move(report), also);
   return {doc.cloud.size(), "points",
           (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, "
                              : std::string()) +

@@ -76,7 +76,7 @@ GraphChunks decode_chunks(const LoadedCloud& doc, const std::string& name) {
 StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const ProgressFn& progress) {
   const std::string& output = o.paths.output;
   const bool ply = lower_extension(output) == "ply";
-  if (output != "-" && !ply && lower_extension(output) != "splk")
+  if (!is_stream_path(output) && !ply && lower_extension(output) != "splk")
     throw_usage("OUT must end in .splk or .ply, or be '-': " + output);
   if (o.method != "robust" && o.method != "components")
     throw_usage("--method must be robust or components, got '" + o.method + "'");

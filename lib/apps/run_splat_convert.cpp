@@ -23,22 +23,8 @@ FileFormat format_option(const std::string& format) {
 StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& progress) {
   WriteOptions write = o.write;
   write.format = format_option(o.format);
-  const FileFormat f = write.format != FileFormat::kUnknown ? write.format
-                       : o.paths.output == "-"              ? FileFormat::kSplk
-                                                            : format_of_extension(o.paths.output);
-  if (f == FileFormat::kUnknown)
-    throw_usage("OUT's extension names no format (.ply, .splk, .xyz, .txt, .pts, .csv, .off, "
-                ".las, .laz), and no --format is given: " +
-                o.paths.output);
-  if (write.ascii && write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
-  // Options for another format than the one written would be ignored: said instead.
-  if ((write.ascii || write.big_endian) && f != FileFormat::kPly)
-    throw_usage(std::string(write.ascii ? "--ascii" : "--big-endian") +
-                " is for PLY output; OUT is " + std::string(format_name(f)));
-  if (write.las_format >= 0 && f != FileFormat::kLas && f != FileFormat::kLaz)
-    throw_usage("--las-format is for LAS or LAZ output; OUT is " + std::string(format_name(f)));
   Stage stage("splat-convert", o.paths);
-  stage.check_output_format(write);
+  const FileFormat f = stage.check_output_format(write);
   progress(0.0, "reading");
   LoadedCloud doc = stage.read(o.read, progress);
   stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <memory>
 
 #include "splatkit/error.h"
 #include "splatkit/output_file.h"
@@ -47,9 +48,9 @@ StageSummary run_city(const SplatSynthOptions& o) {
   if (o.walk_frames < 2 || o.walk_frames > 100000)
     throw_usage("--walk-frames must be in 2..100000");
   if (o.sample.points == 0) throw_usage("--points must be at least 1");
-  if (o.write.ascii && o.write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
   Stage stage("splat-synth", {"", o.output, ""});
   stage.check_output_format(o.write);
+  stage.check_side_output("--walkthrough", o.walkthrough);
   CityOptions city;
   city.points = o.sample.points;
   city.blocks = o.city_blocks;
@@ -70,14 +71,13 @@ StageSummary run_city(const SplatSynthOptions& o) {
   m["counts"] = {{"points", doc.cloud.size()}, {"faces", 0}};
   m["history"] = nlohmann::json::array();
   doc.metadata = m;
+  std::unique_ptr<OutputFile> walk;  // committed with OUT
   if (!o.walkthrough.empty()) {
-    if (o.walkthrough == o.output) throw_usage("--walkthrough must not name OUT");
-    const std::string text = walkthrough_json(city_walkthrough(city)).dump(1) + "\n";
-    OutputFile out(o.walkthrough);
-    out.write(text);
-    out.commit();
+    walk = std::make_unique<OutputFile>(o.walkthrough);
+    walk->write(walkthrough_json(city_walkthrough(city)).dump(1) + "\n");
   }
-  stage.write(doc, o.write);
+  OutputFile* also[] = {walk.get()};
+  stage.write(doc, o.write, {}, also);
   return {doc.cloud.size(), "points", ""};
 }
 
@@ -85,13 +85,16 @@ StageSummary run_city(const SplatSynthOptions& o) {
 
 StageSummary run_splat_synth(const SplatSynthOptions& o, const ProgressFn& progress) {
   if (o.shape == "city") return run_city(o);
+  const SplatSynthOptions defaults;
+  if (!o.walkthrough.empty() || o.city_blocks != defaults.city_blocks ||
+      o.walk_frames != defaults.walk_frames)
+    throw_usage("--walkthrough, --blocks and --walk-frames apply to the city only");
   ShapeOptions sample = o.sample;
   sample.kind = parse_shape_kind(o.shape);
   if (sample.keep_inside && sample.kind != ShapeKind::kTwoSpheres)
     throw_usage("--keep-inside applies to two-spheres only");
   if (!(sample.noise >= 0 && sample.noise <= 1)) throw_usage("--noise must be a number in [0, 1]");
   if (sample.points == 0) throw_usage("--points must be at least 1");
-  if (o.write.ascii && o.write.big_endian) throw_usage("--ascii and --big-endian are alternatives");
   Stage stage("splat-synth", {"", o.output, ""});
   stage.check_output_format(o.write);
   progress(0.0, "sampling");

@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/info.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -19,9 +21,12 @@ namespace splatkit::apps {
 
 namespace {
 
+// The threads the work runs on: --threads above the cores' count still runs one per core (the
+// task arena's size).
 int thread_count() {
-  return static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return static_cast<int>(std::min<std::size_t>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+      static_cast<std::size_t>(tbb::info::default_concurrency())));
 }
 
 }  // namespace
@@ -62,6 +67,23 @@ Stage::Stage(std::string tool, StagePaths paths, std::string report_option)
   check_can_create(p.report);
 }
 
+void Stage::check_side_output(const std::string& option, const std::string& path) {
+  if (path.empty()) return;
+  if (!paths_.input.empty() && same_file(paths_.input, path, 0, 1))
+    throw_usage(option + " must not be the input file " + input_name_ +
+                " (an input is never overwritten)");
+  if (same_file(paths_.output, path, 1, 1) || (path == "-" && paths_.output == "-"))
+    throw_usage(option + " must not be OUT: " + path);
+  if (!paths_.report.empty() &&
+      (same_file(paths_.report, path, 1, 1) || (path == "-" && paths_.report == "-")))
+    throw_usage(option + " must not be the report: " + path);
+  for (const auto& [other, other_path] : side_outputs_)
+    if (same_file(other_path, path, 1, 1) || (path == "-" && other_path == "-"))
+      throw_usage(option + " must not be " + other + "'s file: " + path);
+  check_can_create(path);
+  side_outputs_.emplace_back(option, path);
+}
+
 LoadedCloud Stage::read(const ReadOptions& options, const ProgressFn& progress) {
   return phase("read", "reading " + input_name_,
                [&] { return read_cloud(input(), options, progress); });
@@ -90,11 +112,29 @@ void Stage::stamp(LoadedCloud& doc, const nlohmann::json& options, bool keep_chu
   doc.metadata = make_provenance(tool_, options, *in_, doc, doc.cloud);
 }
 
-void Stage::check_output_format(const WriteOptions& options) const {
+FileFormat Stage::check_output_format(const WriteOptions& options) const {
+  FileFormat f = options.format != FileFormat::kUnknown ? options.format
+                 : paths_.output == "-"                ? FileFormat::kSplk
+                                                       : format_of_extension(paths_.output);
+  if (f == FileFormat::kUnknown && is_stream_path(paths_.output)) f = FileFormat::kSplk;
+  if (f == FileFormat::kUnknown)
+    throw_usage("OUT's extension names no format (.ply, .splk, .xyz, .txt, .pts, .csv, .off, "
+                ".las, .laz), and no --format is given: " +
+                paths_.output);
+  if (options.ascii && options.big_endian)
+    throw_usage("--ascii and --big-endian are alternatives");
+  // Options for another format than the one written would be ignored: said instead.
+  if ((options.ascii || options.big_endian) && f != FileFormat::kPly)
+    throw_usage(std::string(options.ascii ? "--ascii" : "--big-endian") +
+                " is for PLY output; OUT is " + std::string(format_name(f)));
+  if (options.las_format >= 0 && f != FileFormat::kLas && f != FileFormat::kLaz)
+    throw_usage("--las-format is for LAS or LAZ output; OUT is " + std::string(format_name(f)));
   if (paths_.output != "-") writable_format(paths_.output, options);
+  return f;
 }
 
-void Stage::write(const LoadedCloud& doc, const WriteOptions& options, nlohmann::json report) {
+void Stage::write(const LoadedCloud& doc, const WriteOptions& options, nlohmann::json report,
+                  std::span<OutputFile* const> also) {
   const Clock::time_point t0 = Clock::now();
   OutputFile out(paths_.output);
   try {
@@ -103,7 +143,8 @@ void Stage::write(const LoadedCloud& doc, const WriteOptions& options, nlohmann:
     throw_out_of_memory("writing " + display_name(paths_.output, true));
   }
   record("write", seconds_since(t0));
-  OutputFile* outputs[] = {&out};
+  std::vector<OutputFile*> outputs{&out};
+  outputs.insert(outputs.end(), also.begin(), also.end());
   commit(outputs, std::move(report));
 }
 
@@ -127,7 +168,12 @@ void Stage::commit(std::span<OutputFile* const> outputs, nlohmann::json report) 
     file = std::make_unique<OutputFile>(paths_.report);
     file->write(report.dump(2) + "\n");
   }
-  for (OutputFile* out : outputs) out->commit();
+  // Every output written out before any is renamed into place: a full disk fails them all.
+  for (OutputFile* out : outputs)
+    if (out) out->finish();
+  if (file) file->finish();
+  for (OutputFile* out : outputs)
+    if (out) out->commit();
   if (file) file->commit();
 }
 

@@ -18,6 +18,8 @@
 #include <new>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "apps/stage_types.h"
 #include "formats/loaded_cloud.h"
@@ -86,14 +88,23 @@ class Stage {
   // `keep_chunks`.
   void stamp(LoadedCloud& doc, const nlohmann::json& options, bool keep_chunks = false);
 
-  // Checks that OUT can be written with `options` before the work (kUnsupported for LAS, ...).
-  void check_output_format(const WriteOptions& options) const;
+  // Checks that OUT can be written with `options` before the work and returns its format:
+  // Error(kUsage) when neither options.format nor OUT's extension names a format, or for options
+  // of another format (--ascii for LAS, ...); Error(kUnsupported) for PCD.
+  FileFormat check_output_format(const WriteOptions& options) const;
 
-  // Writes doc to OUT, then commit().
-  void write(const LoadedCloud& doc, const WriteOptions& options, nlohmann::json report = {});
+  // Checks a side output given by `option` (e.g. "--outliers-out") before the work: Error(kUsage)
+  // when it names IN, OUT, the report or an earlier side output, whatever the spelling;
+  // Error(kOutput) when it cannot be created. "" passes.
+  void check_side_output(const std::string& option, const std::string& path);
 
-  // Writes the report (when a path is set): the skeleton merged into `report`, then commits
-  // `outputs` (written, not yet committed) in order, then the report.
+  // Writes doc to OUT, then commit() with OUT and `also` (side outputs written, not committed).
+  void write(const LoadedCloud& doc, const WriteOptions& options, nlohmann::json report = {},
+             std::span<OutputFile* const> also = {});
+
+  // Writes the report (when a path is set): the skeleton merged into `report`; then finishes
+  // `outputs` (written, not yet committed; null entries skipped) and the report, so that a full
+  // disk fails before any is in place, and commits them in order, the report last.
   void commit(std::span<OutputFile* const> outputs, nlohmann::json report = {});
 
  private:
@@ -103,6 +114,7 @@ class Stage {
   StagePaths paths_;
   std::string input_name_;
   std::unique_ptr<InputStream> in_;
+  std::vector<std::pair<std::string, std::string>> side_outputs_;  // (option, path)
   nlohmann::json options_;
   nlohmann::json timings_ = nlohmann::json::object();
   Clock::time_point start_;

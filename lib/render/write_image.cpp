@@ -13,8 +13,10 @@ namespace splatkit::render {
 
 namespace {
 
+// A stream without an extension (stdout, /dev/null, a FIFO) gets PNG.
 std::string extension_of(const std::string& path) {
-  return path == "-" ? "png" : lower_extension(path);
+  const std::string ext = path == "-" ? "" : lower_extension(path);
+  return ext.empty() && is_stream_path(path) ? "png" : ext;
 }
 
 bool is_exr(const std::string& path) { return extension_of(path) == "exr"; }

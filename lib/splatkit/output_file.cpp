@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -46,6 +47,16 @@ int descriptor_named(const std::string& path) {
 bool is_special(mode_t mode) {
   return S_ISFIFO(mode) || S_ISCHR(mode) || S_ISBLK(mode) || S_ISSOCK(mode);
 }
+
+}  // namespace
+
+bool is_stream_path(const std::string& path) {
+  if (path == "-" || descriptor_named(path) >= 0) return true;
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && is_special(st.st_mode);
+}
+
+namespace {
 
 // Empty if `path` may be replaced, else why not. Permission bits do not stop root, so for root a
 // file nobody may write counts as write-protected too.
@@ -138,6 +149,12 @@ void OutputFile::open_direct(mode_t type) {
 void OutputFile::open_temporary(const std::string& target) {
   target_path_ = target;
   std::string temp = target + ".tmp.XXXXXX";
+  // A name within 11 bytes of the file name limit: a short hidden one beside it instead.
+  const std::size_t slash = target.rfind('/');
+  const std::size_t name_bytes =
+      slash == std::string::npos ? target.size() : target.size() - slash - 1;
+  if (name_bytes + 11 > NAME_MAX)
+    temp = target.substr(0, slash == std::string::npos ? 0 : slash + 1) + ".splatkit.tmp.XXXXXX";
   fd_ = ::mkstemp(temp.data());
   if (fd_ < 0) fail("cannot create: " + errno_text(errno));
   owns_fd_ = true;
@@ -171,7 +188,7 @@ void OutputFile::flush() {
 }
 
 void OutputFile::write(const void* data, std::size_t n) {
-  if (committed_) fail("write after commit");
+  if (finished_) fail("write after finish");
   if (reserved_) fail("append after reserve");
   if (n == 0) return;  // data may be null for an empty span
   const char* p = static_cast<const char*>(data);
@@ -188,7 +205,7 @@ void OutputFile::write(const void* data, std::size_t n) {
 }
 
 void OutputFile::write_at(uint64_t offset, const void* data, std::size_t n) {
-  if (committed_) fail("write after commit");
+  if (finished_) fail("write after finish");
   if (is_direct()) fail("cannot rewrite bytes already sent");
   if (offset > written_ || n > written_ - offset) fail("rewrite past the bytes written");
   flush();
@@ -205,7 +222,7 @@ void OutputFile::write_at(uint64_t offset, const void* data, std::size_t n) {
 }
 
 bool OutputFile::reserve(uint64_t size) {
-  if (committed_) fail("reserve after commit");
+  if (finished_) fail("reserve after finish");
   if (is_direct()) fail("cannot reserve space on a stream");
   flush();
   if (size < written_) fail("reserve below the bytes written");
@@ -226,7 +243,7 @@ bool OutputFile::reserve(uint64_t size) {
 }
 
 void OutputFile::write_through(uint64_t offset, const void* data, std::size_t n) {
-  if (!reserved_ || committed_) fail("write through without reserve");
+  if (!reserved_ || finished_) fail("write through without reserve");
   if (offset > written_ || n > written_ - offset) fail("write past the reserved bytes");
   const auto* p = static_cast<const char*>(data);
   std::size_t direct = 0;  // bytes written around the cache
@@ -256,11 +273,11 @@ void OutputFile::write_through(uint64_t offset, const void* data, std::size_t n)
   if (direct < n) write_at(offset + direct, p + direct, n - direct);
 }
 
-void OutputFile::commit() {
-  if (committed_) return;
+void OutputFile::finish() {
+  if (finished_) return;
   flush();
   if (!owns_fd_) {  // stdout
-    committed_ = true;
+    finished_ = true;
     return;
   }
   if (!temp_path_.empty()) {
@@ -280,6 +297,12 @@ void OutputFile::commit() {
   if (closed != 0) fail("close failed: " + errno_text(errno));
   if (uncached_fd_ >= 0 && ::close(std::exchange(uncached_fd_, -1)) != 0)
     fail("close failed: " + errno_text(errno));
+  finished_ = true;
+}
+
+void OutputFile::commit() {
+  if (committed_) return;
+  finish();
   if (!temp_path_.empty() && std::rename(temp_path_.c_str(), target_path_.c_str()) != 0)
     fail("cannot rename temporary file into place: " + errno_text(errno));
   committed_ = true;

@@ -37,6 +37,10 @@
 
 namespace splatkit {
 
+// Whether OutputFile writes `path` as a stream rather than a file: "-", /dev/stdout, /dev/stderr,
+// /dev/fd/N, /proc/self/fd/N, an existing FIFO, device or socket (no name to take a format from).
+bool is_stream_path(const std::string& path);
+
 class OutputFile {
  public:
   explicit OutputFile(const std::string& path, std::size_t buffer_size = std::size_t{1} << 20);
@@ -67,8 +71,11 @@ class OutputFile {
   // Whether the bytes go straight to the target (stdout, /dev/fd/N, FIFO, device, socket).
   bool is_direct() const { return temp_path_.empty(); }
 
-  // Flushes, closes and renames into place (or just flushes and closes a direct target).
-  // Idempotent.
+  // Flushes and closes (a direct target: flushes): where a full disk or a closed pipe shows. No
+  // write after it; the temporary file stays until commit() or the destructor. A caller with
+  // several outputs finishes them all before it commits any. Idempotent.
+  void finish();
+  // finish(), then renames into place. Idempotent.
   void commit();
 
  private:
@@ -89,6 +96,7 @@ class OutputFile {
   std::vector<char> buf_;
   std::size_t used_ = 0;
   uint64_t written_ = 0;
+  bool finished_ = false;
   bool committed_ = false;
   bool reserved_ = false;
   int uncached_fd_ = -1;  // the temporary file again, opened with O_DIRECT

@@ -63,4 +63,56 @@ expect_stderr "out.splk: cannot create"
 # Writing PCD is not supported: exit 3 before any work.
 expect_exit 3 "$BIN/splat-convert" -q "$sample" "$WORK/out.pcd"
 
+# A report that cannot be written out (a full disk: /dev/full) fails the run before OUT is put
+# in place: no new OUT, an old one kept.
+if [ -w /dev/full ]; then
+  expect_exit 4 "$BIN/estimate-normals" -q "$sample" "$WORK/full.splk" --report /dev/full
+  [ ! -e "$WORK/full.splk" ] && pass || fail "OUT put in place although its report failed"
+  cp "$WORK/a.splk" "$WORK/kept.splk"
+  expect_exit 4 "$BIN/estimate-normals" -q "$sample" "$WORK/kept.splk" --report /dev/full
+  cmp -s "$WORK/a.splk" "$WORK/kept.splk" && pass || fail "OUT replaced although its report failed"
+fi
+
+# An output name near the file name limit (255 bytes) can be written: its temporary name is
+# shorter then.
+long=$(printf 'a%.0s' $(seq 245)).splk
+expect_exit 0 "$BIN/splat-convert" -q "$sample" "$WORK/$long"
+cmp -s "$WORK/a.splk" "$WORK/$long" && pass || fail "a 250-byte output name"
+
+# Side outputs never name the input, OUT, the report or each other, whatever the spelling.
+cp "$sample" "$WORK/in.ply"
+ln -sf in.ply "$WORK/link.ply"
+for side in "$WORK/./in.ply" "$WORK/link.ply"; do
+  expect_exit 1 "$BIN/estimate-normals" -q "$WORK/in.ply" "$WORK/o.splk" --outliers sor \
+    --outliers-out "$side"
+  expect_stderr "--outliers-out must not be the input file"
+done
+cmp -s "$sample" "$WORK/in.ply" && pass || fail "the input was overwritten"
+expect_exit 1 "$BIN/estimate-normals" -q "$WORK/in.ply" "$WORK/o.ply" --outliers sor \
+  --outliers-out "$WORK/./o.ply"
+expect_stderr "--outliers-out must not be OUT"
+expect_exit 1 "$BIN/estimate-normals" -q "$WORK/in.ply" "$WORK/o.splk" --outliers sor \
+  --outliers-out "$WORK/r.ply" --report "$WORK/./r.ply"
+expect_stderr "--outliers-out must not be the report"
+expect_exit 1 "$BIN/splat-synth" -q city "$WORK/c.splk" -n 20000 --walkthrough "$WORK/./c.splk"
+expect_stderr "--walkthrough must not be OUT"
+# Options that would be ignored are refused; so is an extension that names no format.
+expect_exit 1 "$BIN/splat-synth" -q sphere "$WORK/s.splk" --walkthrough "$WORK/w.json"
+expect_stderr "apply to the city only"
+expect_exit 1 "$BIN/splat-synth" -q sphere "$WORK/s.bar"
+expect_stderr "extension names no format"
+expect_exit 1 "$BIN/estimate-normals" -q "$WORK/in.ply" "$WORK/o.splk" --outliers sor \
+  --outliers-out "$WORK/o.foo"
+expect_stderr "extension names no format"
+# Removing every point is bad input, not an empty file.
+expect_exit 2 "$BIN/estimate-normals" -q "$WORK/in.ply" "$WORK/none.splk" --outliers sor:12,-100
+expect_stderr "removed every one of its"
+[ ! -e "$WORK/none.splk" ] && pass || fail "an empty output was written"
+# A stream without an extension: .splk for clouds, PNG for images (e.g. only the stats wanted).
+"$BIN/estimate-normals" -q "$sample" "$WORK/n.splk"
+expect_exit 0 "$BIN/splat-view" -q "$WORK/n.splk" -o /dev/null --stats "$WORK/stats.json" \
+  --width 64 --height 48
+grep -q '"splats_drawn"\|"splats"' "$WORK/stats.json" && pass || fail "no stats with -o /dev/null"
+expect_exit 0 "$BIN/build-splat-graph" -q "$WORK/n.splk" /dev/null
+
 finish

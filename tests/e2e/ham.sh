@@ -49,6 +49,17 @@ max_full=$(oiiotool --stats "$WORK/full.exr" 2>/dev/null | awk '/Stats Max/ {pri
 max_tiles=$(json "$WORK/t.json" 'd["ham_max"]')
 awk -v a="$max_full" -v b="$max_tiles" 'BEGIN {exit !(a > 0 && (a - b) ^ 2 < 1e-6 * b * b)}' &&
   pass || fail "--ham-full max $max_full against the tiles' $max_tiles"
+# A new file's mode follows the umask (not the temporary file's 0600).
+[ "$(stat -c %a "$WORK/full.exr")" = "$(printf '%o' $(( 0666 & ~$(umask) )))" ] &&
+  pass || fail "--ham-full mode $(stat -c %a "$WORK/full.exr")"
+# Never the report, and not put in place when the report fails (a full disk).
+expect_exit 1 "$BIN/build-ham" "$DEM" "$WORK/t4.exr" -q --ham-full "$WORK/f4.exr" \
+  --report "$WORK/./f4.exr"
+expect_stderr "--ham-full must not be the report"
+if [ -w /dev/full ]; then
+  expect_exit 4 "$BIN/build-ham" "$DEM" "$WORK/t4.exr" -q --ham-full "$WORK/f4.exr" --report /dev/full
+  [ ! -e "$WORK/t4.exr" ] && [ ! -e "$WORK/f4.exr" ] && pass || fail "outputs in place after a failed report"
+fi
 
 # The same map in other files: the same tiles (the header aside).
 python3 - "$DEM" "$WORK" <<'PY'
