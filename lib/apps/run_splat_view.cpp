@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <numbers>
 #include <sstream>
 #include <vector>
@@ -222,6 +225,8 @@ Resolved resolve(const SplatViewOptions& o) {
   if (o.bvh_leaf < 1) throw_usage("--bvh-leaf must be at least 1");
   if (r.occlusion != OcclusionMode::kNone && r.render.blend == BlendMode::kZBuffer)
     throw_usage("--occlusion works with the A-buffer blends (zthreshold, zrange), not zbuffer");
+  if (o.path == "-" && o.input == "-")
+    throw_usage("--path - and IN - would both read standard input");
   if (!o.path.empty() && (r.eye || r.view || o.turntable > 0))
     throw_usage("--path gives the cameras; it does not go with --eye, --view or --turntable");
   if (o.turntable > 0 || !o.path.empty()) {
@@ -364,9 +369,15 @@ nlohmann::json occlusion_json(const OcclusionStats& s) {
 }
 
 std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw_bad_input(path, "cannot open the camera path");
   std::ostringstream text;
+  if (path == "-") {  // standard input (IN is not: checked with the options)
+    text << std::cin.rdbuf();
+    if (std::cin.bad()) throw_bad_input(path, "cannot read the camera path");
+    return text.str();
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw_bad_input(path, std::string("cannot open the camera path: ") + std::strerror(errno));
   text << in.rdbuf();
   if (in.bad()) throw_bad_input(path, "cannot read the camera path");
   return text.str();

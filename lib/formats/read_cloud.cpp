@@ -148,6 +148,7 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options, const Progre
       break;
     case FileFormat::kLas:
       doc = read_las(in, options);
+      if (doc.header.contains("compressed")) f = FileFormat::kLaz;  // by content, not by name
       break;
     case FileFormat::kSplk:
       doc = read_splk(in, options);

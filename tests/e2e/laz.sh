@@ -100,6 +100,7 @@ expect_eq "LAZ smaller than LAS" "$(( $(stat -c%s m.laz) * 3 < $(stat -c%s m.las
 cmp -s t1.ply t2.ply && pass || fail "LAZ decoding depends on the thread count"
 "$BIN/splat-convert" -q - stdin.ply <m.laz
 cmp -s t1.ply stdin.ply && pass || fail "LAZ through stdin differs"
+"$BIN/splat-info" --json - <m.laz | grep -q '"format": "laz"' && pass || fail "LAZ on stdin named"
 # splat-convert's LAZ output (a cloud's fields back into records) reads back as the same cloud.
 "$BIN/splat-convert" -q "$S/torus-las12.las" torus.laz && "$BIN/splat-convert" -q torus.laz a.ply
 "$BIN/splat-convert" -q "$S/torus-las12.las" b.ply

@@ -63,6 +63,15 @@ expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,3 --target 0,0,0 -
 expect_stderr "^splat-view: --up 0,0,1 is parallel to the viewing direction from --eye to --target"
 [ -e "$WORK/x.png" ] && fail "x.png written after an --up error" || pass
 
+# A camera path from standard input (IN a file); both from stdin refused.
+printf '[{"eye": [3, 0, 1], "target": [0, 0, 0]}, {"eye": [0, 3, 1], "target": [0, 0, 0]}]' |
+  "$V" -q "$S/torus.ply" -o "$WORK/p%d.png" --path - --width 32 --height 24 &&
+  [ -s "$WORK/p0.png" ] && [ -s "$WORK/p1.png" ] && pass || fail "--path - (stdin)"
+expect_exit 1 "$V" - -o "$WORK/p%d.png" --path - </dev/null
+expect_stderr "would both read standard input"
+expect_exit 1 "$V" "$S/torus.ply" -o "$WORK/t%d.png" --turntable 0
+head -1 "$WORK/stderr" | grep -q "not in range 1 to 1000000" && pass || fail "--turntable 0: $(head -1 "$WORK/stderr")"
+
 # Turntable: N frames named by the %04d field; the JSON report has the counts and stage times.
 expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/turn_%04d.png" --turntable 3 --width 64 --height 48 \
   --stats "$WORK/stats.json"

@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, render::kMaxImageSide));
   app.add_option("--turntable", o.turntable,
                  "Render N frames in one turn around the model; OUT needs a %04d field")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--blend", o.blend,
                  "Surface reconstruction: zthreshold[=EPS] (EPS in scene units, default twice "
                  "the mean splat radius), zrange, or zbuffer: no blending, each pixel shows its "
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   app.add_option("--path", o.path,
                  "Camera path: a JSON array of {\"eye\": [x,y,z], \"target\": [x,y,z]} with "
                  "optional \"up\" and \"fov\" (points in the file's coordinates); one frame per "
-                 "camera, OUT needs a %04d field")
+                 "camera, OUT needs a %04d field; '-' reads it from standard input")
       ->type_name("CAMERAS.json");
   app.add_option("--occlusion", o.occlusion,
                  "Occlusion culling over a hierarchy of splat chunks built at load: none, "
