@@ -138,7 +138,7 @@ void gather_extra(ExtraValues& values, const std::vector<uint32_t>& order) {
 template <class Timed>
 void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& options,
                         const std::vector<uint32_t>& order, NormalReport& report, Timed& timed,
-                        const ProgressFn& progress) {
+                        const ProgressFn& progress, std::vector<Bridge>& bridges) {
   const std::size_t n = cloud.size();
   const bool robust = options.method == NormalMethod::kRobust;
   const bool cover = options.radius_rule == RadiusRule::kCover;
@@ -156,8 +156,12 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
       if (flags[i] & kDegenerateFlag) points.push_back(static_cast<uint32_t>(i));
       if (flags[i] & kOpenCellFlag) refit.push_back(static_cast<uint32_t>(i));
     }
-    const DegenerateStats stats = resolve_degenerate_normals(
-        index, cloud.positions, points, options.k, options.radius_k, cloud.normals, cloud.radii);
+    std::vector<uint32_t> to(points.size());
+    const DegenerateStats stats =
+        resolve_degenerate_normals(index, cloud.positions, points, options.k, options.radius_k,
+                                   cloud.normals, cloud.radii, nullptr, {}, to);
+    for (std::size_t p = 0; p < points.size(); ++p)
+      if (to[p] != kNoBridge) bridges.push_back({points[p], to[p]});
     report.degenerate_points = points.size();
     report.unresolved_points = stats.unresolved;
     if (cover) refit.insert(refit.end(), points.begin(), points.end());
@@ -234,8 +238,10 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   cloud.minor_radii.assign(options.ellipses ? n : 0, 0.0f);
   SpatialIndex index;
   std::optional<SplatPieces> pieces;
-  // The MST orientation's kNN rows (the radius bound reads its neighbours from them too).
+  // The MST orientation's kNN rows (the radius bound reads its neighbours from them too), and
+  // the edges from thread points to the next scan line that take the last place of their rows.
   std::optional<ShrinkableArray> rows;
+  std::vector<Bridge> bridges;
   const bool mst = options.orient == NormalOrientation::kMst && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
     pieces.emplace(cloud.positions, options.piece_points);
@@ -247,11 +253,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("normals_radii", [&] {
       pieces->normals_and_splats(
           cloud, options, report, progress,
-          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>());
+          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(),
+          bridges);
     });
   } else {
     timed("index", [&] { index = SpatialIndex(cloud.positions); });
-    whole_cloud_splats(index, cloud, options, order, report, timed, progress);
+    whole_cloud_splats(index, cloud, options, order, report, timed, progress, bridges);
   }
   if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
   if (options.ellipses)  // isolated points: circles of the radius they were given
@@ -276,6 +283,13 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           n, kOrientK);
       if (!options.fit_centres) index = SpatialIndex();
     });
+  if (const std::size_t w = std::min(kOrientK, n) - 1; rows && w > kBoundRadiiK) {
+    // A thread point's k nearest lie on its own scan line: without an edge off it, each line (or
+    // a few) would be a component of the graph, oriented on its own. The radius bound reads the
+    // first kBoundRadiiK entries of a row: the last one is free.
+    for (const Bridge& b : bridges) (*rows)[std::size_t{b.from} * w + w - 1] = b.to;
+  }
+  bridges = {};
   if (options.max_radius_ratio > 0 && n > 1) {
     progress(0.81, "bound radii");
     timed("bound_radii", [&] {

@@ -14,14 +14,16 @@
 //      radius_k neighbours (splat_radius.h) or, by default, the splat that covers the point's
 //      tangent-plane cell among the whole row (cover_splat.h); no n×k array is ever held;
 //   4. degenerate neighbourhoods (fewer than 3 distinct points, collinear, or a thread of points
-//      whose middle eigenvalue is below 1 % of the largest: one scan line) get their normal from a
-//      wider neighbourhood (resolve_degenerate_normals.h); isolated points (no neighbour at a
+//      along one scan line, straight or curved: is_thread in neighborhood_pca.h) get their normal
+//      from a wider neighbourhood and an edge to the next scan line for the orientation's graph
+//      (resolve_degenerate_normals.h); isolated points (no neighbour at a
 //      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
 //   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
 //      splats of the points whose normal phases 4 and 5 changed are fitted again in their new
 //      tangent plane (one kNN query each);
 //   6. with orient mst, each point's kOrientK - 1 nearest other points ("knn_rows": one kNN pass,
-//      or in pieces the heads of phase 3's rows); the radius bound (bound_radii.h, max_radius_ratio)
+//      or in pieces the heads of phase 3's rows), the last one replaced by phase 4's edge to the
+//      next scan line for a thread point; the radius bound (bound_radii.h, max_radius_ratio)
 //      reads its neighbours from them when they exist, else runs kNN passes of its own;
 //   7. orientation: mst (consistent over a minimum spanning tree of those rows, outward per
 //      component), viewpoint (towards a scanner position) or none (canonical sign, see

@@ -58,4 +58,23 @@ PcaNormal neighborhood_pca(std::span<const Vec3f> positions, std::span<const uin
   return out;
 }
 
+bool is_thread(const PcaNormal& pca, std::span<const Vec3f> positions, uint32_t centre,
+               std::span<const uint32_t> indices) {
+  if (pca.degenerate || pca.eigenvalues[1] < kThinRatio * pca.eigenvalues[2]) return true;
+  if (!(pca.eigenvalues[1] < kThreadCheckRatio * pca.eigenvalues[2])) return false;
+  const Vec3f& c = positions[centre];
+  double sin2 = 0;
+  std::size_t count = 0;
+  for (const uint32_t j : indices) {
+    if (j == kNone || j == centre) continue;
+    const Vec3f d = positions[j] - c;
+    const double d2 = squared_norm(d);
+    if (!(d2 > 0)) continue;  // a duplicate: no direction
+    const double along = dot(d, pca.axis);
+    sin2 += 1.0 - along * along / d2;
+    ++count;
+  }
+  return count > 0 && sin2 < kThreadSin2 * static_cast<double>(count);
+}
+
 }  // namespace splatkit

@@ -34,6 +34,19 @@ inline constexpr double kCollinearRatio = 1e-6;
 // Every index must be < positions.size().
 PcaNormal neighborhood_pca(std::span<const Vec3f> positions, std::span<const uint32_t> indices);
 
+// Whether the neighbourhood `indices` of point `centre`, with PCA `pca`, is a thread of points
+// rather than a piece of surface: degenerate; or its middle eigenvalue below kThinRatio of the
+// largest (one straight scan line, with none of the next lines among the points); or below
+// kThreadCheckRatio of it with every neighbour close to the line through the centre along the
+// principal axis (the mean squared sine of the angle between the centre-to-neighbour direction
+// and the axis below kThreadSin2: one curved scan line, whose curvature alone lifts the middle
+// eigenvalue). The PCA plane of a thread is the line's osculating plane, not the surface's.
+inline constexpr double kThinRatio = 1e-2;
+inline constexpr double kThreadCheckRatio = 0.1;
+inline constexpr double kThreadSin2 = 0.05;
+bool is_thread(const PcaNormal& pca, std::span<const Vec3f> positions, uint32_t centre,
+               std::span<const uint32_t> indices);
+
 // The sign convention of neighborhood_pca: n or -n, whichever has its largest-magnitude component
 // positive (first of x, y, z on ties).
 Vec3f canonical_sign(const Vec3f& n);

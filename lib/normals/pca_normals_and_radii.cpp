@@ -81,9 +81,10 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
               if (j != SpatialIndex::kNone) __builtin_prefetch(&positions[j]);
           }
           const uint32_t i = queries[r];
-          const PcaNormal pca = neighborhood_pca(positions, indices.subspan(r * row_k, o.k));
+          const std::span<const uint32_t> nearest = indices.subspan(r * row_k, o.k);
+          const PcaNormal pca = neighborhood_pca(positions, nearest);
           cloud.normals[i] = pca.normal;
-          const bool thin = pca.degenerate || pca.eigenvalues[1] < kThinRatio * pca.eigenvalues[2];
+          const bool thin = is_thread(pca, positions, i, nearest);
           uint8_t f = thin ? kDegenerateFlag : 0;
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));

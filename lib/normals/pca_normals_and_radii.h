@@ -14,12 +14,9 @@
 namespace splatkit {
 
 // Flags of phase 3 per point.
-inline constexpr uint8_t kDegenerateFlag = 1;  // PCA neighbourhood degenerate or thin: widened
+// PCA neighbourhood degenerate or a thread (is_thread in neighborhood_pca.h): widened.
+inline constexpr uint8_t kDegenerateFlag = 1;
 inline constexpr uint8_t kOpenCellFlag = 2;    // cover cell left open by the row: refitted
-// A neighbourhood whose middle PCA eigenvalue is below this fraction of the largest is a thread
-// of points (one scan line, with none of the next lines among the k nearest): its plane is the
-// line's osculating plane, not the surface's, so its normal comes from a wider neighbourhood.
-inline constexpr double kThinRatio = 1e-2;
 // Rows of refitted splats are this many times the phase-3 row.
 inline constexpr std::size_t kWideRowFactor = 4;
 

@@ -35,8 +35,10 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
                                            std::span<const uint32_t> points, std::size_t k,
                                            std::size_t radius_k, std::span<Vec3f> normals,
                                            std::span<float> radii, const WholeCloud* whole,
-                                           std::span<float> sq_reach) {
+                                           std::span<float> sq_reach,
+                                           std::span<uint32_t> bridges) {
   DegenerateStats stats;
+  std::fill(bridges.begin(), bridges.end(), kNoBridge);
   if (points.empty()) return stats;
   const std::size_t n = whole ? whole->size : positions.size();
   const PcaNormal global = whole ? whole->pca : whole_cloud_pca(positions);
@@ -56,13 +58,32 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
           const uint32_t i = points[p];
           PcaNormal pca;
           std::size_t wide = k, got = 0;
+          Vec3f thread_axis{0, 0, 0};  // the direction of the point's own k nearest
           do {
             wide = std::min(wide * 4, limit);
             ids.resize(wide);
             d2.resize(wide);
             got = index.knn(positions[i], wide, ids.data(), d2.data());
+            if (wide == std::min(k * 4, limit))
+              thread_axis =
+                  neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), std::min(k, got)))
+                      .axis;
             pca = neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), got));
-          } while (pca.degenerate && wide < limit);
+          } while (is_thread(pca, positions, i, std::span<const uint32_t>(ids.data(), got)) &&
+                   wide < limit);
+          if (!bridges.empty()) {
+            // The nearest point off the thread (more than 45° from its direction): an edge to the
+            // next scan line for the orientation's graph, whose k nearest would all be on this one.
+            bridges[p] = kNoBridge;
+            for (std::size_t s = 0; s < got; ++s) {
+              const Vec3f d = positions[ids[s]] - positions[i];
+              const float along = dot(d, thread_axis);
+              if (d2[s] > 0 && 2 * along * along < squared_norm(d)) {
+                bridges[p] = ids[s];
+                break;
+              }
+            }
+          }
           if (radii[i] == 0.0f) radii[i] = splat_radius(d2, radius_k);
           if (!sq_reach.empty())
             sq_reach[i] = got == wide ? d2[wide - 1] : std::numeric_limits<float>::infinity();

@@ -2,8 +2,9 @@
 // distinct points, or collinear — see neighborhood_pca.h), taken from a wider neighbourhood.
 //
 // For each listed point the neighbourhood grows (4k, 16k, 64k nearest points, capped at the cloud
-// size and at max(kMaxWideK, 4k)) until its PCA is no longer degenerate; that PCA's normal is used.
-// When even the widest one is degenerate (a thread of points along a line, or the whole cloud
+// size and at max(kMaxWideK, 4k)) until it is no longer a thread (is_thread in neighborhood_pca.h:
+// it reaches the next scan lines); that PCA's normal is used (the widest one's when all are
+// threads but it is not degenerate). When even the widest one is degenerate (a thread of points along a line, or the whole cloud
 // collinear or a single position), a fallback keeps the result defined: for a line, the unit vector
 // perpendicular to it closest to +z (+x when the line is along z); for a single position, (0, 0,
 // 1). A radius of 0 (a point whose row held only its own duplicates) is recomputed from the wider
@@ -41,11 +42,18 @@ PcaNormal whole_cloud_pca(std::span<const Vec3f> positions);
 // the listed points only (radii before any scaling). k, radius_k as in NormalOptions. whole: null
 // when `positions` is the whole cloud. sq_reach (empty, or #N) receives, for each listed point,
 // the squared distance of the farthest neighbour its widest query returned (0 when the cloud was
-// degenerate as a whole and no query ran).
+// degenerate as a whole and no query ran). bridges (empty, or one per entry of `points`) receives
+// for each listed point the nearest point of its widest neighbourhood more than 45° off the
+// direction of its own k nearest (the next scan line's), or kNoBridge.
+inline constexpr uint32_t kNoBridge = 0xFFFFFFFFu;
+struct Bridge {  // an edge from a thread point to the next scan line
+  uint32_t from, to;
+};
 DegenerateStats resolve_degenerate_normals(
     const SpatialIndex& index, std::span<const Vec3f> positions, std::span<const uint32_t> points,
     std::size_t k, std::size_t radius_k, std::span<Vec3f> normals, std::span<float> radii,
-    const WholeCloud* whole = nullptr, std::span<float> sq_reach = {});
+    const WholeCloud* whole = nullptr, std::span<float> sq_reach = {},
+    std::span<uint32_t> bridges = {});
 
 // The fallback normal for a degenerate set whose principal axis is `axis` and largest eigenvalue
 // `largest` (0: a single position).

@@ -214,7 +214,8 @@ SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
 
 void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
                                      NormalReport& report, const ProgressFn& progress,
-                                     std::span<uint32_t> head_rows) {
+                                     std::span<uint32_t> head_rows,
+                                     std::vector<Bridge>& bridges) {
   const std::size_t n = positions_.size();
   const std::size_t head = n ? head_rows.size() / n : 0;
   const WholeCloud whole{n, whole_cloud_pca(positions_)};
@@ -224,7 +225,7 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
   // fresh page costs more than most of the work done on it).
   SplatCloud local;
   std::vector<uint8_t> local_flags;
-  std::vector<uint32_t> degenerate, local_rows;
+  std::vector<uint32_t> degenerate, local_rows, local_bridges;
   std::vector<float> reach, wide;
   for (std::size_t p = 0; p < pieces(); ++p) {
     DegenerateStats degenerate_stats;
@@ -245,9 +246,10 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       degenerate.clear();
       for (std::size_t i = at.core_begin; i < at.core_end; ++i)
         if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
+      local_bridges.resize(degenerate.size());
       degenerate_stats =
           resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
-                                     local.normals, local.radii, &whole, wide);
+                                     local.normals, local.radii, &whole, wide, local_bridges);
       for (std::size_t i = 0; i < m; ++i) reach[i] = std::max(reach[i], wide[i]);
       return at.halo_needed(reach, everything);
     });
@@ -261,6 +263,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       l.put_back(local.axes, cloud.axes);
       l.put_back(local.minor_radii, cloud.minor_radii);
     }
+    for (std::size_t p = 0; p < degenerate.size(); ++p)
+      if (local_bridges[p] != kNoBridge)
+        bridges.push_back({l.ids[degenerate[p]], l.ids[local_bridges[p]]});
     report.degenerate_points += degenerate.size();
     report.unresolved_points += degenerate_stats.unresolved;
     progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");

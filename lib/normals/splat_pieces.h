@@ -56,8 +56,11 @@ class SplatPieces {
   // Method pca only, without fit_centres (the caller checks).
   // head_rows (empty, or #N by w, w < row_size(o)): each point's w nearest other points, taken
   // from the rows the normals are computed from (pca_normals_and_radii), in whole-cloud numbers.
+  // bridges receives the edges off the scan line of the degenerate points
+  // (resolve_degenerate_normals.h), in whole-cloud numbers and in the whole-cloud run's order.
   void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
-                          const ProgressFn& progress, std::span<uint32_t> head_rows = {});
+                          const ProgressFn& progress, std::span<uint32_t> head_rows,
+                          std::vector<Bridge>& bridges);
 
   // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
   std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);
