@@ -20,7 +20,11 @@ std::string comment_text(const LoadedCloud& doc) {
   if (it != doc.header.end() && it->is_array())
     for (const auto& c : *it)
       if (c.is_string()) text += "comment " + c.get<std::string>() + "\n";
-  text += "splatkit " + doc.metadata.dump() + "\n";
+  nlohmann::json meta = doc.metadata;
+  // The spheres are in the cloud's local frame (float32 holds georeferenced coordinates only to
+  // metres): where that frame sits, for splat-view's cameras in file coordinates.
+  if (doc.cloud.origin != std::array<double, 3>{0, 0, 0}) meta["origin"] = doc.cloud.origin;
+  text += "splatkit " + meta.dump() + "\n";
   return text;
 }
 

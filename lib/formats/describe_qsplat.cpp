@@ -1,5 +1,7 @@
 #include "formats/describe_qsplat.h"
 
+#include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "splatkit/error.h"
@@ -25,8 +27,30 @@ nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
     j["root"] = {{"centre", {m.centres[r].x, m.centres[r].y, m.centres[r].z}},
                  {"radius", m.radii[r]}};
   }
+  const std::array<double, 3> origin = qsplat_origin(m);
+  if (origin != std::array<double, 3>{0, 0, 0}) j["origin"] = origin;
   j["comments"] = m.comments;
   return j;
+}
+
+std::array<double, 3> qsplat_origin(const QSplatModel& m) {
+  std::istringstream lines(m.comments);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (!line.starts_with("splatkit {")) continue;
+    const nlohmann::json j = nlohmann::json::parse(line.substr(9), nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("origin")) continue;
+    const nlohmann::json& o = j["origin"];
+    if (!o.is_array() || o.size() != 3) continue;
+    std::array<double, 3> origin{};
+    bool ok = true;
+    for (std::size_t k = 0; k < 3; ++k) {
+      ok = ok && o[k].is_number() && std::isfinite(o[k].get<double>());
+      if (ok) origin[k] = o[k].get<double>();
+    }
+    if (ok) return origin;
+  }
+  return {0, 0, 0};
 }
 
 std::string describe_qsplat_text(const nlohmann::json& j) {
@@ -43,6 +67,11 @@ std::string describe_qsplat_text(const nlohmann::json& j) {
   if (j.contains("root"))
     s << "root sphere: centre (" << j["root"]["centre"][0] << ", " << j["root"]["centre"][1] << ", "
       << j["root"]["centre"][2] << "), radius " << j["root"]["radius"] << "\n";
+  if (j.contains("origin"))  // as splat-info prints a cloud's bounds: to the millimetre
+    s << std::fixed << std::setprecision(3) << "origin (the local frame in file coordinates): ("
+      << j["origin"][0].get<double>() << ", " << j["origin"][1].get<double>() << ", "
+      << j["origin"][2].get<double>() << ")\n"
+      << std::defaultfloat << std::setprecision(6);
   const std::string c = j["comments"].get<std::string>();
   if (!c.empty()) {
     s << "comments:\n";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "formats/describe_qsplat.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
 
@@ -50,6 +51,7 @@ RenderScene make_qsplat_scene(QSplatModel&& model, const std::string& name) {
   for (const Part& p : parts) s.bounds.radius = std::max(s.bounds.radius, p.reach);
   s.max_radius = all.max_radius;
   s.mean_radius = static_cast<float>(all.sum / static_cast<double>(model.leaves));
+  s.origin = qsplat_origin(model);
   s.qsplat = std::make_shared<const QSplatModel>(std::move(model));
   return s;
 }

@@ -28,6 +28,7 @@ RenderScene make_spt_scene(SptModel&& m, const std::string& name) {
     s.bounds.radius = std::max(s.bounds.radius, norm(m.positions[i] - s.bounds.center) + reach);
   }
   s.mean_radius = static_cast<float>(sum / static_cast<double>(m.leaves));
+  s.origin = m.header.origin;
   s.spt = std::make_shared<const SptModel>(std::move(m));
   return s;
 }

@@ -10,7 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "apps/run_build_qsplat.h"
 #include "apps/run_build_splat_graph.h"
+#include "apps/run_build_spt.h"
 #include "apps/run_estimate_normals.h"
 #include "apps/run_segment_surfaces.h"
 #include "apps/run_splat_convert.h"
@@ -303,6 +305,21 @@ TEST(AppsSplatView, CamerasAreInTheFileCoordinates) {
   o.output = temp_path("view", "utm_%02d.png");
   run_splat_view(o);
   EXPECT_EQ(read_json(o.stats_path)["pixels_covered"].get<uint64_t>(), covered);
+  // The level-of-detail files keep the local frame's place: .spt in its header, .qs in its
+  // comment; their cameras are in file coordinates too.
+  BuildQSplatOptions q;
+  q.paths = {in, temp_path("view", "utm.qs"), ""};
+  run_build_qsplat(q);
+  BuildSptOptions t;
+  t.paths = {in, temp_path("view", "utm.spt"), ""};
+  run_build_spt(t);
+  for (const std::string& lod : {q.paths.output, t.paths.output}) {
+    SplatViewOptions v = small_view(lod, "utm-lod");
+    v.eye = "500003.5,4000002,101";
+    v.target = "500000,4000000,100";
+    run_splat_view(v);
+    EXPECT_GT(read_json(v.stats_path)["pixels_covered"].get<uint64_t>(), covered / 2) << lod;
+  }
 }
 
 // Every frame's name is checked before the first frame is written: a frame that cannot be
