@@ -38,9 +38,9 @@ inline int64_t default_lookahead(int64_t width) {
 class VoidFiller {
  public:
   static constexpr int kSmoothing = 32;
-  static constexpr int64_t kEdge = 3;
+  static constexpr int64_t kEdge = 1;  // samples this close to a void (Chebyshev) are replaced
   // `lookahead`: rows searched below a void (voids taller than it are filled without the samples
-  // below them until their end comes into reach).  // samples this close to a void (Chebyshev) are replaced
+  // below them until their end comes into reach).
   VoidFiller(HeightmapSource& source, bool has_nodata, float nodata, int64_t lookahead,
              int smoothing = kSmoothing);
   // Writes the next row, filled, into `out` (width floats) and returns its number of no-data
