@@ -321,6 +321,23 @@ TEST(TerrainFillVoids, AnIslandInAVoidSeaFillsWithinItsHeights) {
   for (float z : filled_copy(one, 10, 10, true, -32768).heights) EXPECT_EQ(z, 3.0f);
 }
 
+// A void takes its 8 neighbours with it (void edges carry outliers), and no more: the valid
+// heights around it stay (a wider ring took 14 % of a mountain tile's valid samples, and its
+// summit).
+TEST(TerrainFillVoids, OnlyAVoidsNeighboursAreReplaced) {
+  const int64_t w = 30, h = 30;
+  std::vector<float> v = noisy_hills(w, h, 5, 40.0);
+  v[std::size_t(15 * w + 15)] = -32768.0f;
+  const Filled filled = filled_copy(v, w, h, true, -32768);
+  for (int64_t y = 0; y < h; ++y)
+    for (int64_t x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y * w + x);
+      const bool ring = std::abs(x - 15) <= 1 && std::abs(y - 15) <= 1;
+      EXPECT_EQ(filled.replaced[i] != 0, ring) << x << "," << y;
+      if (!ring) EXPECT_EQ(filled.heights[i], v[i]) << x << "," << y;
+    }
+}
+
 TEST(TerrainFillVoids, RunsBecomeLinesBetweenTheirNeighbours) {
   std::vector<float> row = {-32768, 10, -32768, -32768, -32768, 20, NAN, -32768};
   EXPECT_EQ(fill_row_voids(row.data(), int64_t(row.size()), true, -32768), 6);
