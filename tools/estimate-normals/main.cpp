@@ -85,7 +85,11 @@ int main(int argc, char** argv) {
                  "second reaches nearer ones; with 1 % outliers in the box it removed 75-96 % of "
                  "them and at most 0.22 % of the scan on every scan measured, and 0.04-0.7 % of "
                  "clean scans, 3.9 % of a steep terrain (a single sor:12,1 removes 9-17 % of most "
-                 "clean scans); none (default)")
+                 "clean scans). Both thresholds are global: where density falls off with "
+                 "distance (a terrestrial scanner's far field) or jumps across the scan, the "
+                 "sparse part is removed as outliers (a ground scan out to 30 m lost 91-99 % "
+                 "of its points beyond 20 m): check --outliers-out, or crop such scans first; "
+                 "none (default)")
       ->default_str("none");
   app.add_option("--outliers-out", o.outliers_out,
                  "Write the removed outliers here (any writable format, by extension)");
