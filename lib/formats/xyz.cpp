@@ -119,8 +119,15 @@ bool XyzReader::next_content_line(std::string_view& content) {
   return false;
 }
 
+constexpr const char* kColumnsOption = "the --columns option";
+
 void XyzReader::set_columns(const std::vector<std::string_view>& names, const std::string& source) {
-  auto fail = [&](const std::string& what) { throw_bad_input(in_.path(), what + " in " + source); };
+  // The command line's columns are the user's mistake (usage), a header line's the file's.
+  const bool option = source == kColumnsOption;
+  auto fail = [&](const std::string& what) {
+    if (option) throw_usage(what + " in " + source);
+    throw_bad_input(in_.path(), what + " in " + source);
+  };
   if (names.size() > kMaxAttributes)
     fail(std::to_string(names.size()) + " columns, more than the " +
          std::to_string(kMaxAttributes) + " splatkit reads");
@@ -297,7 +304,7 @@ LoadedCloud XyzReader::read() {
 
   if (!options_.columns.empty()) {
     text::split(options_.columns, separator_of(options_.columns), toks);
-    set_columns(toks, "the --columns option");
+    set_columns(toks, kColumnsOption);
   } else if (!header_names.empty()) {
     std::vector<std::string_view> views(header_names.begin(), header_names.end());
     set_columns(views, header_source);

@@ -157,7 +157,7 @@ TEST(Xyz, Errors) {
                "incomplete normal (need nx, ny and nz) in the header (line 1)");
   expect_error("x y z r g\n1 2 3 4 5\n", ErrorKind::kBadInput, "incomplete colour");
   expect_error("x y z x\n1 2 3 4\n", ErrorKind::kBadInput, "column 'x' named twice");
-  expect_error("1 2 3\n", ErrorKind::kBadInput, "no x, y and z columns in the --columns option",
+  expect_error("1 2 3\n", ErrorKind::kUsage, "no x, y and z columns in the --columns option",
                "x,y");
   expect_error("x y z radius\n1 2 3 -1\n", ErrorKind::kBadInput, "radius must be finite and >= 0");
 }
