@@ -59,6 +59,9 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
           PcaNormal pca;
           std::size_t wide = k, got = 0;
           Vec3f thread_axis{0, 0, 0};  // the direction of the point's own k nearest
+          // A thread grows to 16k points (scan lines up to ~30 spacings apart), a degenerate set
+          // to the limit: a wire is a thread at every scale, and 1024-point queries for each of
+          // its points would only cost time.
           do {
             wide = std::min(wide * 4, limit);
             ids.resize(wide);
@@ -69,8 +72,10 @@ DegenerateStats resolve_degenerate_normals(const SpatialIndex& index,
                   neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), std::min(k, got)))
                       .axis;
             pca = neighborhood_pca(positions, std::span<const uint32_t>(ids.data(), got));
-          } while (is_thread(pca, positions, i, std::span<const uint32_t>(ids.data(), got)) &&
-                   wide < limit);
+          } while (wide < limit &&
+                   (pca.degenerate ||
+                    (wide < 16 * k &&
+                     is_thread(pca, positions, i, std::span<const uint32_t>(ids.data(), got)))));
           if (!bridges.empty()) {
             // The nearest point off the thread (more than 45° from its direction): an edge to the
             // next scan line for the orientation's graph, whose k nearest would all be on this one.

@@ -2,9 +2,9 @@
 // distinct points, or collinear — see neighborhood_pca.h), taken from a wider neighbourhood.
 //
 // For each listed point the neighbourhood grows (4k, 16k, 64k nearest points, capped at the cloud
-// size and at max(kMaxWideK, 4k)) until it is no longer a thread (is_thread in neighborhood_pca.h:
-// it reaches the next scan lines); that PCA's normal is used (the widest one's when all are
-// threads but it is not degenerate). When even the widest one is degenerate (a thread of points along a line, or the whole cloud
+// size and at max(kMaxWideK, 4k)) until it is no longer degenerate and, up to 16k points, no
+// longer a thread (is_thread in neighborhood_pca.h: it reaches the next scan lines); that PCA's
+// normal is used. When even the widest one is degenerate (a thread of points along a line, or the whole cloud
 // collinear or a single position), a fallback keeps the result defined: for a line, the unit vector
 // perpendicular to it closest to +z (+x when the line is along z); for a single position, (0, 0,
 // 1). A radius of 0 (a point whose row held only its own duplicates) is recomputed from the wider
