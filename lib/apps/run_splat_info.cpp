@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <optional>
@@ -60,8 +62,11 @@ void run_splat_info(const SplatInfoOptions& o, std::ostream& out, std::ostream& 
     }
   }
   if (o.json) out << (o.files.size() == 1 ? reports[0] : reports).dump(2) << "\n";
+  errno = 0;
   out.flush();
-  if (!out) throw_output("-", "cannot write the report");
+  if (!out)  // the stream keeps no cause; the failed write(2) left it in errno (EPIPE: `| head`)
+    throw_output("-", std::string("cannot write the report") +
+                          (errno ? std::string(": ") + std::strerror(errno) : std::string()));
   if (first_failure)
     throw Error(first_failure->kind(), std::to_string(failures) + " of " +
                                            std::to_string(o.files.size()) +
