@@ -11,6 +11,9 @@ namespace {
 
 // tan(60°): neighbours more than 60° above or below the tangent plane do not bound the cell.
 constexpr double kSheetSlope = 1.7320508075688772;
+// An open cell whose vertices on the square point, on average, at least this much to one side
+// (the mean of their unit directions) opens outwards only: a border point (border_reach_sq).
+constexpr double kBorderSide = 0.5;
 
 struct P2 {
   double x, y;
@@ -67,11 +70,28 @@ class Cell {
 
   std::span<const P2> vertices() const { return {v_, n_}; }
   // Whether a vertex lies on the starting square: the neighbours leave the cell open that way.
-  bool open(double half) const {
+  static bool on_square(const P2& p, double half) {
     const double edge = half * (1 - 1e-9);
+    return std::fabs(p.x) >= edge || std::fabs(p.y) >= edge;
+  }
+  bool open(double half) const {
     for (const P2& p : vertices())
-      if (std::fabs(p.x) >= edge || std::fabs(p.y) >= edge) return true;
+      if (on_square(p, half)) return true;
     return false;
+  }
+  // For an open cell: the mean of the unit directions of its vertices on the square. Long (at
+  // least kBorderSide) when the cell opens to one side only: the border of an open surface, not a
+  // thread open on both sides.
+  P2 open_side(double half) const {
+    double sx = 0, sy = 0;
+    std::size_t on = 0;
+    for (const P2& p : vertices())
+      if (on_square(p, half)) {
+        const double len = std::hypot(p.x, p.y);
+        sx += p.x / len, sy += p.y / len;
+        ++on;
+      }
+    return on ? P2{sx / static_cast<double>(on), sy / static_cast<double>(on)} : P2{0, 0};
   }
   double max_sq() const { return max_sq_; }
 
@@ -136,9 +156,21 @@ SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const
   }
   SplatShape s;
   s.axis = t1;
-  // An open cell is cut at open_cap; a closed one is covered whole.
+  // An open cell is cut at open_cap; a closed one is covered whole. On the border of an open
+  // surface the cell opens outwards only: its splat reaches its closed vertices (inwards, and
+  // along the border at least half-way to the next border point), not open_cap past the border.
   s.open = cell.open(half);
   const double cap = s.open ? double(open_cap) : half;
+  if (s.open) {
+    const P2 side = cell.open_side(half);
+    const double len = std::hypot(side.x, side.y);
+    if (len >= kBorderSide) {
+      // The surface ends about half a spacing (open_cap / 4: half the mean kNN distance) past
+      // its border samples: the cell is cut there, across the side it opens to.
+      const double margin = 2.0 * double(open_cap) / 4.0 / len;  // (the bisector halves it)
+      cell.clip({side.x * margin, side.y * margin}, 0.5);
+    }
+  }
   const double reach = std::min(std::sqrt(cell.max_sq()), cap);
   s.radius = s.minor_radius = static_cast<float>(reach);
   // An open cell is cut at the cap in every direction: only a circle still covers all of it

@@ -15,7 +15,11 @@
 // The cell starts as the square |x|, |y| <= D, D the distance to the farthest neighbour of the
 // row, which holds any cell the row's neighbours close. A cell that still touches that square is
 // open (the border of an open surface, a thread of points, a row too short for the sampling's
-// anisotropy): its splat is cut at `open_cap` (a circle's radius, an ellipse's semi-axes).
+// anisotropy): its splat is cut at `open_cap` (a circle's radius, an ellipse's semi-axes). A cell
+// open to one side only (the mean of the unit directions of its vertices on the square at least
+// 0.5 long: a border) is first cut open_cap / 4 past the centre across that side, where the
+// surface ends (half the mean kNN distance past the border samples, for the default cap), so that
+// border splats do not reach open_cap beyond the border.
 //
 //  - Circle: radius = distance to the cell's farthest vertex.
 //  - Ellipse: axes along the principal directions of the cell's second moment of area (about the

@@ -74,7 +74,9 @@ TEST(NormalsCoverSplat, NeighboursOfAnotherSheetAndDuplicatesAreSkipped) {
   c.add({0.2f, 0, 1.0f});  // 79° above the plane (across a crease): would close the cell at x = 0.1
   const SplatShape s = c.fit(5, false);
   EXPECT_TRUE(s.open);
-  EXPECT_FLOAT_EQ(s.radius, 5.0f);
+  // A border open to one side: cut open_cap / 4 past the centre, across that side (the strip
+  // [-0.5, 1.25] x [-0.5, 0.5]), not at the cap.
+  EXPECT_NEAR(s.radius, std::hypot(1.25f, 0.5f), 1e-5);
   Config flat = c;
   flat.positions.back() = {0.2f, 0, 0.1f};  // 27°: the same sheet, it closes the cell
   const SplatShape t = flat.fit(5, false);

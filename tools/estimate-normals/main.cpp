@@ -28,8 +28,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{3}, std::size_t{1024}));
   app.add_option("--radius", o.radius,
                  "cover: the splat covers its point's tangent-plane Voronoi cell among the row of "
-                 "max(k, radius-k + 1) nearest points, at most 2x the mean-knn radius (no holes on "
-                 "irregular sampling); mean-knn: the mean distance to the radius-k nearest "
+                 "max(k, radius-k + 1) nearest points (no holes on irregular sampling); a cell "
+                 "left open (a border) is cut at 2x the mean-knn radius, and half of it past a "
+                 "border; mean-knn: the mean distance to the radius-k nearest "
                  "neighbours (leaves ~2.5 % of a random sample's surface uncovered)")
       ->check(CLI::IsMember({"cover", "mean-knn"}))
       ->default_str("cover");
