@@ -12,7 +12,7 @@ namespace {
 // tan(60°): neighbours more than 60° above or below the tangent plane do not bound the cell.
 constexpr double kSheetSlope = 1.7320508075688772;
 // An open cell whose vertices on the square point, on average, at least this much to one side
-// (the mean of their unit directions) opens outwards only: a border point (border_reach_sq).
+// (the mean of their unit directions) opens outwards only: a border point (Cell::open_side).
 constexpr double kBorderSide = 0.5;
 
 struct P2 {
@@ -157,8 +157,8 @@ SplatShape cover_splat(const Vec3f& center, const Vec3f& normal, std::span<const
   SplatShape s;
   s.axis = t1;
   // An open cell is cut at open_cap; a closed one is covered whole. On the border of an open
-  // surface the cell opens outwards only: its splat reaches its closed vertices (inwards, and
-  // along the border at least half-way to the next border point), not open_cap past the border.
+  // surface the cell opens outwards only, and is first cut a little past the point on that side:
+  // the splat covers the cell inwards and along the border, not open_cap past the border.
   s.open = cell.open(half);
   const double cap = s.open ? double(open_cap) : half;
   if (s.open) {
