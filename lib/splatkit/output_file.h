@@ -1,5 +1,6 @@
-// Atomic output: bytes go to a temporary file `<target>.tmp.XXXXXX` beside the target, renamed
-// over it by commit().
+// Atomic output: bytes go to a temporary file `<target>.tmp.XXXXXX` beside the target
+// (`.splatkit.tmp.XXXXXX` when the target's name is within 11 bytes of NAME_MAX), renamed over it
+// by commit().
 //
 // A run that fails (exception) leaves no partial file and never clobbers an existing good one: the
 // destructor removes the temporary file unless commit() succeeded. A run killed by SIGINT, SIGTERM
