@@ -29,6 +29,11 @@ int thread_count() {
       static_cast<std::size_t>(tbb::info::default_concurrency())));
 }
 
+// Whether two outputs are one: the same file by identity, or both standard output.
+bool same_output(const std::string& a, const std::string& b) {
+  return same_file(a, b, 1, 1) || (a == "-" && b == "-");
+}
+
 }  // namespace
 
 void check_can_create(const std::string& path) {
@@ -60,7 +65,7 @@ Stage::Stage(std::string tool, StagePaths paths, std::string report_option)
   if (!p.report.empty()) {
     if (!p.input.empty() && same_file(p.input, p.report, 0, 1))
       throw_usage(r + " must not be the input file " + input_name_);
-    if (same_file(p.output, p.report, 1, 1) || (p.report == "-" && p.output == "-"))
+    if (same_output(p.output, p.report))
       throw_usage(r + " must not be OUT");
   }
   check_can_create(p.output);
@@ -72,13 +77,12 @@ void Stage::check_side_output(const std::string& option, const std::string& path
   if (!paths_.input.empty() && same_file(paths_.input, path, 0, 1))
     throw_usage(option + " must not be the input file " + input_name_ +
                 " (an input is never overwritten)");
-  if (same_file(paths_.output, path, 1, 1) || (path == "-" && paths_.output == "-"))
+  if (same_output(paths_.output, path))
     throw_usage(option + " must not be OUT: " + path);
-  if (!paths_.report.empty() &&
-      (same_file(paths_.report, path, 1, 1) || (path == "-" && paths_.report == "-")))
+  if (!paths_.report.empty() && same_output(paths_.report, path))
     throw_usage(option + " must not be the report: " + path);
   for (const auto& [other, other_path] : side_outputs_)
-    if (same_file(other_path, path, 1, 1) || (path == "-" && other_path == "-"))
+    if (same_output(other_path, path))
       throw_usage(option + " must not be " + other + "'s file: " + path);
   check_can_create(path);
   side_outputs_.emplace_back(option, path);
