@@ -14,6 +14,15 @@
 #include <stdexcept>
 #include <vector>
 
+// The decoder's hot functions are inlined into the item decoders (they are, in turn, into the
+// chunk's loop), so that the decoder's state stays in registers across a point's symbols instead
+// of going through memory at every call.
+#if defined(__GNUC__)
+#define SPLATKIT_LAZ_INLINE [[gnu::always_inline]] inline
+#else
+#define SPLATKIT_LAZ_INLINE inline
+#endif
+
 namespace splatkit::laz {
 
 // Thrown when a chunk's compressed bytes run out or cannot come from an encoder (the caller names
@@ -132,7 +141,7 @@ class ArithmeticDecoder {
     value_ |= static_cast<uint32_t>(get_byte());
   }
 
-  uint32_t decode_bit(BitModel& m) {
+  SPLATKIT_LAZ_INLINE uint32_t decode_bit(BitModel& m) {
     const uint32_t x = m.bit_0_prob * (length_ >> kBitLengthShift);
     const uint32_t sym = value_ >= x;
     if (sym == 0) {
@@ -147,7 +156,7 @@ class ArithmeticDecoder {
     return sym;
   }
 
-  uint32_t decode_symbol(SymbolModel& m) {
+  SPLATKIT_LAZ_INLINE uint32_t decode_symbol(SymbolModel& m) {
     uint32_t n, sym, x, y = length_;
     if (m.table_size_) {
       const uint32_t dv = value_ / (length_ >>= kSymLengthShift);
@@ -187,17 +196,14 @@ class ArithmeticDecoder {
   }
 
   // `bits` raw bits (1..32).
-  uint32_t read_bits(uint32_t bits) {
+  SPLATKIT_LAZ_INLINE uint32_t read_bits(uint32_t bits) {
     if (bits > 19) {
       const uint32_t low = read_short();
-      return (read_bits(bits - 16) << 16) | low;
+      return (read_few_bits(bits - 16) << 16) | low;
     }
-    const uint32_t sym = value_ / (length_ >>= bits);
-    value_ -= length_ * sym;
-    if (length_ < kMinLength) renormalize();
-    return sym & ((1u << bits) - 1);  // a corrupt stream can exceed `bits`; a valid one never does
+    return read_few_bits(bits);
   }
-  uint32_t read_short() {
+  SPLATKIT_LAZ_INLINE uint32_t read_short() {
     const uint32_t sym = value_ / (length_ >>= 16);
     value_ -= length_ * sym;
     if (length_ < kMinLength) renormalize();
@@ -208,15 +214,23 @@ class ArithmeticDecoder {
     return (read_short() << 16) | low;
   }
 
+  // `bits` raw bits (1..19).
+  SPLATKIT_LAZ_INLINE uint32_t read_few_bits(uint32_t bits) {
+    const uint32_t sym = value_ / (length_ >>= bits);
+    value_ -= length_ * sym;
+    if (length_ < kMinLength) renormalize();
+    return sym & ((1u << bits) - 1);  // a corrupt stream can exceed `bits`; a valid one never does
+  }
+
   // Where the decoder stands in its byte range (bytes consumed, including look-ahead).
   const unsigned char* position() const { return p_; }
 
  private:
-  unsigned char get_byte() {
+  SPLATKIT_LAZ_INLINE unsigned char get_byte() {
     if (p_ < end_) return *p_++;
     throw LazDataError("compressed data ends before the points it should hold");
   }
-  void renormalize() {
+  SPLATKIT_LAZ_INLINE void renormalize() {
     do {
       value_ = (value_ << 8) | get_byte();
     } while ((length_ <<= 8) < kMinLength);
@@ -349,7 +363,7 @@ class IntegerCompressor {
 
   uint32_t k() const { return k_; }
 
-  int32_t decompress(ArithmeticDecoder& dec, int32_t pred, uint32_t context) {
+  SPLATKIT_LAZ_INLINE int32_t decompress(ArithmeticDecoder& dec, int32_t pred, uint32_t context) {
     uint32_t real = static_cast<uint32_t>(pred) + static_cast<uint32_t>(read_corrector(dec, context));
     if (corr_range_) {
       if (static_cast<int32_t>(real) < 0) real += corr_range_;
@@ -370,7 +384,7 @@ class IntegerCompressor {
   }
 
  private:
-  int32_t read_corrector(ArithmeticDecoder& dec, uint32_t context) {
+  SPLATKIT_LAZ_INLINE int32_t read_corrector(ArithmeticDecoder& dec, uint32_t context) {
     k_ = dec.decode_symbol(m_bits_[context]);
     if (k_ == 0) return static_cast<int32_t>(dec.decode_bit(bit0_));
     int64_t c;

@@ -41,7 +41,7 @@ class Point10 {
     last_[12] = last_[13] = 0;
   }
 
-  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+  SPLATKIT_LAZ_INLINE void decode(ArithmeticDecoder& dec, unsigned char* item) {
     const uint32_t changed = dec.decode_symbol(changed_values_);
     unsigned r, n, m, l;
     if (changed) {
@@ -137,7 +137,7 @@ class GpsTime11 {
  public:
   static constexpr std::size_t kSize = 8;
   void init(const unsigned char* item) { model_.set_first(static_cast<int64_t>(get64(item))); }
-  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+  SPLATKIT_LAZ_INLINE void decode(ArithmeticDecoder& dec, unsigned char* item) {
     put64(item, static_cast<uint64_t>(model_.decode(dec)));
   }
   void encode(ArithmeticEncoder& enc, const unsigned char* item) {
@@ -158,7 +158,7 @@ class Rgb12 {
     for (int c = 0; c < 3; ++c) last_[c] = get16(item + 2 * c);
   }
 
-  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+  SPLATKIT_LAZ_INLINE void decode(ArithmeticDecoder& dec, unsigned char* item) {
     uint32_t v[3];
     const uint32_t sym = dec.decode_symbol(byte_used_);
     v[0] =
@@ -255,7 +255,7 @@ class Bytes {
   }
   std::size_t size() const { return last_.size(); }
   void init(const unsigned char* item) { std::memcpy(last_.data(), item, last_.size()); }
-  void decode(ArithmeticDecoder& dec, unsigned char* item) {
+  SPLATKIT_LAZ_INLINE void decode(ArithmeticDecoder& dec, unsigned char* item) {
     for (std::size_t i = 0; i < last_.size(); ++i) {
       last_[i] = static_cast<unsigned char>(last_[i] + dec.decode_symbol(models_[i]));
       item[i] = last_[i];
@@ -302,7 +302,7 @@ struct ChunkCoders {
     if (rgb) rgb->init(r), r += Rgb12::kSize;
     if (bytes) bytes->init(r);
   }
-  void decode(ArithmeticDecoder& dec, unsigned char* r) {
+  SPLATKIT_LAZ_INLINE void decode(ArithmeticDecoder& dec, unsigned char* r) {
     point->decode(dec, r);
     r += Point10::kSize;
     if (gps) gps->decode(dec, r), r += GpsTime11::kSize;

@@ -151,7 +151,9 @@ class Point14 {
   // therefore in every file), that is the new scanner channel when this point switched channel
   // and 0 otherwise, not the current channel.
   unsigned decode(unsigned char* item) {
-    ArithmeticDecoder& xy = *in_[kXY].dec;
+    // The X/Y layer's decoder as a local for the record (stored back at its end): its state then
+    // stays in registers across the record's symbols (ArithmeticDecoder's note).
+    ArithmeticDecoder xy = *in_[kXY].dec;
     Point14Context* c = ctx_[current_].get();
     const unsigned char* prev = c->last;
     const unsigned lpr =
@@ -221,6 +223,7 @@ class Point14 {
       put64(rec + 22, static_cast<uint64_t>(c->gps.decode(*in_[kGps].dec)));
     c->last_gps_change = gps_change;
     std::memcpy(item, rec, kPoint14Size);
+    *in_[kXY].dec = xy;
     return (changed & 64) ? current_ : 0;
   }
 
@@ -334,7 +337,7 @@ class Rgb14 {
     Context& c = *ctx_[current_];
     uint32_t v[4] = {last[0], last[1], last[2], last[3]};
     if (rgb_) {
-      ArithmeticDecoder& dec = *rgb_.dec;
+      ArithmeticDecoder dec = *rgb_.dec;  // a local for the record, as in Point14::decode
       const uint32_t sym = dec.decode_symbol(c.byte_used);
       v[0] =
           (sym & 1) ? ((dec.decode_symbol(c.diff[0]) + (last[0] & 0xFF)) & 0xFF) : (last[0] & 0xFF);
@@ -363,6 +366,7 @@ class Rgb14 {
       } else {
         v[1] = v[2] = v[0];
       }
+      *rgb_.dec = dec;
     }
     if (nir_ && nir_in_) {
       ArithmeticDecoder& dec = *nir_in_.dec;
