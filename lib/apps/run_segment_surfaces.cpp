@@ -8,6 +8,7 @@
 #include "graph/merge_small_surfaces.h"
 #include "graph/refine_surface_borders.h"
 #include "graph/segment_surfaces.h"
+#include "graph_io/chunks_to_attributes.h"
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
@@ -18,15 +19,6 @@ namespace splatkit::apps {
 namespace {
 
 using graph::Segmentation;
-
-void add_extra(SplatCloud& cloud, const std::string& name, ScalarType type,
-               const std::vector<double>& values) {
-  ExtraAttribute fresh(name, type, values);
-  if (ExtraAttribute* old = cloud.find_extra(name))
-    *old = std::move(fresh);
-  else
-    cloud.extras.push_back(std::move(fresh));
-}
 
 // The chunk of this type, or nullptr; a second one is an error (which of them would count?).
 const RawChunk* single_chunk(const LoadedCloud& doc, const char (&type)[4], const char* what,
@@ -129,11 +121,8 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   const uint64_t n = doc.cloud.size();
   WriteOptions write;
   if (ply) {
-    add_extra(doc.cloud, "surface_id", ScalarType::kUInt32,
-              std::vector<double>(seg.surface.begin(), seg.surface.end()));
-    std::vector<double> class_values(n);
-    for (uint64_t i = 0; i < n; ++i) class_values[i] = static_cast<double>(chunks.classes[i]);
-    add_extra(doc.cloud, "class", ScalarType::kUInt8, std::move(class_values));
+    doc.cloud.set_extra(graph::surface_id_attribute(seg));
+    doc.cloud.set_extra(graph::class_attribute(chunks.classes));
     write.format = FileFormat::kPly;
   } else {
     graph::put_chunk(doc, graph::encode_surface_chunk(seg));

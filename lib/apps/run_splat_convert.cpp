@@ -1,6 +1,7 @@
 #include "apps/run_splat_convert.h"
 
 #include "formats/write_cloud.h"
+#include "graph_io/chunks_to_attributes.h"
 #include "splatkit/error.h"
 
 namespace splatkit::apps {
@@ -29,6 +30,8 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   LoadedCloud doc = stage.read(o.read, progress);
   stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
   write.format = f;
+  // Surface ids and splat classes become attributes in formats without chunks.
+  if (f != FileFormat::kSplk) graph::chunks_to_attributes(doc, stage.input_name());
   stage.write(doc, write);
   // What the output format cannot hold, said in the summary line (not an error: converting to a
   // plainer format is often the point).

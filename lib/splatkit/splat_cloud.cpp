@@ -25,6 +25,13 @@ ExtraAttribute* SplatCloud::find_extra(const std::string& name) {
   return nullptr;
 }
 
+void SplatCloud::set_extra(ExtraAttribute a) {
+  if (ExtraAttribute* old = find_extra(a.name))
+    *old = std::move(a);
+  else
+    extras.push_back(std::move(a));
+}
+
 void SplatCloud::check_consistent() const {
   const std::size_t n = size();
   auto check = [n](std::size_t m, const char* what) {

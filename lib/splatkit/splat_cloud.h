@@ -75,6 +75,8 @@ struct SplatCloud {
   bool has_colors() const { return !colors.empty(); }
   const ExtraAttribute* find_extra(const std::string& name) const;
   ExtraAttribute* find_extra(const std::string& name);
+  // Replaces the attribute of a's name, or appends a.
+  void set_extra(ExtraAttribute a);
 
   // Throws std::logic_error when an attribute array does not match size(), when axes and
   // minor_radii are not both empty or both present with radii and normals, or a face index is out

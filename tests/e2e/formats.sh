@@ -57,7 +57,7 @@ expect_exit 0 "$BIN/splat-convert" "$S/cad.ply" "$WORK/cad.xyz"
 grep -q "does not keep" "$WORK/stderr" && fail "xyz keeps every field of cad.ply" || pass
 "$BIN/build-splat-graph" -q "$WORK/cad.splk" "$WORK/cad-graph.splk"
 expect_exit 0 "$BIN/splat-convert" "$WORK/cad-graph.splk" "$WORK/cad-graph.ply"
-expect_stderr "ply does not keep neighbour graph \\(GRPH\\), sharp edges \\(CLAS\\), clip partners \\(CLIP\\)$"
+expect_stderr "ply does not keep neighbour graph \\(GRPH\\), clip partners \\(CLIP\\)$"
 expect_exit 0 "$BIN/splat-convert" -q "$WORK/cad-graph.splk" "$WORK/cad-graph.las"
 expect_eq "-q: no summary" "$(cat "$WORK/stderr")" ""
 

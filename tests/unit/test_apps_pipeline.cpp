@@ -212,6 +212,44 @@ TEST(AppsSegmentSurfaces, CubeHasSixFacesAndMinSizeDropsNone) {
                      "--merge-below must be >= 1");
 }
 
+// Converting to a format without chunks keeps the surface ids and splat classes as the
+// attributes segment-surfaces writes into PLY (surface_id, class); .splk keeps the chunks.
+TEST(AppsSplatConvert, SurfaceIdsAndClassesBecomeAttributes) {
+  const CubeGraph c = cube_graph();
+  SegmentSurfacesOptions s;
+  s.paths = {c.graph, (c.dir / "surf.splk").string(), ""};
+  run_segment_surfaces(s);
+  const LoadedCloud doc = read_cloud(s.paths.output);
+  const graph::Segmentation seg = graph::decode_surface_chunk(
+      *graph::find_chunk(doc, graph::kSurfaceChunkType), doc.cloud.size(), "surf");
+  const std::vector<graph::SplatClass> classes = graph::decode_class_chunk(
+      *graph::find_chunk(doc, graph::kClassChunkType), doc.cloud.size(), "surf");
+  SplatConvertOptions o;
+  for (const char* ext : {"ply", "xyz"}) {
+    o.paths = {s.paths.output, (c.dir / (std::string("surf.") + ext)).string(), ""};
+    EXPECT_EQ(run_splat_convert(o).extra, std::string(ext) +
+                                              " does not keep neighbour graph (GRPH), clip "
+                                              "partners (CLIP)");
+    const LoadedCloud back = read_cloud(o.paths.output);
+    const ExtraAttribute* ids = back.cloud.find_extra("surface_id");
+    const ExtraAttribute* cls = back.cloud.find_extra("class");
+    ASSERT_NE(ids, nullptr);
+    ASSERT_NE(cls, nullptr);
+    ASSERT_EQ(ids->values.size(), seg.surface.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < seg.surface.size(); ++i)
+      differ += ids->values[i] != seg.surface[i] ||
+                cls->values[i] != static_cast<double>(classes[i]);
+    EXPECT_EQ(differ, 0u) << ext;
+  }
+  // Into .splk the chunks stay chunks.
+  o.paths = {s.paths.output, (c.dir / "surf2.splk").string(), ""};
+  EXPECT_EQ(run_splat_convert(o).extra, "");
+  const LoadedCloud splk = read_cloud(o.paths.output);
+  EXPECT_NE(graph::find_chunk(splk, graph::kSurfaceChunkType), nullptr);
+  EXPECT_EQ(splk.cloud.find_extra("surface_id"), nullptr);
+}
+
 TEST(AppsSegmentSurfaces, RejectsDuplicateAndCorruptGraphChunks) {
   const CubeGraph c = cube_graph();
   const LoadedCloud good = read_cloud(c.graph);
