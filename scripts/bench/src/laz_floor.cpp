@@ -62,10 +62,10 @@ double fixed_model(std::vector<uint32_t>& dist, std::vector<uint16_t>& table) {
   return bits;
 }
 
-double table_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
-  std::vector<uint32_t> dist;
-  std::vector<uint16_t> table;
-  fixed_model(dist, table);
+// Times kOps operations of a bare range decoder over `bytes`: step(value, length) decodes one,
+// updating both, and returns what it decoded; renormalisation follows it.
+template <class Step>
+double chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink, Step step) {
   const unsigned char* p = bytes.data() + 4;
   const unsigned char* wrap = bytes.data() + bytes.size() - 16;
   uint32_t value = uint32_t{bytes[0]} << 24 | uint32_t{bytes[1]} << 16 | uint32_t{bytes[2]} << 8 |
@@ -73,14 +73,7 @@ double table_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
   uint32_t length = 0xFFFFFFFFu;
   const auto t0 = Clock::now();
   for (long i = 0; i < kOps; ++i) {
-    const uint32_t l = length >> 15;
-    const uint32_t dv = value / l;
-    uint32_t s = table[dv >> 7];
-    while (s < 255 && dist[s + 1] <= dv) ++s;
-    const uint32_t x = dist[s] * l;
-    const uint32_t y = s == 255 ? length : dist[s + 1] * l;
-    value -= x;
-    length = y - x;
+    const uint32_t s = step(value, length);
     while (length < 0x01000000u) {
       value = value << 8 | *p++;
       length <<= 8;
@@ -91,25 +84,30 @@ double table_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
   return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / kOps;
 }
 
+double table_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
+  std::vector<uint32_t> dist;
+  std::vector<uint16_t> table;
+  fixed_model(dist, table);
+  return chain_ns(bytes, sink, [&](uint32_t& value, uint32_t& length) {
+    const uint32_t l = length >> 15;
+    const uint32_t dv = value / l;
+    uint32_t s = table[dv >> 7];
+    while (s < 255 && dist[s + 1] <= dv) ++s;
+    const uint32_t x = dist[s] * l;
+    const uint32_t y = s == 255 ? length : dist[s + 1] * l;
+    value -= x;
+    length = y - x;
+    return s;
+  });
+}
+
 double raw_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
-  const unsigned char* p = bytes.data() + 4;
-  const unsigned char* wrap = bytes.data() + bytes.size() - 16;
-  uint32_t value = uint32_t{bytes[0]} << 24 | uint32_t{bytes[1]} << 16 | uint32_t{bytes[2]} << 8 |
-                   bytes[3];
-  uint32_t length = 0xFFFFFFFFu;
-  const auto t0 = Clock::now();
-  for (long i = 0; i < kOps; ++i) {
+  return chain_ns(bytes, sink, [](uint32_t& value, uint32_t& length) {
     length >>= 8;
     const uint32_t s = value / length;
     value -= length * s;
-    while (length < 0x01000000u) {
-      value = value << 8 | *p++;
-      length <<= 8;
-    }
-    if (p > wrap) p = bytes.data() + 4;
-    sink += s;
-  }
-  return std::chrono::duration<double, std::nano>(Clock::now() - t0).count() / kOps;
+    return s;
+  });
 }
 
 // splatkit's decoder on the same kind of stream: `raw` reads 8 raw bits, else an adaptive
