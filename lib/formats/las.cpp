@@ -249,18 +249,49 @@ class PointDecoder {
   }
 
   // Decodes n consecutive records (record_length bytes each), the first being point `first`.
+  // Each attribute column grows by n first and takes the values in its own type.
   void add_records(const unsigned char* records, std::size_t n, uint64_t first) {
-    for (std::size_t i = 0; i < n; ++i) decode(records + i * h_.record_length, first + i);
+    const Columns col = grow(n);
+    for (std::size_t i = 0; i < n; ++i) decode(records + i * h_.record_length, first + i, col, i);
   }
   void finish() { positions_.finish(); }
 
  private:
+  // Where this batch's values go in each attribute column (null when the format has none).
+  struct Columns {
+    uint16_t *intensity, *source, *nir;
+    uint8_t *ret, *rets, *cls, *user;
+    int8_t* angle8;    // formats 0-5: whole degrees
+    float* angle;      // formats 6-8: 0.006-degree steps, kept in degrees
+    double* gps;
+  };
+  template <class T>
+  T* column(Extra e, std::size_t n) {
+    if (slot_[e] < 0) return nullptr;
+    ExtraValues& v = c_.extras[static_cast<std::size_t>(slot_[e])].values;
+    const std::size_t at = v.size();
+    v.resize(at + n);
+    return v.as<T>().data() + at;
+  }
+  Columns grow(std::size_t n) {
+    const bool v14 = h_.format >= 6;
+    return {column<uint16_t>(kIntensity, n),
+            column<uint16_t>(kSource, n),
+            column<uint16_t>(kNir, n),
+            column<uint8_t>(kReturn, n),
+            column<uint8_t>(kReturns, n),
+            column<uint8_t>(kClass, n),
+            column<uint8_t>(kUser, n),
+            v14 ? nullptr : column<int8_t>(kAngle, n),
+            v14 ? column<float>(kAngle, n) : nullptr,
+            column<double>(kGps, n)};
+  }
+
   bool has_rgb() const {
     return h_.format == 2 || h_.format == 3 || h_.format == 7 || h_.format == 8;
   }
-  void put(Extra e, double v) { c_.extras[static_cast<std::size_t>(slot_[e])].values.push_back(v); }
 
-  void decode(const unsigned char* r, uint64_t index) {
+  void decode(const unsigned char* r, uint64_t index, const Columns& col, std::size_t i) {
     std::array<double, 3> p;
     for (int k = 0; k < 3; ++k) {
       const int32_t raw = i32(r + 4 * k);
@@ -274,30 +305,29 @@ class PointDecoder {
                             number_text(h_.offset[k]) + " is beyond float range");
     }
     positions_.add(p);
-    put(kIntensity, u16(r + 12));
+    col.intensity[i] = u16(r + 12);
     const int f = h_.format;
     if (f < 6) {
-      put(kReturn, r[14] & 7);
-      put(kReturns, (r[14] >> 3) & 7);
-      put(kClass, r[15] & 31);
-      put(kAngle, static_cast<int8_t>(r[16]));
-      put(kUser, r[17]);
-      put(kSource, u16(r + 18));
-      if (f == 1 || f == 3) put(kGps, f64(r + 20));
+      col.ret[i] = r[14] & 7;
+      col.rets[i] = (r[14] >> 3) & 7;
+      col.cls[i] = r[15] & 31;
+      col.angle8[i] = static_cast<int8_t>(r[16]);
+      col.user[i] = r[17];
+      col.source[i] = u16(r + 18);
+      if (f == 1 || f == 3) col.gps[i] = f64(r + 20);
       if (f == 2) c_.colors.push_back({u16(r + 20), u16(r + 22), u16(r + 24)});
       if (f == 3) c_.colors.push_back({u16(r + 28), u16(r + 30), u16(r + 32)});
       return;
     }
-    put(kReturn, r[14] & 15);
-    put(kReturns, r[14] >> 4);
-    put(kClass, r[16]);
-    put(kUser, r[17]);
-    // Scan angle in 0.006 degree steps (LAS 1.4 R15 table 14), kept in degrees.
-    put(kAngle, static_cast<double>(static_cast<float>(static_cast<int16_t>(u16(r + 18)) * 0.006)));
-    put(kSource, u16(r + 20));
-    put(kGps, f64(r + 22));
+    col.ret[i] = r[14] & 15;
+    col.rets[i] = r[14] >> 4;
+    col.cls[i] = r[16];
+    col.user[i] = r[17];
+    col.angle[i] = static_cast<float>(static_cast<int16_t>(u16(r + 18)) * 0.006);
+    col.source[i] = u16(r + 20);
+    col.gps[i] = f64(r + 22);
     if (f >= 7) c_.colors.push_back({u16(r + 30), u16(r + 32), u16(r + 34)});
-    if (f == 8) put(kNir, u16(r + 36));
+    if (f == 8) col.nir[i] = u16(r + 36);
   }
 
   InputStream& in_;
