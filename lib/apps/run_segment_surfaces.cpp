@@ -1,6 +1,5 @@
 #include "apps/run_segment_surfaces.h"
 
-#include <string_view>
 #include <utility>
 
 #include "apps/robust_provenance.h"
@@ -20,20 +19,6 @@ namespace {
 
 using graph::Segmentation;
 
-// The chunk of this type, or nullptr; a second one is an error (which of them would count?).
-const RawChunk* single_chunk(const LoadedCloud& doc, const char (&type)[4], const char* what,
-                             const std::string& name) {
-  const RawChunk* found = nullptr;
-  for (const RawChunk& c : doc.chunks) {
-    if (std::string_view(c.type, 4) != std::string_view(type, 4)) continue;
-    if (found != nullptr)
-      throw_bad_input(
-          name, "two " + std::string(type, 4) + " chunks (" + what + "); a file holds at most one");
-    found = &c;
-  }
-  return found;
-}
-
 struct GraphChunks {
   graph::DecodedGraph graph;
   std::vector<graph::SplatClass> classes;
@@ -41,10 +26,14 @@ struct GraphChunks {
 
 // Decodes GRPH and CLAS, and checks CLIP and SURF (passed on to OUT) by decoding them too.
 GraphChunks decode_chunks(const LoadedCloud& doc, const std::string& name) {
-  const RawChunk* grph = single_chunk(doc, graph::kGraphChunkType, "neighbour graph", name);
-  const RawChunk* clas = single_chunk(doc, graph::kClassChunkType, "splat classes", name);
-  const RawChunk* clip = single_chunk(doc, graph::kClipChunkType, "clip partners", name);
-  const RawChunk* surf = single_chunk(doc, graph::kSurfaceChunkType, "surface ids", name);
+  const RawChunk* grph =
+      graph::find_single_chunk(doc, graph::kGraphChunkType, "neighbour graph", name);
+  const RawChunk* clas =
+      graph::find_single_chunk(doc, graph::kClassChunkType, "splat classes", name);
+  const RawChunk* clip =
+      graph::find_single_chunk(doc, graph::kClipChunkType, "clip partners", name);
+  const RawChunk* surf =
+      graph::find_single_chunk(doc, graph::kSurfaceChunkType, "surface ids", name);
   if (grph == nullptr) throw_bad_input(name, "no neighbour graph; run build-splat-graph first");
   if (clas == nullptr)
     throw_bad_input(name, "no splat classes (CLAS chunk); run build-splat-graph first");

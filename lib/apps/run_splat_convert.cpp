@@ -30,8 +30,10 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   LoadedCloud doc = stage.read(o.read, progress);
   stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
   write.format = f;
-  // Surface ids and splat classes become attributes in formats without chunks.
-  if (f != FileFormat::kSplk) graph::chunks_to_attributes(doc, stage.input_name());
+  // Surface ids and splat classes become attributes where the format keeps attributes but not
+  // chunks (LAS and OFF keep neither: there the chunks are only reported dropped).
+  if (f == FileFormat::kPly || f == FileFormat::kXyz)
+    graph::chunks_to_attributes(doc, stage.input_name());
   stage.write(doc, write);
   // What the output format cannot hold, said in the summary line (not an error: converting to a
   // plainer format is often the point).

@@ -1,6 +1,5 @@
 #include "graph_io/chunks_to_attributes.h"
 
-#include <algorithm>
 #include <cstring>
 
 #include "graph_io/graph_chunks.h"
@@ -21,15 +20,29 @@ ExtraAttribute class_attribute(std::span<const SplatClass> classes) {
   return a;
 }
 
+namespace {
+
+// Chunk `type` (at most one) as attribute `attribute`, made by to_attribute(chunk), unless the
+// cloud has that attribute already.
+template <class ToAttribute>
+void chunk_to_attribute(LoadedCloud& doc, const char (&type)[4], const char* what,
+                        const char* attribute, const std::string& name, ToAttribute to_attribute) {
+  if (doc.cloud.find_extra(attribute) != nullptr) return;
+  const RawChunk* chunk = find_single_chunk(doc, type, what, name);
+  if (chunk == nullptr) return;
+  doc.cloud.extras.push_back(to_attribute(*chunk));
+  std::erase_if(doc.chunks, [&](const RawChunk& c) { return std::memcmp(c.type, type, 4) == 0; });
+}
+
+}  // namespace
+
 void chunks_to_attributes(LoadedCloud& doc, const std::string& name) {
   const uint64_t n = doc.cloud.size();
-  if (const RawChunk* surf = find_chunk(doc, kSurfaceChunkType))
-    doc.cloud.set_extra(surface_id_attribute(decode_surface_chunk(*surf, n, name)));
-  if (const RawChunk* clas = find_chunk(doc, kClassChunkType))
-    doc.cloud.set_extra(class_attribute(decode_class_chunk(*clas, n, name)));
-  std::erase_if(doc.chunks, [](const RawChunk& c) {
-    return std::memcmp(c.type, kSurfaceChunkType, 4) == 0 ||
-           std::memcmp(c.type, kClassChunkType, 4) == 0;
+  chunk_to_attribute(
+      doc, kSurfaceChunkType, "surface ids", "surface_id", name,
+      [&](const RawChunk& c) { return surface_id_attribute(decode_surface_chunk(c, n, name)); });
+  chunk_to_attribute(doc, kClassChunkType, "splat classes", "class", name, [&](const RawChunk& c) {
+    return class_attribute(decode_class_chunk(c, n, name));
   });
 }
 

@@ -98,6 +98,19 @@ const RawChunk* find_chunk(const LoadedCloud& doc, const char (&type)[4]) {
   return nullptr;
 }
 
+const RawChunk* find_single_chunk(const LoadedCloud& doc, const char (&type)[4], const char* what,
+                                  const std::string& name) {
+  const RawChunk* found = nullptr;
+  for (const RawChunk& c : doc.chunks) {
+    if (std::memcmp(c.type, type, 4) != 0) continue;
+    if (found != nullptr)
+      throw_bad_input(
+          name, "two " + std::string(type, 4) + " chunks (" + what + "); a file holds at most one");
+    found = &c;
+  }
+  return found;
+}
+
 void put_chunk(LoadedCloud& doc, RawChunk chunk) {
   for (RawChunk& c : doc.chunks)
     if (std::memcmp(c.type, chunk.type, 4) == 0) {

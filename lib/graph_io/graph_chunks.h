@@ -32,6 +32,10 @@ inline constexpr const char (&kSurfaceChunkType)[4] = kSplkSurfaceType;
 
 // The first chunk of doc.chunks with this type, or nullptr.
 const RawChunk* find_chunk(const LoadedCloud& doc, const char (&type)[4]);
+// The chunk of this type, or nullptr; a second one is an error (which of them would count?):
+// Error(kBadInput) naming `name` and `what` the chunk holds.
+const RawChunk* find_single_chunk(const LoadedCloud& doc, const char (&type)[4], const char* what,
+                                  const std::string& name);
 // Replaces the first chunk of the same type, or appends.
 void put_chunk(LoadedCloud& doc, RawChunk chunk);
 

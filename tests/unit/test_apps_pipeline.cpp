@@ -238,16 +238,53 @@ TEST(AppsSplatConvert, SurfaceIdsAndClassesBecomeAttributes) {
     ASSERT_EQ(ids->values.size(), seg.surface.size());
     std::size_t differ = 0;
     for (std::size_t i = 0; i < seg.surface.size(); ++i)
-      differ += ids->values[i] != seg.surface[i] ||
-                cls->values[i] != static_cast<double>(classes[i]);
+      differ +=
+          ids->values[i] != seg.surface[i] || cls->values[i] != static_cast<double>(classes[i]);
     EXPECT_EQ(differ, 0u) << ext;
   }
-  // Into .splk the chunks stay chunks.
+  // Into .splk the chunks stay chunks; LAS keeps neither chunks nor these attributes.
   o.paths = {s.paths.output, (c.dir / "surf2.splk").string(), ""};
   EXPECT_EQ(run_splat_convert(o).extra, "");
   const LoadedCloud splk = read_cloud(o.paths.output);
   EXPECT_NE(graph::find_chunk(splk, graph::kSurfaceChunkType), nullptr);
   EXPECT_EQ(splk.cloud.find_extra("surface_id"), nullptr);
+  o.paths = {s.paths.output, (c.dir / "surf.las").string(), ""};
+  EXPECT_EQ(run_splat_convert(o).extra,
+            "las does not keep normals, radii, attribute patch_id, neighbour graph (GRPH), sharp "
+            "edges (CLAS), clip partners (CLIP), surface ids (SURF)");
+
+  // A file's own `class` attribute stays; the CLAS chunk is then reported dropped.
+  LoadedCloud labelled = doc;
+  labelled.cloud.extras.push_back(
+      ExtraAttribute("class", ScalarType::kUInt16, std::vector<double>(doc.cloud.size(), 7)));
+  const std::string in = (c.dir / "labelled.splk").string();
+  write_cloud(labelled, in);
+  o.paths = {in, (c.dir / "labelled.ply").string(), ""};
+  EXPECT_EQ(run_splat_convert(o).extra,
+            "ply does not keep neighbour graph (GRPH), sharp edges (CLAS), clip partners (CLIP)");
+  const LoadedCloud kept = read_cloud(o.paths.output);
+  ASSERT_NE(kept.cloud.find_extra("class"), nullptr);
+  EXPECT_EQ(kept.cloud.find_extra("class")->type(), ScalarType::kUInt16);
+  EXPECT_EQ(kept.cloud.find_extra("class")->values[0], 7);
+  EXPECT_NE(kept.cloud.find_extra("surface_id"), nullptr);
+
+  // Two SURF chunks, or a malformed one, are refused where they would become attributes; LAS
+  // output, which drops them, still converts.
+  LoadedCloud twice = doc;
+  twice.chunks.push_back(*graph::find_chunk(doc, graph::kSurfaceChunkType));
+  write_cloud(twice, in);
+  o.paths = {in, (c.dir / "twice.ply").string(), ""};
+  expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kBadInput, "two SURF chunks");
+  EXPECT_FALSE(fs::exists(o.paths.output));
+  LoadedCloud bad = doc;
+  for (RawChunk& chunk : bad.chunks)
+    if (std::string_view(chunk.type, 4) == "SURF") chunk.payload.resize(chunk.payload.size() - 4);
+  write_cloud(bad, in);
+  o.paths = {in, (c.dir / "bad.xyz").string(), ""};
+  expect_stage_error([&] { run_splat_convert(o); }, ErrorKind::kBadInput, "labelled.splk: SURF");
+  o.paths = {in, (c.dir / "bad.las").string(), ""};
+  run_splat_convert(o);
+  EXPECT_TRUE(fs::exists(o.paths.output));
 }
 
 TEST(AppsSegmentSurfaces, RejectsDuplicateAndCorruptGraphChunks) {

@@ -6,10 +6,11 @@ int main(int argc, char** argv) {
   splatkit::Tool tool("splat-convert",
                       "Convert a point cloud between formats, keeping the normals, radii, "
                       "colours, extra attributes and faces that the output format holds (.splk "
-                      "holds them all; formats/*.md say what the others keep; segment-surfaces' "
-                      "surface ids and build-splat-graph's splat classes become the attributes "
-                      "surface_id and class; the summary line names what OUT's format does not "
-                      "keep). The output format follows OUT's "
+                      "holds them all; formats/*.md say what the others keep; in PLY and XYZ, "
+                      "segment-surfaces' surface ids and build-splat-graph's splat classes become "
+                      "the attributes surface_id and class unless the cloud has attributes of "
+                      "those names; the summary line names what OUT's format does not keep). The "
+                      "output format follows OUT's "
                       "extension (.ply .xyz .txt .pts .csv .off .las .laz .splk, any case; another "
                       "is refused unless --format is given; '-' writes .splk to stdout).",
                       "  $ splat-convert scan.las scan.splk\n"
