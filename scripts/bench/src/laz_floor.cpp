@@ -1,17 +1,22 @@
-// The floor of LASzip decoding on this machine: the time of the range decoder's serial chain
-// alone, per operation, without any point model (laz.sh prints it beside the decoders).
+// What the range decoder's serial chain alone costs a LASzip decoder of point formats 0-3 on
+// this machine, per point, without any point model (laz.sh prints it beside the decoders): an
+// estimate of the least time a straightforward decoder needs, not a bound.
 //
-// Every LASzip decoder ([Isenburg13], docs/references.md) decodes a chunk as one chain: each
-// symbol divides the current value by the interval length, looks the quotient up in the model's
-// table, multiplies back, subtracts and renormalises, and the next symbol cannot start before
-// that one has finished. Chunks are the only parallelism. So per core, no decoder is faster than
-// (symbols per point) x (chain time per symbol) + (raw reads per point) x (chain time per read).
+// A point-wise LASzip chunk ([Isenburg13], docs/references.md) is one arithmetic-coded stream:
+// each symbol divides the current value by the interval length, looks the quotient up in the
+// model's table, multiplies back, subtracts and renormalises, and the next symbol cannot start
+// before that one has finished. A decoder that runs one chain per chunk (splatkit's, LASzip's,
+// laz-perf's) takes at least (symbols per point) x (chain time per symbol) + (raw reads per
+// point) x (chain time per read) per core. Two chunks' chains interleaved in one thread overlap
+// their latencies (about 12 % less time per symbol in a test of the bare chains); layered
+// chunks (formats 6-8) hold one stream per layer, so this does not describe them.
 //
 // Measured here on random bytes (every byte string is a valid stream), one thread:
 //   table: the least work of a symbol of a model with a decoder table (256 symbols, a fixed
-//          distribution of about 3.4 bits per symbol, as LASzip's point streams average; no
-//          adaptation, no bisection past the table's bucket);
-//   raw:   a read of 8 raw bits (a division, a multiplication, renormalisation);
+//          distribution of 3.6 bits per symbol, near the input's; no adaptation, no bisection
+//          past the table's bucket);
+//   raw:   a read of 2 raw bits (the input's raw reads average 2.3): a division, a
+//          multiplication, renormalisation;
 //   ours:  splatkit's ArithmeticDecoder::decode_symbol and read_bits on the same bytes, with an
 //          adaptive 256-symbol model that starts from the fixed model's distribution (updates
 //          included).
@@ -68,8 +73,8 @@ template <class Step>
 double chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink, Step step) {
   const unsigned char* p = bytes.data() + 4;
   const unsigned char* wrap = bytes.data() + bytes.size() - 16;
-  uint32_t value = uint32_t{bytes[0]} << 24 | uint32_t{bytes[1]} << 16 | uint32_t{bytes[2]} << 8 |
-                   bytes[3];
+  uint32_t value =
+      uint32_t{bytes[0]} << 24 | uint32_t{bytes[1]} << 16 | uint32_t{bytes[2]} << 8 | bytes[3];
   uint32_t length = 0xFFFFFFFFu;
   const auto t0 = Clock::now();
   for (long i = 0; i < kOps; ++i) {
@@ -103,14 +108,14 @@ double table_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
 
 double raw_chain_ns(const std::vector<unsigned char>& bytes, uint64_t& sink) {
   return chain_ns(bytes, sink, [](uint32_t& value, uint32_t& length) {
-    length >>= 8;
+    length >>= 2;
     const uint32_t s = value / length;
     value -= length * s;
     return s;
   });
 }
 
-// splatkit's decoder on the same kind of stream: `raw` reads 8 raw bits, else an adaptive
+// splatkit's decoder on the same kind of stream: `raw` reads 2 raw bits, else an adaptive
 // 256-symbol model decodes. Restarts on fresh bytes before the buffer ends.
 double ours_ns(const std::vector<unsigned char>& bytes, bool raw, uint64_t& sink) {
   using splatkit::laz::ArithmeticDecoder;
@@ -128,7 +133,7 @@ double ours_ns(const std::vector<unsigned char>& bytes, bool raw, uint64_t& sink
     ArithmeticDecoder dec(bytes.data() + at, bytes.data() + at + bytes.size() / 8);
     dec.init();
     const auto t0 = Clock::now();
-    for (long i = 0; i < per_stream; ++i) sink += raw ? dec.read_bits(8) : dec.decode_symbol(model);
+    for (long i = 0; i < per_stream; ++i) sink += raw ? dec.read_bits(2) : dec.decode_symbol(model);
     ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
   }
   return ns / kOps;
@@ -154,16 +159,20 @@ int main(int argc, char** argv) {
   }
   const double floor_ns = symbols * table_ns + raws * raw_ns;
   const double ours_floor_ns = symbols * ours_sym + raws * ours_raw;
-  std::printf("range decoder chain alone (1 thread, random bytes; checksum %llu):\n",
-              static_cast<unsigned long long>(sink % 1000));
-  std::printf("  table symbol %.2f ns (fixed model, %.1f bits per symbol), raw read %.2f ns;"
-              " splatkit's decode_symbol %.2f ns (adaptive), read_bits %.2f ns\n",
-              table_ns, bits, raw_ns, ours_sym, ours_raw);
-  std::printf("floor at %.2f table symbols + %.2f raw reads per point: %.1f ns per point = "
-              "%.2f M points/s per core, %.2f M points/s on %d threads\n",
-              symbols, raws, floor_ns, 1e3 / floor_ns, threads * 1e3 / floor_ns, threads);
-  std::printf("the same counts through splatkit's decoder calls alone: %.1f ns per point = "
-              "%.2f M points/s on %d threads\n",
-              ours_floor_ns, threads * 1e3 / ours_floor_ns, threads);
+  std::printf(
+      "range decoder chain alone, point formats 0-3 (1 thread, random bytes; checksum %llu):\n",
+      static_cast<unsigned long long>(sink % 1000));
+  std::printf(
+      "  table symbol %.2f ns (fixed model, %.1f bits per symbol), raw read %.2f ns;"
+      " splatkit's decode_symbol %.2f ns (adaptive), read_bits %.2f ns\n",
+      table_ns, bits, raw_ns, ours_sym, ours_raw);
+  std::printf(
+      "chain alone at %.2f table symbols + %.2f raw reads per point: %.1f ns per point = "
+      "%.2f M points/s per core, %.2f M points/s on %d threads\n",
+      symbols, raws, floor_ns, 1e3 / floor_ns, threads * 1e3 / floor_ns, threads);
+  std::printf(
+      "the same counts through splatkit's decoder calls alone: %.1f ns per point = "
+      "%.2f M points/s on %d threads\n",
+      ours_floor_ns, threads * 1e3 / ours_floor_ns, threads);
   return 0;
 }
