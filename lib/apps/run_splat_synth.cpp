@@ -27,6 +27,7 @@ nlohmann::json describe(const ShapeOptions& o, const SplatCloud& cloud, bool col
                   {"keep_inside", o.keep_inside},
                   {"colors", colors}};
   if (o.scan_lines > 1) m["options"]["scan_lines"] = o.scan_lines;
+  if (o.texture) m["options"]["texture"] = true;
   m["counts"] = {{"points", cloud.size()}, {"faces", 0}};
   if (!b.empty())
     m["bounds"] = {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}};
@@ -48,6 +49,7 @@ StageSummary run_city(const SplatSynthOptions& o) {
   if (o.walk_frames < 2 || o.walk_frames > 100000)
     throw_usage("--walk-frames must be in 2..100000");
   if (o.sample.points == 0) throw_usage("--points must be at least 1");
+  if (o.sample.texture) throw_usage("--texture applies to the shapes, not the city");
   Stage stage("splat-synth", {"", o.output, ""});
   stage.check_output_format(o.write);
   stage.check_side_output("--walkthrough", o.walkthrough);

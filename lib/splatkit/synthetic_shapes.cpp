@@ -630,17 +630,32 @@ SplatCloud make_shape(const ShapeOptions& options) {
   patch_ids.values.reserve(expected);
   DeterministicRng noise_rng(options.seed, 0x6E6F697365ull);
   const bool two_colours = options.kind == ShapeKind::kTwoSpheres;
+  // --texture: its own random stream, so that positions do not change with it.
+  DeterministicRng texture_rng(options.seed, 0x74657874ull);
+  ExtraAttribute intensity{"intensity", ScalarType::kUInt16};
+  if (options.texture) intensity.values.reserve(expected);
+  const double wave = 2 * M_PI * 3 / length(model.max - model.min);  // 3 periods across
+  auto textured = [&](const D3& p, std::array<uint16_t, 3>& rgb) {
+    const double t = std::sin(p.x * wave) + std::cos(p.y * wave * 1.3) + std::sin(p.z * wave * 0.7);
+    const double phase[3] = {0.0, 2.1, 4.2};
+    for (int c = 0; c < 3; ++c)
+      rgb[c] = static_cast<uint16_t>(
+          std::clamp(std::round(128 + 60 * std::sin(1.7 * t + phase[c]) + 6 * texture_rng.normal()),
+                     0.0, 255.0));
+    intensity.values.push_back(
+        std::clamp(std::round(2000 + 800 * t / 3 + 40 * texture_rng.normal()), 0.0, 65535.0));
+  };
   const Emit emit = [&](const D3& p, const D3& n, double cover, uint32_t patch) {
     const D3 q = sigma > 0 ? p + n * (sigma * noise_rng.normal()) : p;
     cloud.positions.push_back(to_float(q));
     cloud.normals.push_back(to_float(n));
     cloud.radii.push_back(static_cast<float>(std::max(base_radius, cover)));
-    if (!two_colours)
-      cloud.colors.push_back({200, 200, 200});
-    else if (patch == 0)
-      cloud.colors.push_back({255, 0, 0});
-    else
-      cloud.colors.push_back({0, 0, 255});
+    std::array<uint16_t, 3> rgb{200, 200, 200};
+    if (options.texture)
+      textured(p, rgb);
+    else if (two_colours)
+      rgb = patch == 0 ? std::array<uint16_t, 3>{255, 0, 0} : std::array<uint16_t, 3>{0, 0, 255};
+    cloud.colors.push_back(rgb);
     patch_ids.values.push_back(patch);
   };
 
@@ -664,6 +679,7 @@ SplatCloud make_shape(const ShapeOptions& options) {
     }
   }
   cloud.extras.push_back(std::move(patch_ids));
+  if (options.texture) cloud.extras.push_back(std::move(intensity));
   cloud.check_consistent();
   return cloud;
 }

@@ -40,6 +40,11 @@ struct ShapeOptions {
   bool keep_inside = false;  // kTwoSpheres: keep the parts of each sphere inside the other
                              // (false: the visible union, a closed surface whose intersection
                              // circle is a crease; true: two whole interpenetrating spheres)
+  // Attributes as a scanner records them: colours from a smooth texture over the surface (a few
+  // periods across the model) with sensor noise (standard deviation 6 of 255), and an extra
+  // attribute "intensity" (uint16, the texture's brightness around 2000, noise 40). Positions,
+  // normals and radii are the same as without.
+  bool texture = false;
 };
 
 // Returns positions, exact outward unit normals, radii (mean distance to 5 nearest neighbours of

@@ -547,6 +547,52 @@ TEST(SyntheticShapes, BoundsContainTheSampleAndAreTight) {
   }
 }
 
+// --texture: the same points; colours that vary smoothly over the surface with a little noise,
+// and an intensity attribute; the same bytes for the same seed.
+TEST(SyntheticShapes, TextureKeepsThePointsAndVariesColoursAndIntensity) {
+  ShapeOptions o = shape(ShapeKind::kCadPart, 20000);
+  o.scan_lines = 4;
+  const SplatCloud plain = make_shape(o);
+  o.texture = true;
+  const SplatCloud a = make_shape(o), b = make_shape(o);
+  EXPECT_EQ(a.positions, plain.positions);
+  EXPECT_EQ(a.normals, plain.normals);
+  EXPECT_EQ(a.radii, plain.radii);
+  EXPECT_EQ(a.colors, b.colors);
+  const ExtraAttribute* intensity = a.find_extra("intensity");
+  ASSERT_NE(intensity, nullptr);
+  EXPECT_EQ(intensity->type(), ScalarType::kUInt16);
+  EXPECT_EQ(intensity->values, b.find_extra("intensity")->values);
+  EXPECT_EQ(plain.find_extra("intensity"), nullptr);
+  // Channels span much of their range; a point and its nearest neighbour differ by little, two
+  // points far apart by much more: a texture, not noise.
+  int lo = 255, hi = 0;
+  for (const auto& c : a.colors) {
+    lo = std::min<int>(lo, c[0]);
+    hi = std::max<int>(hi, c[0]);
+  }
+  EXPECT_GT(hi - lo, 100);
+  double near_step = 0, far_step = 0;
+  const std::size_t probes = 200;
+  for (std::size_t p = 0; p < probes; ++p) {
+    const std::size_t i = p * (a.size() / probes);
+    std::size_t nearest = i == 0 ? 1 : 0;
+    for (std::size_t j = 0; j < a.size(); ++j)
+      if (j != i && squared_norm(a.positions[j] - a.positions[i]) <
+                        squared_norm(a.positions[nearest] - a.positions[i]))
+        nearest = j;
+    near_step += std::abs(a.colors[i][0] - a.colors[nearest][0]);
+    far_step += std::abs(a.colors[i][0] - a.colors[(i + a.size() / 2) % a.size()][0]);
+  }
+  EXPECT_LT(near_step, far_step / 3) << near_step / probes << " " << far_step / probes;
+  double ilo = 1e9, ihi = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ilo = std::min(ilo, intensity->values[i]);
+    ihi = std::max(ihi, intensity->values[i]);
+  }
+  EXPECT_GT(ihi - ilo, 500);
+}
+
 TEST(SyntheticShapes, NamesParseAndBadOptionsAreUsageErrors) {
   for (ShapeKind kind : kAllKinds) EXPECT_EQ(parse_shape_kind(shape_kind_name(kind)), kind);
   auto kind_of = [](auto&& f) {

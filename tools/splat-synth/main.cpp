@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-inside", o.sample.keep_inside,
                "two-spheres: keep the part of each sphere inside the other (two whole spheres)");
   app.add_flag("--no-color", o.no_color, "Leave out the colours (smaller files)");
+  app.add_flag("--texture", o.sample.texture,
+               "Colours and an intensity attribute as a scanner records them: a smooth texture "
+               "over the surface with sensor noise (default: one flat colour, no intensity; the "
+               "points are the same)");
   app.add_option("--blocks", o.city_blocks, "city: buildings per side of the grid (2..64)")
       ->default_val(8);
   app.add_option("--walkthrough", o.walkthrough,
