@@ -161,13 +161,22 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
     }
   }
   if (!from_las) {
-    double extent = 0;
-    for (const Vec3f& p : c.positions)
-      extent =
-          std::max({extent, std::abs(double{p.x}), std::abs(double{p.y}), std::abs(double{p.z})});
-    double scale = 0.001;
-    while (extent / scale > 2.0e9) scale *= 10;
+    // Per axis: 0.001 (a millimetre for metres), finer while fewer than 10^5 steps span the
+    // points (degrees of longitude beside heights in metres, unit-size models), coarser until
+    // the farthest coordinate from the offset fits 32 bits.
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, reach[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < c.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const double v = c.positions[i][k];
+        lo[k] = i == 0 ? v : std::min(lo[k], v);
+        hi[k] = i == 0 ? v : std::max(hi[k], v);
+        reach[k] = std::max(reach[k], std::abs(v));
+      }
     for (int k = 0; k < 3; ++k) {
+      int e = -3;  // scale 10^e
+      while ((hi[k] - lo[k]) / std::pow(10.0, e) < 1.0e5 && e > -12) --e;
+      while (reach[k] / std::pow(10.0, e) > 2.0e9) ++e;
+      const double scale = std::pow(10.0, e);
       layout.scale[k] = scale;
       layout.offset[k] = c.origin[k];
     }

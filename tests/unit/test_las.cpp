@@ -338,6 +338,30 @@ TEST(Las, StreamsFromAFileInBlocks) {
   EXPECT_EQ(c.colors[4097][0], 4097);
 }
 
+// A cloud that did not come from LAS gets a scale per axis fine enough for its extent: degrees of
+// longitude and latitude beside heights in metres keep centimetres, not 0.001 degrees (100 m).
+TEST(Las, WrittenScaleFollowsEachAxisExtent) {
+  LoadedCloud doc;
+  for (int i = 0; i < 1000; ++i)
+    doc.cloud.positions.push_back({-122.0f + 0.01f * static_cast<float>(i) / 1000,
+                                   47.0f + 0.01f * static_cast<float>(i % 37) / 37,
+                                   100.0f + static_cast<float>(i % 101)});
+  const std::string path = test::temp_path("las", "lonlat.las");
+  write_cloud(doc, path);
+  const LoadedCloud back = read_cloud(path);
+  EXPECT_EQ(back.header["scale"][0].get<double>(), 1e-7);
+  EXPECT_EQ(back.header["scale"][1].get<double>(), 1e-7);
+  EXPECT_EQ(back.header["scale"][2].get<double>(), 1e-3);  // 100 m of heights: millimetres
+  ASSERT_EQ(back.cloud.size(), doc.cloud.size());
+  double worst = 0;
+  for (std::size_t i = 0; i < doc.cloud.size(); ++i)
+    for (int k = 0; k < 2; ++k)
+      worst = std::max(worst,
+                       std::abs(double{back.cloud.positions[i][k] + float(back.cloud.origin[k])} -
+                                double{doc.cloud.positions[i][k]}));
+  EXPECT_LT(worst, 2e-5);  // float32 at 122 degrees: 7.6e-6
+}
+
 TEST(Las, Errors) {
   LasSpec ok;
   ok.points = two_points();
