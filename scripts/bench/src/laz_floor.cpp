@@ -142,8 +142,8 @@ double ours_ns(const std::vector<unsigned char>& bytes, bool raw, uint64_t& sink
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double symbols = argc > 1 ? std::atof(argv[1]) : 15.80;
-  const double raws = argc > 2 ? std::atof(argv[2]) : 2.97;
+  const double symbols = argc > 1 ? std::atof(argv[1]) : 15.84;
+  const double raws = argc > 2 ? std::atof(argv[2]) : 3.52;
   const int threads = argc > 3 ? std::atoi(argv[3]) : 2;
   const auto bytes = random_bytes();
   std::vector<uint32_t> dist;
