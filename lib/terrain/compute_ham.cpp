@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
+#include <sstream>
 #include <vector>
 
 #include "splatkit/error.h"
@@ -100,18 +102,16 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
                    9.0 * double(band + 2 * kVoidRing + 1)) +
       tiles_bytes;
   if (held > double(int64_t(4) << 30))
-    throw_unsupported("the heightmap",
-                      std::to_string(w) + " x " + std::to_string(h) + " texels in tiles of " +
-                          std::to_string(T) + " need " +
-                          std::to_string(int64_t(held / double(1 << 20))) +
-                          " MiB in memory at once (limit 4096)");
+    throw_unsupported("the heightmap", std::to_string(w) + " x " + std::to_string(h) +
+                                           " texels in tiles of " + std::to_string(T) + " need " +
+                                           std::to_string(int64_t(held / double(1 << 20))) +
+                                           " MiB in memory at once (limit 4096)");
   HamTiles tiles;
   tiles.resize(w, h, T);
   tiles.z_scale = o.z_scale;
   stats = {};
   stats.band_rows = band;
   stats.samples = uint64_t(w) * uint64_t(h);
-
 
   VoidFiller filler(source, has_nodata, nodata, lookahead);
 
@@ -120,6 +120,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
   int64_t lo = 0, loaded = 0, produced = 0;
   std::vector<uint32_t> row_voids;  // per window row and tile column: voids filled
   float h_min = INFINITY, h_max = -INFINITY;
+  bool overflow = false;  // a HAM value that is not finite
   // Rows with replaced samples: the replaced flags dilated by 2 texels along the row.
   std::map<int64_t, std::vector<uint8_t>> replaced_rows;
 
@@ -265,83 +266,91 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     std::vector<std::vector<TileAcc>> parts(static_cast<std::size_t>(runs));
     std::vector<double> run_ham_max(static_cast<std::size_t>(runs), 0.0);
     std::vector<std::pair<float, float>> run_h(static_cast<std::size_t>(runs));
+    std::vector<uint8_t> run_overflow(static_cast<std::size_t>(runs), 0);
     try {
-    tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
-      const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
-      const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
-      std::vector<TileAcc>& acc = parts[std::size_t(k)];
-      acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
-      std::vector<float> ring(static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
-      auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
-      auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
-        const int64_t rc = std::clamp<int64_t>(r, 0, h - 1);
-        sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, mrow(r));
-      };
-      compute_m(r0 - 1);
-      compute_m(r0);
-      float ham_max = 0, lo_h = INFINITY, hi_h = -INFINITY;
-      for (int64_t r = r0; r < r1; ++r) {
-        compute_m(r + 1);
-        const float* above = r == 0 ? mrow(r) : mrow(r - 1);
-        const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
-        float* out = ham_row(r);
-        sobel_row(above, mrow(r), below, w, out);
-        bound_ready[slot(r)] = 0;
-        uint8_t* aff = nullptr;  // this row's affected texels, or null
-        if (band_voids)
-          for (int64_t y = std::max<int64_t>(0, r - 2); y <= std::min(h - 1, r + 2); ++y) {
-            const auto it = replaced_rows.find(y);
-            if (it == replaced_rows.end()) continue;
-            if (!aff) {
-              aff = affected.data() + slot(r) * w;
-              std::fill(aff, aff + w, uint8_t(0));
+      tbb::parallel_for(int64_t(0), runs, [&](int64_t k) {
+        const int64_t r0 = b0 + k * run, r1 = std::min(b1, r0 + run);
+        const int64_t ty0 = r0 / T, ty1 = (r1 - 1) / T;
+        std::vector<TileAcc>& acc = parts[std::size_t(k)];
+        acc.assign(std::size_t((ty1 - ty0 + 1) * tiles.tiles_x), TileAcc{});
+        std::vector<float> ring(
+            static_cast<std::size_t>(3 * w));  // M rows r-1, r, r+1 in slots (row+3)%3
+        auto mrow = [&](int64_t r) { return ring.data() + ((r + 3) % 3) * w; };
+        auto compute_m = [&](int64_t r) {  // M of row r (clamped to the map)
+          const int64_t rc = std::clamp<int64_t>(r, 0, h - 1);
+          sobel_row(hrow(rc - 1), hrow(rc), hrow(rc + 1), w, mrow(r));
+        };
+        compute_m(r0 - 1);
+        compute_m(r0);
+        float ham_max = 0, lo_h = INFINITY, hi_h = -INFINITY;
+        for (int64_t r = r0; r < r1; ++r) {
+          compute_m(r + 1);
+          const float* above = r == 0 ? mrow(r) : mrow(r - 1);
+          const float* below = r == h - 1 ? mrow(r) : mrow(r + 1);
+          float* out = ham_row(r);
+          sobel_row(above, mrow(r), below, w, out);
+          // Heights so large that their slopes overflow give inf or NaN here (which the maxima
+          // below would skip).
+          bool finite = true;
+          for (int64_t x = 0; x < w; ++x) finite &= out[x] <= std::numeric_limits<float>::max();
+          run_overflow[std::size_t(k)] |= !finite;
+          bound_ready[slot(r)] = 0;
+          uint8_t* aff = nullptr;  // this row's affected texels, or null
+          if (band_voids)
+            for (int64_t y = std::max<int64_t>(0, r - 2); y <= std::min(h - 1, r + 2); ++y) {
+              const auto it = replaced_rows.find(y);
+              if (it == replaced_rows.end()) continue;
+              if (!aff) {
+                aff = affected.data() + slot(r) * w;
+                std::fill(aff, aff + w, uint8_t(0));
+              }
+              for (int64_t x = 0; x < w; ++x) aff[x] |= it->second[std::size_t(x)];
             }
-            for (int64_t x = 0; x < w; ++x) aff[x] |= it->second[std::size_t(x)];
+          has_affected[slot(r)] = aff != nullptr;
+          const float* hr = hrow(r);
+          for (int64_t x = 0; x < w; ++x) {
+            lo_h = std::min(lo_h, hr[x]);
+            hi_h = std::max(hi_h, hr[x]);
           }
-        has_affected[slot(r)] = aff != nullptr;
-        const float* hr = hrow(r);
-        for (int64_t x = 0; x < w; ++x) {
-          lo_h = std::min(lo_h, hr[x]);
-          hi_h = std::max(hi_h, hr[x]);
-        }
-        const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
-        TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
-        for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
-          const int64_t x0 = tx * T, x1 = std::min(w, x0 + T);
-          float hm = 0;  // affected texels join their tile once bounded (finish_rows)
-          int64_t best = x0;
-          float hh = hr[x0];
-          if (aff) {
-            for (int64_t x = x0; x < x1; ++x) {
-              if (!aff[x]) hm = std::max(hm, out[x]);
-              if (hr[x] > hh) {
-                hh = hr[x];
-                best = x;
+          const uint32_t* rv = row_voids.data() + (r - lo) * tiles.tiles_x;
+          TileAcc* a = acc.data() + (r / T - ty0) * tiles.tiles_x;
+          for (int64_t tx = 0; tx < tiles.tiles_x; ++tx) {
+            const int64_t x0 = tx * T, x1 = std::min(w, x0 + T);
+            float hm = 0;  // affected texels join their tile once bounded (finish_rows)
+            int64_t best = x0;
+            float hh = hr[x0];
+            if (aff) {
+              for (int64_t x = x0; x < x1; ++x) {
+                if (!aff[x]) hm = std::max(hm, out[x]);
+                if (hr[x] > hh) {
+                  hh = hr[x];
+                  best = x;
+                }
+              }
+            } else {
+              for (int64_t x = x0; x < x1; ++x) {
+                hm = std::max(hm, out[x]);
+                if (hr[x] > hh) {
+                  hh = hr[x];
+                  best = x;
+                }
               }
             }
-          } else {
-            for (int64_t x = x0; x < x1; ++x) {
-              hm = std::max(hm, out[x]);
-              if (hr[x] > hh) {
-                hh = hr[x];
-                best = x;
-              }
+            TileAcc& t = a[tx];
+            t.ham = std::max(t.ham, hm);
+            if (hh > t.h) {
+              t.h = hh;
+              t.x = uint32_t(best);
+              t.y = uint32_t(r);
             }
+            t.voids += rv[tx];
+            ham_max = std::max(ham_max, hm);
           }
-          TileAcc& t = a[tx];
-          t.ham = std::max(t.ham, hm);
-          if (hh > t.h) {
-            t.h = hh;
-            t.x = uint32_t(best);
-            t.y = uint32_t(r);
-          }
-          t.voids += rv[tx];
-          ham_max = std::max(ham_max, hm);
         }
-      }
-      run_ham_max[std::size_t(k)] = ham_max;
-      run_h[std::size_t(k)] = {lo_h, hi_h};
-    });
+        run_ham_max[std::size_t(k)] = ham_max;
+        run_h[std::size_t(k)] = {lo_h, hi_h};
+      });
+      for (const uint8_t o : run_overflow) overflow |= o != 0;
     } catch (...) {
       try {
         prefetch.wait();
@@ -374,6 +383,15 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     finished = final_rows;
     if (ahead_rows > 0) take_ahead();
     progress(double(b1) / double(h), "ham");
+  }
+  if (stats.voids == stats.samples)
+    throw Error(ErrorKind::kBadInput,
+                "every sample is a void (no data): there is no height to fill them from");
+  if (overflow || !std::isfinite(h_min) || !std::isfinite(h_max)) {
+    std::ostringstream what;
+    what << "--z-scale " << o.z_scale
+         << " makes the heights or their slopes too large for float arithmetic";
+    throw_usage(what.str());
   }
   stats.h_min = double(h_min);
   stats.h_max = double(h_max);

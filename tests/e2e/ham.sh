@@ -161,6 +161,12 @@ expect_exit 2 "$BIN/build-ham" "$WORK/N00E000.hgt" "$WORK/x.exr"
 expect_stderr "1000 bytes: an SRTM .hgt file holds"
 expect_exit 2 bash -c "head -c 5000 '$WORK/le.raw' | '$BIN/build-ham' - '$WORK/x.exr' --raw 257,257,int16"
 expect_stderr "<stdin>: ends at row 9 of 257"
+# A scale that overflows the slopes, and a map with no valid sample: refused, nothing written.
+expect_exit 1 "$BIN/build-ham" "$DEM" "$WORK/x.exr" --z-scale 1e30
+expect_stderr "too large for float arithmetic"
+head -c 2000 /dev/zero >"$WORK/void.raw"
+expect_exit 2 "$BIN/build-ham" "$WORK/void.raw" "$WORK/x.exr" --raw 40,50,uint8 --nodata 0
+expect_stderr "void.raw: every sample is a void"
 head -c 30000 "$DEM" >"$WORK/cut.tif"
 expect_exit 2 "$BIN/build-ham" "$WORK/cut.tif" "$WORK/x.exr"
 expect_stderr "build-ham: .*cut.tif: "
