@@ -350,7 +350,7 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
         run_ham_max[std::size_t(k)] = ham_max;
         run_h[std::size_t(k)] = {lo_h, hi_h};
       });
-      for (const uint8_t o : run_overflow) overflow |= o != 0;
+      for (const uint8_t flag : run_overflow) overflow |= flag != 0;
     } catch (...) {
       try {
         prefetch.wait();
