@@ -16,9 +16,9 @@
 #include "graph/overlap_candidates.h"
 #include "graph/overlap_grid.h"
 #include "graph/release_pages.h"
-#include "splatkit/sized_in_parallel.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::graph {
 namespace {
@@ -279,6 +279,11 @@ void give_back(Sorted& s, LentSplats& lent) {
   });
 }
 
+// The most row entries a graph of n splats may have: a mean of 1024 neighbours per splat (ten
+// times more than splats sized to their neighbourhood have, and more memory than such a cloud of
+// a few million splats could fill).
+std::size_t max_entries(std::size_t n) { return 1024 * n + (std::size_t{1} << 20); }
+
 NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
                             SimdLevel limit, const SharpEdges* sharp, SharpEdgeMarks* marks,
                             LentSplats* lent = nullptr) {
@@ -296,14 +301,14 @@ NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const fl
     // All radii 0: (0 + 0)² is never > d². Otherwise almost all are 0 and a grid has no scale.
     if (*std::max_element(radii.begin(), radii.end()) == 0)
       return marked(NeighborGraph{std::vector<uint64_t>(n + 1, 0), {}});
-    return marked(SpatialIndex(positions).sphere_overlaps(radii));
+    return marked(SpatialIndex(positions).sphere_overlaps(radii, max_entries(n)));
   }
   const Grid g = make_grid(positions, r_small);
   Sorted s =
       sort_by_cell(positions, radii, sharp ? sharp->normals : std::span<const Vec3f>{}, g, r_small);
   std::vector<uint64_t> pairs;
   if (crowded(s) || !big_pairs(s, g, pairs))
-    return marked(SpatialIndex(positions).sphere_overlaps(radii));
+    return marked(SpatialIndex(positions).sphere_overlaps(radii, max_entries(n)));
   SharpFound found;
   NeighborGraph graph;
   if (!lent) {

@@ -25,7 +25,9 @@
 // 2^21 cells covers the bulk of the splats, and the far ones are clamped into its outer cells
 // (graph/overlap_grid.h). When the cells are crowded (more than 1024 cell-mates per splat on
 // average: far clusters, or a bulk wider than 2^21 cells) or the big splats' cell scans would add
-// up to more than 8 cells per splat, it falls back to SpatialIndex::sphere_overlaps.
+// up to more than 8 cells per splat, it falls back to SpatialIndex::sphere_overlaps, which
+// refuses (Error(kBadInput)) a graph of more than 1024 neighbours per splat on average: radii far
+// larger than the spacing (a radius column in other units, or scaled) would fill the memory.
 //
 // positions, radii: #N each. Throws std::invalid_argument for different sizes or a radius that
 // is negative or not finite, and Error(kBadInput) naming the first splat with a non-finite

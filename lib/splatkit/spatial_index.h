@@ -28,6 +28,7 @@
 // batch functions run in parallel with TBB (they honour tbb::global_control / task_arena limits).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -97,8 +98,11 @@ class SpatialIndex {
   // radii do not slow down the rest; a leaf's points share one candidate set when it is small.
   // radii must have size() entries, each finite and >= 0, else std::invalid_argument. Runs in
   // parallel; the result does not depend on the thread count. Memory: the result (8 bytes/point + 4
-  // bytes per row entry) plus about as much transiently.
-  NeighborGraph sphere_overlaps(std::span<const float> radii) const;
+  // bytes per row entry) plus about as much transiently. More than max_entries row entries in all
+  // (spheres far larger than the spacing of their centres, which would fill the memory):
+  // Error(kBadInput), found after about max_entries plus a row per thread.
+  NeighborGraph sphere_overlaps(std::span<const float> radii,
+                                std::size_t max_entries = SIZE_MAX) const;
 
  private:
   struct Box {
@@ -118,9 +122,11 @@ class SpatialIndex {
   bool visit_leaves(uint32_t root, Far&& far, Leaf&& leaf) const;
   void knn_rows(std::size_t begin, std::size_t end, std::size_t k, uint32_t* indices,
                 float* sq_dists) const;
-  void overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
+  // Stops early (false) once `entries`, the rows' lengths summed across calls, exceeds `max`.
+  bool overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
                     const float* node_max_radius, std::vector<uint32_t>& neighbors,
-                    std::vector<uint32_t>& counts) const;
+                    std::vector<uint32_t>& counts, std::atomic<std::size_t>& entries,
+                    std::size_t max) const;
 
   std::vector<float> xs_, ys_, zs_;   // coordinates in tree order
   std::vector<uint32_t> ids_;         // tree position -> original index

@@ -6,9 +6,11 @@
 #endif
 #include <bit>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include "splatkit/error.h"
 #include "splatkit/lane_compress.h"
 #include "splatkit/rank_sort_avx2.h"
 #include "splatkit/simd_level.h"
@@ -139,9 +141,10 @@ struct SpatialIndex::OverlapBatch {
 // radius cannot reach: box distance^2 >= (r_i + r_max)^2 implies d^2 >= (r_i + r_j)^2 for every
 // point inside (rounding is monotonic), so pruning is exact. The climb stops once the node's
 // faces are out of reach of the largest radius of all.
-void SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
+bool SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float* tree_radii,
                                 const float* node_max_radius, std::vector<uint32_t>& neighbors,
-                                std::vector<uint32_t>& counts) const {
+                                std::vector<uint32_t>& counts, std::atomic<std::size_t>& entries,
+                                std::size_t max) const {
   const bool use_avx2 = simd_level() >= SimdLevel::kAvx2;
   auto search = [&](std::size_t p, uint32_t leaf) {
     const float qx = xs_[p], qy = ys_[p], qz = zs_[p], r = tree_radii[p];
@@ -187,11 +190,15 @@ void SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float*
       if (!std::is_sorted(neighbors.begin() + row_begin, neighbors.end()))
         std::sort(neighbors.begin() + row_begin, neighbors.end());
       counts.push_back(static_cast<uint32_t>(neighbors.size() - row_begin));
+      if (entries.fetch_add(neighbors.size() - row_begin, std::memory_order_relaxed) > max)
+        return false;
     }
   }
+  return true;
 }
 
-NeighborGraph SpatialIndex::sphere_overlaps(std::span<const float> radii) const {
+NeighborGraph SpatialIndex::sphere_overlaps(std::span<const float> radii,
+                                            std::size_t max_entries) const {
   const std::size_t n = size();
   if (radii.size() != n) {
     throw std::invalid_argument("SpatialIndex::sphere_overlaps: need one radius per point");
@@ -222,10 +229,22 @@ NeighborGraph SpatialIndex::sphere_overlaps(std::span<const float> radii) const 
 
   const std::size_t blocks = (n + kBlockSize - 1) / kBlockSize;
   std::vector<std::vector<uint32_t>> block_neighbors(blocks), block_counts(blocks);
+  std::atomic<std::size_t> entries{0};
+  std::atomic<bool> full{false};
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-    overlap_rows(b * kBlockSize, std::min(n, (b + 1) * kBlockSize), tree_radii.data(),
-                 node_max_radius.data(), block_neighbors[b], block_counts[b]);
+    if (full.load(std::memory_order_relaxed)) return;
+    if (!overlap_rows(b * kBlockSize, std::min(n, (b + 1) * kBlockSize), tree_radii.data(),
+                      node_max_radius.data(), block_neighbors[b], block_counts[b], entries,
+                      max_entries))
+      full = true;
   });
+  if (full) {
+    std::ostringstream what;
+    what << "the bounding spheres overlap more than " << max_entries << " times in all (over "
+         << max_entries / n << " neighbours per sphere; the largest radius is "
+         << node_max_radius[0] << "): radii far larger than the spacing of the points";
+    throw Error(ErrorKind::kBadInput, what.str());
+  }
 
   for (std::size_t p = 0; p < n; ++p) {
     graph.offsets[std::size_t{ids_[p]} + 1] = block_counts[p / kBlockSize][p % kBlockSize];

@@ -40,6 +40,13 @@ expect_stderr "no neighbour graph; run build-splat-graph first"
 printf '0 0 0\n1 0 0\n0 1 0\n' >"$WORK/bare.xyz"
 expect_exit 2 "$BIN/build-splat-graph" "$WORK/bare.xyz" "$WORK/x.splk"
 expect_stderr "run estimate-normals first"
+# Radii far larger than the spacing (every sphere overlaps every other): refused in about a
+# second, not after filling the memory.
+expect_exit 0 "$BIN/splat-synth" -q torus "$WORK/t20k.ply" -n 20000 --random --ascii
+awk 'p { $7 = $7 * 1e30 } { print } /^end_header/ { p = 1 }' "$WORK/t20k.ply" >"$WORK/huge.ply"
+expect_exit 2 "$BIN/build-splat-graph" "$WORK/huge.ply" "$WORK/x.splk"
+expect_stderr "huge.ply: the bounding spheres overlap more than .* radii far larger than the spacing"
+[ ! -e "$WORK/x.splk" ] && pass || fail "a refused graph left OUT behind"
 # OUT must be .splk.
 expect_exit 1 "$BIN/build-splat-graph" "$S/cube.ply" "$WORK/x.ply"
 
