@@ -125,15 +125,14 @@ int las_output_format(const LoadedCloud& doc, int las_format) {
   const SplatCloud& c = doc.cloud;
   if (las_format >= 0) return las_format;
   if ((doc.format == "las" || doc.format == "laz") && doc.header.contains("point_format") &&
-      doc.header["point_format"].is_number_integer() &&
-      doc.header["point_format"].get<int>() >= 6)
+      doc.header["point_format"].is_number_integer() && doc.header["point_format"].get<int>() >= 6)
     return !c.has_colors() ? 6 : c.find_extra("nir") ? 8 : 7;
   return (c.has_colors() ? 2 : 0) + (c.find_extra("gps_time") ? 1 : 0);
 }
 
 std::vector<std::string> las_kept_attributes(int format) {
-  std::vector<std::string> kept = {"intensity",   "return_number", "number_of_returns",
-                                   "classification", "scan_angle", "user_data",
+  std::vector<std::string> kept = {"intensity",      "return_number", "number_of_returns",
+                                   "classification", "scan_angle",    "user_data",
                                    "point_source_id"};
   if (format == 1 || format == 3 || format >= 6) kept.push_back("gps_time");
   if (format == 8) kept.push_back("nir");
@@ -194,6 +193,14 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
                        *rets = extra("number_of_returns"), *cls = extra("classification"),
                        *angle = extra("scan_angle"), *user = extra("user_data"),
                        *source = extra("point_source_id");
+  // Return k of n: a cloud with return numbers but no counts gets n = k (the fewest returns
+  // that hold k), one with neither is each point its own single return (return 0 is not valid).
+  auto returns = [&](std::size_t i, double top) {
+    return static_cast<int>(value(ret, i, 0, top, 1));
+  };
+  auto returns_total = [&](std::size_t i, double top) {
+    return rets ? static_cast<int>(value(rets, i, 0, top)) : std::max(returns(i, top), 1);
+  };
   for (std::size_t i = 0; i < c.size(); ++i) {
     unsigned char* r = records.data() + i * rl;
     const Vec3f& p = c.positions[i];
@@ -210,10 +217,7 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
     put16(r + 12, static_cast<uint32_t>(value(intensity, i, 0, 65535)));
     std::size_t at;
     if (v14) {
-      // A cloud without returns (not from a LAS file): each point its own single return, the
-      // valid value (return 0 is not).
-      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 15, 1)) |
-                                         static_cast<int>(value(rets, i, 0, 15, 1)) << 4);
+      r[14] = static_cast<unsigned char>(returns(i, 15) | returns_total(i, 15) << 4);
       r[16] = static_cast<unsigned char>(value(cls, i, 0, 255));
       r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
       // Degrees to LAS 1.4's 0.006 degree steps (the int16 range: files beyond +-30000 read back).
@@ -225,8 +229,7 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
       putf64(r + 22, gps ? gps->values[i] : 0.0);
       at = 30;
     } else {
-      r[14] = static_cast<unsigned char>(static_cast<int>(value(ret, i, 0, 7, 1)) |
-                                         static_cast<int>(value(rets, i, 0, 7, 1)) << 3);
+      r[14] = static_cast<unsigned char>(returns(i, 7) | returns_total(i, 7) << 3);
       r[15] = static_cast<unsigned char>(value(cls, i, 0, 31));
       r[16] = static_cast<unsigned char>(static_cast<int8_t>(value(angle, i, -128, 127)));
       r[17] = static_cast<unsigned char>(value(user, i, 0, 255));
