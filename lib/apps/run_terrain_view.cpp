@@ -8,6 +8,7 @@
 #include "apps/stage.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
+#include "terrain/ham_tiles_mismatch.h"
 #include "terrain/render_terrain.h"
 #include "terrain/terrain_images.h"
 
@@ -95,6 +96,9 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
                                std::to_string(tiles.height) + " map, not of " +
                                stage.input_name() + " (" + std::to_string(map.width) + " x " +
                                std::to_string(map.height) + ")");
+  if (const std::string why = terrain::ham_tiles_mismatch(map, tiles); !why.empty())
+    throw_bad_input(t.ham, "not the tiles of " + stage.input_name() + " (another heightmap, or " +
+                               "another --z-scale or --nodata): " + why);
   progress(0.3, "render");
   terrain::TerrainFrame frame;
   const auto [sx, sy] = texel_size(tiles);

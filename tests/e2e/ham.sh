@@ -199,5 +199,22 @@ expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/full.exr" -o "$WOR
 expect_stderr "not a build-ham tile file"
 expect_exit 1 "$BIN/splat-view" -o "$WORK/x.png"
 expect_stderr "input is required"
+# Tiles of another map of the same size, or of another --z-scale: refused, naming a tile.
+expect_exit 0 "$BIN/splat-view" --terrain "$WORK/le.raw" --raw 257,257,int16 --ham "$WORK/raw.exr" \
+  -o "$WORK/raw.png" --width 64 --height 48 -q
+python3 -c 'import sys; b = bytearray(open(sys.argv[1], "rb").read()); o = 2 * (257 * 100 + 100); b[o:o + 2] = (30000).to_bytes(2, "little", signed=True); open(sys.argv[2], "wb").write(b)' \
+  "$WORK/le.raw" "$WORK/peak.raw"
+expect_exit 2 "$BIN/splat-view" --terrain "$WORK/peak.raw" --raw 257,257,int16 --ham "$WORK/raw.exr" \
+  -o "$WORK/x.png"
+expect_stderr "raw.exr: not the tiles of .*peak.raw .*: tile \(1, 1\) holds a highest height of"
+# (tiles made with --z-scale 2 carry it: the viewer scales the map alike, and they match)
+expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/z2.exr" -o "$WORK/x.png" --width 64 \
+  --height 48 -q
+# Terrain options without --terrain: a usage error, not ignored.
+for opt in "--ham $WORK/t.exr" --wireframe "--tess-error 3"; do
+  expect_exit 1 "$BIN/splat-view" "$S/cube.ply" -o "$WORK/x.png" $opt
+  grep -q "^splat-view: ${opt%% *} requires --terrain" "$WORK/stderr" && pass ||
+    fail "$opt without --terrain: $(cat "$WORK/stderr")"
+done
 
 finish

@@ -131,28 +131,35 @@ int main(int argc, char** argv) {
                  "holds each frame's counts and times, \"mean_frame_ms\" and the occlusion "
                  "totals all of them, and the top-level counts are the last frame's");
   splatkit::apps::TerrainViewOptions terrain;
-  app.add_option("--terrain", terrain.heightmap,
-                 "Render this heightmap (any build-ham input) instead of splats, tessellated per "
-                 "tile by --ham")
-      ->type_name("HEIGHTMAP");
+  CLI::Option* terrain_option =
+      app.add_option(
+             "--terrain", terrain.heightmap,
+             "Render this heightmap (any build-ham input) instead of splats, tessellated per "
+             "tile by --ham")
+          ->type_name("HEIGHTMAP");
   app.add_option("--ham", terrain.ham, "With --terrain: build-ham's per-tile HAM EXR")
-      ->type_name("TILES.exr");
+      ->type_name("TILES.exr")
+      ->needs(terrain_option);
   app.add_option("--tess-error", terrain.tess_error_px,
                  "With --terrain: allowed screen-space error of a tile's peak, pixels")
       ->default_val(2.0f)
-      ->check(splatkit::positive_finite());
+      ->check(splatkit::positive_finite())
+      ->needs(terrain_option);
   app.add_option("--tess-distance", terrain.tess_distance_tiles,
                  "With --terrain: full tessellation within this many tile diagonals of the eye")
       ->default_val(3.0f)
-      ->check(splatkit::positive_finite());
+      ->check(splatkit::positive_finite())
+      ->needs(terrain_option);
   app.add_option("--raw", terrain.raw, "With --terrain: the heightmap is headerless RAW")
-      ->type_name("W,H,TYPE[,ENDIAN]");
-  app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges");
+      ->type_name("W,H,TYPE[,ENDIAN]")
+      ->needs(terrain_option);
+  app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges")
+      ->needs(terrain_option);
   tool.reuse_freed_blocks();  // every frame allocates its buffers again
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
-    if (!terrain.heightmap.empty())
-      return splatkit::apps::run_terrain_view(o, terrain, progress);
-    if (o.input.empty()) splatkit::throw_usage("input is required (a splat file, or --terrain HEIGHTMAP)");
+    if (!terrain.heightmap.empty()) return splatkit::apps::run_terrain_view(o, terrain, progress);
+    if (o.input.empty())
+      splatkit::throw_usage("input is required (a splat file, or --terrain HEIGHTMAP)");
     return splatkit::apps::run_splat_view(o, progress).line();
   });
 }

@@ -1,0 +1,17 @@
+// Whether build-ham's tiles describe a heightmap: each tile's largest height (filled and scaled
+// as build-ham does) must be the tile's h_max, up to float rounding. Tiles of another map of the
+// same size, or of this one with another --z-scale or --nodata, differ there.
+#pragma once
+
+#include <string>
+
+#include "terrain/ham_tiles.h"
+#include "terrain/terrain_map.h"
+
+namespace splatkit::terrain {
+
+// Empty when they match (and when the sizes differ: the caller reports that), else the first tile
+// that does not, in row-major order, with both heights.
+std::string ham_tiles_mismatch(const TerrainMap& map, const HamTiles& tiles);
+
+}  // namespace splatkit::terrain
