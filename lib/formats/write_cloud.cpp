@@ -52,11 +52,11 @@ std::vector<std::string> fields_not_written(const LoadedCloud& doc, FileFormat f
   if (las && !las_rgb && c.has_colors()) lost.push_back("colours");
   if ((las || format == FileFormat::kXyz) && c.face_count() > 0) lost.push_back("faces");
   if (c.viewpoint) lost.push_back("viewpoint");
-  const std::vector<std::string> las_kept = las ? las_kept_attributes(las_format)
-                                                : std::vector<std::string>{};
+  const std::vector<std::string> las_kept =
+      las ? las_kept_attributes(las_format) : std::vector<std::string>{};
   for (const ExtraAttribute& e : c.extras) {
-    const bool kept = las ? std::find(las_kept.begin(), las_kept.end(), e.name) != las_kept.end()
-                          : !off;
+    const bool kept =
+        las ? std::find(las_kept.begin(), las_kept.end(), e.name) != las_kept.end() : !off;
     if (!kept) lost.push_back("attribute " + e.name);
   }
   for (const RawChunk& r : doc.chunks) {
@@ -92,7 +92,7 @@ void write_cloud(const LoadedCloud& doc, OutputFile& out, const WriteOptions& op
                                      : PlyEncoding::kBinaryLittleEndian);
       break;
     case FileFormat::kXyz:
-      write_xyz(doc.cloud, out);
+      write_xyz(doc.cloud, out, lower_extension(out.path()) == "csv" ? ',' : ' ');
       break;
     case FileFormat::kOff:
       write_off(doc.cloud, out);

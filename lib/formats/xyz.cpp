@@ -353,35 +353,38 @@ uint16_t to_8bit(uint16_t v, int bits) {
 
 }  // namespace
 
-void write_xyz(const SplatCloud& cloud, OutputFile& out) {
-  std::string s = "# x y z";
-  if (cloud.has_normals()) s += " nx ny nz";
-  if (cloud.has_colors()) s += " r g b";
-  if (cloud.has_radii()) s += " radius";
-  for (const auto& e : cloud.extras) s += " " + column_name(e.name);
+void write_xyz(const SplatCloud& cloud, OutputFile& out, char sep) {
+  std::string s = sep == ' ' ? "# x y z" : "x,y,z";
+  auto names = [&](std::initializer_list<const char*> list) {
+    for (const char* name : list) (s += sep) += name;
+  };
+  if (cloud.has_normals()) names({"nx", "ny", "nz"});
+  if (cloud.has_colors()) names({"r", "g", "b"});
+  if (cloud.has_radii()) names({"radius"});
+  for (const auto& e : cloud.extras) (s += sep) += column_name(e.name);
   s += '\n';
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Vec3f& p = cloud.positions[i];
     for (int k = 0; k < 3; ++k) {
-      if (k) s += ' ';
+      if (k) s += sep;
       text::append_coordinate(s, cloud.origin[k], p[k]);
     }
     if (cloud.has_normals())
       for (int k = 0; k < 3; ++k) {
-        s += ' ';
+        s += sep;
         text::append_shortest(s, cloud.normals[i][k]);
       }
     if (cloud.has_colors())
       for (int k = 0; k < 3; ++k) {
-        s += ' ';
+        s += sep;
         s += std::to_string(to_8bit(cloud.colors[i][k], cloud.color_bits));
       }
     if (cloud.has_radii()) {
-      s += ' ';
+      s += sep;
       text::append_shortest(s, cloud.radii[i]);
     }
     for (const auto& e : cloud.extras) {
-      s += ' ';
+      s += sep;
       text::append_shortest(s, e.values[i]);
     }
     s += '\n';

@@ -13,7 +13,8 @@ namespace splatkit {
 // 7 = xyz+intensity+rgb (PTS), 9 = xyz+normal+rgb.
 LoadedCloud read_xyz(InputStream& in, const ReadOptions& options = {});
 
-// Space-separated, header comment line naming the columns, shortest round-tripping decimals.
-void write_xyz(const SplatCloud& cloud, OutputFile& out);
+// Shortest round-tripping decimals separated by `separator`: ' ' under a header comment line
+// naming the columns ("# x y z ..."), ',' (CSV) under a header line of the names ("x,y,z,...").
+void write_xyz(const SplatCloud& cloud, OutputFile& out, char separator = ' ');
 
 }  // namespace splatkit

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "formats/read_cloud.h"
+#include "formats/write_cloud.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -178,6 +180,28 @@ TEST(Xyz, WriterExactBytes) {
             "# x y z nx ny nz r g b my_field\n"
             "0.1 2 -3 0 0 1 255 0 7 0.25\n"
             "0.001 0 1 0.6 0.8 0 1 2 3 -1\n");
+}
+
+// A .csv name through write_cloud: commas under a header line of names (spreadsheets split the
+// columns), read back to the same cloud.
+TEST(Xyz, CsvWriterUsesCommasAndReadsBack) {
+  LoadedCloud doc;
+  doc.cloud.positions = {{0.1f, 2, -3}, {1e-3f, 0, 1}};
+  doc.cloud.normals = {{0, 0, 1}, {0.6f, 0.8f, 0}};
+  doc.cloud.radii = {0.5f, 0.25f};
+  doc.cloud.extras.push_back({"my field", ScalarType::kFloat64, {0.25, -1}});
+  const std::string path = temp_path("w.csv");
+  write_cloud(doc, path);
+  EXPECT_EQ(slurp(path),
+            "x,y,z,nx,ny,nz,radius,my_field\n"
+            "0.1,2,-3,0,0,1,0.5,0.25\n"
+            "0.001,0,1,0.6,0.8,0,0.25,-1\n");
+  const LoadedCloud back = read_cloud(path);
+  EXPECT_EQ(back.cloud.positions, doc.cloud.positions);
+  EXPECT_EQ(back.cloud.normals, doc.cloud.normals);
+  EXPECT_EQ(back.cloud.radii, doc.cloud.radii);
+  ASSERT_NE(back.cloud.find_extra("my_field"), nullptr);
+  EXPECT_EQ(back.cloud.find_extra("my_field")->values[1], -1.0);
 }
 
 TEST(Xyz, RoundTripWithOrigin) {
