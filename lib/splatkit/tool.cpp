@@ -132,7 +132,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   else
     threads_ = tbb::info::default_concurrency();
   try {
-    if (memory_ && memory_->max_bytes > 0) {
+    if (memory_ && (memory_->max_bytes > 0 || app_.count("--max-memory") > 0)) {
       if (memory_->max_bytes < kMinMaxMemory) throw_usage("--max-memory must be at least 64M");
       spill::start(memory_->max_bytes, memory_->tmp_dir);
     }

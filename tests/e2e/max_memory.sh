@@ -98,6 +98,8 @@ fi
 expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --tmp-dir "$WORK/tmp"
 expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory 10M
 expect_stderr "max-memory must be at least 64M"
+expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory 0
+expect_stderr "at least 64M"
 expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory lots
 expect_exit 1 "$EN" -q "$WORK/torus.splk" "$WORK/x.splk" --max-memory 1G --tmp-dir "$WORK/none"
 expect_stderr "^estimate-normals: cannot create a temporary file in $WORK/none"
