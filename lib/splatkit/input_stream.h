@@ -65,6 +65,11 @@ class InputStream {
  private:
   bool fill(std::size_t want);  // ensures `want` bytes are buffered if the file has them
   void consume(const char* p, std::size_t n);  // advances the offset and the checksum
+  // n bytes of a regular file from the descriptor's position into out, in pieces read in
+  // parallel (the page cache copies on several cores); fewer only at end of file. Moves the
+  // position past them.
+  std::size_t read_in_parallel(char* out, std::size_t n);
+  static constexpr std::size_t kParallelRead = std::size_t{1} << 23;
   void report_progress();
 
   std::string path_;
