@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -21,6 +22,14 @@ namespace {
 
 constexpr uint32_t kNone = SpatialIndex::kNone;
 constexpr float kParallel = 0.70710678f;  // cos 45°
+// Edges between normals within 20° of parallel build the sheets; every other edge is evidence
+// between sheets.
+constexpr float kSheet = 0.93969262f;  // cos 20°
+// Two sets join when the agreement summed over all the edges between them is at least this
+// fraction of the summed confidences (a 62.5 % weighted majority) and at least kMinEvidence.
+constexpr double kConsensus = 0.25;
+constexpr double kMinEvidence = 1.0;
+constexpr int kMaxRounds = 32;
 
 // The agreement of a pair's signs: positive when consistently oriented, its magnitude the
 // confidence. Normals within 45° of parallel (or antiparallel): Hoppe's n_i·n_j, which the noise
@@ -189,8 +198,21 @@ class SignedUnionFind {
   std::vector<uint8_t> rank_, flip_;
 };
 
-// Kruskal over the sorted edges with the signed union-find: the minimum spanning forest's
-// relations (flip n_j when a < 0) are recorded as the sets join. Returns the sets.
+// The signed sets in three steps.
+// 1. Sheets: Kruskal over the edges whose normals are within 20° of parallel (smooth pieces of
+//    surface, where n_i·n_j is reliable), with the signed union-find.
+// 2. Every other edge between two sets adds its agreement, in the sets' frames, to the evidence
+//    between them.
+// 3. Pairs of sets join strongest evidence first, with the sign of the summed agreement, and only
+//    when it is a clear majority (|Σa| >= kConsensus Σ|a| and >= kMinEvidence).
+// Steps 2 and 3 repeat, the sets grown in one round pooling their evidence in the next, until a
+// round joins nothing. Sets whose evidence contradicts itself (a T-junction: a sheet that runs on
+// past the crease, like ground under a wall or a slab touching a wall, with comparable votes from
+// its two sides; noise at a crease) stay apart and are seeded separately.
+// A single edge never decides the sign of a whole sheet: across a crease the mirrored agreement
+// of one pair can be ±1 by noise (a point whose robust normal is the other face's, or whose
+// offset from its neighbour is mostly noise), and a spanning tree takes exactly such an edge, the
+// cheapest, as the only link between two faces.
 template <typename Id>
 SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                                 std::span<const Vec3f> normals) {
@@ -198,14 +220,86 @@ SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> po
   SignedUnionFind sets(n);
   const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
   const Id mask = (Id{1} << g.shift) - 1;
+  auto ends = [&](Id e) {
+    const auto i = static_cast<uint32_t>(e >> g.shift);
+    return std::pair<uint32_t, uint32_t>{i, g.neighbors[g.start[i] + (e & mask)]};
+  };
   std::size_t joined = 0;
   for (const Id e : order) {
-    const auto i = static_cast<uint32_t>(e >> g.shift);
-    const uint32_t j = g.neighbors[g.start[i] + (e & mask)];
-    const auto opposite = [&] {
-      return agreement(positions[i], normals[i], positions[j], normals[j]) < 0;
-    };
-    if (sets.unite(i, j, opposite) && ++joined + 1 == n) break;  // one set: the forest is whole
+    const auto [i, j] = ends(e);
+    const float d = dot(normals[i], normals[j]);
+    if (std::fabs(d) < kSheet) continue;
+    if (sets.unite(i, j, [&] { return d < 0; }) && ++joined + 1 == n) return sets;
+  }
+
+  // Steps 2 and 3 in rounds: the edges between different sets, their agreements summed per pair
+  // of sets (in edge order: deterministic sums), then the pairs joined strongest first where the
+  // sum is a clear majority; the sets grown in one round pool their evidence in the next, until
+  // a round joins nothing.
+  // Each point's set and parity, read off the union-find once per round (n finds, in order,
+  // rather than two per edge); the edges between sets in row order, with their agreements.
+  std::vector<uint32_t> root(n);
+  std::vector<uint8_t> parity(n);
+  auto read_sets = [&] {
+    for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i), parity[i]);
+  };
+  read_sets();
+  struct Edge {
+    uint32_t i, j;
+    float agree;
+  };
+  std::vector<Edge> between;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t* row = g.neighbors.data() + g.start[i];
+    for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) {
+      const uint32_t j = row[s];
+      if (root[i] != root[j])
+        between.push_back({static_cast<uint32_t>(i), j,
+                           agreement(positions[i], normals[i], positions[j], normals[j])});
+    }
+  }
+  struct Link {
+    uint32_t a, b;  // set roots, a < b
+    float agree, confidence;
+  };
+  std::vector<Link> links;
+  for (int round = 0; round < kMaxRounds && !between.empty(); ++round) {
+    if (round > 0) read_sets();
+    links.clear();
+    std::size_t kept = 0;
+    for (const Edge& e : between) {
+      const uint32_t ri = root[e.i], rj = root[e.j];
+      if (ri == rj) continue;
+      between[kept++] = e;
+      links.push_back({std::min(ri, rj), std::max(ri, rj),
+                       parity[e.i] != parity[e.j] ? -e.agree : e.agree, std::fabs(e.agree)});
+    }
+    between.resize(kept);
+    std::stable_sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
+      return std::tie(x.a, x.b) < std::tie(y.a, y.b);
+    });
+    std::size_t pairs = 0;
+    for (std::size_t l = 0; l < links.size();) {
+      Link sum = links[l];
+      std::size_t m = l + 1;
+      for (; m < links.size() && links[m].a == sum.a && links[m].b == sum.b; ++m) {
+        sum.agree += links[m].agree;
+        sum.confidence += links[m].confidence;
+      }
+      links[pairs++] = sum;
+      l = m;
+    }
+    links.resize(pairs);
+    std::stable_sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
+      return std::fabs(x.agree) > std::fabs(y.agree);
+    });
+    std::size_t joins = 0;
+    for (const Link& p : links) {
+      const float strength = std::fabs(p.agree);
+      if (!(strength >= kConsensus * p.confidence && strength >= kMinEvidence)) continue;
+      joins += sets.unite(p.a, p.b, [&] { return p.agree < 0; });
+    }
+    if (joins == 0) break;
   }
   return sets;
 }

@@ -9,8 +9,8 @@ int main(int argc, char** argv) {
       "PCA over the k nearest neighbours (or a crease-preserving robust method); splats that cover "
       "the surface: each reaches the farthest corner of its point's Voronoi cell among its "
       "neighbours in its tangent plane (--radius cover), as circles or as ellipses fitted to the "
-      "cells (--splat ellipse: far less overdraw on scan lines); orientation by a minimum "
-      "spanning tree or towards a viewpoint. Exact duplicate points are merged (the first one's "
+      "cells (--splat ellipse: far less overdraw on scan lines); orientation over the kNN graph "
+      "or towards a viewpoint. Exact duplicate points are merged (the first one's "
       "colour and "
       "attributes are kept). OUT is .ply (binary) or .splk; '-' writes .splk to stdout.",
       "  $ estimate-normals scan.ply scan.splk\n"
@@ -56,8 +56,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pca", "robust"}))
       ->default_val("pca");
   app.add_option("--orient", o.orient,
-                 "mst: consistent over a minimum spanning tree, each component's top-most point "
-                 "facing +z (closed shapes point outward); viewpoint: towards "
+                 "mst: consistent over the kNN graph (smooth sheets grown as a minimum spanning "
+                 "tree grows them, joined across creases by the majority of all the edges between "
+                 "them), each set's top-most point facing +z (closed shapes point outward); "
+                 "viewpoint: towards "
                  "--viewpoint or the input's scanner position; none: PCA's sign, made "
                  "canonical (largest component positive)")
       ->check(CLI::IsMember({"mst", "viewpoint", "none"}))
