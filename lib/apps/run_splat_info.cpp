@@ -9,6 +9,7 @@
 #include <optional>
 #include <ostream>
 
+#include "apps/describe_terrain_file.h"
 #include "formats/describe_cloud.h"
 #include "formats/describe_qsplat.h"
 #include "formats/describe_spt.h"
@@ -22,6 +23,7 @@ namespace {
 
 nlohmann::json describe(const std::string& path, const ReadOptions& read) {
   try {
+    if (nlohmann::json terrain = describe_terrain_file(path); !terrain.is_null()) return terrain;
     InputStream in(path);
     if (looks_like_qsplat(in.peek(6))) return describe_qsplat(read_qsplat(in), path);
     if (spt::looks_like_spt(in.peek(8))) return describe_spt(read_spt(in), path);
@@ -56,9 +58,10 @@ void run_splat_info(const SplatInfoOptions& o, std::ostream& out, std::ostream& 
     } else {
       if (printed++ > 0) out << "\n";
       const std::string format = report.value("format", "");
-      out << (format == "qs"    ? describe_qsplat_text(report)
-              : format == "spt" ? describe_spt_text(report)
-                                : describe_cloud_text(report));
+      out << (format == "qs"                             ? describe_qsplat_text(report)
+              : format == "spt"                          ? describe_spt_text(report)
+              : format == "ham" || format == "heightmap" ? describe_terrain_text(report)
+                                                         : describe_cloud_text(report));
     }
   }
   if (o.json) out << (o.files.size() == 1 ? reports[0] : reports).dump(2) << "\n";

@@ -32,6 +32,17 @@ for c in "ham_max (float)" "h_max (float)" "x (uint)" "y (uint)" "voids (uint)" 
   grep -qF "$c" "$WORK/iinfo" && pass || fail "tile EXR lacks '$c'"
 done
 
+# splat-info describes the heightmap and the tiles.
+expect_exit 0 "$BIN/splat-info" "$DEM" "$WORK/t.exr"
+for line in "Format: heightmap \(tiff, int16\)" "Map: 257 x 257 texels" "No-data: -32768" \
+  "Georeferencing: EPSG:4326" "Format: build-ham tiles \(EXR\)" "Tiles: 5 x 5 of 64 texels" \
+  "Heights: 806.0 .. 4371.0" "Voids filled: 2551"; do
+  grep -Eq "^$line" "$WORK/stdout" && pass || fail "splat-info lacks '$line'"
+done
+expect_exit 0 "$BIN/splat-info" --json "$WORK/t.exr"
+expect_eq "splat-info --json tiles" "$(json "$WORK/stdout" '(d["format"], d["tiles"], d["voids"])')" \
+  "('ham', [5, 5], 2551)"
+
 # Same bytes: 1 and 2 threads, a second run; a tile size of 1 and a partial last tile.
 expect_exit 0 "$BIN/build-ham" "$DEM" "$WORK/t1.exr" -q --threads 1
 expect_exit 0 "$BIN/build-ham" "$DEM" "$WORK/t2.exr" -q --threads 2

@@ -9,7 +9,9 @@ int main(int argc, char** argv) {
       "splat-info",
       "Describe point-cloud and splat files: format, point and face counts, "
       "attributes with ranges, bounding box, format header, .splk chunks and metadata; QSplat "
-      ".qs and Sequential Point Tree .spt files: their levels, entries and quantisation. A file "
+      ".qs and Sequential Point Tree .spt files: their levels, entries and quantisation; "
+      "heightmaps (.tif .png .exr .hgt: size, sample type, no-data, georeferencing) and "
+      "build-ham's tile EXRs (tiles, z scale, height range, largest HAM, voids). A file "
       "that cannot be read is reported on stderr and the others are still described (exit "
       "code of the first failure).",
       "  $ splat-info scan.ply\n"

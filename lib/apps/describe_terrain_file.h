@@ -1,0 +1,19 @@
+// splat-info for the terrain files: a heightmap that build-ham reads (TIFF/GeoTIFF, PNG, EXR,
+// SRTM .hgt) or build-ham's per-tile HAM EXR.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace splatkit::apps {
+
+// The report of `path` when its extension names a heightmap or tile format (.tif .tiff .png .exr
+// .hgt, any case), else null. A tile EXR gives "format": "ham" (map and tile sizes, z scale,
+// height range, largest HAM, voids, georeferencing); any other heightmap "format": "heightmap"
+// (size, sample type, no-data, georeferencing). Throws as the readers do.
+nlohmann::json describe_terrain_file(const std::string& path);
+
+// The text splat-info prints for such a report.
+std::string describe_terrain_text(const nlohmann::json& report);
+
+}  // namespace splatkit::apps
