@@ -208,7 +208,8 @@ class SignedUnionFind {
 // Steps 2 and 3 repeat, the sets grown in one round pooling their evidence in the next, until a
 // round joins nothing. Sets whose evidence contradicts itself (a T-junction: a sheet that runs on
 // past the crease, like ground under a wall or a slab touching a wall, with comparable votes from
-// its two sides; noise at a crease) stay apart and are seeded separately.
+// its two sides; noise at a crease) stay apart until then, and are joined last, by the sign of
+// their sum, so that each connected component is one set.
 // A single edge never decides the sign of a whole sheet: across a crease the mirrored agreement
 // of one pair can be ±1 by noise (a point whose robust normal is the other face's, or whose
 // offset from its neighbour is mostly noise), and a spanning tree takes exactly such an edge, the
@@ -218,53 +219,56 @@ SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> po
                                 std::span<const Vec3f> normals) {
   const std::size_t n = positions.size();
   SignedUnionFind sets(n);
-  const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
-  const Id mask = (Id{1} << g.shift) - 1;
-  auto ends = [&](Id e) {
-    const auto i = static_cast<uint32_t>(e >> g.shift);
-    return std::pair<uint32_t, uint32_t>{i, g.neighbors[g.start[i] + (e & mask)]};
-  };
-  std::size_t joined = 0;
-  for (const Id e : order) {
-    const auto [i, j] = ends(e);
-    const float d = dot(normals[i], normals[j]);
-    if (std::fabs(d) < kSheet) continue;
-    if (sets.unite(i, j, [&] { return d < 0; }) && ++joined + 1 == n) return sets;
+  {  // Step 1; the sorted edges are released after it.
+    const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
+    const Id mask = (Id{1} << g.shift) - 1;
+    std::size_t joined = 0;
+    for (const Id e : order) {
+      const auto i = static_cast<uint32_t>(e >> g.shift);
+      const uint32_t j = g.neighbors[g.start[i] + (e & mask)];
+      const float d = dot(normals[i], normals[j]);
+      if (std::fabs(d) < kSheet) continue;
+      if (sets.unite(i, j, [&] { return d < 0; }) && ++joined + 1 == n) return sets;
+    }
   }
-
-  // Steps 2 and 3 in rounds: the edges between different sets, their agreements summed per pair
-  // of sets (in edge order: deterministic sums), then the pairs joined strongest first where the
-  // sum is a clear majority; the sets grown in one round pool their evidence in the next, until
-  // a round joins nothing.
   // Each point's set and parity, read off the union-find once per round (n finds, in order,
-  // rather than two per edge); the edges between sets in row order, with their agreements.
+  // rather than two per edge).
   std::vector<uint32_t> root(n);
   std::vector<uint8_t> parity(n);
   auto read_sets = [&] {
     for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i), parity[i]);
   };
   read_sets();
+  // The edges between sets, in row order, with their agreements (counted first: no regrowth).
   struct Edge {
     uint32_t i, j;
     float agree;
   };
-  std::vector<Edge> between;
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t* row = g.neighbors.data() + g.start[i];
-    for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) {
-      const uint32_t j = row[s];
-      if (root[i] != root[j])
-        between.push_back({static_cast<uint32_t>(i), j,
-                           agreement(positions[i], normals[i], positions[j], normals[j])});
+  auto for_each_between = [&](auto&& fn) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const uint32_t* row = g.neighbors.data() + g.start[i];
+      for (uint32_t s = 0, m = g.row_size(i); s < m; ++s)
+        if (root[i] != root[row[s]]) fn(static_cast<uint32_t>(i), row[s]);
     }
-  }
+  };
+  std::size_t count = 0;
+  for_each_between([&](uint32_t, uint32_t) { ++count; });
+  std::vector<Edge> between;
+  between.reserve(count);
+  for_each_between([&](uint32_t i, uint32_t j) {
+    between.push_back({i, j, agreement(positions[i], normals[i], positions[j], normals[j])});
+  });
+  // One round: the agreements summed per pair of sets, in the sets' frames, then the pairs
+  // joined strongest sum first, with its sign; with `majority`, only where the sum is a clear
+  // majority. Returns the joins.
   struct Link {
     uint32_t a, b;  // set roots, a < b
     float agree, confidence;
   };
   std::vector<Link> links;
-  for (int round = 0; round < kMaxRounds && !between.empty(); ++round) {
-    if (round > 0) read_sets();
+  links.reserve(count);
+  auto round = [&](bool majority) {
+    read_sets();
     links.clear();
     std::size_t kept = 0;
     for (const Edge& e : between) {
@@ -275,9 +279,9 @@ SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> po
                        parity[e.i] != parity[e.j] ? -e.agree : e.agree, std::fabs(e.agree)});
     }
     between.resize(kept);
-    std::stable_sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
-      return std::tie(x.a, x.b) < std::tie(y.a, y.b);
-    });
+    // (std::sort is deterministic for a given input: the sums do not depend on the threads.)
+    std::sort(links.begin(), links.end(),
+              [](const Link& x, const Link& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
     std::size_t pairs = 0;
     for (std::size_t l = 0; l < links.size();) {
       Link sum = links[l];
@@ -290,17 +294,26 @@ SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> po
       l = m;
     }
     links.resize(pairs);
-    std::stable_sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
-      return std::fabs(x.agree) > std::fabs(y.agree);
+    std::sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
+      return std::make_tuple(std::fabs(x.agree), x.a, x.b) >
+             std::make_tuple(std::fabs(y.agree), y.a, y.b);
     });
     std::size_t joins = 0;
     for (const Link& p : links) {
       const float strength = std::fabs(p.agree);
-      if (!(strength >= kConsensus * p.confidence && strength >= kMinEvidence)) continue;
+      if (majority && !(strength >= kConsensus * p.confidence && strength >= kMinEvidence))
+        continue;
       joins += sets.unite(p.a, p.b, [&] { return p.agree < 0; });
     }
-    if (joins == 0) break;
-  }
+    return joins;
+  };
+  for (int r = 0; r < kMaxRounds && !between.empty(); ++r)
+    if (round(true) == 0) break;
+  // What the majorities left apart within a connected component joins by the sign of its sum
+  // (strongest first): a piece of a surface seeded on its own by its top-most point would face
+  // +z, wrong under an object, a coin flip on a wall.
+  while (!between.empty())
+    if (round(false) == 0) break;
   return sets;
 }
 

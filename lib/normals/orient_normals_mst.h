@@ -26,16 +26,17 @@
 // normals, an edge mostly made of noise), and a minimum spanning tree takes the cheapest such
 // edge as the only link between two faces (measured on 100k-point samples, before -> after:
 // noisy scan-line cube, robust 81 -> 0.3 % of the normals inward, PCA 2.3 -> 1.0 %; a sphere with
-// noise 0.3 % of its diameter, PCA 17 -> 1.4 %; the CAD part unchanged at <= 0.6 %). Evidence
+// noise 0.3 % of its diameter, PCA 17 -> 1.3 %; the CAD part unchanged at <= 0.6 %). Evidence
 // that contradicts itself, as at a T-junction (a sheet that runs on past the crease: ground under
-// a wall, a floor slab touching a wall), leaves the sets apart, each seeded on its own, when the
-// two sides' votes are comparable; a lopsided T-junction still joins by its majority.
+// a wall, a floor slab touching a wall), keeps the sets apart until the majorities are done; they
+// then join by the sign of their sum, strongest first, so that each connected component is
+// oriented as one.
 // Limitation: two sides of a part thinner than the kNN reach, with antiparallel normals, look
 // like one consistently flipped sheet (none in the CAD sample: its thinnest place is the 60°
 // wedge's tip, a crease).
 //
-// Outward sign, per set (a connected component, or a part of one whose joins were refused): the
-// set's point of largest z (smallest index on ties) is made to point +z (its normal's z >= 0).
+// Outward sign, per connected component: the component's point of largest z (smallest index on
+// ties) is made to point +z (its normal's z >= 0).
 // For a closed surface that point is a top-most point, where the outward normal has z > 0, so the
 // whole component ends up pointing outward. Open sheets seen from above (terrain, facades' tops)
 // point up.
@@ -48,10 +49,11 @@
 // random torus: 51), below the index and the full rows together. Time: one kNN pass (parallel),
 // one pass that compacts the rows (parallel, then a copy per block of rows), a counting sort
 // (parallel, computing the weights twice) and a near-linear union-find. The joins of sheets add
-// 28 bytes per edge between sheets and 5 per point: little where the sheets are large (1M points:
-// a scan-line CAD part +32 MB and 0.42 -> 0.56 s, the city +12 MB and 0.19 -> 0.24 s), most on
-// normals that are mostly noise (a 1M-point sphere with noise 0.3 % of its diameter, half of its
-// edges between sheets: +186 MB and 0.43 -> 1.47 s).
+// 28 bytes per edge between sheets and 5 per point (the sorted edges are released first): little
+// where the sheets are large (1M points: a scan-line CAD part, peak 123 -> 127 MB and 0.42 ->
+// 0.59 s; the city 0.19 -> 0.25 s), most on normals that are mostly noise (a 1M-point sphere with
+// noise 0.3 % of its diameter, half of its edges between sheets: peak 124 -> 226 MB, 0.43 ->
+// 1.40 s).
 // Deterministic for any thread count (the kNN rows are exact; the sort's chunks are fixed;
 // everything after it is sequential).
 #pragma once
@@ -72,8 +74,7 @@ inline constexpr std::size_t kOrientBuckets = 4096;
 
 struct OrientStats {
   std::size_t flipped = 0;     // output normals whose sign changed
-  std::size_t components = 0;  // sets oriented separately: the connected components of the kNN
-                               // graph (isolated points count), more where evidence contradicted
+  std::size_t components = 0;  // connected components of the kNN graph (isolated points count)
 };
 
 // index: built over positions (#N); taken by value and released once the kNN graph is built, so a

@@ -179,4 +179,10 @@ PY
   awk -v a="$all" -v m="$meaningful" 'BEGIN {exit !(a < 0.01 && m < 0.001)}' && pass ||
     fail "$m normals of a noisy scan-line cube inward: $all of all, $meaningful of those within 60°"
 done
+# ... and the same bytes for 1 and 2 threads there, where the sheets join by their votes.
+for t in 1 2; do
+  expect_exit 0 "$BIN/estimate-normals" -q "$WORK/sl.splk" "$WORK/sl-t$t.splk" --method robust \
+    --threads $t
+done
+cmp -s "$WORK/sl-t1.splk" "$WORK/sl-t2.splk" && pass || fail "noisy cube: 1 and 2 threads differ"
 finish
