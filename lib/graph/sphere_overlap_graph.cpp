@@ -158,6 +158,11 @@ struct SharpFound {
 // (small neighbours plus the big splats' pairs) give the offsets, then each row is found again
 // and written in place, merged with its pairs. With `sharp`, `found` gets the marks as the rows
 // are written.
+// The most row entries a graph of n splats may have: a mean of 1024 neighbours per splat (ten
+// times more than splats sized to their neighbourhood have, and more memory than such a cloud of
+// a few million splats could fill).
+std::size_t max_entries(std::size_t n) { return 1024 * n + (std::size_t{1} << 20); }
+
 NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint64_t>& pairs,
                          SimdLevel simd, const SharpEdges* sharp, SharpFound* found) {
   const std::size_t n = s.n;
@@ -188,6 +193,8 @@ NeighborGraph small_rows(const Sorted& s, const Grid& g, const std::vector<uint6
   });
   for (uint64_t pair : pairs) ++graph.offsets[(pair >> 32) + 1];
   prefix_sum(graph.offsets);
+  if (graph.offsets[n] > max_entries(n))
+    throw_too_many_overlaps(max_entries(n), n, *std::max_element(s.r.begin(), s.r.end()));
   sized_in_parallel(graph.neighbors, graph.offsets[n]);
   uint64_t* bits = nullptr;
   if (found) {
@@ -278,11 +285,6 @@ void give_back(Sorted& s, LentSplats& lent) {
     return Vec3f{s.x[k], s.y[k], s.z[k]};
   });
 }
-
-// The most row entries a graph of n splats may have: a mean of 1024 neighbours per splat (ten
-// times more than splats sized to their neighbourhood have, and more memory than such a cloud of
-// a few million splats could fill).
-std::size_t max_entries(std::size_t n) { return 1024 * n + (std::size_t{1} << 20); }
 
 NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const float> radii,
                             SimdLevel limit, const SharpEdges* sharp, SharpEdgeMarks* marks,

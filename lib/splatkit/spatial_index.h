@@ -41,6 +41,11 @@
 
 namespace splatkit {
 
+// Error(kBadInput) for a sphere-overlap graph of more than max_entries row entries over
+// `spheres` spheres (SpatialIndex::sphere_overlaps, graph/sphere_overlap_graph.h).
+[[noreturn]] void throw_too_many_overlaps(std::size_t max_entries, std::size_t spheres,
+                                          float largest_radius);
+
 class SpatialIndex {
  public:
   // Marks an unused slot in a k-row when the cloud has fewer than k points (its distance is +inf).

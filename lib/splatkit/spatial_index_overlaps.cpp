@@ -190,11 +190,20 @@ bool SpatialIndex::overlap_rows(std::size_t begin, std::size_t end, const float*
       if (!std::is_sorted(neighbors.begin() + row_begin, neighbors.end()))
         std::sort(neighbors.begin() + row_begin, neighbors.end());
       counts.push_back(static_cast<uint32_t>(neighbors.size() - row_begin));
-      if (entries.fetch_add(neighbors.size() - row_begin, std::memory_order_relaxed) > max)
-        return false;
+      const std::size_t row = neighbors.size() - row_begin;
+      if (entries.fetch_add(row, std::memory_order_relaxed) + row > max) return false;
     }
   }
   return true;
+}
+
+void throw_too_many_overlaps(std::size_t max_entries, std::size_t spheres, float largest_radius) {
+  std::ostringstream what;
+  what << "the bounding spheres overlap more than " << max_entries << " times in all (over "
+       << max_entries / std::max<std::size_t>(spheres, 1)
+       << " neighbours per sphere; the largest radius is " << largest_radius
+       << "): radii far larger than the spacing of the points";
+  throw Error(ErrorKind::kBadInput, what.str());
 }
 
 NeighborGraph SpatialIndex::sphere_overlaps(std::span<const float> radii,
@@ -238,13 +247,7 @@ NeighborGraph SpatialIndex::sphere_overlaps(std::span<const float> radii,
                       max_entries))
       full = true;
   });
-  if (full) {
-    std::ostringstream what;
-    what << "the bounding spheres overlap more than " << max_entries << " times in all (over "
-         << max_entries / n << " neighbours per sphere; the largest radius is "
-         << node_max_radius[0] << "): radii far larger than the spacing of the points";
-    throw Error(ErrorKind::kBadInput, what.str());
-  }
+  if (full) throw_too_many_overlaps(max_entries, n, node_max_radius[0]);
 
   for (std::size_t p = 0; p < n; ++p) {
     graph.offsets[std::size_t{ids_[p]} + 1] = block_counts[p / kBlockSize][p % kBlockSize];

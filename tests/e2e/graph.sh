@@ -47,6 +47,10 @@ awk 'p { $7 = $7 * 1e30 } { print } /^end_header/ { p = 1 }' "$WORK/t20k.ply" >"
 expect_exit 2 "$BIN/build-splat-graph" "$WORK/huge.ply" "$WORK/x.splk"
 expect_stderr "huge.ply: the bounding spheres overlap more than .* radii far larger than the spacing"
 [ ! -e "$WORK/x.splk" ] && pass || fail "a refused graph left OUT behind"
+# (radii x30: every splat overlaps thousands, found on the grid rather than by the kd-tree)
+awk 'p { $7 = $7 * 30 } { print } /^end_header/ { p = 1 }' "$WORK/t20k.ply" >"$WORK/wide.ply"
+expect_exit 2 "$BIN/build-splat-graph" "$WORK/wide.ply" "$WORK/x.splk"
+expect_stderr "wide.ply: the bounding spheres overlap more than"
 # OUT must be .splk.
 expect_exit 1 "$BIN/build-splat-graph" "$S/cube.ply" "$WORK/x.ply"
 
