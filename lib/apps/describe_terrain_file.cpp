@@ -1,6 +1,7 @@
 #include "apps/describe_terrain_file.h"
 
 #include <sstream>
+#include <string_view>
 
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
@@ -23,8 +24,10 @@ nlohmann::json describe_terrain_file(const std::string& path) {
       for (const char* key : {"h_min", "h_max", "ham_max", "voids", "nodata", "georef"})
         if (t.header.contains(key)) r[key] = t.header[key];
       return r;
-    } catch (const Error& e) {
-      if (e.kind() != ErrorKind::kBadInput) throw;
+    } catch (const Error& e) {  // an EXR without the tiles' header is a heightmap
+      if (e.kind() != ErrorKind::kBadInput ||
+          std::string_view(e.what()).find("not a build-ham tile file") == std::string_view::npos)
+        throw;
     }
   }
   const std::unique_ptr<terrain::HeightmapSource> source = terrain::open_heightmap(path, "");
@@ -60,10 +63,11 @@ std::string describe_terrain_text(const nlohmann::json& r) {
   // The georeferencing in brief (--json gives it whole): the CRS and the texel size.
   if (r.contains("georef") && r["georef"].is_object()) {
     const nlohmann::json& g = r["georef"];
-    s << "Georeferencing: " << (g.contains("crs") ? g["crs"].get<std::string>() : "yes");
-    if (g.contains("pixel_scale") && g["pixel_scale"].size() >= 2)
-      s << ", texels " << g["pixel_scale"][0].get<double>() << " x "
-        << g["pixel_scale"][1].get<double>();
+    s << "Georeferencing: "
+      << (g.contains("crs") && g["crs"].is_string() ? g["crs"].get<std::string>() : "yes");
+    const nlohmann::json scale = g.value("pixel_scale", nlohmann::json());
+    if (scale.is_array() && scale.size() >= 2 && scale[0].is_number() && scale[1].is_number())
+      s << ", texels " << scale[0].get<double>() << " x " << scale[1].get<double>();
     s << "\n";
   }
   return s.str();

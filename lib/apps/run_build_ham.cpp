@@ -15,8 +15,8 @@
 #include "splatkit/remove_on_signal.h"
 #include "terrain/compute_ham.h"
 #include "terrain/encode_ham_tiles.h"
-#include "terrain/terrain_map.h"
 #include "terrain/terrain_images.h"
+#include "terrain/terrain_map.h"
 
 namespace splatkit::apps {
 
@@ -108,7 +108,9 @@ StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress)
     throw_usage("OUT must end in .exr or be '-': " + output);
   if (!o.ham_full.empty() && lower_extension(o.ham_full) != "exr")
     throw_usage("--ham-full must end in .exr");
-  if (!(o.z_scale > 0) || !std::isfinite(o.z_scale)) throw_usage("--z-scale must be > 0");
+  // (in float, as the heights are scaled: 1e-50 would flatten the map to zeros)
+  if (!(float(o.z_scale) > 0) || !std::isfinite(float(o.z_scale)))
+    throw_usage("--z-scale must be > 0 and within the float range");
   if (o.tile < 1 || o.tile > 65536) throw_usage("--tile must be in [1, 65536]");
   Stage stage("build-ham", o.paths);
   stage.check_side_output("--ham-full", o.ham_full);
@@ -134,8 +136,7 @@ StageSummary run_build_ham(const BuildHamOptions& o, const ProgressFn& progress)
                                 : nlohmann::json(nullptr);
 
   std::unique_ptr<FullHamFile> full;
-  if (!o.ham_full.empty())
-    full = std::make_unique<FullHamFile>(o.ham_full, *source, 64, header);
+  if (!o.ham_full.empty()) full = std::make_unique<FullHamFile>(o.ham_full, *source, 64, header);
   terrain::HamStats stats;
   terrain::HamRowSink sink;
   if (full) sink = [&](int64_t rows, const float* data) { full->write(rows, data); };

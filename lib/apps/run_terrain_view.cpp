@@ -16,9 +16,7 @@ namespace splatkit::apps {
 
 namespace {
 
-Vec3f to_vec3(const std::array<double, 3>& v) {
-  return {float(v[0]), float(v[1]), float(v[2])};
-}
+Vec3f to_vec3(const std::array<double, 3>& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
 
 // --view AZ,EL[,DIST].
 std::array<float, 3> parse_view(const std::string& text) {
@@ -93,12 +91,12 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   });
   if (map.width != tiles.width || map.height != tiles.height)
     throw_bad_input(t.ham, "tiles of a " + std::to_string(tiles.width) + " x " +
-                               std::to_string(tiles.height) + " map, not of " +
-                               stage.input_name() + " (" + std::to_string(map.width) + " x " +
+                               std::to_string(tiles.height) + " map, not of " + stage.input_name() +
+                               " (" + std::to_string(map.width) + " x " +
                                std::to_string(map.height) + ")");
   if (const std::string why = terrain::ham_tiles_mismatch(map, tiles); !why.empty())
-    throw_bad_input(t.ham, "not the tiles of " + stage.input_name() + " (another heightmap, or " +
-                               "another --z-scale or --nodata): " + why);
+    throw_bad_input(t.ham, "not the tiles of " + stage.input_name() +
+                               " (built from another heightmap): " + why);
   progress(0.3, "render");
   terrain::TerrainFrame frame;
   const auto [sx, sy] = texel_size(tiles);
@@ -114,8 +112,9 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   const render::Camera camera = make_camera(o, terrain::terrain_bounds(map, frame));
   render::Framebuffer fb;
   fb.allocate(o.width, o.height, render::planes_for_output(o.output));
-  const terrain::TerrainRenderStats stats = stage.phase(
-      "render", "rendering", [&] { return terrain::render_terrain(map, tiles, frame, camera, ro, fb); });
+  const terrain::TerrainRenderStats stats = stage.phase("render", "rendering", [&] {
+    return terrain::render_terrain(map, tiles, frame, camera, ro, fb);
+  });
   const Clock::time_point t0 = Clock::now();
   OutputFile out(o.output);
   render::write_image(fb, out);
@@ -125,37 +124,37 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
     nlohmann::json histogram = nlohmann::json::object();
     for (std::size_t k = 1; k < stats.histogram.size(); ++k)
       if (stats.histogram[k] > 0) histogram[std::to_string(k)] = stats.histogram[k];
-    report = {{"mode", "terrain"},
-              {"heightmap", stage.input_name()},
-              {"ham", t.ham},
-              {"width", o.width},  // the image's, as in splat mode; the heightmap's below
-              {"height", o.height},
-              {"map_width", map.width},
-              {"map_height", map.height},
-              {"tile", tiles.tile},
-              {"texel_size", {sx, sy}},
-              {"tess_error_px", t.tess_error_px},
-              {"tess_distance_tiles", t.tess_distance_tiles},
-              {"wireframe", t.wireframe},
-              {"camera",
-               {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
-                {"target", {camera.target.x, camera.target.y, camera.target.z}},
-                {"fov_y_deg", camera.fov_y_deg}}},
-              {"tiles", stats.tiles},
-              {"visible_tiles", stats.visible_tiles},
-              {"triangles", stats.triangles},
-              {"triangles_at_64", stats.triangles_at_64},
-              {"triangles_ratio", stats.triangles_at_64 > 0
-                                      ? double(stats.triangles) / double(stats.triangles_at_64)
-                                      : 0.0},
-              {"triangles_behind_near_plane", stats.triangles_behind},
-              {"factor_histogram", histogram}};
+    report = {
+        {"mode", "terrain"},
+        {"heightmap", stage.input_name()},
+        {"ham", t.ham},
+        {"width", o.width},  // the image's, as in splat mode; the heightmap's below
+        {"height", o.height},
+        {"map_width", map.width},
+        {"map_height", map.height},
+        {"tile", tiles.tile},
+        {"texel_size", {sx, sy}},
+        {"tess_error_px", t.tess_error_px},
+        {"tess_distance_tiles", t.tess_distance_tiles},
+        {"wireframe", t.wireframe},
+        {"camera",
+         {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+          {"target", {camera.target.x, camera.target.y, camera.target.z}},
+          {"fov_y_deg", camera.fov_y_deg}}},
+        {"tiles", stats.tiles},
+        {"visible_tiles", stats.visible_tiles},
+        {"triangles", stats.triangles},
+        {"triangles_at_64", stats.triangles_at_64},
+        {"triangles_ratio",
+         stats.triangles_at_64 > 0 ? double(stats.triangles) / double(stats.triangles_at_64) : 0.0},
+        {"triangles_behind_near_plane", stats.triangles_behind},
+        {"factor_histogram", histogram}};
   }
   OutputFile* outputs[] = {&out};
   stage.commit(outputs, std::move(report));
   std::ostringstream extra;
-  extra << stats.visible_tiles << " of " << stats.tiles << " tiles visible, "
-        << stats.triangles << " triangles (" << stats.triangles_at_64 << " at factor 64)";
+  extra << stats.visible_tiles << " of " << stats.tiles << " tiles visible, " << stats.triangles
+        << " triangles (" << stats.triangles_at_64 << " at factor 64)";
   return {stats.triangles, "triangles", extra.str()};
 }
 

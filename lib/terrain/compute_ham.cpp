@@ -388,10 +388,16 @@ HamTiles compute_ham(HeightmapSource& source, const HamOptions& o, HamStats& sta
     throw Error(ErrorKind::kBadInput,
                 "every sample is a void (no data): there is no height to fill them from");
   if (overflow || !std::isfinite(h_min) || !std::isfinite(h_max)) {
+    // The option's fault when it scales; else the heights' own (near the float range).
     std::ostringstream what;
-    what << "--z-scale " << o.z_scale
-         << " makes the heights or their slopes too large for float arithmetic";
-    throw_usage(what.str());
+    if (o.z_scale != 1) {
+      what << "--z-scale " << o.z_scale
+           << " makes the heights or their slopes too large for float arithmetic";
+      throw_usage(what.str());
+    }
+    what << "heights up to " << std::max(std::fabs(h_min), std::fabs(h_max))
+         << ": their slopes are too large for float arithmetic";
+    throw Error(ErrorKind::kBadInput, what.str());
   }
   stats.h_min = double(h_min);
   stats.h_max = double(h_max);

@@ -1,6 +1,6 @@
 // Whether build-ham's tiles describe a heightmap: each tile's largest height (filled and scaled
-// as build-ham does) must be the tile's h_max, up to float rounding. Tiles of another map of the
-// same size, or of this one with another --z-scale or --nodata, differ there.
+// as build-ham does, with the z scale and no-data value the tiles record) must be the tile's
+// h_max, up to float rounding. Tiles of another map of the same size differ there.
 #pragma once
 
 #include <string>

@@ -175,9 +175,17 @@ expect_stderr "<stdin>: ends at row 9 of 257"
 # A scale that overflows the slopes, and a map with no valid sample: refused, nothing written.
 expect_exit 1 "$BIN/build-ham" "$DEM" "$WORK/x.exr" --z-scale 1e30
 expect_stderr "too large for float arithmetic"
+expect_exit 1 "$BIN/build-ham" "$DEM" "$WORK/x.exr" --z-scale 1e-50
+expect_stderr "z-scale must be > 0 and within the float range"
 head -c 2000 /dev/zero >"$WORK/void.raw"
 expect_exit 2 "$BIN/build-ham" "$WORK/void.raw" "$WORK/x.exr" --raw 40,50,uint8 --nodata 0
 expect_stderr "void.raw: every sample is a void"
+[ ! -e "$WORK/x.exr" ] && pass || fail "a refused map left OUT behind"
+# Heights near the float range overflow their slopes: the file's fault (exit 2), not an option's.
+python3 -c 'import struct, sys; open(sys.argv[1], "wb").write(struct.pack("<64f", *([3e38, -3e38] * 32)))' \
+  "$WORK/huge.raw"
+expect_exit 2 "$BIN/build-ham" "$WORK/huge.raw" "$WORK/x.exr" --raw 8,8,float32
+expect_stderr "huge.raw: heights up to 3e\+38: their slopes are too large"
 head -c 30000 "$DEM" >"$WORK/cut.tif"
 expect_exit 2 "$BIN/build-ham" "$WORK/cut.tif" "$WORK/x.exr"
 expect_stderr "build-ham: .*cut.tif: "
@@ -210,7 +218,7 @@ expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/full.exr" -o "$WOR
 expect_stderr "not a build-ham tile file"
 expect_exit 1 "$BIN/splat-view" -o "$WORK/x.png"
 expect_stderr "input is required"
-# Tiles of another map of the same size, or of another --z-scale: refused, naming a tile.
+# Tiles of another map of the same size: refused, naming a tile.
 expect_exit 0 "$BIN/splat-view" --terrain "$WORK/le.raw" --raw 257,257,int16 --ham "$WORK/raw.exr" \
   -o "$WORK/raw.png" --width 64 --height 48 -q
 python3 -c 'import sys; b = bytearray(open(sys.argv[1], "rb").read()); o = 2 * (257 * 100 + 100); b[o:o + 2] = (30000).to_bytes(2, "little", signed=True); open(sys.argv[2], "wb").write(b)' \

@@ -276,25 +276,32 @@ TEST(Las, WrittenWithoutReturnsEachPointIsASingleReturn) {
   }
 }
 
-// Return numbers without their counts: each point gets the fewest returns that hold its number
-// (return 3 of 3, not of 1, which LAS readers take for a broken record).
+// Return numbers without their counts, or with smaller ones: each point gets at least the fewest
+// returns that hold its number (return 3 of 3, not of 1, which LAS readers take for a broken
+// record).
 TEST(Las, WrittenWithReturnNumbersOnlyCountsAtLeastThatMany) {
-  for (const char* name : {"k.las", "k6.las"}) {
-    LoadedCloud doc;
-    doc.cloud.positions = {{0, 0, 0}, {1, 2, 3}, {4, 5, 6}};
-    doc.cloud.extras.emplace_back("return_number", ScalarType::kUInt8,
-                                  std::vector<double>{3, 1, 0});
-    WriteOptions w;
-    w.las_format = name[1] == '6' ? 6 : -1;
-    const std::string path = test::temp_path("las", name);
-    write_cloud(doc, path, w);
-    const LoadedCloud back = read_cloud(path);
-    const double want_ret[] = {3, 1, 0}, want_rets[] = {3, 1, 1};
-    for (std::size_t i = 0; i < 3; ++i) {
-      EXPECT_EQ(back.cloud.find_extra("return_number")->values[i], want_ret[i]) << name << i;
-      EXPECT_EQ(back.cloud.find_extra("number_of_returns")->values[i], want_rets[i]) << name << i;
+  for (const bool counts : {false, true})
+    for (const char* name : {"k.las", "k6.las"}) {
+      LoadedCloud doc;
+      doc.cloud.positions = {{0, 0, 0}, {1, 2, 3}, {4, 5, 6}};
+      doc.cloud.extras.emplace_back("return_number", ScalarType::kUInt8,
+                                    std::vector<double>{3, 1, 0});
+      // Counts below the return number (a broken record) are raised to it.
+      if (counts)
+        doc.cloud.extras.emplace_back("number_of_returns", ScalarType::kUInt8,
+                                      std::vector<double>{2, 4, 1});
+      WriteOptions w;
+      w.las_format = name[1] == '6' ? 6 : -1;
+      const std::string path = test::temp_path("las", name);
+      write_cloud(doc, path, w);
+      const LoadedCloud back = read_cloud(path);
+      const double want_ret[] = {3, 1, 0}, want_rets[] = {3, counts ? 4.0 : 1.0, 1};
+      for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(back.cloud.find_extra("return_number")->values[i], want_ret[i]) << name << i;
+        EXPECT_EQ(back.cloud.find_extra("number_of_returns")->values[i], want_rets[i])
+            << name << i << counts;
+      }
     }
-  }
 }
 
 TEST(Las, ScaleOffsetAndOrigin) {
