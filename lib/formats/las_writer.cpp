@@ -193,14 +193,14 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
                        *rets = extra("number_of_returns"), *cls = extra("classification"),
                        *angle = extra("scan_angle"), *user = extra("user_data"),
                        *source = extra("point_source_id");
-  // Return k of n with n >= k: a cloud with return numbers but no counts (or smaller counts) gets
-  // n = k, the fewest returns that hold k; one with neither is each point its own single return
-  // (return 0 is not valid).
+  // Return k of n: a cloud with return numbers but no counts gets n = k, the fewest returns that
+  // hold k; one with neither is each point its own single return (return 0 is not valid). Counts
+  // the cloud has are written as they are, even below the number (a round trip keeps the data).
   auto returns = [&](std::size_t i, double top) {
     return static_cast<int>(value(ret, i, 0, top, 1));
   };
   auto returns_total = [&](std::size_t i, double top) {
-    return std::max(rets ? static_cast<int>(value(rets, i, 0, top)) : 1, returns(i, top));
+    return rets ? static_cast<int>(value(rets, i, 0, top)) : std::max(returns(i, top), 1);
   };
   for (std::size_t i = 0; i < c.size(); ++i) {
     unsigned char* r = records.data() + i * rl;
