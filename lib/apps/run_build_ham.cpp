@@ -70,12 +70,19 @@ class FullHamFile {
   }
   void write(int64_t rows, const float* data) {
     const std::string why = writer_->write(rows, data);
-    if (!why.empty()) throw_output(path_, why);
+    if (!why.empty()) throw_output(path_, as_target(why));
   }
   // Writes out the last tiles and the offsets (where a full disk shows).
   void finish() {
     const std::string why = writer_->close();
-    if (!why.empty()) throw_output(path_, why);
+    if (!why.empty()) throw_output(path_, as_target(why));
+  }
+  // The image library's message names the temporary file, which the user never sees: the
+  // target's name instead.
+  std::string as_target(std::string why) const {
+    for (std::size_t at; !temp_.empty() && (at = why.find(temp_)) != std::string::npos;)
+      why.replace(at, temp_.size(), path_);
+    return why;
   }
   void commit() {
     // mkstemps made it 0600: the mode a new file gets (or the replaced file's), as OutputFile.

@@ -32,6 +32,16 @@ for c in "ham_max (float)" "h_max (float)" "x (uint)" "y (uint)" "voids (uint)" 
   grep -qF "$c" "$WORK/iinfo" && pass || fail "tile EXR lacks '$c'"
 done
 
+# A full disk under --ham-full: exit 4 naming the target (not the temporary file), nothing left.
+mkdir -p "$WORK/tiny"
+if mount -t tmpfs -o size=64k tmpfs "$WORK/tiny" 2>/dev/null; then
+  expect_exit 4 "$BIN/build-ham" "$DEM" "$WORK/t5.exr" -q --ham-full "$WORK/tiny/full.exr"
+  expect_stderr "tiny/full.exr: .*\"$WORK/tiny/full.exr\""
+  grep -q "full.exr.tmp" "$WORK/stderr" && fail "the message names the temporary file" || pass
+  [ -z "$(ls -A "$WORK/tiny")" ] && pass || fail "a full disk left files: $(ls "$WORK/tiny")"
+  umount "$WORK/tiny"
+fi
+
 # splat-info describes the heightmap and the tiles.
 expect_exit 0 "$BIN/splat-info" "$DEM" "$WORK/t.exr"
 for line in "Format: heightmap \(tiff, int16\)" "Map: 257 x 257 texels" "No-data: -32768" \
