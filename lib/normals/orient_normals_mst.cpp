@@ -215,8 +215,8 @@ class SignedUnionFind {
 // offset from its neighbour is mostly noise), and a spanning tree takes exactly such an edge, the
 // cheapest, as the only link between two faces.
 template <typename Id>
-SignedUnionFind spanning_forest(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
-                                std::span<const Vec3f> normals) {
+SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
+                            std::span<const Vec3f> normals) {
   const std::size_t n = positions.size();
   SignedUnionFind sets(n);
   {  // Step 1; the sorted edges are released after it.
@@ -390,7 +390,7 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
   // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
   auto forest = [&]<typename Id>(Id) {
     const KnnGraph<Id> graph = build_graph<Id>(std::move(rows), n, std::min(k, n));
-    return spanning_forest<Id>(graph, positions, normals);
+    return signed_sets<Id>(graph, positions, normals);
   };
   const std::size_t width = std::min(k, n) - 1;
   SignedUnionFind sets =
