@@ -55,26 +55,26 @@ std::array<double, 3> qsplat_origin(const QSplatModel& m) {
 
 std::string describe_qsplat_text(const nlohmann::json& j) {
   std::ostringstream s;
-  s << "file: " << j["file"].get<std::string>() << "\n"
-    << "format: QSplat .qs version 11 (big-endian)\n"
-    << "bytes: " << j["bytes"] << "\n"
-    << "fragments: " << j["tree_fragments"] << " tree, " << j["comment_fragments"] << " comment\n"
-    << "levels: " << j["levels"] << "\n"
-    << "nodes: " << j["nodes"] << " (" << j["interior_nodes"] << " interior)\n"
-    << "leaves: " << j["leaves"] << "\n"
-    << "bytes per leaf: " << j["bytes_per_leaf"].get<double>() << "\n"
-    << "colour: " << (j["color"].get<bool>() ? "yes (5-6-5)" : "no") << "\n";
+  s << "File: " << j["file"].get<std::string>() << "\n"
+    << "Format: QSplat .qs version 11 (big-endian)\n"
+    << "Bytes: " << j["bytes"] << "\n"
+    << "Fragments: " << j["tree_fragments"] << " tree, " << j["comment_fragments"] << " comment\n"
+    << "Levels: " << j["levels"] << "\n"
+    << "Nodes: " << j["nodes"] << " (" << j["interior_nodes"] << " interior)\n"
+    << "Leaves: " << j["leaves"] << "\n"
+    << "Bytes per leaf: " << j["bytes_per_leaf"].get<double>() << "\n"
+    << "Colour: " << (j["color"].get<bool>() ? "yes (5-6-5)" : "no") << "\n";
   if (j.contains("root"))
-    s << "root sphere: centre (" << j["root"]["centre"][0] << ", " << j["root"]["centre"][1] << ", "
+    s << "Root sphere: centre (" << j["root"]["centre"][0] << ", " << j["root"]["centre"][1] << ", "
       << j["root"]["centre"][2] << "), radius " << j["root"]["radius"] << "\n";
   if (j.contains("origin"))  // as splat-info prints a cloud's bounds: to the millimetre
-    s << std::fixed << std::setprecision(3) << "origin (the local frame in file coordinates): ("
+    s << std::fixed << std::setprecision(3) << "Origin (the local frame in file coordinates): ("
       << j["origin"][0].get<double>() << ", " << j["origin"][1].get<double>() << ", "
       << j["origin"][2].get<double>() << ")\n"
       << std::defaultfloat << std::setprecision(6);
   const std::string c = j["comments"].get<std::string>();
   if (!c.empty()) {
-    s << "comments:\n";
+    s << "Comments:\n";
     std::istringstream lines(c);
     for (std::string line; std::getline(lines, line);) s << "  " << line << "\n";
   }

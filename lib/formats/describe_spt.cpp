@@ -33,18 +33,18 @@ nlohmann::json describe_spt(const SptModel& m, const std::string& path) {
 
 std::string describe_spt_text(const nlohmann::json& j) {
   std::ostringstream s;
-  s << "file: " << j["file"].get<std::string>() << "\n"
-    << "format: Sequential Point Tree .spt version " << j["version"] << " ("
+  s << "File: " << j["file"].get<std::string>() << "\n"
+    << "Format: Sequential Point Tree .spt version " << j["version"] << " ("
     << j["precision"].get<std::string>() << ", " << j["entry_bytes"] << " bytes per entry)\n"
-    << "bytes: " << j["bytes"] << "\n"
-    << "entries: " << j["entries"] << " (" << j["leaves"] << " leaves, " << j["interior_entries"]
+    << "Bytes: " << j["bytes"] << "\n"
+    << "Entries: " << j["entries"] << " (" << j["leaves"] << " leaves, " << j["interior_entries"]
     << " interior)\n"
-    << "input points: " << j["input_points"] << " (" << j["entries_per_input_point"].get<double>()
+    << "Input points: " << j["input_points"] << " (" << j["entries_per_input_point"].get<double>()
     << " entries per point)\n"
-    << "tree depth: " << j["depth"] << "\n"
-    << "colour: " << (j["color"].get<bool>() ? "yes" : "no") << "\n"
-    << "epsilon: " << j["epsilon"] << " rad, colour weight " << j["color_weight"] << "\n"
-    << "r range: " << j["r_range"][0] << " .. " << j["r_range"][1] << "\n";
+    << "Tree depth: " << j["depth"] << "\n"
+    << "Colour: " << (j["color"].get<bool>() ? "yes" : "no") << "\n"
+    << "Epsilon: " << j["epsilon"] << " rad, colour weight " << j["color_weight"] << "\n"
+    << "Range of r: " << j["r_range"][0] << " .. " << j["r_range"][1] << "\n";
   return s.str();
 }
 

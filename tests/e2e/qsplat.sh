@@ -43,14 +43,14 @@ tr -d ' \n' <"$WORK/m.json" | grep -q '"dropped_zero_radius":1' && pass ||
 
 # splat-info describes .qs.
 expect_exit 0 "$BIN/splat-info" "$WORK/torus.qs"
-grep -q "^leaves: 12001" "$WORK/stdout" && pass || fail "splat-info .qs: $(head -8 "$WORK/stdout")"
-grep -q "^colour: no" "$WORK/stdout" && pass || fail "splat-info .qs: no colour line"
+grep -q "^Leaves: 12001" "$WORK/stdout" && pass || fail "splat-info .qs: $(head -8 "$WORK/stdout")"
+grep -q "^Colour: no" "$WORK/stdout" && pass || fail "splat-info .qs: no colour line"
 expect_exit 0 "$BIN/build-qsplat" "$S/two-spheres.ply" "$WORK/two.qs" -q
 expect_exit 0 "$BIN/splat-info" "$WORK/two.qs"
-grep -q "^colour: yes" "$WORK/stdout" && pass || fail "splat-info two-spheres .qs: no colour"
+grep -q "^Colour: yes" "$WORK/stdout" && pass || fail "splat-info two-spheres .qs: no colour"
 expect_exit 0 "$BIN/build-qsplat" "$S/two-spheres.ply" "$WORK/two-nc.qs" -q --no-color
 expect_exit 0 "$BIN/splat-info" "$WORK/two-nc.qs"
-grep -q "^colour: no" "$WORK/stdout" && pass || fail "--no-color .qs still has colour"
+grep -q "^Colour: no" "$WORK/stdout" && pass || fail "--no-color .qs still has colour"
 expect_exit 0 "$BIN/splat-info" --json "$WORK/nef.qs"
 grep -q '"format": "qs"' "$WORK/stdout" && pass || fail "splat-info --json .qs: no format"
 
