@@ -97,7 +97,8 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   });
   uint32_t segments_before = 0;
   seg = stage.phase("merge", "merging the fragments", [&] {
-    Segmentation merged = graph::merge_small_surfaces(g.graph, std::move(seg), o.merge_below);
+    Segmentation merged = graph::merge_small_surfaces(g.graph, std::move(seg), o.merge_below,
+                                                      {doc.cloud.positions, doc.cloud.radii});
     segments_before = merged.count();
     return graph::drop_small_surfaces(std::move(merged), o.min_size);
   });

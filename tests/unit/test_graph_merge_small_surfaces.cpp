@@ -1,5 +1,6 @@
 // merge_small_surfaces: fragments join the neighbour they share the most edges with, smallest
-// first; chains of fragments end in a large surface; an isolated fragment stays.
+// first; chains of fragments end in a large surface; an isolated fragment stays, unless a splat
+// of another surface nearly touches it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -81,6 +82,27 @@ TEST(GraphMergeSmallSurfaces, IsolatedFragmentStaysAndIdsFollowTheLowestSplat) {
   const Segmentation merged = merge_small_surfaces(g, labels({0, 0, 1, 2, 3, 3, 3}), 2);
   EXPECT_EQ(merged.surface, (std::vector<uint32_t>{0, 0, 0, 1, 2, 2, 2}));
   EXPECT_EQ(merged.sizes, (std::vector<uint32_t>{3, 1, 3}));
+}
+
+TEST(GraphMergeSmallSurfaces, IsolatedStrayNearASurfaceJoinsIt) {
+  // Splats 0-1-2 on the x axis 1 apart, radius 0.5 (touching); splat 3 lifted 1.5 above splat 2,
+  // radius 0.3: no edge (1.5 > 0.5 + 0.3), but within twice the radii (1.5 < 2 (0.3 + 0.5)), so
+  // it joins {0, 1, 2}. Splat 4 far away (10 above) stays on its own, as does everything without
+  // the spheres.
+  const NeighborGraph g = from_edges(5, {{0, 1}, {1, 2}});
+  const std::vector<Vec3f> p = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 0, 1.5f}, {0, 0, 10}};
+  const std::vector<float> r = {0.5f, 0.5f, 0.5f, 0.3f, 0.5f};
+  const Segmentation seg = labels({0, 0, 0, 1, 2});
+  const Segmentation merged = merge_small_surfaces(g, seg, 2, {p, r});
+  EXPECT_EQ(merged.surface, (std::vector<uint32_t>{0, 0, 0, 0, 1}));
+  EXPECT_EQ(merged.sizes, (std::vector<uint32_t>{4, 1}));
+  EXPECT_EQ(merge_small_surfaces(g, seg, 2).surface, seg.surface);
+  // A cluster of two as far off (splats 3 and 4 touching each other): joins as one.
+  const NeighborGraph h = from_edges(5, {{0, 1}, {1, 2}, {3, 4}});
+  const std::vector<Vec3f> q = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 0, 1.5f}, {2.5f, 0, 1.5f}};
+  EXPECT_EQ(merge_small_surfaces(h, labels({0, 0, 0, 1, 1}), 3, {q, r}).surface,
+            std::vector<uint32_t>(5, 0));
+  EXPECT_THROW(merge_small_surfaces(g, seg, 2, {std::span(p).first(4), r}), std::invalid_argument);
 }
 
 TEST(GraphMergeSmallSurfaces, RejectsMismatchedInput) {

@@ -50,7 +50,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(uint32_t{0}, uint32_t{1000}));
   app.add_option("--merge-below", o.merge_below,
                  "Surfaces with fewer splats are fragments: their splats join the best-fitting "
-                 "neighbour, the rest merge into the neighbour sharing the most edges (1: none)")
+                 "neighbour, the rest merge into the neighbour sharing the most edges, and a "
+                 "fragment with no edge out joins the surface of a splat that nearly touches it "
+                 "(centres within twice the radii: a stray lifted off by noise) (1: none)")
       ->default_val(50)
       ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
   app.add_option("--report", o.paths.report, "Write the surfaces and their sizes as JSON here");
