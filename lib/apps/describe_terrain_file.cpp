@@ -26,7 +26,7 @@ nlohmann::json describe_terrain_file(const std::string& path) {
       return r;
     } catch (const Error& e) {  // an EXR without the tiles' header is a heightmap
       if (e.kind() != ErrorKind::kBadInput ||
-          std::string_view(e.what()).find("not a build-ham tile file") == std::string_view::npos)
+          std::string_view(e.what()).find(terrain::kNotHamTiles) == std::string_view::npos)
         throw;
     }
   }

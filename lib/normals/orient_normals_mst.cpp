@@ -45,18 +45,11 @@ float agreement(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& 
   return d - 2 * dot(ni, e) * dot(nj, e) / e2;
 }
 
-uint16_t weight_key(float agree) {
-  const float w = std::max(0.0f, 1.0f - std::fabs(agree));
-  const float q = std::sqrt(w) * static_cast<float>(kOrientBuckets);
-  return static_cast<uint16_t>(std::min(q, static_cast<float>(kOrientBuckets - 1)));
-}
-
 // The kNN graph with every edge once: row i holds, in rank order, the neighbours j of i whose
 // reverse edge j -> i is not in the earlier row j (the agreement is symmetric, so Kruskal would
 // meet that one first and always reject this one; in a kNN graph most edges come in such pairs).
 // Rows are compacted: row i is neighbors[start[i] .. start[i + 1]). An edge is named by
-// (i << shift) | s, s its place in row i. Weights are not stored: the sort computes them as it
-// goes (twice), which keeps 2 bytes per edge off the peak.
+// (i << shift) | s, s its place in row i.
 template <typename Id>
 struct KnnGraph {
   unsigned shift = 0;
@@ -110,46 +103,6 @@ KnnGraph<Id> build_graph(ShrinkableArray nb, std::size_t n, std::size_t k) {
   nb.shrink(kept[chunks]);
   g.neighbors = std::move(nb);
   return g;
-}
-
-// Edges sorted by key, ties by (row, place in the row) (a stable counting sort, in parallel over
-// fixed chunks of rows: each chunk counts its keys and writes after the earlier chunks' share of
-// every bucket, so the order is the serial one for any thread count).
-template <typename Id>
-std::vector<Id> sort_edges(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
-                           std::span<const Vec3f> normals) {
-  const std::size_t n = g.size();
-  auto key = [&](std::size_t i, uint32_t j) {
-    return weight_key(agreement(positions[i], normals[i], positions[j], normals[j]));
-  };
-  // fn(i, s, j) for the edges of chunk c's rows.
-  auto for_each_edge = [&](std::size_t c, auto&& fn) {
-    for (std::size_t i = c * kRows; i < std::min(n, (c + 1) * kRows); ++i) {
-      const uint32_t* row = g.neighbors.data() + g.start[i];
-      for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) fn(i, s, row[s]);
-    }
-  };
-  const std::size_t chunks = (n + kRows - 1) / kRows;
-  std::vector<uint64_t> start(chunks * kOrientBuckets, 0);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    uint64_t* count = start.data() + c * kOrientBuckets;
-    for_each_edge(c, [&](std::size_t i, uint32_t, uint32_t j) { ++count[key(i, j)]; });
-  });
-  uint64_t at = 0;
-  for (std::size_t b = 0; b < kOrientBuckets; ++b)
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const uint64_t count = start[c * kOrientBuckets + b];
-      start[c * kOrientBuckets + b] = at;
-      at += count;
-    }
-  std::vector<Id> order(at);
-  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-    uint64_t* next = start.data() + c * kOrientBuckets;
-    for_each_edge(c, [&](std::size_t i, uint32_t s, uint32_t j) {
-      order[next[key(i, j)]++] = static_cast<Id>((static_cast<Id>(i) << g.shift) | s);
-    });
-  });
-  return order;
 }
 
 // Union-find whose links carry a parity: flip(x) is whether x's sign is the opposite of its set
@@ -219,16 +172,17 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
                             std::span<const Vec3f> normals) {
   const std::size_t n = positions.size();
   SignedUnionFind sets(n);
-  {  // Step 1; the sorted edges are released after it.
-    const std::vector<Id> order = sort_edges<Id>(g, positions, normals);
-    const Id mask = (Id{1} << g.shift) - 1;
-    std::size_t joined = 0;
-    for (const Id e : order) {
-      const auto i = static_cast<uint32_t>(e >> g.shift);
-      const uint32_t j = g.neighbors[g.start[i] + (e & mask)];
+  // Step 1, in row order: within 20° the relation is the sign of n_i·n_j whichever edge comes
+  // first.
+  std::size_t joined = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t* row = g.neighbors.data() + g.start[i];
+    for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) {
+      const uint32_t j = row[s];
       const float d = dot(normals[i], normals[j]);
       if (std::fabs(d) < kSheet) continue;
-      if (sets.unite(i, j, [&] { return d < 0; }) && ++joined + 1 == n) return sets;
+      if (sets.unite(static_cast<uint32_t>(i), j, [&] { return d < 0; }) && ++joined + 1 == n)
+        return sets;
     }
   }
   // Each point's set and parity, read off the union-find once per round (n finds, in order,

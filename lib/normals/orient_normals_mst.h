@@ -12,11 +12,10 @@
 // n_i·n_j', with n_j' = n_j mirrored in the plane that bisects the edge x_i x_j; for two faces of a
 // crease sampled symmetrically about it a = +1 for a consistent pair, −1 otherwise. Pairs within
 // 45° keep a = n_i·n_j: the mirror reads the edge direction, which position noise tilts (measured:
-// the mirror everywhere turned half of the noisy CAD part inward). Weight 1 − |a|, quantised to
-// kOrientBuckets levels of sqrt(1 − |a|) (finer where normals nearly agree), sorted by counting
-// sort with ties broken by edge order (point index, then neighbour rank). Signs are joined in two
+// the mirror everywhere turned half of the noisy CAD part inward). Signs are joined in two
 // stages with a union-find whose links carry the sign relation that made them. First the sheets:
-// Kruskal over the edges whose normals are within 20° of parallel (flip n_j when n_i·n_j < 0).
+// the edges whose normals are within 20° of parallel, in row order (flip n_j when n_i·n_j < 0;
+// within 20° that relation does not depend on which edge comes first, so no weights are sorted).
 // Then the sheets join in rounds: the agreements of all the kNN edges between two sets (in the
 // sets' frames) are summed, and pairs join strongest sum first, with its sign, when it is a
 // clear majority (|Σa| >= 0.25 Σ|a| and >= 1); the next round sums again over the grown sets,
@@ -44,18 +43,16 @@
 // Memory: the kNN rows (4 bytes per graph edge, 36 per point at k = 10) are found while the
 // index is still held; the index is then released and the rows compacted in place to the kept
 // edges (an edge whose reverse is in an earlier row is left out: about half of them), 4 bytes each
-// plus a 4-byte row start per point. Sorting adds 4 bytes per kept edge and the union-find 6 per
-// point: about 8 × 0.57 (k - 1) + 10 bytes per point after the rows are found (k = 10 on a
-// random torus: 51), below the index and the full rows together. Time: one kNN pass (parallel),
-// one pass that compacts the rows (parallel, then a copy per block of rows), a counting sort
-// (parallel, computing the weights twice) and a near-linear union-find. The joins of sheets add
-// 28 bytes per edge between sheets and 5 per point (the sorted edges are released first): little
-// where the sheets are large (1M points: a scan-line CAD part, peak 123 -> 127 MB and 0.42 ->
-// 0.59 s; the city 0.19 -> 0.25 s), most on normals that are mostly noise (a 1M-point sphere with
-// noise 0.3 % of its diameter, half of its edges between sheets: peak 124 -> 226 MB, 0.43 ->
-// 1.40 s).
-// Deterministic for any thread count (the kNN rows are exact; the sort's chunks are fixed;
-// everything after it is sequential).
+// plus a 4-byte row start per point, and the union-find 6 per point. Time: one kNN pass
+// (parallel), one pass that compacts the rows (parallel, then a copy per block of rows) and a
+// near-linear union-find. The joins of sheets add 28 bytes per edge between sheets and 5 per
+// point: little where the sheets are large, most on normals that are mostly noise (a 1M-point
+// sphere with noise 0.3 % of its diameter, half of its edges between sheets).
+// Against the earlier single spanning tree over weight-sorted edges, 1M points, 2 threads: orient
+// phase 0.40 -> 0.30 s on a scan-line CAD part (peak 122 -> 127 MB), 0.17 -> 0.15 s on the city,
+// 0.26 -> 0.13 s on a clean torus, 0.43 -> 1.00 s on the noisy sphere (peak 123 -> 226 MB).
+// Deterministic for any thread count (the kNN rows are exact; everything after them is
+// sequential).
 #pragma once
 
 #include <cstddef>
@@ -70,7 +67,6 @@
 namespace splatkit {
 
 inline constexpr std::size_t kOrientK = 10;  // kNN row length, the point itself included
-inline constexpr std::size_t kOrientBuckets = 4096;
 
 struct OrientStats {
   std::size_t flipped = 0;     // output normals whose sign changed

@@ -37,12 +37,15 @@ struct TerrainImages {
   std::string (*open_raster)(const std::string& path, std::unique_ptr<RasterRows>& out) = nullptr;
   std::string (*encode_tiles)(const HamTiles& tiles, std::vector<unsigned char>& bytes) = nullptr;
   std::string (*decode_tiles)(const std::string& path, HamTiles& tiles) = nullptr;
-  std::string (*open_row_writer)(const std::string& path, int64_t width, int64_t height,
-                                 int tile, const nlohmann::json& header,
+  std::string (*open_row_writer)(const std::string& path, int64_t width, int64_t height, int tile,
+                                 const nlohmann::json& header,
                                  std::unique_ptr<RowWriter>& out) = nullptr;
 };
 
 inline constexpr const char* kTerrainImagesEntry = "splatkit_terrain_images";
+// How read_ham_tiles' message begins for an EXR without the tiles' header (an ordinary image,
+// which splat-info then describes as a heightmap).
+inline constexpr const char* kNotHamTiles = "not a build-ham tile file";
 
 // The loaded module. Throws Error(kUnsupported) naming `path` when it cannot be loaded.
 const TerrainImages& terrain_images(const std::string& path);
