@@ -334,7 +334,9 @@ TEST(TerrainFillVoids, OnlyAVoidsNeighboursAreReplaced) {
       const std::size_t i = std::size_t(y * w + x);
       const bool ring = std::abs(x - 15) <= 1 && std::abs(y - 15) <= 1;
       EXPECT_EQ(filled.replaced[i] != 0, ring) << x << "," << y;
-      if (!ring) EXPECT_EQ(filled.heights[i], v[i]) << x << "," << y;
+      if (!ring) {
+        EXPECT_EQ(filled.heights[i], v[i]) << x << "," << y;
+      }
     }
 }
 
@@ -383,11 +385,12 @@ SpikeCheck check_spikes(const HamRun& r, const std::vector<uint8_t>& replaced, i
     for (int64_t i = 0; i < tx; ++i) {
       const float d = dirty[std::size_t(j * tx + i)];
       if (d <= 0) continue;
-      float around = 0;
+      float clean_around = 0;
       for (int64_t y = std::max<int64_t>(0, j - 1); y <= std::min(ty - 1, j + 1); ++y)
         for (int64_t x = std::max<int64_t>(0, i - 1); x <= std::min(tx - 1, i + 1); ++x)
-          around = std::max(around, clean[std::size_t(y * tx + x)]);
-      c.worst_tile = std::max(c.worst_tile, around > 0 ? double(d) / double(around) : INFINITY);
+          clean_around = std::max(clean_around, clean[std::size_t(y * tx + x)]);
+      c.worst_tile =
+          std::max(c.worst_tile, clean_around > 0 ? double(d) / double(clean_around) : INFINITY);
     }
   return c;
 }

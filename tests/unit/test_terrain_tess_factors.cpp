@@ -214,7 +214,9 @@ TEST(TerrainTessellateTile, TrianglesCoverTheTileAndMatchTheCount) {
     TileMesh m;
     tessellate_tile(e, f, m);
     EXPECT_EQ(m.triangles.size(), tile_triangle_count(f));
-    if (i == 0) EXPECT_EQ(m.triangles.size(), 2u * 64 * 64);
+    if (i == 0) {
+      EXPECT_EQ(m.triangles.size(), 2u * 64 * 64);
+    }
     double area = 0;
     for (const auto& t : m.triangles) {
       const auto &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
