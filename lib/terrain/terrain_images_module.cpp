@@ -17,33 +17,22 @@ using OIIO::TypeDesc;
 // OpenImageIO's messages may span lines; splatkit's errors are one line.
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  for (std::size_t i = s.find('\n'); i != std::string::npos; i = s.find('\n', i))
-    s.replace(i, 1, "; ");
+  for (std::size_t i = s.find('\n'); i != std::string::npos; i = s.find('\n', i)) s.replace(i, 1, "; ");
   return s;
 }
 
 std::string sample_type_name(TypeDesc t) {
   switch (t.basetype) {
-    case TypeDesc::UINT8:
-      return "uint8";
-    case TypeDesc::INT8:
-      return "int8";
-    case TypeDesc::UINT16:
-      return "uint16";
-    case TypeDesc::INT16:
-      return "int16";
-    case TypeDesc::UINT32:
-      return "uint32";
-    case TypeDesc::INT32:
-      return "int32";
-    case TypeDesc::HALF:
-      return "float16";
-    case TypeDesc::FLOAT:
-      return "float32";
-    case TypeDesc::DOUBLE:
-      return "float64";
-    default:
-      return "";
+    case TypeDesc::UINT8: return "uint8";
+    case TypeDesc::INT8: return "int8";
+    case TypeDesc::UINT16: return "uint16";
+    case TypeDesc::INT16: return "int16";
+    case TypeDesc::UINT32: return "uint32";
+    case TypeDesc::INT32: return "int32";
+    case TypeDesc::HALF: return "float16";
+    case TypeDesc::FLOAT: return "float32";
+    case TypeDesc::DOUBLE: return "float64";
+    default: return "";
   }
 }
 
@@ -88,27 +77,13 @@ class OiioRows final : public RasterRows {
   }
   void convert(std::size_t n, float* out) {
     switch (type.basetype) {
-      case TypeDesc::UINT8:
-        convert_as<uint8_t>(n, out);
-        break;
-      case TypeDesc::INT8:
-        convert_as<int8_t>(n, out);
-        break;
-      case TypeDesc::UINT16:
-        convert_as<uint16_t>(n, out);
-        break;
-      case TypeDesc::INT16:
-        convert_as<int16_t>(n, out);
-        break;
-      case TypeDesc::UINT32:
-        convert_as<uint32_t>(n, out);
-        break;
-      case TypeDesc::INT32:
-        convert_as<int32_t>(n, out);
-        break;
-      default:
-        convert_as<double>(n, out);
-        break;
+      case TypeDesc::UINT8: convert_as<uint8_t>(n, out); break;
+      case TypeDesc::INT8: convert_as<int8_t>(n, out); break;
+      case TypeDesc::UINT16: convert_as<uint16_t>(n, out); break;
+      case TypeDesc::INT16: convert_as<int16_t>(n, out); break;
+      case TypeDesc::UINT32: convert_as<uint32_t>(n, out); break;
+      case TypeDesc::INT32: convert_as<int32_t>(n, out); break;
+      default: convert_as<double>(n, out); break;
     }
   }
 };
@@ -143,8 +118,7 @@ std::string open_raster(const std::string& path, std::unique_ptr<RasterRows>& ou
            std::to_string(spec.width) + " x " + std::to_string(spec.height) + " uncompressed " +
            rows->info.sample_type + " samples";
   rows->tiled = spec.tile_width > 0 && spec.tile_height > 0;
-  rows->info.band_rows =
-      rows->tiled ? (64 + spec.tile_height - 1) / spec.tile_height * spec.tile_height : 64;
+  rows->info.band_rows = rows->tiled ? (64 + spec.tile_height - 1) / spec.tile_height * spec.tile_height : 64;
   out = std::move(rows);
   return "";
 }
@@ -202,7 +176,8 @@ std::string decode_tiles(const std::string& path, HamTiles& t) {
            std::to_string(tile) + " needs " + std::to_string(t.tiles_x) + " x " +
            std::to_string(t.tiles_y);
   t.z_scale = spec.get_float_attribute("splatkit:z_scale", 1.0f);
-  t.header = nlohmann::json::parse(spec.get_string_attribute("splatkit:ham", "{}"), nullptr, false);
+  t.header = nlohmann::json::parse(spec.get_string_attribute("splatkit:ham", "{}"), nullptr,
+                                   false);
   if (t.header.is_discarded() || !t.header.is_object()) return "splatkit:ham is not JSON";
   const std::size_t n = t.size();
   for (int c = 0; c < 5; ++c) {
@@ -212,8 +187,7 @@ std::string decode_tiles(const std::string& path, HamTiles& t) {
     if (spec.channelformat(index) != want)
       return std::string("channel ") + kTileChannels[c] + " is not " + want.c_str();
     std::vector<uint32_t> plane(n);
-    if (!in->read_image(0, 0, index, index + 1, want, plane.data()))
-      return one_line(in->geterror());
+    if (!in->read_image(0, 0, index, index + 1, want, plane.data())) return one_line(in->geterror());
     if (c == 0) std::memcpy(t.ham_max.data(), plane.data(), 4 * n);
     if (c == 1) std::memcpy(t.h_max.data(), plane.data(), 4 * n);
     if (c == 2) t.x = plane;
@@ -241,8 +215,8 @@ class TiledRowWriter final : public RowWriter {
       rows -= take;
       data += take * width;
       if (buffered == tile || next + buffered == height) {
-        if (!out->write_tiles(0, int(width), int(next), int(next + buffered), 0, 1, TypeDesc::FLOAT,
-                              buf.data()))
+        if (!out->write_tiles(0, int(width), int(next), int(next + buffered), 0, 1,
+                              TypeDesc::FLOAT, buf.data()))
           return out->geterror();
         next += buffered;
         buffered = 0;
