@@ -87,6 +87,13 @@ void cut_node(std::vector<RankedPoint>& pts, uint32_t b, uint32_t e) {
   }
 }
 
+// v.resize(size) within its reserved capacity, the new pages mapped in parallel first.
+template <class T>
+void grow(std::vector<T>& v, std::size_t size) {
+  map_pages_in_parallel(v.data() + v.size(), v.data() + size);
+  v.resize(size);
+}
+
 double cosine(const Vec3f& a, const Vec3f& b) {
   return std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0);
 }
@@ -108,7 +115,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   t.first_child = {0};
   t.child_count = {0};
   // Fewer than 2n nodes (each interior node has 2 or more children): reserved, the arrays grow
-  // level by level without copies or fresh pages beyond their final size.
+  // level by level without copies or fresh pages beyond their final size, each level's pages
+  // mapped in parallel before the zeroing (grow).
   for (std::vector<uint32_t>* v : {&rb, &size, &t.first_child}) v->reserve(2 * std::size_t{n});
   t.child_count.reserve(2 * std::size_t{n});
   for (std::size_t l = 0;; ++l) {
@@ -133,8 +141,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
     for (std::size_t c = 1; c < chunk_first.size(); ++c) chunk_first[c] += chunk_first[c - 1];
     const uint32_t next = chunk_first.back();
     if (next == le) break;
-    rb.resize(next);
-    size.resize(next);
+    grow(rb, next);
+    grow(size, next);
     for_each_chunk(nodes, kNodeChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
       uint32_t j = chunk_first[c];  // the next child's node
       for (std::size_t i = lb + b; i < lb + e; ++i) {
@@ -155,12 +163,12 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
         if (e - b > 4)
           cut_node(pts, b, e);
         else  // a node over its leaves: they follow in input order
-          std::sort(pts.begin() + b, pts.begin() + e,
-                    [](const RankedPoint& p, const RankedPoint& q) { return p.index() < q.index(); });
+          rank_detail::sort_short(pts.data() + b, pts.data() + e,
+                                  [](const RankedPoint& p) { return uint64_t{p.index()}; });
       }
     });
-    t.first_child.resize(next, 0);
-    t.child_count.resize(next, 0);
+    grow(t.first_child, next);
+    grow(t.child_count, next);
     t.level_begin.push_back(next);
   }
   const std::size_t m = t.first_child.size();
@@ -178,17 +186,17 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   if (measure_centroid_rule) centroid.allocate(m);
   tbb::parallel_invoke(
       [&] {
-        t.leaf.resize(m);
+        sized_in_parallel(t.leaf, m);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1 << 16), [&](const auto& r) {
           for (std::size_t i = r.begin(); i < r.end(); ++i)
             t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].index() : kNoLeaf;
         });
       },
-      [&] { t.spheres.resize(m); },
+      [&] { sized_in_parallel(t.spheres, m); },
       [&] {
-        t.normal_codes.resize(m);
-        t.cones.resize(m);
-        if (color) t.colors.resize(m);
+        sized_in_parallel(t.normal_codes, m);
+        sized_in_parallel(t.cones, m);
+        if (color) sized_in_parallel(t.colors, m);
       });
   // Bottom up, level by level: each interior node from its children, a leaf child's values
   // taken from the input there (its outputs written, nothing kept for it). The input is in any

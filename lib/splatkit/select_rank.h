@@ -48,7 +48,9 @@ template <int A>
 uint64_t cut_key(const RankedPoint& q) {
   uint32_t u = q.bits(A);
   u = u == 0x80000000u ? 0 : u;
-  u ^= (u >> 31) != 0 ? 0xFFFFFFFFu : 0x80000000u;
+  // Negative values flip all bits, others only the sign bit: an arithmetic shift, not a branch
+  // (the signs of a cloud around the origin are coin flips, which a branch mispredicts).
+  u ^= static_cast<uint32_t>(static_cast<int32_t>(u) >> 31) | 0x80000000u;
   return uint64_t{u} << 32 | q.index();
 }
 
@@ -68,6 +70,24 @@ RankedPoint* partition_below(RankedPoint* first, RankedPoint* last, uint64_t piv
   return i;
 }
 
+// Sorts a short range (at most kShortRange points) by `key`: each point's place is the count of
+// smaller keys (the keys are unique), found without a branch, where a sort's comparisons of keys
+// in no order would mispredict about half the time.
+inline constexpr std::size_t kShortRange = 16;
+template <typename Key>
+void sort_short(RankedPoint* first, RankedPoint* last, Key key) {
+  const auto n = static_cast<std::size_t>(last - first);
+  uint64_t k[kShortRange];
+  RankedPoint sorted[kShortRange];
+  for (std::size_t i = 0; i < n; ++i) k[i] = key(first[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t below = 0;
+    for (std::size_t j = 0; j < n; ++j) below += k[j] < k[i];
+    sorted[below] = first[i];
+  }
+  std::copy(sorted, sorted + n, first);
+}
+
 // select_rank for one axis.
 template <int A>
 void select_rank_on(RankedPoint* first, RankedPoint* nth, RankedPoint* last) {
@@ -76,7 +96,7 @@ void select_rank_on(RankedPoint* first, RankedPoint* nth, RankedPoint* last) {
   };
   int budget = 2 * std::bit_width(static_cast<std::size_t>(last - first));
   std::vector<uint64_t> sample;
-  while (last - first > 16) {
+  while (static_cast<std::size_t>(last - first) > kShortRange) {
     if (budget-- == 0) {
       std::nth_element(first, nth, last, before);
       return;
@@ -119,7 +139,7 @@ void select_rank_on(RankedPoint* first, RankedPoint* nth, RankedPoint* last) {
     RankedPoint* i = partition_below<A>(first, last, pivot);
     (nth < i ? last : first) = i;
   }
-  std::sort(first, last, before);
+  sort_short(first, last, cut_key<A>);
 }
 
 }  // namespace rank_detail
