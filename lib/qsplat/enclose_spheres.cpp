@@ -40,21 +40,10 @@ Sphere enclose_spheres(const Sphere* s, int count, bool centroid_rule) {
     mean.z += s[i].centre.z;
   }
   mean = {mean.x / count, mean.y / count, mean.z / count};
-  Sphere best = around(mean, s, count);
-  if (centroid_rule || count == 1) return best;
-  auto consider = [&](const D3& c) {
-    const Sphere t = around(c, s, count);
-    if (t.radius < best.radius) best = t;
-  };
-  D3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (int i = 0; i < count; ++i) {
-    const D3 c = d3(s[i].centre);
-    const double r = s[i].radius;
-    lo = {std::min(lo.x, c.x - r), std::min(lo.y, c.y - r), std::min(lo.z, c.z - r)};
-    hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
-  }
-  consider({(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2});
-  // The pair whose spheres reach farthest apart supports the minimal sphere when two do.
+  if (centroid_rule || count == 1) return around(mean, s, count);
+  // The pair whose spheres reach farthest apart: when the smallest sphere around it holds the
+  // others, no sphere around them all is smaller (the usual case for a node's few neighbouring
+  // splats), and it is the answer without the other candidates.
   int pi = 0, pj = 1;
   double widest = -1;
   for (int i = 0; i < count; ++i)
@@ -68,15 +57,36 @@ Sphere enclose_spheres(const Sphere* s, int count, bool centroid_rule) {
     }
   const D3 a = d3(s[pi].centre), b = d3(s[pj].centre);
   const double d = dist(a, b), ra = s[pi].radius, rb = s[pj].radius;
+  D3 centre;
+  double least;  // the radius of the smallest sphere around the pair
   if (d + rb <= ra) {
-    consider(a);
+    centre = a;
+    least = ra;
   } else if (d + ra <= rb) {
-    consider(b);
+    centre = b;
+    least = rb;
   } else {
     // The pair's sphere spans from a's far side to b's far side along the line a -> b.
-    const double R = (d + ra + rb) / 2, t = (R - ra) / d;
-    consider({a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t});
+    least = (d + ra + rb) / 2;
+    const double t = (least - ra) / d;
+    centre = {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
   }
+  Sphere best = around(centre, s, count);
+  // Within float rounding of the pair's own sphere: minimal.
+  if (best.radius <= least * (1 + 1e-6)) return best;
+  auto consider = [&](const D3& c) {
+    const Sphere t = around(c, s, count);
+    if (t.radius < best.radius) best = t;
+  };
+  consider(mean);
+  D3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (int i = 0; i < count; ++i) {
+    const D3 c = d3(s[i].centre);
+    const double r = s[i].radius;
+    lo = {std::min(lo.x, c.x - r), std::min(lo.y, c.y - r), std::min(lo.z, c.z - r)};
+    hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
+  }
+  consider({(lo.x + hi.x) / 2, (lo.y + hi.y) / 2, (lo.z + hi.z) / 2});
   return best;
 }
 

@@ -214,25 +214,29 @@ TEST(QSplatEncode, TheOriginalWalkReachesEveryPointOnceInsideItsLeaf) {
   check_structure(shape_leaves(ShapeKind::kCadPart, 3000, false), true);
 }
 
-// A splat 1e20 away from the rest: float32 steps there are wider than the splats, so a node can
-// end on its parent's edge after rounding. The input's fault, said so (Error kBadInput), not an
-// internal error.
-TEST(QSplatEncode, AFarOutlierBeyondFloatPrecisionIsBadInput) {
-  QSplatLeaves l;
-  for (const Vec3f& p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{1, 1, 0},
-                         Vec3f{0.5f, 0.5f, 0.1f}, Vec3f{1e20f, 0, 0}}) {
-    l.positions.push_back(p);
-    l.normals.push_back({0, 0, 1});
-    l.radii.push_back(0.1f);
-  }
-  QSplatTree tree = build_qsplat_tree(l);
-  try {
-    encode_qsplat(tree, "");
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::kBadInput) << e.what();
-    EXPECT_NE(std::string(e.what()).find("too wide"), std::string::npos) << e.what();
-  }
+// A splat 1e20 away from the rest: float32 steps there are wider than the splats, so a node may
+// end on its parent's edge after rounding. Either the file is whole (every leaf once, inside its
+// decoded sphere, every child inside its parent) or the input is blamed (Error kBadInput, "too
+// wide"), never an internal error; with either sphere rule and at several distances.
+TEST(QSplatEncode, AFarOutlierGivesAWholeFileOrBadInput) {
+  for (const float far : {1e8f, 1e15f, 1e20f, 3e25f, 1e30f})
+    for (const bool centroid_rule : {false, true}) {
+      QSplatLeaves l;
+      for (const Vec3f& p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{1, 1, 0},
+                             Vec3f{0.5f, 0.5f, 0.1f}, Vec3f{far, 0, 0}}) {
+        l.positions.push_back(p);
+        l.normals.push_back({0, 0, 1});
+        l.radii.push_back(0.1f);
+      }
+      SCOPED_TRACE(testing::Message() << "outlier at " << far << ", centroid rule "
+                                      << centroid_rule);
+      try {
+        check_structure(l, centroid_rule);
+      } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::kBadInput) << e.what();
+        EXPECT_NE(std::string(e.what()).find("too wide"), std::string::npos) << e.what();
+      }
+    }
 }
 
 TEST(QSplatEncode, CoincidentPointsStillSplit) {
