@@ -197,29 +197,51 @@ const std::array<SphereCell, kSphereCells>& sphere_cells() { return sphere_table
 
 namespace {
 
+// size / 13 for size 0..13: the radius of a cell of that size in parent radii.
+constexpr std::array<double, kN + 1> kCellRadius = [] {
+  std::array<double, kN + 1> r{};
+  for (int size = 0; size <= kN; ++size) r[size] = static_cast<double>(size) / kN;
+  return r;
+}();
+
+}  // namespace
+
+namespace {
+
 // What one cell offers a child: the cell is not (or cannot be proved) inside the parent, it is
 // too small or too far to contain the child, or it fits at distance `dist` between the centres.
 enum class Offer { kNotInParent, kTooSmall, kFits };
 
 }  // namespace
 
+SphereEncoder::SphereEncoder(const Sphere& parent)
+    : parent_(parent),
+      pc_{parent.centre.x, parent.centre.y, parent.centre.z},
+      pr_(parent.radius) {
+  // The decoded child is computed in float from the parent's float centre: its distance to the
+  // parent's centre may be off by a few units in the last place of the coordinates. A cell more
+  // than that (in parent radii) inside or outside the unit sphere needs no exact check.
+  const double far = std::max({std::fabs(pc_[0]), std::fabs(pc_[1]), std::fabs(pc_[2])}) + pr_;
+  unsure_ = 8.0 * far * 0x1p-23 / pr_ + 1e-9;
+  // The same bound in steps of the cell grid (2/13 parent radii): how far a decoded cell centre
+  // may stand from where exact arithmetic puts it, along one axis.
+  unsure_steps_ = unsure_ * kN / 2;
+}
+
 int encode_sphere(const Sphere& parent, const double centre[3], double radius,
                   SphereSearch search) {
+  return SphereEncoder(parent)(centre, radius, search);
+}
+
+int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search) const {
   const SphereTables& t = sphere_tables();
-  const double pr = parent.radius;
-  const double pc[3] = {parent.centre.x, parent.centre.y, parent.centre.z};
+  const Sphere& parent = parent_;
+  const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
+  const double* pc = pc_;
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const double rel_radius = radius / pr;
   const int first = std::clamp(static_cast<int>(std::floor(rel_radius * kN)), 1, kN);
-  // The decoded child is computed in float from the parent's float centre: its distance to the
-  // parent's centre may be off by a few units in the last place of the coordinates. A cell more
-  // than that (in parent radii) inside or outside the unit sphere needs no exact check.
-  const double far = std::max({std::fabs(pc[0]), std::fabs(pc[1]), std::fabs(pc[2])}) + pr;
-  const double unsure = 8.0 * far * 0x1p-23 / pr + 1e-9;
-  // The same bound in steps of the cell grid (2/13 parent radii): how far a decoded cell centre
-  // may stand from where exact arithmetic puts it, along one axis.
-  const double unsure_steps = unsure * kN / 2;
   auto offer = [&](int s, double& dist) {
     if (s < 0 || t.inside[s] < -unsure) return Offer::kNotInParent;  // clearly outside
     const Sphere d = decode_sphere(t.cells[s], parent);
@@ -237,19 +259,20 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   auto cell = [&](int size, int x, int y, int z) {
     return t.index[size - 1 + kN * (x + kN * (y + kN * z))];
   };
+  // The child's centre in units of the cell grid's half step, (rel + 1) * 13.
+  const double grid[3] = {(rel[0] + 1) * kN, (rel[1] + 1) * kN, (rel[2] + 1) * kN};
   for (int size = first; size <= kN; ++size) {
-    const double slack = static_cast<double>(size) / kN - rel_radius;
+    const double slack = kCellRadius[size] - rel_radius;
     if (slack < 0) continue;
     // Where the child's centre falls on each axis's grid of cell centres ((size + 2x)/13 − 1,
-    // in parent radii): `steps` grid steps from the first, between index below and below + 1.
-    double steps[3], frac[3];
-    int below[3];
+    // in parent radii): `steps` grid steps from the first.
+    double steps[3];
     double e2 = 0;
     for (int k = 0; k < 3; ++k) {
-      steps[k] = ((rel[k] + 1) * kN - size) / 2;
-      below[k] = floor_int(steps[k]);
-      frac[k] = steps[k] - below[k];
-      const int nearest = std::clamp(below[k] + (frac[k] < 0.5 ? 0 : 1), 0, kN - size);
+      steps[k] = (grid[k] - size) / 2;
+      // The nearest index, floor(steps + 0.5) (steps > -6.6 for a child inside its parent),
+      // kept in the box.
+      const int nearest = std::clamp(static_cast<int>(steps[k] + 16.5) - 16, 0, kN - size);
       const double e = (steps[k] - nearest) * (2.0 / kN);
       e2 += e * e;
     }
@@ -257,6 +280,13 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
     // when that one misses the child by more than rounding explains, they all do.
     const double reach = slack * (1 + 1e-6) + 4 * unsure;
     if (size < kN && e2 > reach * reach) continue;
+    // Between index below and below + 1 on each axis.
+    double frac[3];
+    int below[3];
+    for (int k = 0; k < 3; ++k) {
+      below[k] = floor_int(steps[k]);
+      frac[k] = steps[k] - below[k];
+    }
     // Cell centres within R − radius of the child on every axis: the only ones that can
     // contain it.
     int lo[3], hi[3];

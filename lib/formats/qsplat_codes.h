@@ -61,6 +61,22 @@ enum class SphereSearch { kNearestFirst, kExhaustive };
 int encode_sphere(const Sphere& parent, const double centre[3], double radius,
                   SphereSearch search = SphereSearch::kNearestFirst);
 
+// encode_sphere for the children of one parent: what depends on the parent alone is computed
+// once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).
+class SphereEncoder {
+ public:
+  explicit SphereEncoder(const Sphere& parent);
+  int operator()(const double centre[3], double radius,
+                 SphereSearch search = SphereSearch::kNearestFirst) const;
+
+ private:
+  Sphere parent_;
+  double pc_[3], pr_;
+  // How far (in parent radii) float rounding may move a decoded cell, and the same in steps of
+  // the cell grid.
+  double unsure_, unsure_steps_;
+};
+
 // Unit normal -> 14-bit code (nearest decoded normal among the original's candidate and its
 // neighbours); a zero normal encodes as +Z.
 int encode_normal(const Vec3f& n);

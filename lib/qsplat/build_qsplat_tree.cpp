@@ -101,7 +101,7 @@ double cosine(const Vec3f& a, const Vec3f& b) {
 }  // namespace
 
 QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
-                             bool measure_centroid_rule) {
+                             bool measure) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
   std::vector<RankedPoint> pts;
@@ -183,7 +183,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   normal.allocate(m);
   cone.allocate(m);
   if (color) rgb.allocate(m);
-  if (measure_centroid_rule) centroid.allocate(m);
+  if (measure) centroid.allocate(m);
   tbb::parallel_invoke(
       [&] {
         sized_in_parallel(t.leaf, m);
@@ -228,7 +228,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
             child_normal[k] = normal[q];
             child_cone[k] = cone[q];
             if (color) child_rgb[k] = rgb[q];
-            if (measure_centroid_rule) child_centroid[k] = centroid[q];
+            if (measure) child_centroid[k] = centroid[q];
             continue;
           }
           t.spheres[q] = {pts[rb[q]].position(), leaves.radii[j]};
@@ -243,7 +243,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
           }
         }
         t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
-        if (measure_centroid_rule) centroid[i] = enclose_spheres(child_centroid, c, true);
+        if (measure) centroid[i] = enclose_spheres(child_centroid, c, true);
         Vec3f sum{0, 0, 0};
         for (int k = 0; k < c; ++k) sum += child_normal[k];
         normal[i] = squared_norm(sum) > 0 ? normalized(sum) : child_normal[0];
@@ -272,12 +272,13 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
       }
     });
   }
+  if (!measure) return t;
   double sum = 0, sum_centroid = 0;
   std::size_t interior = 0;
   for (std::size_t i = 0; i < m; ++i)
     if (t.child_count[i] > 0) {
       sum += t.spheres[i].radius;
-      if (measure_centroid_rule) sum_centroid += centroid[i].radius;
+      sum_centroid += centroid[i].radius;
       ++interior;
     }
   t.mean_interior_radius = interior ? sum / interior : 0;

@@ -34,16 +34,15 @@ struct QSplatTree {
   std::vector<uint8_t> cones;          // #M cone codes
   std::vector<uint16_t> colors;        // #M RGB 5-6-5, or empty
   // Mean radius of the interior nodes with the chosen rule, and with the centroid rule on the
-  // same tree (for the report).
+  // same tree (for the report; 0 unless measured).
   double mean_interior_radius = 0, mean_interior_radius_centroid = 0;
   std::size_t size() const { return first_child.size(); }
   std::size_t levels() const { return level_begin.size() - 1; }
 };
 
 // Precondition: leaves.size() >= 2. `centroid_rule`: the original's spheres instead of tight ones.
-// `measure_centroid_rule`: also compute mean_interior_radius_centroid (costs a second sphere per
-// node).
+// `measure`: also compute the two mean interior radii (costs a second sphere per node).
 QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule = false,
-                             bool measure_centroid_rule = true);
+                             bool measure = true);
 
 }  // namespace splatkit::qsplat

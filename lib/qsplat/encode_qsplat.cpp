@@ -74,8 +74,10 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   // Where each node's group of children starts, relative to the fragment (breadth first = file
   // order): chunks of nodes add up their groups' bytes, then place them after the earlier chunks'.
   constexpr std::size_t kChunk = std::size_t{1} << 16;
-  std::vector<uint8_t> grand(m, 0);
-  std::vector<uint32_t> offset(m, 0);  // for nodes with children
+  std::vector<uint8_t> grand;
+  std::vector<uint32_t> offset;  // for nodes with children
+  sized_in_parallel(grand, m);
+  sized_in_parallel(offset, m);
   std::vector<uint64_t> chunk_at(chunk_count(m, kChunk) + 1, 0);
   std::vector<std::size_t> chunk_leaves(chunk_at.size(), 0);
   // The bytes of node i's group (i has children): the offset to its first child with children,
@@ -160,12 +162,13 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           p += 4;
         }
         const Sphere parent = t.spheres[i];  // decoded
+        const SphereEncoder encode(parent);
         for (int k = 0; k < c; ++k, p += nb) {
           const uint32_t j = first + static_cast<uint32_t>(k);
           const Sphere s = t.spheres[j];  // true
           const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
           const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
-          const int code = encode_sphere(parent, centre, need);
+          const int code = encode(centre, need);
           if (code < 0) fail_outside_parent(t, j);
           t.spheres[j] = decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], parent);
           if (t.child_count[j] == 0) {

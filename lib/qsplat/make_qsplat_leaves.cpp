@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "splatkit/error.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit::qsplat {
 
@@ -105,7 +106,7 @@ QSplatLeaves from_splats(SplatCloud& cloud, const std::string& name) {
       }
     });
     if (cloud.has_colors()) {
-      out.colors.resize(n);
+      sized_in_parallel(out.colors, n);
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i)
           out.colors[i] = to_rgb8(cloud.colors[i], cloud.color_bits);
