@@ -184,20 +184,17 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
   cone.allocate(m);
   if (color) rgb.allocate(m);
   if (measure) centroid.allocate(m);
-  tbb::parallel_invoke(
-      [&] {
-        sized_in_parallel(t.leaf, m);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1 << 16), [&](const auto& r) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].index() : kNoLeaf;
-        });
-      },
-      [&] { sized_in_parallel(t.spheres, m); },
-      [&] {
-        sized_in_parallel(t.normal_codes, m);
-        sized_in_parallel(t.cones, m);
-        if (color) sized_in_parallel(t.colors, m);
-      });
+  // The node outputs are uninitialised: every entry is written below, its page faulted in
+  // there, in parallel, without a zeroing pass first.
+  t.leaf.allocate(m);
+  t.spheres.allocate(m);
+  t.normal_codes.allocate(m);
+  t.cones.allocate(m);
+  if (color) t.colors.allocate(m);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1 << 16), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      t.leaf[i] = t.child_count[i] == 0 ? pts[rb[i]].index() : kNoLeaf;
+  });
   // Bottom up, level by level: each interior node from its children, a leaf child's values
   // taken from the input there (its outputs written, nothing kept for it). The input is in any
   // order: the leaves of the nodes a few places ahead are prefetched.

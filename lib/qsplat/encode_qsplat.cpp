@@ -69,7 +69,7 @@ void write_comment_fragment(std::vector<unsigned char>& out, const std::string& 
 
 EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   const std::size_t m = t.size();
-  const bool color = !t.colors.empty();
+  const bool color = t.colors.size > 0;
   const std::size_t nb = color ? 6 : 4;
   // Where each node's group of children starts, relative to the fragment (breadth first = file
   // order): chunks of nodes add up their groups' bytes, then place them after the earlier chunks'.
