@@ -1,9 +1,5 @@
 #include "formats/pcd.h"
 
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/console/print.h>
-#include <pcl/io/pcd_io.h>
-
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -18,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/pcl_pcd.h"
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
 #include "splatkit/position_builder.h"
@@ -508,91 +505,47 @@ bool readable_in_place(const InputStream& in) {
          static_cast<uint64_t>(st.st_size) == *in.size_hint();
 }
 
-double load(const uint8_t* p, uint8_t type) {
+double load(const uint8_t* p, ScalarType type) {
   auto get = [p](auto v) {
     std::memcpy(&v, p, sizeof v);
     return static_cast<double>(v);
   };
   switch (type) {
-    case pcl::PCLPointField::INT8:
+    case ScalarType::kInt8:
       return get(int8_t{});
-    case pcl::PCLPointField::UINT8:
+    case ScalarType::kUInt8:
       return get(uint8_t{});
-    case pcl::PCLPointField::INT16:
+    case ScalarType::kInt16:
       return get(int16_t{});
-    case pcl::PCLPointField::UINT16:
+    case ScalarType::kUInt16:
       return get(uint16_t{});
-    case pcl::PCLPointField::INT32:
+    case ScalarType::kInt32:
       return get(int32_t{});
-    case pcl::PCLPointField::UINT32:
+    case ScalarType::kUInt32:
       return get(uint32_t{});
-    case pcl::PCLPointField::INT64:
+    case ScalarType::kInt64:
       return get(int64_t{});
-    case pcl::PCLPointField::UINT64:
+    case ScalarType::kUInt64:
       return get(uint64_t{});
-    case pcl::PCLPointField::FLOAT32:
+    case ScalarType::kFloat32:
       return get(float{});
-    case pcl::PCLPointField::FLOAT64:
+    case ScalarType::kFloat64:
       return get(double{});
-    default:
-      return 0;
   }
+  return 0;
 }
 
-ScalarType scalar_type(uint8_t type) {
-  switch (type) {
-    case pcl::PCLPointField::INT8:
-      return ScalarType::kInt8;
-    case pcl::PCLPointField::UINT8:
-      return ScalarType::kUInt8;
-    case pcl::PCLPointField::INT16:
-      return ScalarType::kInt16;
-    case pcl::PCLPointField::UINT16:
-      return ScalarType::kUInt16;
-    case pcl::PCLPointField::INT32:
-      return ScalarType::kInt32;
-    case pcl::PCLPointField::UINT32:
-      return ScalarType::kUInt32;
-    case pcl::PCLPointField::INT64:
-      return ScalarType::kInt64;
-    case pcl::PCLPointField::UINT64:
-      return ScalarType::kUInt64;
-    case pcl::PCLPointField::FLOAT64:
-      return ScalarType::kFloat64;
-    default:
-      return ScalarType::kFloat32;
-  }
-}
-
-std::size_t type_size(uint8_t type) {
-  switch (type) {
-    case pcl::PCLPointField::INT8:
-    case pcl::PCLPointField::UINT8:
-      return 1;
-    case pcl::PCLPointField::INT16:
-    case pcl::PCLPointField::UINT16:
-      return 2;
-    case pcl::PCLPointField::INT32:
-    case pcl::PCLPointField::UINT32:
-    case pcl::PCLPointField::FLOAT32:
-      return 4;
-    case pcl::PCLPointField::INT64:
-    case pcl::PCLPointField::UINT64:
-    case pcl::PCLPointField::FLOAT64:
-      return 8;
-    default:
-      return 0;
-  }
-}
+// Bytes of one value of the field's type, 0 for a type splatkit does not read.
+std::size_t type_size(const PclField& f) { return f.type ? scalar_size(*f.type) : 0; }
 
 // Maps PCL's fields onto the cloud: x y z, normal_*, packed rgb/rgba, the rest as extras.
 class FieldMapper {
  public:
-  FieldMapper(const std::string& file, const pcl::PCLPointCloud2& pc) : file_(file), pc_(pc) {}
+  FieldMapper(const std::string& file, const PclRecords& pc) : file_(file), pc_(pc) {}
   uint64_t map(SplatCloud& c);
 
  private:
-  const pcl::PCLPointField* find(const char* name) const {
+  const PclField* find(const char* name) const {
     for (const auto& f : pc_.fields)
       if (f.name == name && f.count == 1) return &f;
     return nullptr;
@@ -600,7 +553,7 @@ class FieldMapper {
   void check_fields() const;
 
   const std::string& file_;
-  const pcl::PCLPointCloud2& pc_;
+  const PclRecords& pc_;
 };
 
 void FieldMapper::check_fields() const {
@@ -609,23 +562,22 @@ void FieldMapper::check_fields() const {
     throw_bad_input(file_, "PCL returned " + std::to_string(pc_.data.size()) + " bytes for " +
                                std::to_string(n) + " points of " + std::to_string(pc_.point_step));
   for (const auto& f : pc_.fields)
-    if (type_size(f.datatype) == 0 ||
-        uint64_t{f.offset} + type_size(f.datatype) * uint64_t{f.count} > pc_.point_step)
+    if (type_size(f) == 0 || uint64_t{f.offset} + type_size(f) * uint64_t{f.count} > pc_.point_step)
       throw_bad_input(file_, "field '" + f.name + "' does not fit in the point record");
 }
 
 uint64_t FieldMapper::map(SplatCloud& c) {
   check_fields();
-  const pcl::PCLPointField* xyz[3] = {find("x"), find("y"), find("z")};
+  const PclField* xyz[3] = {find("x"), find("y"), find("z")};
   if (!xyz[0] || !xyz[1] || !xyz[2]) throw_bad_input(file_, "no x, y and z fields");
-  const pcl::PCLPointField* nrm[3] = {find("normal_x"), find("normal_y"), find("normal_z")};
+  const PclField* nrm[3] = {find("normal_x"), find("normal_y"), find("normal_z")};
   const bool has_normals = nrm[0] && nrm[1] && nrm[2];
-  const pcl::PCLPointField* rgb = find("rgb");
+  const PclField* rgb = find("rgb");
   if (!rgb) rgb = find("rgba");
-  if (rgb && type_size(rgb->datatype) != 4) rgb = nullptr;
+  if (rgb && type_size(*rgb) != 4) rgb = nullptr;
 
   struct Slot {
-    const pcl::PCLPointField* f;
+    const PclField* f;
     uint32_t k;
   };
   std::vector<Slot> slots;
@@ -636,7 +588,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     for (uint32_t k = 0; k < f.count; ++k) {
       slots.push_back({&f, k});
       c.extras.push_back(
-          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), scalar_type(f.datatype)});
+          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), *f.type});
     }
   }
 
@@ -646,7 +598,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
   for (std::size_t i = 0; i < n; ++i) {
     const uint8_t* rec = pc_.data.data() + i * pc_.point_step;
     std::array<double, 3> p;
-    for (int k = 0; k < 3; ++k) p[k] = load(rec + xyz[k]->offset, xyz[k]->datatype);
+    for (int k = 0; k < 3; ++k) p[k] = load(rec + xyz[k]->offset, *xyz[k]->type);
     if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) {
       ++dropped;  // organised clouds mark missing returns with NaN
       continue;
@@ -661,7 +613,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     if (has_normals) {
       Vec3f v;
       for (int k = 0; k < 3; ++k)
-        v[k] = static_cast<float>(load(rec + nrm[k]->offset, nrm[k]->datatype));
+        v[k] = static_cast<float>(load(rec + nrm[k]->offset, *nrm[k]->type));
       // A failed normal estimate is NaN in PCL; keep the point with a zero normal.
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) v = {0, 0, 0};
       c.normals.push_back(v);
@@ -676,7 +628,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     for (std::size_t s = 0; s < slots.size(); ++s) {
       const auto& f = *slots[s].f;
       c.extras[s].values.push_back(
-          load(rec + f.offset + slots[s].k * type_size(f.datatype), f.datatype));
+          load(rec + f.offset + slots[s].k * type_size(f), *f.type));
     }
   }
   positions.finish();
@@ -693,18 +645,6 @@ nlohmann::json header_json(const PcdHeader& h, uint64_t dropped) {
           {"viewpoint", h.viewpoint}, {"dropped_nan", dropped}};
 }
 
-// PCL prints its own errors on stderr; splatkit reports them as one Error instead.
-class QuietPcl {
- public:
-  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) {
-    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  }
-  ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
-
- private:
-  pcl::console::VERBOSITY_LEVEL saved_;
-};
-
 }  // namespace
 
 LoadedCloud read_pcd(InputStream& in, const ReadOptions& options) {
@@ -718,20 +658,10 @@ LoadedCloud read_pcd(InputStream& in, const ReadOptions& options) {
   LoadedCloud doc;
   uint64_t dropped = 0;
   if (h.points > 0) {
-    pcl::PCLPointCloud2 pc;
-    Eigen::Vector4f origin;
-    Eigen::Quaternionf orientation;
-    int version = 0;
-    int rc = -1;
-    try {
-      QuietPcl quiet;
-      rc = pcl::PCDReader().read(spill ? spill->path() : in.path(), pc, origin, orientation,
-                                 version);
-    } catch (const std::exception& e) {
-      throw_bad_input(in.path(), std::string("PCL could not read the file: ") + e.what());
-    }
-    if (rc < 0)
-      throw_bad_input(in.path(), "PCL could not read the file (error " + std::to_string(rc) + ")");
+    PclRecords pc;
+    const std::string why =
+        pcl_pcd(in.path()).read(spill ? spill->path() : in.path(), pc);
+    if (!why.empty()) throw_bad_input(in.path(), why);
     dropped = FieldMapper(in.path(), pc).map(doc.cloud);
   }
   if (h.viewpoint[0] != 0 || h.viewpoint[1] != 0 || h.viewpoint[2] != 0)

@@ -61,4 +61,12 @@ expect_stderr "ply does not keep neighbour graph \\(GRPH\\), clip partners \\(CL
 expect_exit 0 "$BIN/splat-convert" -q "$WORK/cad-graph.splk" "$WORK/cad-graph.las"
 expect_eq "-q: no summary" "$(cat "$WORK/stderr")" ""
 
+# PCL's io (and the VTK, Boost and libtiff it links) is loaded only by a run that reads a .pcd
+# file, through the PCL module: no tool links it at start-up.
+for tool in "$BIN"/*; do
+  [ -x "$tool" ] && [ -f "$tool" ] || continue
+  if ldd "$tool" | grep -q 'libpcl'; then fail "$(basename "$tool") links PCL at start-up"; else pass; fi
+done
+
 finish
+
