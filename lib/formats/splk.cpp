@@ -397,11 +397,13 @@ class Payload {
     if (n > left_)
       fail(what + " needs " + std::to_string(n) + " bytes but only " + std::to_string(left_) +
            " are left in the payload");
+    const uint32_t stream_before = in_.checksum();
     std::size_t got = in_.read_some(dst, n);
     if (got != n)
       fail("payload truncated: " + std::to_string(h_.size) +
            " bytes declared, the file ends after " + std::to_string(h_.size - left_ + got));
-    crc_ = crc32c(crc_, dst, n);
+    // The stream checksums what it hands out: the payload's CRC follows from it.
+    crc_ = crc32c_combine(crc_, crc32c_split(in_.checksum(), stream_before, n), n);
     left_ -= n;
   }
 

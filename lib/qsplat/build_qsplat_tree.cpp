@@ -24,10 +24,10 @@ struct Box {
 
 // Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it,
 // and cuts the box there into `left` and `right`.
-void split_at(std::vector<RankedPoint>& pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
+void split_at(RankedPoint* pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
               Box& left, Box& right) {
   const int axis = longest_axis(box.lo, box.hi);
-  select_rank(pts.data() + b, pts.data() + m, pts.data() + e, axis);
+  select_rank(pts + b, pts + m, pts + e, axis);
   left = right = box;
   left.hi[axis] = right.lo[axis] = pts[m].coord(axis);
 }
@@ -60,9 +60,9 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
 // Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
 // consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
 // each half along the longest axis of its part of that box.
-void cut_node(std::vector<RankedPoint>& pts, uint32_t b, uint32_t e) {
+void cut_node(RankedPoint* pts, uint32_t b, uint32_t e) {
   Box box;
-  point_bounds(pts.data() + b, pts.data() + e, box.lo, box.hi);
+  point_bounds(pts + b, pts + e, box.lo, box.hi);
   Box boxes[4];
   uint32_t sizes[4] = {0, 0, 0, 0};
   const int children = child_sizes(e - b, sizes);
@@ -104,8 +104,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
                              bool measure) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
-  std::vector<RankedPoint> pts;
-  sized_in_parallel(pts, n);  // its pages mapped in parallel, not by the zeroing
+  SlotArray<RankedPoint> pts;  // uninitialised: filled below, its pages faulted in parallel
+  pts.allocate(n);
   for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i)
       pts[i] = RankedPoint::make(leaves.positions[i], static_cast<uint32_t>(i));
@@ -161,9 +161,9 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
         const uint32_t b = rb[i], e = rb[i] + size[i];
         if (e - b > 4)
-          cut_node(pts, b, e);
+          cut_node(pts.get(), b, e);
         else  // a node over its leaves: they follow in input order
-          rank_detail::sort_short(pts.data() + b, pts.data() + e,
+          rank_detail::sort_short(pts.get() + b, pts.get() + e,
                                   [](const RankedPoint& p) { return uint64_t{p.index()}; });
       }
     });

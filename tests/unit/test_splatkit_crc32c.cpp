@@ -1,5 +1,6 @@
 // CRC-32C: published check values, and every path (interleaved hardware streams, parallel pieces
-// joined by crc32c_combine, the portable tables) against a bit-by-bit reference.
+// joined by crc32c_combine and parted by crc32c_split, the portable tables) against a bit-by-bit
+// reference.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -53,7 +54,7 @@ TEST(Crc32c, EveryLengthAndPathMatchesTheReference) {
   }
 }
 
-TEST(Crc32c, RunningCrcsAndCombinedPiecesAgree) {
+TEST(Crc32c, RunningCrcsAndCombinedAndSplitPiecesAgree) {
   const std::vector<unsigned char> data = random_bytes(300000, 11);
   const uint32_t whole = reference_crc(data.data(), data.size());
   std::mt19937 g(3);
@@ -64,6 +65,7 @@ TEST(Crc32c, RunningCrcsAndCombinedPiecesAgree) {
     EXPECT_EQ(crc32c(a, data.data() + cut, rest), whole) << "cut at " << cut;
     EXPECT_EQ(crc32c_portable(a, data.data() + cut, rest), whole) << "cut at " << cut;
     EXPECT_EQ(crc32c_combine(a, b, rest), whole) << "cut at " << cut;
+    EXPECT_EQ(crc32c_split(whole, a, rest), b) << "cut at " << cut;
   }
 }
 
