@@ -188,7 +188,9 @@ TEST(QSplatCodes, ConeBoundsTheSineOfTheHalfWidth) {
   EXPECT_EQ(encode_cone(M_PI), 3);
   for (double t = 0; t < 1.5; t += 0.001) {
     const int c = encode_cone(t);
-    if (c < 3) EXPECT_LT(std::sin(t), decode_cone_sine(c)) << t;
+    if (c < 3) {
+      EXPECT_LT(std::sin(t), decode_cone_sine(c)) << t;
+    }
   }
   EXPECT_EQ(decode_cone_sine(3), 1.0f);
 }

@@ -111,7 +111,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"torus_random_zbuffer", Shape::kTorus, 120000, 3.5f, true, 1},
                       Case{"sphere_scan_lines_zbuffer", Shape::kSphere, 60000, 3.0f, true, 4},
                       Case{"torus_scan_lines_zbuffer", Shape::kTorus, 120000, 3.5f, true, 4}),
-    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Case>& param) { return std::string(param.param.name); });
 
 TEST(RenderQSplat, LargerThresholdsDrawFewerSplatsAndCullOutsideTheFrustum) {
   const RenderScene qs = qsplat_scene_of(testing::sample_shape(Shape::kTorus, 30000));
