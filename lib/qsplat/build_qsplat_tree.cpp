@@ -163,8 +163,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
         if (e - b > 4)
           cut_node(pts.get(), b, e);
         else  // a node over its leaves: they follow in input order
-          rank_detail::sort_short(pts.get() + b, pts.get() + e,
-                                  [](const RankedPoint& p) { return uint64_t{p.index()}; });
+          sort_short(pts.get() + b, pts.get() + e,
+                     [](const RankedPoint& p) { return uint64_t{p.index()}; });
       }
     });
     grow(t.first_child, next);

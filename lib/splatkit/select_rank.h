@@ -37,6 +37,24 @@ struct RankedPoint {
   uint32_t index() const { return static_cast<uint32_t>(zi >> 32); }
 };
 
+// Sorts a short range (at most kShortRange points) by key(point), a uint64_t that differs between
+// the points: each point's place is the count of smaller keys, found without a branch, where a
+// sort's comparisons of keys in no order would mispredict about half the time.
+inline constexpr std::size_t kShortRange = 16;
+template <typename Key>
+void sort_short(RankedPoint* first, RankedPoint* last, Key key) {
+  const auto n = static_cast<std::size_t>(last - first);
+  uint64_t k[kShortRange];
+  RankedPoint sorted[kShortRange];
+  for (std::size_t i = 0; i < n; ++i) k[i] = key(first[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t below = 0;
+    for (std::size_t j = 0; j < n; ++j) below += k[j] < k[i];
+    sorted[below] = first[i];
+  }
+  std::copy(sorted, sorted + n, first);
+}
+
 namespace rank_detail {
 
 // Ranges at least this long are cut by sampled pivots.
@@ -68,24 +86,6 @@ RankedPoint* partition_below(RankedPoint* first, RankedPoint* last, uint64_t piv
     i += less;
   }
   return i;
-}
-
-// Sorts a short range (at most kShortRange points) by `key`: each point's place is the count of
-// smaller keys (the keys are unique), found without a branch, where a sort's comparisons of keys
-// in no order would mispredict about half the time.
-inline constexpr std::size_t kShortRange = 16;
-template <typename Key>
-void sort_short(RankedPoint* first, RankedPoint* last, Key key) {
-  const auto n = static_cast<std::size_t>(last - first);
-  uint64_t k[kShortRange];
-  RankedPoint sorted[kShortRange];
-  for (std::size_t i = 0; i < n; ++i) k[i] = key(first[i]);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::size_t below = 0;
-    for (std::size_t j = 0; j < n; ++j) below += k[j] < k[i];
-    sorted[below] = first[i];
-  }
-  std::copy(sorted, sorted + n, first);
 }
 
 // select_rank for one axis.
