@@ -587,8 +587,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     if (core || f.name == "_") continue;
     for (uint32_t k = 0; k < f.count; ++k) {
       slots.push_back({&f, k});
-      c.extras.push_back(
-          {f.count == 1 ? f.name : f.name + "_" + std::to_string(k), *f.type});
+      c.extras.push_back({f.count == 1 ? f.name : f.name + "_" + std::to_string(k), *f.type});
     }
   }
 
@@ -627,8 +626,7 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     }
     for (std::size_t s = 0; s < slots.size(); ++s) {
       const auto& f = *slots[s].f;
-      c.extras[s].values.push_back(
-          load(rec + f.offset + slots[s].k * type_size(f), *f.type));
+      c.extras[s].values.push_back(load(rec + f.offset + slots[s].k * type_size(f), *f.type));
     }
   }
   positions.finish();
@@ -659,8 +657,7 @@ LoadedCloud read_pcd(InputStream& in, const ReadOptions& options) {
   uint64_t dropped = 0;
   if (h.points > 0) {
     PclRecords pc;
-    const std::string why =
-        pcl_pcd(in.path()).read(spill ? spill->path() : in.path(), pc);
+    const std::string why = pcl_pcd(in.path()).read(spill ? spill->path() : in.path(), pc);
     if (!why.empty()) throw_bad_input(in.path(), why);
     dropped = FieldMapper(in.path(), pc).map(doc.cloud);
   }

@@ -31,8 +31,7 @@ const PclPcd& pcl_pcd(const std::string& path) {
   static const PclPcd* module = nullptr;
   static std::once_flag once;
   std::call_once(once, [] { module = load(why); });
-  if (module == nullptr)
-    throw_unsupported(path, "PCD files need splatkit's PCL module: " + why);
+  if (module == nullptr) throw_unsupported(path, "PCD files need splatkit's PCL module: " + why);
   return *module;
 }
 

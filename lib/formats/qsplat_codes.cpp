@@ -215,9 +215,7 @@ enum class Offer { kNotInParent, kTooSmall, kFits };
 }  // namespace
 
 SphereEncoder::SphereEncoder(const Sphere& parent)
-    : parent_(parent),
-      pc_{parent.centre.x, parent.centre.y, parent.centre.z},
-      pr_(parent.radius) {
+    : parent_(parent), pc_{parent.centre.x, parent.centre.y, parent.centre.z}, pr_(parent.radius) {
   // The decoded child is computed in float from the parent's float centre: its distance to the
   // parent's centre may be off by a few units in the last place of the coordinates. A cell more
   // than that (in parent radii) inside or outside the unit sphere needs no exact check.

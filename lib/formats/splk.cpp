@@ -605,9 +605,11 @@ void read_colors(Payload& p, const Column& col, uint64_t n, SplatCloud& c) {
   std::vector<std::array<uint8_t, 3>> bytes;
   p.read_array(bytes, n, 1, "column 'color'");
   sized_in_parallel(c.colors, bytes.size());
-  for_each_chunk(bytes.size(), std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) c.colors[i] = {bytes[i][0], bytes[i][1], bytes[i][2]};
-  });
+  for_each_chunk(bytes.size(), std::size_t{1} << 16,
+                 [&](std::size_t, std::size_t b, std::size_t e) {
+                   for (std::size_t i = b; i < e; ++i)
+                     c.colors[i] = {bytes[i][0], bytes[i][1], bytes[i][2]};
+                 });
   c.color_bits = 8;
 }
 

@@ -24,8 +24,8 @@ struct Box {
 
 // Puts the leaf of rank m - b along the longest axis of `box` at m, the smaller ones before it,
 // and cuts the box there into `left` and `right`.
-void split_at(RankedPoint* pts, uint32_t b, uint32_t e, uint32_t m, const Box& box,
-              Box& left, Box& right) {
+void split_at(RankedPoint* pts, uint32_t b, uint32_t e, uint32_t m, const Box& box, Box& left,
+              Box& right) {
   const int axis = longest_axis(box.lo, box.hi);
   select_rank(pts + b, pts + m, pts + e, axis);
   left = right = box;
@@ -100,8 +100,7 @@ double cosine(const Vec3f& a, const Vec3f& b) {
 
 }  // namespace
 
-QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule,
-                             bool measure) {
+QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, bool measure) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
   SlotArray<RankedPoint> pts;  // uninitialised: filled below, its pages faulted in parallel

@@ -29,11 +29,11 @@ struct QSplatTree {
   std::vector<uint32_t> level_begin;
   std::vector<uint32_t> first_child;   // #M; children are consecutive, in the next level
   std::vector<uint8_t> child_count;    // #M; 0 for leaves, else 2..4
-  SlotArray<uint32_t> leaf;          // #M index into the leaves, or kNoLeaf
-  SlotArray<Sphere> spheres;         // #M true spheres (float; each contains its children's)
-  SlotArray<uint16_t> normal_codes;  // #M (qsplat_codes.h)
-  SlotArray<uint8_t> cones;          // #M cone codes
-  SlotArray<uint16_t> colors;        // #M RGB 5-6-5, or none (size 0)
+  SlotArray<uint32_t> leaf;            // #M index into the leaves, or kNoLeaf
+  SlotArray<Sphere> spheres;           // #M true spheres (float; each contains its children's)
+  SlotArray<uint16_t> normal_codes;    // #M (qsplat_codes.h)
+  SlotArray<uint8_t> cones;            // #M cone codes
+  SlotArray<uint16_t> colors;          // #M RGB 5-6-5, or none (size 0)
   // Mean radius of the interior nodes with the chosen rule, and with the centroid rule on the
   // same tree (for the report; 0 unless measured).
   double mean_interior_radius = 0, mean_interior_radius_centroid = 0;

@@ -228,8 +228,8 @@ TEST(QSplatEncode, AFarOutlierGivesAWholeFileOrBadInput) {
         l.normals.push_back({0, 0, 1});
         l.radii.push_back(0.1f);
       }
-      SCOPED_TRACE(testing::Message() << "outlier at " << far << ", centroid rule "
-                                      << centroid_rule);
+      SCOPED_TRACE(testing::Message()
+                   << "outlier at " << far << ", centroid rule " << centroid_rule);
       try {
         check_structure(l, centroid_rule);
       } catch (const Error& e) {
