@@ -2,6 +2,7 @@
 // OpenImageIO, out of the tools' start-up): dlopen, then the module's entry function.
 #pragma once
 
+#include <mutex>
 #include <string>
 
 namespace splatkit {
@@ -14,5 +15,29 @@ namespace splatkit {
 // loaded.
 void* load_module(const std::string& file, const std::string& build_path, const char* entry,
                   std::string& why, std::string& path);
+
+// A module's interface, loaded once per process: load_module, then its entry function (taking
+// nothing, returning const Module*) called and the interface's `version` member checked against
+// `version`. Null when that failed, with `why` (the same on every later call).
+template <class Module>
+const Module* loaded_module(const char* file, const char* build_path, const char* entry,
+                            int version, std::string& why) {
+  static std::string failure;
+  static const Module* module = nullptr;
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    std::string path;
+    void* symbol = load_module(file, build_path, entry, failure, path);
+    if (symbol == nullptr) return;
+    using Entry = const Module* (*)();
+    const Module* loaded = reinterpret_cast<Entry>(symbol)();
+    if (loaded == nullptr || loaded->version != version)
+      failure = path + " is not this build's module";
+    else
+      module = loaded;
+  });
+  why = failure;
+  return module;
+}
 
 }  // namespace splatkit

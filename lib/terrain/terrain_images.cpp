@@ -1,7 +1,5 @@
 #include "terrain/terrain_images.h"
 
-#include <mutex>
-
 #include "splatkit/error.h"
 #include "splatkit/load_module.h"
 #include "splatkit/lower_extension.h"
@@ -10,21 +8,6 @@
 namespace splatkit::terrain {
 
 namespace {
-
-// Loads the module, or returns why not.
-const TerrainImages* load(std::string& why) {
-  std::string path;
-  void* symbol = load_module(SPLATKIT_TERRAIN_MODULE_NAME, SPLATKIT_TERRAIN_MODULE_BUILD_PATH,
-                             kTerrainImagesEntry, why, path);
-  if (symbol == nullptr) return nullptr;
-  using Entry = const TerrainImages* (*)();
-  const TerrainImages* images = reinterpret_cast<Entry>(symbol)();
-  if (images == nullptr || images->version != kTerrainImagesVersion) {
-    why = path + " is not this build's module";
-    return nullptr;
-  }
-  return images;
-}
 
 class ImageSource final : public HeightmapSource {
  public:
@@ -45,10 +28,10 @@ class ImageSource final : public HeightmapSource {
 }  // namespace
 
 const TerrainImages& terrain_images(const std::string& path) {
-  static std::string why;
-  static const TerrainImages* images = nullptr;
-  static std::once_flag once;
-  std::call_once(once, [] { images = load(why); });
+  std::string why;
+  const TerrainImages* images =
+      loaded_module<TerrainImages>(SPLATKIT_TERRAIN_MODULE_NAME, SPLATKIT_TERRAIN_MODULE_BUILD_PATH,
+                                   kTerrainImagesEntry, kTerrainImagesVersion, why);
   if (images == nullptr)
     throw_unsupported(display_name(path),
                       "heightmap images need splatkit's OpenImageIO terrain module: " + why);
