@@ -204,10 +204,6 @@ constexpr std::array<double, kN + 1> kCellRadius = [] {
   return r;
 }();
 
-}  // namespace
-
-namespace {
-
 // What one cell offers a child: the cell is not (or cannot be proved) inside the parent, it is
 // too small or too far to contain the child, or it fits at distance `dist` between the centres.
 enum class Offer { kNotInParent, kTooSmall, kFits };

@@ -379,11 +379,13 @@ struct ChunkHeader {
   uint64_t offset = 0;  // of the chunk header in the file
 };
 
-// One chunk's payload: reads stay inside it, are checksummed as they go, and every failure names
-// the chunk and where it starts.
+// One chunk's payload: reads stay inside it, and every failure names the chunk and where it
+// starts. Its checksum follows from the stream's running one (the stream checksums every byte it
+// hands out, and within a chunk only the payload reads it) before and after the payload.
 class Payload {
  public:
-  Payload(InputStream& in, const ChunkHeader& h) : in_(in), h_(h), left_(h.size) {}
+  Payload(InputStream& in, const ChunkHeader& h)
+      : in_(in), h_(h), left_(h.size), stream_crc_before_(in.checksum()) {}
 
   uint64_t left() const { return left_; }
   bool size_known() const { return in_.size_hint().has_value(); }
@@ -397,13 +399,10 @@ class Payload {
     if (n > left_)
       fail(what + " needs " + std::to_string(n) + " bytes but only " + std::to_string(left_) +
            " are left in the payload");
-    const uint32_t stream_before = in_.checksum();
     std::size_t got = in_.read_some(dst, n);
     if (got != n)
       fail("payload truncated: " + std::to_string(h_.size) +
            " bytes declared, the file ends after " + std::to_string(h_.size - left_ + got));
-    // The stream checksums what it hands out: the payload's CRC follows from it.
-    crc_ = crc32c_combine(crc_, crc32c_split(in_.checksum(), stream_before, n), n);
     left_ -= n;
   }
 
@@ -448,8 +447,9 @@ class Payload {
   // Checks that the payload was used up exactly and that its checksum matches.
   void finish() {
     if (left_ != 0) fail(std::to_string(left_) + " unused bytes at the end of the payload");
-    if (crc_ != h_.crc)
-      fail("checksum mismatch: CRC-32C of the payload is " + hex32(crc_) + ", the header says " +
+    const uint32_t crc = crc32c_split(in_.checksum(), stream_crc_before_, h_.size);
+    if (crc != h_.crc)
+      fail("checksum mismatch: CRC-32C of the payload is " + hex32(crc) + ", the header says " +
            hex32(h_.crc));
   }
 
@@ -457,7 +457,7 @@ class Payload {
   InputStream& in_;
   const ChunkHeader& h_;
   uint64_t left_;
-  uint32_t crc_ = 0;
+  uint32_t stream_crc_before_;
 };
 
 void read_file_header(InputStream& in, LoadedCloud& doc) {

@@ -4,6 +4,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <cassert>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -12,7 +13,6 @@
 #include "splatkit/for_each_chunk.h"
 #include "splatkit/select_rank.h"
 #include "splatkit/sized_in_parallel.h"
-#include "splatkit/slot_array.h"
 
 namespace splatkit::qsplat {
 
@@ -87,13 +87,6 @@ void cut_node(RankedPoint* pts, uint32_t b, uint32_t e) {
   }
 }
 
-// v.resize(size) within its reserved capacity, the new pages mapped in parallel first.
-template <class T>
-void grow(std::vector<T>& v, std::size_t size) {
-  map_pages_in_parallel(v.data() + v.size(), v.data() + size);
-  v.resize(size);
-}
-
 double cosine(const Vec3f& a, const Vec3f& b) {
   return std::clamp(static_cast<double>(dot(a, b)), -1.0, 1.0);
 }
@@ -103,6 +96,7 @@ double cosine(const Vec3f& a, const Vec3f& b) {
 QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, bool measure) {
   QSplatTree t;
   const auto n = static_cast<uint32_t>(leaves.size());
+  assert(n >= 2);
   SlotArray<RankedPoint> pts;  // uninitialised: filled below, its pages faulted in parallel
   pts.allocate(n);
   for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
@@ -115,7 +109,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
   t.child_count = {0};
   // Fewer than 2n nodes (each interior node has 2 or more children): reserved, the arrays grow
   // level by level without copies or fresh pages beyond their final size, each level's pages
-  // mapped in parallel before the zeroing (grow).
+  // mapped in parallel before the zeroing.
   for (std::vector<uint32_t>* v : {&rb, &size, &t.first_child}) v->reserve(2 * std::size_t{n});
   t.child_count.reserve(2 * std::size_t{n});
   for (std::size_t l = 0;; ++l) {
@@ -140,8 +134,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
     for (std::size_t c = 1; c < chunk_first.size(); ++c) chunk_first[c] += chunk_first[c - 1];
     const uint32_t next = chunk_first.back();
     if (next == le) break;
-    grow(rb, next);
-    grow(size, next);
+    grown_in_parallel(rb, next);
+    grown_in_parallel(size, next);
     for_each_chunk(nodes, kNodeChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
       uint32_t j = chunk_first[c];  // the next child's node
       for (std::size_t i = lb + b; i < lb + e; ++i) {
@@ -166,8 +160,8 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
                      [](const RankedPoint& p) { return uint64_t{p.index()}; });
       }
     });
-    grow(t.first_child, next);
-    grow(t.child_count, next);
+    grown_in_parallel(t.first_child, next);
+    grown_in_parallel(t.child_count, next);
     t.level_begin.push_back(next);
   }
   const std::size_t m = t.first_child.size();

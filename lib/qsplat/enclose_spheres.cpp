@@ -33,17 +33,19 @@ Sphere around(const D3& c, const Sphere* s, int count) {
 }  // namespace
 
 Sphere enclose_spheres(const Sphere* s, int count, bool centroid_rule) {
-  D3 mean{0, 0, 0};
-  for (int i = 0; i < count; ++i) {
-    mean.x += s[i].centre.x;
-    mean.y += s[i].centre.y;
-    mean.z += s[i].centre.z;
-  }
-  mean = {mean.x / count, mean.y / count, mean.z / count};
-  if (centroid_rule || count == 1) return around(mean, s, count);
+  const auto centroid = [&] {
+    D3 mean{0, 0, 0};
+    for (int i = 0; i < count; ++i) {
+      mean.x += s[i].centre.x;
+      mean.y += s[i].centre.y;
+      mean.z += s[i].centre.z;
+    }
+    return D3{mean.x / count, mean.y / count, mean.z / count};
+  };
+  if (centroid_rule || count == 1) return around(centroid(), s, count);
   // The pair whose spheres reach farthest apart: when the smallest sphere around it holds the
   // others, no sphere around them all is smaller (the usual case for a node's few neighbouring
-  // splats), and it is the answer without the other candidates.
+  // splats), and it is the answer without the other candidates (whose ties it now wins).
   int pi = 0, pj = 1;
   double widest = -1;
   for (int i = 0; i < count; ++i)
@@ -78,7 +80,7 @@ Sphere enclose_spheres(const Sphere* s, int count, bool centroid_rule) {
     const Sphere t = around(c, s, count);
     if (t.radius < best.radius) best = t;
   };
-  consider(mean);
+  consider(centroid());
   D3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (int i = 0; i < count; ++i) {
     const D3 c = d3(s[i].centre);

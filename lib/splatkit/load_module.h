@@ -18,7 +18,8 @@ void* load_module(const std::string& file, const std::string& build_path, const 
 
 // A module's interface, loaded once per process: load_module, then its entry function (taking
 // nothing, returning const Module*) called and the interface's `version` member checked against
-// `version`. Null when that failed, with `why` (the same on every later call).
+// `version`. Null when that failed, with `why` (the same on every later call). The result is kept
+// per Module type: one module per interface type, always asked for with the same arguments.
 template <class Module>
 const Module* loaded_module(const char* file, const char* build_path, const char* entry,
                             int version, std::string& why) {

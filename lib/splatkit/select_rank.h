@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cassert>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -44,6 +45,7 @@ inline constexpr std::size_t kShortRange = 16;
 template <typename Key>
 void sort_short(RankedPoint* first, RankedPoint* last, Key key) {
   const auto n = static_cast<std::size_t>(last - first);
+  assert(n <= kShortRange);
   uint64_t k[kShortRange];
   RankedPoint sorted[kShortRange];
   for (std::size_t i = 0; i < n; ++i) k[i] = key(first[i]);

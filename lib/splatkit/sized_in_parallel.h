@@ -1,6 +1,6 @@
 // sized_in_parallel: v.resize(size) for a new, large vector, with its pages mapped in parallel
-// first. Shared by the graph builder, the GRPH decoder and the .splk reader; its page mapping also
-// by the SPT encoder's output buffers.
+// first. Shared by the graph builder, the GRPH decoder, the .splk reader and build-qsplat; its page
+// mapping also by the SPT encoder's output buffers and (grown_in_parallel) the QSplat tree's levels.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -43,6 +43,14 @@ template <class Vector>  // std::vector or std::basic_string
 inline void sized_in_parallel(Vector& v, std::size_t size) {
   v.reserve(size);
   map_pages_in_parallel(v.data(), v.data() + size);
+  v.resize(size);
+}
+
+// v.resize(size) for a vector that grows within the capacity reserved for it, the pages of its
+// new part mapped in parallel first.
+template <class Vector>
+inline void grown_in_parallel(Vector& v, std::size_t size) {
+  map_pages_in_parallel(v.data() + v.size(), v.data() + size);
   v.resize(size);
 }
 

@@ -239,6 +239,34 @@ TEST(QSplatEncode, AFarOutlierGivesAWholeFileOrBadInput) {
     }
 }
 
+// The quantiser's own check, reached by hand: a leaf moved outside its parent. Where float32
+// steps across the model are wider than its smallest splat (points about 1e9 away from the
+// origin, splats of 0.1) that is the input's fault (Error kBadInput, "too wide"); near the origin
+// it is an internal error.
+TEST(QSplatEncode, ANodeOutsideItsParentIsBadInputOnlyBeyondFloatPrecision) {
+  for (const float offset : {1e9f, 0.0f}) {
+    QSplatLeaves l;
+    for (const Vec3f& p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{1, 1, 0},
+                           Vec3f{0.5f, 0.5f, 0.1f}, Vec3f{2, 2, 0}}) {
+      l.positions.push_back({p.x + offset, p.y, p.z});
+      l.normals.push_back({0, 0, 1});
+      l.radii.push_back(0.1f);
+    }
+    QSplatTree tree = build_qsplat_tree(l);
+    const std::size_t last = tree.size() - 1;  // on the deepest level: a leaf
+    ASSERT_EQ(tree.child_count[last], 0);
+    tree.spheres[last].centre.y += 1e6f;
+    try {
+      encode_qsplat(tree, "");
+      ADD_FAILURE() << "offset " << offset << ": no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), offset > 0 ? ErrorKind::kBadInput : ErrorKind::kInternal) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("too wide") != std::string::npos, offset > 0)
+          << e.what();
+    }
+  }
+}
+
 TEST(QSplatEncode, CoincidentPointsStillSplit) {
   QSplatLeaves l = line_of_five();
   for (int i = 0; i < 40; ++i) {

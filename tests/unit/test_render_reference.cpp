@@ -75,7 +75,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"torus_mid", Shape::kTorus, 30000, 3.5f, BlendMode::kZThreshold, 2.5f},
         Case{"torus_near_big_splats", Shape::kTorus, 6000, 2.1f, BlendMode::kZThreshold, 10.0f},
         Case{"torus_zrange", Shape::kTorus, 30000, 3.5f, BlendMode::kZRange, 2.5f}),
-    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<Case>& param) { return std::string(param.param.name); });
 
 }  // namespace
 }  // namespace splatkit::render
