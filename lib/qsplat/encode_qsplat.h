@@ -32,9 +32,10 @@ inline constexpr double kInteriorMargin = 0.25;
 // `comments`: text of the comment fragment (none when empty). Throws Error(kUnsupported) when the
 // tree fragment would exceed 2^31 − 1 bytes (the format's int32 length; several fragments are
 // not written), Error(kBadInput) when the splats span so wide a range that float32 steps exceed
-// a node's radius (a point 1e20 away from the rest), Error(kInternal) when the tree's root has no
-// grandchildren (fewer than 5 leaves: callers refuse those first). On return tree.spheres holds the decoded spheres (the file's), which
-// take the place of the true ones as the encoder goes down.
+// a node's radius and rounding leaves a node outside its decoded parent (a point 1e20 away from the
+// rest may do that), Error(kInternal) when the tree's root has no grandchildren (fewer than 5
+// leaves: callers refuse those first). On return tree.spheres holds the decoded spheres (the
+// file's), which take the place of the true ones as the encoder goes down.
 EncodedQSplat encode_qsplat(QSplatTree& tree, const std::string& comments);
 
 }  // namespace splatkit::qsplat

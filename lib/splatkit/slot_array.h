@@ -1,6 +1,7 @@
 // SlotArray: n uninitialised elements of a trivially copyable T (malloc, or the spill arena's
 // file when it runs: large blocks are fresh pages, and pages never written take no memory), for
-// arrays of which only some entries are ever written.
+// arrays of which only some entries are ever written, or whose entries are all written by a
+// parallel pass that should fault their pages in itself (no zeroing pass first).
 #pragma once
 
 #include <cstddef>
