@@ -17,6 +17,7 @@
 #include "formats/pcl_pcd.h"
 #include "formats/text_numbers.h"
 #include "splatkit/error.h"
+#include "splatkit/extra_values.h"
 #include "splatkit/position_builder.h"
 #include "splatkit/remove_on_signal.h"
 
@@ -506,33 +507,10 @@ bool readable_in_place(const InputStream& in) {
 }
 
 double load(const uint8_t* p, ScalarType type) {
-  auto get = [p](auto v) {
+  return visit_scalar_type(type, [p](auto v) {
     std::memcpy(&v, p, sizeof v);
     return static_cast<double>(v);
-  };
-  switch (type) {
-    case ScalarType::kInt8:
-      return get(int8_t{});
-    case ScalarType::kUInt8:
-      return get(uint8_t{});
-    case ScalarType::kInt16:
-      return get(int16_t{});
-    case ScalarType::kUInt16:
-      return get(uint16_t{});
-    case ScalarType::kInt32:
-      return get(int32_t{});
-    case ScalarType::kUInt32:
-      return get(uint32_t{});
-    case ScalarType::kInt64:
-      return get(int64_t{});
-    case ScalarType::kUInt64:
-      return get(uint64_t{});
-    case ScalarType::kFloat32:
-      return get(float{});
-    case ScalarType::kFloat64:
-      return get(double{});
-  }
-  return 0;
+  });
 }
 
 // Bytes of one value of the field's type, 0 for a type splatkit does not read.

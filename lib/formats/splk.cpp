@@ -447,7 +447,7 @@ class Payload {
   // Checks that the payload was used up exactly and that its checksum matches.
   void finish() {
     if (left_ != 0) fail(std::to_string(left_) + " unused bytes at the end of the payload");
-    const uint32_t crc = crc32c_split(in_.checksum(), stream_crc_before_, h_.size);
+    const uint32_t crc = crc32c_combine(stream_crc_before_, in_.checksum(), h_.size);
     if (crc != h_.crc)
       fail("checksum mismatch: CRC-32C of the payload is " + hex32(crc) + ", the header says " +
            hex32(h_.crc));

@@ -137,10 +137,6 @@ uint32_t crc32c_combine(uint32_t crc_a, uint32_t crc_b, uint64_t length_b) {
   return multiply_mod(x_pow_8n(length_b), crc_a) ^ crc_b;
 }
 
-uint32_t crc32c_split(uint32_t crc_ab, uint32_t crc_a, uint64_t length_b) {
-  return multiply_mod(x_pow_8n(length_b), crc_a) ^ crc_ab;  // crc32c_combine solved for crc_b
-}
-
 uint32_t crc32c(uint32_t crc, const void* data, std::size_t n) {
   const auto* p = static_cast<const unsigned char*>(data);
   constexpr std::size_t kPiece = std::size_t{1} << 21;  // bytes per parallel task

@@ -17,9 +17,7 @@ uint32_t crc32c_portable(uint32_t crc, const void* data, std::size_t n);
 
 // The CRC of a + b from crc_a = crc32c(0, a), crc_b = crc32c(0, b) and b's length.
 uint32_t crc32c_combine(uint32_t crc_a, uint32_t crc_b, uint64_t length_b);
-
-// The inverse: crc_b = crc32c(0, b) from crc_ab = crc32c(0, a + b), crc_a and b's length (the CRC
-// of bytes just read, from a running CRC before and after them, without reading them again).
-uint32_t crc32c_split(uint32_t crc_ab, uint32_t crc_a, uint64_t length_b);
+// The same call parts a CRC again: crc32c_combine(crc_a, crc32c(0, a + b), |b|) = crc32c(0, b)
+// (the CRC of bytes just read, from a running CRC before and after them).
 
 }  // namespace splatkit
