@@ -1,8 +1,12 @@
 #include "splatkit/spill_arena.h"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <sched.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/statvfs.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,7 +29,7 @@ namespace {
 
 constexpr std::size_t kGranule = std::size_t{1} << 16;  // blocks are multiples of 64 KiB
 constexpr std::size_t kMaxCapacity = std::size_t{8} << 40;  // 8 TiB of address space at most
-constexpr auto kWatchPeriod = std::chrono::milliseconds(2);
+constexpr auto kWatchPeriod = std::chrono::milliseconds(1);
 // Blocks stay anonymous while their total is within max_memory / kAnonymousShare, less what the
 // process holds besides (libraries, small allocations, thread stacks: about kBaseline), so that
 // small limits keep their blocks in the file (see the header).
@@ -126,9 +130,37 @@ bool read_statm(std::size_t& resident, std::size_t& shared) {
   return true;
 }
 
+// sched_setattr's argument (linux/sched/types.h, whose struct sched_param clashes with glibc's).
+struct SchedAttr {
+  uint32_t size, policy;
+  uint64_t flags;
+  int32_t nice;
+  uint32_t priority;
+  uint64_t runtime, deadline, period;
+};
+
+// Lets the calling thread run as soon as it wakes, even when the process's other threads (or
+// other processes) keep every core busy: the lowest real-time priority where the process may take
+// it (root, or a non-zero RLIMIT_RTPRIO), else the shortest time slice of the fair scheduler
+// (Linux 6.12 and later: a waking thread with a shorter slice preempts the running one), else
+// nothing. The watcher sleeps in a loop and works for microseconds per wake (a few milliseconds
+// when it trims): it cannot starve the others.
+void wake_promptly() {
+  sched_param fifo{};
+  fifo.sched_priority = 1;
+  if (::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &fifo) == 0) return;
+  SchedAttr fair{};
+  fair.size = sizeof fair;
+  fair.policy = SCHED_OTHER;
+  fair.nice = ::getpriority(PRIO_PROCESS, 0);  // this thread's: kept
+  fair.runtime = 100'000;                      // ns: the slice (the kernel's least)
+  ::syscall(SYS_sched_setattr, 0, &fair, 0);
+}
+
 // Drops the file's pages from the process whenever the resident memory reaches the trigger and
 // enough of it is the file's.
 [[noreturn]] void watch(Arena* a) {
+  wake_promptly();
   const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
   std::size_t resident = 0, shared = 0, libraries = 0;
   if (read_statm(resident, shared)) libraries = shared;

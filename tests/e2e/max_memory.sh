@@ -23,9 +23,9 @@ mkdir -p "$WORK/tmp"
   > "$WORK/cad-dirty.xyz"
 
 # cloud:limit in MiB, each below what the cloud takes in memory (checked below: both peak at
-# 94 MiB in memory); at 72M both peak at 64 MiB, within the bound of 1.1x that a parallel pass
-# mapping fresh pages faster than the watcher (looking every 2 ms) drops them may need (README,
-# "Memory limit").
+# 94 MiB in memory); at 72M both peak at 62-65 MiB, within the bound of 1.1x that a parallel pass
+# mapping fresh pages faster than the watcher (looking every millisecond) drops them may need
+# (README, "Memory limit").
 for run in torus.splk:72 cad-dirty.xyz:72; do
   cloud=${run%:*} limit_mib=${run#*:}
   name=${cloud%.*}
