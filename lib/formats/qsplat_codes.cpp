@@ -205,8 +205,9 @@ constexpr std::array<double, kN + 1> kCellRadius = [] {
 }();
 
 // What one cell offers a child: the cell is not (or cannot be proved) inside the parent, it is
-// too small or too far to contain the child, or it fits at distance `dist` between the centres.
-enum class Offer { kNotInParent, kTooSmall, kFits };
+// too small or too far to contain the child, it contains the child but the disc rule refuses it,
+// or it fits at distance `dist` between the centres.
+enum class Offer { kNotInParent, kTooSmall, kOffTheDisc, kFits };
 
 }  // namespace
 
@@ -227,7 +228,8 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   return SphereEncoder(parent)(centre, radius, search);
 }
 
-int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search) const {
+int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search,
+                              const Vec3f* disc_normal) const {
   const SphereTables& t = sphere_tables();
   const Sphere& parent = parent_;
   const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
@@ -248,6 +250,12 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     if (dist + radius > d.radius) return Offer::kTooSmall;  // must contain the true sphere
     // ... and lie inside the parent
     if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) return Offer::kNotInParent;
+    if (disc_normal) {  // the disc rule (header)
+      const Vec3f& n = *disc_normal;
+      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+      const double along = std::sqrt(std::max(0.0, dist2 - across * across));
+      if (radius + along + kDiscSlope * across > d.radius) return Offer::kOffTheDisc;
+    }
     return Offer::kFits;
   };
   auto cell = [&](int size, int x, int y, int z) {
@@ -294,8 +302,9 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     // on that axis's index: so unless a cell fails for the parent, the cell that is nearest on
     // every axis decides. Its candidates per axis: the nearest index, and the second nearest
     // when the two are too close to tell apart after float rounding. If any of them is not
-    // proved inside the parent (a farther cell might then be the answer), or rounding is too
-    // coarse for the grid, every cell in the box is tried, as the exhaustive search does.
+    // proved inside the parent (a farther cell might then be the answer), or the disc rule
+    // refuses it (a farther cell may lie nearer the disc's plane), or rounding is too coarse for
+    // the grid, every cell in the box is tried, as the exhaustive search does.
     bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
     int near[3][2], count[3] = {0, 0, 0};
     for (int k = 0; k < 3 && decided; ++k) {
@@ -316,7 +325,7 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
             const int s = cell(size, near[0][a], near[1][b], near[2][c]);
             double dist = 0;
             const Offer o = offer(s, dist);
-            if (o == Offer::kNotInParent) decided = false;
+            if (o == Offer::kNotInParent || o == Offer::kOffTheDisc) decided = false;
             if (o == Offer::kFits && dist < best_d) {
               best_d = dist;
               best = s;
@@ -341,7 +350,8 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
         }
     if (best >= 0) return best;
   }
-  return -1;
+  // No cell meets the disc rule: the smallest that contains the sphere.
+  return disc_normal ? (*this)(centre, radius, search) : -1;
 }
 
 int encode_normal(const Vec3f& n) {

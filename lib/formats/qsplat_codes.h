@@ -10,13 +10,13 @@
 //   warped by atan and quantised to 52 steps each. Angular error ≤ kNormalMaxError.
 // - Cone (2 bits): c = int(4·√(sin θ)) of the half-width θ; decoded as the bound (1 + c)²/16 on
 //   sin θ; c = 3 means "do not cull" (θ ≥ ~0.85 rad or θ > 1.5).
-// - Colour (16 bits): RGB 5-6-5 by truncation; decoded channels expand to 8 bits (v << 3 | v >> 2,
-//   v << 2 | v >> 4), error ≤ 7 (red, blue) and ≤ 3 (green) per 8-bit channel.
+// - Colour (16 bits): RGB 5-6-5, each channel to the nearest code (formats/rgb565.h).
 #pragma once
 
 #include <array>
 #include <cstdint>
 
+#include "formats/rgb565.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit::qsplat {
@@ -61,13 +61,26 @@ enum class SphereSearch { kNearestFirst, kExhaustive };
 int encode_sphere(const Sphere& parent, const double centre[3], double radius,
                   SphereSearch search = SphereSearch::kNearestFirst);
 
+// The disc rule's slope: views up to atan(1.5) = 56° from a leaf's normal (SphereEncoder).
+inline constexpr double kDiscSlope = 1.5;
+
 // encode_sphere for the children of one parent: what depends on the parent alone is computed
 // once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).
+//
+// With `disc_normal` (a leaf's decoded normal n), the disc rule besides: the smallest cell (then
+// the nearest) whose decoded centre c' and radius r' also satisfy
+// r + along + kDiscSlope · across <= r', where along and across are the lengths of c' − c in
+// and across the plane normal to n. A renderer draws the leaf as the disc (c', n, r'): a shift
+// `across` off the splat's plane moves that disc against the splat's own by across · tan θ at a
+// view θ from the normal, which the rule covers up to atan(kDiscSlope); without it, a leaf the
+// grid moves off its plane leaves single-pixel holes where one splat alone covers a surface seen
+// obliquely. When no cell up to the parent's own meets the rule, the cell without it.
 class SphereEncoder {
  public:
   explicit SphereEncoder(const Sphere& parent);
   int operator()(const double centre[3], double radius,
-                 SphereSearch search = SphereSearch::kNearestFirst) const;
+                 SphereSearch search = SphereSearch::kNearestFirst,
+                 const Vec3f* disc_normal = nullptr) const;
 
  private:
   Sphere parent_;
@@ -88,15 +101,5 @@ const Vec3f& decode_normal(int code);
 int encode_cone(double theta);
 // Bound on sin θ for cone code c (1 for c = 3, which disables culling).
 inline float decode_cone_sine(int c) { return static_cast<float>((1 + c) * (1 + c)) / 16.0f; }
-
-// 8-bit RGB -> 5-6-5 word, and back.
-inline uint16_t encode_rgb565(int r, int g, int b) {
-  return static_cast<uint16_t>(((r >> 3) << 11) | ((g >> 2) << 5) | (b >> 3));
-}
-inline std::array<uint8_t, 3> decode_rgb565(uint16_t w) {
-  const unsigned r = w >> 11, g = (w >> 5) & 63u, b = w & 31u;
-  return {static_cast<uint8_t>((r << 3) | (r >> 2)), static_cast<uint8_t>((g << 2) | (g >> 4)),
-          static_cast<uint8_t>((b << 3) | (b >> 2))};
-}
 
 }  // namespace splatkit::qsplat

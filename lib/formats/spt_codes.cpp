@@ -155,16 +155,6 @@ float decode_diameter(uint16_t code, const LogScale& s) {
   return static_cast<float>(s.value(code - 1));
 }
 
-uint16_t encode_rgb565(const std::array<uint8_t, 3>& c) {
-  const int r = (c[0] * 31 + 127) / 255, g = (c[1] * 63 + 127) / 255, b = (c[2] * 31 + 127) / 255;
-  return static_cast<uint16_t>(r << 11 | g << 5 | b);
-}
-std::array<uint8_t, 3> decode_rgb565(uint16_t c) {
-  const int r = c >> 11, g = (c >> 5) & 63, b = c & 31;
-  return {static_cast<uint8_t>(r << 3 | r >> 2), static_cast<uint8_t>(g << 2 | g >> 4),
-          static_cast<uint8_t>(b << 3 | b >> 2)};
-}
-
 bool looks_like_spt(std::string_view head) {
   return head.size() >= 8 && std::memcmp(head.data(), kSptMagic, 8) == 0;
 }

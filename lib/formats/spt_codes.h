@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "formats/rgb565.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit::spt {
@@ -110,8 +111,6 @@ class DiameterCoder {
   LogScale scale_;
   std::vector<float> decoded_;  // per code
 };
-uint16_t encode_rgb565(const std::array<uint8_t, 3>& c);
-std::array<uint8_t, 3> decode_rgb565(uint16_t c);
 
 // Little-endian helpers for the writer and the reader.
 inline void put_u16(unsigned char* p, uint16_t v) {

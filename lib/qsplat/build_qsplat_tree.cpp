@@ -229,7 +229,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
           t.cones[q] = leaf_cone;
           if (color) {
             child_rgb[k] = leaves.colors[j];
-            t.colors[q] = encode_rgb565(child_rgb[k][0], child_rgb[k][1], child_rgb[k][2]);
+            t.colors[q] = encode_rgb565(child_rgb[k]);
           }
         }
         t.spheres[i] = enclose_spheres(&t.spheres[f], c, centroid_rule);
@@ -258,7 +258,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
         if (least_cos <= 1) theta = std::max(theta, std::acos(least_cos));
         cone[i] = static_cast<float>(theta + 1e-6);  // float rounding of the sum, upwards
         t.cones[i] = static_cast<uint8_t>(encode_cone(cone[i]));
-        if (color) t.colors[i] = encode_rgb565(rgb[i][0], rgb[i][1], rgb[i][2]);
+        if (color) t.colors[i] = encode_rgb565(rgb[i]);
       }
     });
   }

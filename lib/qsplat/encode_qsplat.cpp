@@ -167,8 +167,13 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           const uint32_t j = first + static_cast<uint32_t>(k);
           const Sphere s = t.spheres[j];  // true
           const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
-          const double need = t.child_count[j] ? s.radius * (1 + kInteriorMargin) : s.radius;
-          const int code = encode(centre, need);
+          int code;
+          if (t.child_count[j]) {
+            code = encode(centre, s.radius * (1 + kInteriorMargin));
+          } else {  // a leaf: drawn as a disc
+            const Vec3f n = decode_normal(t.normal_codes[j]);
+            code = encode(centre, s.radius, SphereSearch::kNearestFirst, &n);
+          }
           if (code < 0) fail_outside_parent(t, j);
           t.spheres[j] = decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], parent);
           if (t.child_count[j] == 0) {

@@ -4,8 +4,9 @@
 // Every child sphere is quantised against its parent's decoded sphere with the conservative
 // encode_sphere (qsplat_codes.h): the decoded sphere of every node contains the node's true
 // sphere (hence every splat below it; for interior nodes, the true sphere grown by
-// kInteriorMargin) and lies inside its decoded parent. Deterministic for any
-// thread count (groups are placed by a prefix sum, then filled in parallel).
+// kInteriorMargin) and lies inside its decoded parent; a leaf's also keeps its splat's disc
+// covered when drawn as a disc seen obliquely (the disc rule, SphereEncoder). Deterministic for
+// any thread count (groups are placed by a prefix sum, then filled in parallel).
 #pragma once
 
 #include <string>

@@ -103,6 +103,74 @@ TEST(QSplatCodes, NearestFirstSearchFindsTheExhaustiveSearchsCell) {
   EXPECT_EQ(not_found, 0);  // every child inside its parent finds a cell
 }
 
+// The disc rule (SphereEncoder with a normal), against every cell of the table: the code keeps
+// the sphere conservative, and when some cell meets the rule it meets it too, with the smallest
+// size that does and, of that size, the centre nearest the child's; when none does, it is the
+// code without the rule.
+TEST(QSplatCodes, DiscRuleTakesTheSmallestCellThatMeetsIt) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1), f(0, 1);
+  const Sphere parent{{-1.5f, 0.25f, 4.0f}, 0.75f};
+  const SphereEncoder encode(parent);
+  int met = 0, unmet = 0;
+  for (int i = 0; i < 3000; ++i) {
+    double d[3] = {u(rng), u(rng), u(rng)};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len > 1) continue;
+    const double radius = (1 - len) * (0.1 + 0.5 * f(rng)) * parent.radius;
+    const double c[3] = {parent.centre.x + parent.radius * d[0],
+                         parent.centre.y + parent.radius * d[1],
+                         parent.centre.z + parent.radius * d[2]};
+    const Vec3f n = normalized(Vec3f{float(u(rng)), float(u(rng)), float(u(rng))});
+    // What a cell offers: contains the sphere and lies inside the parent (on the decoded floats),
+    // and how far the disc rule leaves it from the child's centre (< 0: refused).
+    auto check = [&](int s, bool& fits, bool& rule, double& dist) {
+      const Sphere q = decode_sphere(sphere_cells()[s], parent);
+      const double dx = double{q.centre.x} - c[0], dy = double{q.centre.y} - c[1],
+                   dz = double{q.centre.z} - c[2];
+      dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double px = double{q.centre.x} - parent.centre.x,
+                   py = double{q.centre.y} - parent.centre.y,
+                   pz = double{q.centre.z} - parent.centre.z;
+      fits = dist + radius <= q.radius &&
+             std::sqrt(px * px + py * py + pz * pz) + q.radius <= parent.radius;
+      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+      const double along = std::sqrt(std::max(0.0, dist * dist - across * across));
+      rule = radius + along + kDiscSlope * across <= q.radius;
+    };
+    int want = -1;
+    double want_dist = 0;
+    for (int s = 0; s < kSphereCells; ++s) {
+      bool fits = false, rule = false;
+      double dist = 0;
+      check(s, fits, rule, dist);
+      if (!fits || !rule) continue;
+      const float size = sphere_cells()[s].r, best = want < 0 ? 2 : sphere_cells()[want].r;
+      if (size < best || (size == best && dist < want_dist)) {
+        want = s;
+        want_dist = dist;
+      }
+    }
+    const int got = encode(c, radius, SphereSearch::kNearestFirst, &n);
+    if (want < 0) {
+      ++unmet;
+      EXPECT_EQ(got, encode(c, radius)) << i;
+      continue;
+    }
+    ++met;
+    bool fits = false, rule = false;
+    double dist = 0;
+    ASSERT_GE(got, 0);
+    check(got, fits, rule, dist);
+    EXPECT_TRUE(fits && rule) << i;
+    EXPECT_EQ(sphere_cells()[got].r, sphere_cells()[want].r) << i;
+    EXPECT_NEAR(dist, want_dist, 1e-9) << i;
+  }
+  std::printf("disc rule met %d, unmet %d\n", met, unmet);
+  EXPECT_GT(met, 500);
+  EXPECT_GT(unmet, 0);  // children near the parent's surface
+}
+
 TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {
   double worst = 0;
   const int n = 400;
@@ -195,15 +263,22 @@ TEST(QSplatCodes, ConeBoundsTheSineOfTheHalfWidth) {
   EXPECT_EQ(decode_cone_sine(3), 1.0f);
 }
 
-TEST(QSplatCodes, Rgb565RoundTripsWithinTruncation) {
+TEST(QSplatCodes, Rgb565TakesTheNearestCode) {
+  const auto five = [](int q) { return q << 3 | q >> 2; };
+  const auto six = [](int q) { return q << 2 | q >> 4; };
   for (int v = 0; v < 256; ++v) {
-    const auto d = decode_rgb565(encode_rgb565(v, v, v));
-    EXPECT_LE(std::abs(d[0] - v), 7);
-    EXPECT_LE(std::abs(d[1] - v), 3);
-    EXPECT_LE(std::abs(d[2] - v), 7);
+    const auto c = static_cast<uint8_t>(v);
+    const uint16_t w = encode_rgb565({c, c, c});
+    const auto d = decode_rgb565(w);
+    EXPECT_LE(std::abs(d[0] - v), 4);
+    EXPECT_LE(std::abs(d[1] - v), 2);
+    EXPECT_EQ(d[2], d[0]);
+    for (int q = 0; q < 32; ++q) EXPECT_LE(std::abs(d[0] - v), std::abs(five(q) - v)) << v;
+    for (int q = 0; q < 64; ++q) EXPECT_LE(std::abs(d[1] - v), std::abs(six(q) - v)) << v;
   }
-  EXPECT_EQ(encode_rgb565(255, 255, 255), 0xFFFF);
-  EXPECT_EQ(encode_rgb565(255, 0, 0), 0xF800);
+  EXPECT_EQ(encode_rgb565({255, 255, 255}), 0xFFFF);
+  EXPECT_EQ(encode_rgb565({255, 0, 0}), 0xF800);
+  EXPECT_EQ(encode_rgb565({0, 255, 0}), 0x07E0);
   const auto w = decode_rgb565(0xFFFF);
   EXPECT_EQ(w[0], 255);
   EXPECT_EQ(w[1], 255);

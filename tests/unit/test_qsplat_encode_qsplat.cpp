@@ -77,9 +77,12 @@ TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
     // B must hold (3.5, 0, 0) r 0.9 * 1.25: S = 7607 (size 11, cell (2, 1, 1): centre
     // 2 + 3 * 2/13, radius 3 * 11/13), 2 children: 7607 << 3 | 1 = 0xEDB9
     0xED, 0xB9, 0xBE, 0x88,
-    // byte 52: A's group, no offset (its members are leaves, in input order): cell (1, 4, 4) of
-    // size 4, cells (5, 5, 5) and (8, 5, 5) of size 3: S = 4740, 3930, 4293 = leaves 0, 1, 2
-    0x94, 0x20, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x86, 0x28, 0xBE, 0x88,
+    // byte 52: A's group, no offset (its members are leaves, in input order). Leaf 0, (0, 0, 0)
+    // r 0.4: the cells of size 4 are centred at least 1/13 A-radius = 0.16 off its plane z = 0,
+    // which the disc rule (r + along + 1.5 across <= R) refuses; size 5's cell (1, 4, 4) is
+    // centred in the plane, 0.118 along x, radius 0.799: S = 5717. Leaves 1, 2: cells (5, 5, 5)
+    // and (8, 5, 5) of size 3, in the plane: S = 3930, 4293.
+    0xB2, 0xA8, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x86, 0x28, 0xBE, 0x88,
     // byte 64: B's group, no offset: cells (6, 5, 5) and (9, 5, 5) of size 3: S = 4051, 4414 =
     // leaves 3, 4
     0x7E, 0x98, 0xBE, 0x88, 0x89, 0xF0, 0xBE, 0x88,
