@@ -13,13 +13,14 @@ namespace splatkit::apps {
 
 namespace {
 
-// The comment fragment: the input's PLY comments, then this run's provenance.
+// The comment fragment: the input's PLY comments, a line each without the keyword as the
+// original qsplat_make stores them, then this run's provenance.
 std::string comment_text(const LoadedCloud& doc) {
   std::string text;
   const auto it = doc.header.find("comments");
   if (it != doc.header.end() && it->is_array())
     for (const auto& c : *it)
-      if (c.is_string()) text += "comment " + c.get<std::string>() + "\n";
+      if (c.is_string()) text += c.get<std::string>() + "\n";
   nlohmann::json meta = doc.metadata;
   // The spheres are in the cloud's local frame (float32 holds georeferenced coordinates only to
   // metres): where that frame sits, for splat-view's cameras in file coordinates.
