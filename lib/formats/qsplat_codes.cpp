@@ -228,8 +228,40 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   return SphereEncoder(parent)(centre, radius, search);
 }
 
+namespace {
+
+// The disc rule (qsplat_codes.h) for the decoded cell d of a child (centre, radius).
+bool meets_disc_rule(const Sphere& d, const double centre[3], double radius, const Vec3f& n) {
+  const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+               dz = d.centre.z - centre[2];
+  const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+  const double along = std::sqrt(std::max(0.0, dx * dx + dy * dy + dz * dz - across * across));
+  return radius + along + kDiscSlope * across <= d.radius;
+}
+
+}  // namespace
+
 int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search,
-                              const Vec3f* disc_normal) const {
+                              const Vec3f* disc_normal, Sphere* decoded) const {
+  Sphere d;
+  const int plain = find(centre, radius, search, nullptr, 1, d);
+  if (disc_normal && plain >= 0 && !meets_disc_rule(d, centre, radius, *disc_normal)) {
+    // The first size's nearest cell is refused: the next sizes', else the cell without the rule.
+    const int size = static_cast<int>(std::lround(sphere_tables().cells[plain].r * kN));
+    Sphere ruled_sphere;
+    const int ruled =
+        size < kN ? find(centre, radius, search, disc_normal, size + 1, ruled_sphere) : -1;
+    if (ruled >= 0) {
+      if (decoded) *decoded = ruled_sphere;
+      return ruled;
+    }
+  }
+  if (decoded) *decoded = d;
+  return plain;
+}
+
+int SphereEncoder::find(const double centre[3], double radius, SphereSearch search,
+                        const Vec3f* disc_normal, int from_size, Sphere& decoded) const {
   const SphereTables& t = sphere_tables();
   const Sphere& parent = parent_;
   const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
@@ -237,10 +269,11 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const double rel_radius = radius / pr;
-  const int first = std::clamp(static_cast<int>(std::floor(rel_radius * kN)), 1, kN);
-  auto offer = [&](int s, double& dist) {
+  const int first =
+      std::clamp(static_cast<int>(std::floor(rel_radius * kN)), std::max(1, from_size), kN);
+  auto offer = [&](int s, double& dist, Sphere& d) {
     if (s < 0 || t.inside[s] < -unsure) return Offer::kNotInParent;  // clearly outside
-    const Sphere d = decode_sphere(t.cells[s], parent);
+    d = decode_sphere(t.cells[s], parent);
     const double room = d.radius - radius;
     const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
                  dz = d.centre.z - centre[2];
@@ -250,12 +283,7 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     if (dist + radius > d.radius) return Offer::kTooSmall;  // must contain the true sphere
     // ... and lie inside the parent
     if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) return Offer::kNotInParent;
-    if (disc_normal) {  // the disc rule (header)
-      const Vec3f& n = *disc_normal;
-      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
-      const double along = std::sqrt(std::max(0.0, dist2 - across * across));
-      if (radius + along + kDiscSlope * across > d.radius) return Offer::kOffTheDisc;
-    }
+    if (disc_normal && !meets_disc_rule(d, centre, radius, *disc_normal)) return Offer::kOffTheDisc;
     return Offer::kFits;
   };
   auto cell = [&](int size, int x, int y, int z) {
@@ -302,9 +330,10 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     // on that axis's index: so unless a cell fails for the parent, the cell that is nearest on
     // every axis decides. Its candidates per axis: the nearest index, and the second nearest
     // when the two are too close to tell apart after float rounding. If any of them is not
-    // proved inside the parent (a farther cell might then be the answer), or the disc rule
-    // refuses it (a farther cell may lie nearer the disc's plane), or rounding is too coarse for
-    // the grid, every cell in the box is tried, as the exhaustive search does.
+    // proved inside the parent (a farther cell might then be the answer), or rounding is too
+    // coarse for the grid, every cell in the box is tried, as the exhaustive search does. With
+    // the disc rule, the nearest cell that contains the child must also meet it, or the search
+    // goes on to the next size.
     bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
     int near[3][2], count[3] = {0, 0, 0};
     for (int k = 0; k < 3 && decided; ++k) {
@@ -318,40 +347,53 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     }
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
+    Sphere best_sphere;
+    bool best_meets_rule = false;
     if (decided) {
       for (int a = 0; a < count[0] && decided; ++a)
         for (int b = 0; b < count[1] && decided; ++b)
           for (int c = 0; c < count[2] && decided; ++c) {
             const int s = cell(size, near[0][a], near[1][b], near[2][c]);
             double dist = 0;
-            const Offer o = offer(s, dist);
-            if (o == Offer::kNotInParent || o == Offer::kOffTheDisc) decided = false;
-            if (o == Offer::kFits && dist < best_d) {
+            Sphere d;
+            const Offer o = offer(s, dist, d);
+            if (o == Offer::kNotInParent) decided = false;
+            if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
               best_d = dist;
               best = s;
+              best_sphere = d;
+              best_meets_rule = o == Offer::kFits;
             }
           }
-      if (decided) {
-        if (best >= 0) return best;
-        continue;  // the nearest cell is too small: so is every cell of this size
+      if (!decided) {
+        best = -1;
+        best_d = std::numeric_limits<double>::infinity();
       }
-      best = -1;
-      best_d = std::numeric_limits<double>::infinity();
     }
-    for (int x = lo[0]; x <= hi[0]; ++x)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int z = lo[2]; z <= hi[2]; ++z) {
-          const int s = cell(size, x, y, z);
-          double dist = 0;
-          if (offer(s, dist) == Offer::kFits && dist < best_d) {
-            best_d = dist;
-            best = s;
+    if (!decided) {
+      for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int z = lo[2]; z <= hi[2]; ++z) {
+            const int s = cell(size, x, y, z);
+            double dist = 0;
+            Sphere d;
+            const Offer o = offer(s, dist, d);
+            if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
+              best_d = dist;
+              best = s;
+              best_sphere = d;
+              best_meets_rule = o == Offer::kFits;
+            }
           }
-        }
-    if (best >= 0) return best;
+    }
+    // No cell of this size contains the child (when the nearest does not, none does), or the
+    // disc rule refuses the nearest that does.
+    if (best >= 0 && best_meets_rule) {
+      decoded = best_sphere;
+      return best;
+    }
   }
-  // No cell meets the disc rule: the smallest that contains the sphere.
-  return disc_normal ? (*this)(centre, radius, search) : -1;
+  return -1;
 }
 
 int encode_normal(const Vec3f& n) {

@@ -67,8 +67,9 @@ inline constexpr double kDiscSlope = 1.5;
 // encode_sphere for the children of one parent: what depends on the parent alone is computed
 // once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).
 //
-// With `disc_normal` (a leaf's decoded normal n), the disc rule besides: the smallest cell (then
-// the nearest) whose decoded centre c' and radius r' also satisfy
+// With `disc_normal` (a leaf's decoded normal n), the disc rule besides: size by size from the
+// smallest, the cell the search takes without the rule (the nearest that contains the child and
+// lies inside the parent), until one whose decoded centre c' and radius r' also satisfy
 // r + along + kDiscSlope · across <= r', where along and across are the lengths of c' − c in
 // and across the plane normal to n. A renderer draws the leaf as the disc (c', n, r'): a shift
 // `across` off the splat's plane moves that disc against the splat's own by across · tan θ at a
@@ -78,11 +79,18 @@ inline constexpr double kDiscSlope = 1.5;
 class SphereEncoder {
  public:
   explicit SphereEncoder(const Sphere& parent);
+  // `decoded` (optional) receives the code's decoded sphere, decode_sphere's.
   int operator()(const double centre[3], double radius,
                  SphereSearch search = SphereSearch::kNearestFirst,
-                 const Vec3f* disc_normal = nullptr) const;
+                 const Vec3f* disc_normal = nullptr, Sphere* decoded = nullptr) const;
 
  private:
+  // The search from cell size `from_size` (1..13) up; with `disc_normal`, the first size whose
+  // nearest cell that contains the child also meets the disc rule; -1 when none, else the code,
+  // its decoded sphere in `decoded`.
+  int find(const double centre[3], double radius, SphereSearch search, const Vec3f* disc_normal,
+           int from_size, Sphere& decoded) const;
+
   Sphere parent_;
   double pc_[3], pr_;
   // How far (in parent radii) float rounding may move a decoded cell, and the same in steps of

@@ -168,14 +168,16 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           const Sphere s = t.spheres[j];  // true
           const double centre[3] = {s.centre.x, s.centre.y, s.centre.z};
           int code;
+          Sphere decoded;
           if (t.child_count[j]) {
-            code = encode(centre, s.radius * (1 + kInteriorMargin));
+            code = encode(centre, s.radius * (1 + kInteriorMargin), SphereSearch::kNearestFirst,
+                          nullptr, &decoded);
           } else {  // a leaf: drawn as a disc
             const Vec3f n = decode_normal(t.normal_codes[j]);
-            code = encode(centre, s.radius, SphereSearch::kNearestFirst, &n);
+            code = encode(centre, s.radius, SphereSearch::kNearestFirst, &n, &decoded);
           }
           if (code < 0) fail_outside_parent(t, j);
-          t.spheres[j] = decode_sphere(sphere_cells()[static_cast<std::size_t>(code)], parent);
+          t.spheres[j] = decoded;
           if (t.child_count[j] == 0) {
             const double g = double{t.spheres[j].radius} / s.radius;
             chunk_sum[ch] += g;

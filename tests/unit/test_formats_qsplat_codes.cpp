@@ -103,16 +103,15 @@ TEST(QSplatCodes, NearestFirstSearchFindsTheExhaustiveSearchsCell) {
   EXPECT_EQ(not_found, 0);  // every child inside its parent finds a cell
 }
 
-// The disc rule (SphereEncoder with a normal), against every cell of the table: the code keeps
-// the sphere conservative, and when some cell meets the rule it meets it too, with the smallest
-// size that does and, of that size, the centre nearest the child's; when none does, it is the
-// code without the rule.
-TEST(QSplatCodes, DiscRuleTakesTheSmallestCellThatMeetsIt) {
+// The disc rule (SphereEncoder with a normal), against every cell of the table: size by size,
+// the nearest cell that contains the child and lies inside the parent; the first of those that
+// meets the rule is the code, and when none does, the code without the rule (the first of them).
+TEST(QSplatCodes, DiscRuleTakesTheFirstSizeWhoseNearestCellMeetsIt) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1), f(0, 1);
   const Sphere parent{{-1.5f, 0.25f, 4.0f}, 0.75f};
   const SphereEncoder encode(parent);
-  int met = 0, unmet = 0;
+  int met = 0, unmet = 0, moved = 0;
   for (int i = 0; i < 3000; ++i) {
     double d[3] = {u(rng), u(rng), u(rng)};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -122,53 +121,52 @@ TEST(QSplatCodes, DiscRuleTakesTheSmallestCellThatMeetsIt) {
                          parent.centre.y + parent.radius * d[1],
                          parent.centre.z + parent.radius * d[2]};
     const Vec3f n = normalized(Vec3f{float(u(rng)), float(u(rng)), float(u(rng))});
-    // What a cell offers: contains the sphere and lies inside the parent (on the decoded floats),
-    // and how far the disc rule leaves it from the child's centre (< 0: refused).
-    auto check = [&](int s, bool& fits, bool& rule, double& dist) {
+    // Per size (1..13): the nearest cell that contains the sphere and lies inside the parent
+    // (on the decoded floats; the first in table order among equally near ones), and whether it
+    // meets the rule.
+    int nearest[14];
+    double nearest_dist[14];
+    bool rule[14];
+    std::fill(std::begin(nearest), std::end(nearest), -1);
+    for (int s = 0; s < kSphereCells; ++s) {
+      const int size = static_cast<int>(std::lround(sphere_cells()[s].r * 13));
       const Sphere q = decode_sphere(sphere_cells()[s], parent);
       const double dx = double{q.centre.x} - c[0], dy = double{q.centre.y} - c[1],
                    dz = double{q.centre.z} - c[2];
-      dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
       const double px = double{q.centre.x} - parent.centre.x,
                    py = double{q.centre.y} - parent.centre.y,
                    pz = double{q.centre.z} - parent.centre.z;
-      fits = dist + radius <= q.radius &&
-             std::sqrt(px * px + py * py + pz * pz) + q.radius <= parent.radius;
+      if (dist + radius > q.radius ||
+          std::sqrt(px * px + py * py + pz * pz) + q.radius > parent.radius)
+        continue;
+      if (nearest[size] >= 0 && dist >= nearest_dist[size]) continue;
       const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
       const double along = std::sqrt(std::max(0.0, dist * dist - across * across));
-      rule = radius + along + kDiscSlope * across <= q.radius;
-    };
-    int want = -1;
-    double want_dist = 0;
-    for (int s = 0; s < kSphereCells; ++s) {
-      bool fits = false, rule = false;
-      double dist = 0;
-      check(s, fits, rule, dist);
-      if (!fits || !rule) continue;
-      const float size = sphere_cells()[s].r, best = want < 0 ? 2 : sphere_cells()[want].r;
-      if (size < best || (size == best && dist < want_dist)) {
-        want = s;
-        want_dist = dist;
-      }
+      nearest[size] = s;
+      nearest_dist[size] = dist;
+      rule[size] = radius + along + kDiscSlope * across <= q.radius;
+    }
+    int want = -1, without = -1;
+    for (int size = 1; size <= 13 && want < 0; ++size) {
+      if (nearest[size] < 0) continue;
+      if (without < 0) without = nearest[size];
+      if (rule[size]) want = nearest[size];
     }
     const int got = encode(c, radius, SphereSearch::kNearestFirst, &n);
+    ASSERT_EQ(without, encode(c, radius)) << i;
     if (want < 0) {
       ++unmet;
-      EXPECT_EQ(got, encode(c, radius)) << i;
-      continue;
+      EXPECT_EQ(got, without) << i;
+    } else {
+      ++met;
+      moved += want != without;
+      EXPECT_EQ(got, want) << i;
     }
-    ++met;
-    bool fits = false, rule = false;
-    double dist = 0;
-    ASSERT_GE(got, 0);
-    check(got, fits, rule, dist);
-    EXPECT_TRUE(fits && rule) << i;
-    EXPECT_EQ(sphere_cells()[got].r, sphere_cells()[want].r) << i;
-    EXPECT_NEAR(dist, want_dist, 1e-9) << i;
   }
-  std::printf("disc rule met %d, unmet %d\n", met, unmet);
   EXPECT_GT(met, 500);
-  EXPECT_GT(unmet, 0);  // children near the parent's surface
+  EXPECT_GT(moved, 300);  // the rule moves most leaves to a larger cell
+  EXPECT_GT(unmet, 0);    // children near the parent's surface
 }
 
 TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {
