@@ -310,38 +310,30 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
     // when that one misses the child by more than rounding explains, they all do.
     const double reach = slack * (1 + 1e-6) + 4 * unsure;
     if (size < kN && e2 > reach * reach) continue;
-    // Between index below and below + 1 on each axis.
-    double frac[3];
-    int below[3];
-    for (int k = 0; k < 3; ++k) {
-      below[k] = floor_int(steps[k]);
-      frac[k] = steps[k] - below[k];
-    }
-    // Cell centres within R − radius of the child on every axis: the only ones that can
-    // contain it.
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, ceil_int(((rel[k] - slack + 1) * kN - size) / 2));
-      hi[k] = std::min(kN - size, floor_int(((rel[k] + slack + 1) * kN - size) / 2));
-    }
-    if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) continue;
     // Nearest first. Whether a cell contains the child depends only on its distance (the cells
     // of one size share their radius), and along each axis the decoded coordinate depends only
     // on that axis's index: so unless a cell fails for the parent, the cell that is nearest on
     // every axis decides. Its candidates per axis: the nearest index, and the second nearest
     // when the two are too close to tell apart after float rounding. If any of them is not
-    // proved inside the parent (a farther cell might then be the answer), or rounding is too
-    // coarse for the grid, every cell in the box is tried, as the exhaustive search does. With
-    // the disc rule, the nearest cell that contains the child must also meet it, or the search
-    // goes on to the next size.
+    // proved inside the parent (a farther cell might then be the answer), or lies farther than
+    // R − radius from the child on an axis (outside the box below), or rounding is too coarse
+    // for the grid, every cell in the box is tried, as the exhaustive search does. With the disc
+    // rule, the nearest cell that contains the child must also meet it, or the search goes on
+    // to the next size.
     bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
     int near[3][2], count[3] = {0, 0, 0};
+    const double slack_steps = slack * kN / 2;  // R − radius in grid steps
     for (int k = 0; k < 3 && decided; ++k) {
-      const int nearest = below[k] + (frac[k] < 0.5 ? 0 : 1);
-      const int other = below[k] + (frac[k] < 0.5 ? 1 : 0);
-      if (nearest < lo[k] || nearest > hi[k]) decided = false;
+      const int below = floor_int(steps[k]);
+      const double frac = steps[k] - below;
+      const int nearest = below + (frac < 0.5 ? 0 : 1);
+      const int other = below + (frac < 0.5 ? 1 : 0);
+      auto in_box = [&](int x) {
+        return x >= 0 && x <= kN - size && std::fabs(steps[k] - x) <= slack_steps;
+      };
+      if (!in_box(nearest)) decided = false;
       near[k][count[k]++] = nearest;
-      if (std::fabs(1 - 2 * frac[k]) <= 4 * unsure_steps && other >= lo[k] && other <= hi[k])
+      if (std::fabs(1 - 2 * frac) <= 4 * unsure_steps && in_box(other))
         near[k][count[k]++] = other;
       if (count[k] == 2 && near[k][0] > near[k][1]) std::swap(near[k][0], near[k][1]);
     }
@@ -371,6 +363,13 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
       }
     }
     if (!decided) {
+      // Cell centres within R − radius of the child on every axis: the only ones that can
+      // contain it.
+      int lo[3], hi[3];
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::max(0, ceil_int(((rel[k] - slack + 1) * kN - size) / 2));
+        hi[k] = std::min(kN - size, floor_int(((rel[k] + slack + 1) * kN - size) / 2));
+      }
       for (int x = lo[0]; x <= hi[0]; ++x)
         for (int y = lo[1]; y <= hi[1]; ++y)
           for (int z = lo[2]; z <= hi[2]; ++z) {

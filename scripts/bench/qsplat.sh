@@ -30,6 +30,33 @@ bytes=$(stat -c %s "$work/model.qs")
 awk -v n="$n" -v t="$best" -v b="$bytes" -v th="$threads" 'BEGIN {
   printf "build-qsplat: %d splats, %d threads: %.3f s end to end = %.2f M splats/s; %d bytes (%.2f per leaf)\n",
          n, th, t, n / t / 1e6, b, b / n }'
+# The peer: the original qsplat_make (QSplat 1.0; README, "The QSplat peer"), named by
+# QSPLAT_MAKE or found on the PATH, against build-qsplat on one triangle mesh of N vertices (the
+# original reads nothing else: binary big-endian PLY, x y z and faces), the two run by turns
+# (the machine's speed drifts); medians of the runs and their ratio.
+peer=${QSPLAT_MAKE:-$(command -v qsplat_make || true)}
+if [ -n "$peer" ] && [ -x "$peer" ]; then
+  side=$(awk -v n="$n" 'BEGIN {printf "%d", sqrt(n) + 0.5}')
+  python3 "$root/scripts/bench/torus_mesh_ply.py" "$work/mesh.ply" "$side" "$side"
+  for _ in $(seq "$runs"); do
+    t0=$(now)
+    "$peer" "$work/mesh.ply" "$work/peer.qs" >/dev/null
+    echo "peer $(awk -v a="$t0" -v b="$(now)" 'BEGIN {print b - a}')"
+    t0=$(now)
+    "$bin/build-qsplat" -q "$work/mesh.ply" "$work/ours.qs" --threads "$threads"
+    echo "ours $(awk -v a="$t0" -v b="$(now)" 'BEGIN {print b - a}')"
+  done | python3 -c "
+import statistics, sys
+t = {}
+for line in sys.stdin:
+    k, v = line.split()
+    t.setdefault(k, []).append(float(v))
+p, o = statistics.median(t['peer']), statistics.median(t['ours'])
+print(f'mesh of $((side * side)) vertices, whole commands, medians of $runs runs by turns: '
+      f'qsplat_make {p:.3f} s, build-qsplat --threads $threads {o:.3f} s: {p / o:.2f}x faster')"
+else
+  echo "peer: qsplat_make not found (set QSPLAT_MAKE=/path/to/qsplat_make; README, \"The QSplat peer\")"
+fi
 for blend in zbuffer zthreshold; do
 for px in 1 4 16; do
   fbest=0
