@@ -61,8 +61,8 @@ enum class SphereSearch { kNearestFirst, kExhaustive };
 int encode_sphere(const Sphere& parent, const double centre[3], double radius,
                   SphereSearch search = SphereSearch::kNearestFirst);
 
-// The disc rule's slope: views up to atan(1.5) = 56° from a leaf's normal (SphereEncoder).
-inline constexpr double kDiscSlope = 1.5;
+// The disc rule's slope: views up to atan(1.25) = 51° from a leaf's normal (SphereEncoder).
+inline constexpr double kDiscSlope = 1.25;
 
 // encode_sphere for the children of one parent: what depends on the parent alone is computed
 // once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).

@@ -79,7 +79,7 @@ TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
     0xED, 0xB9, 0xBE, 0x88,
     // byte 52: A's group, no offset (its members are leaves, in input order). Leaf 0, (0, 0, 0)
     // r 0.4: the cells of size 4 are centred at least 1/13 A-radius = 0.16 off its plane z = 0,
-    // which the disc rule (r + along + 1.5 across <= R) refuses; size 5's cell (1, 4, 4) is
+    // which the disc rule (r + along + 1.25 across <= R) refuses; size 5's cell (1, 4, 4) is
     // centred in the plane, 0.118 along x, radius 0.799: S = 5717. Leaves 1, 2: cells (5, 5, 5)
     // and (8, 5, 5) of size 3, in the plane: S = 3930, 4293.
     0xB2, 0xA8, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x86, 0x28, 0xBE, 0x88,
