@@ -243,25 +243,14 @@ bool meets_disc_rule(const Sphere& d, const double centre[3], double radius, con
 
 int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search,
                               const Vec3f* disc_normal, Sphere* decoded) const {
-  Sphere d;
-  const int plain = find(centre, radius, search, nullptr, 1, d);
-  if (disc_normal && plain >= 0 && !meets_disc_rule(d, centre, radius, *disc_normal)) {
-    // The first size's nearest cell is refused: the next sizes', else the cell without the rule.
-    const int size = static_cast<int>(std::lround(sphere_tables().cells[plain].r * kN));
-    Sphere ruled_sphere;
-    const int ruled =
-        size < kN ? find(centre, radius, search, disc_normal, size + 1, ruled_sphere) : -1;
-    if (ruled >= 0) {
-      if (decoded) *decoded = ruled_sphere;
-      return ruled;
-    }
-  }
+  Sphere d{};
+  const int code = find(centre, radius, search, disc_normal, d);
   if (decoded) *decoded = d;
-  return plain;
+  return code;
 }
 
 int SphereEncoder::find(const double centre[3], double radius, SphereSearch search,
-                        const Vec3f* disc_normal, int from_size, Sphere& decoded) const {
+                        const Vec3f* disc_normal, Sphere& decoded) const {
   const SphereTables& t = sphere_tables();
   const Sphere& parent = parent_;
   const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
@@ -269,8 +258,9 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
   double rel[3];
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const double rel_radius = radius / pr;
-  const int first =
-      std::clamp(static_cast<int>(std::floor(rel_radius * kN)), std::max(1, from_size), kN);
+  const int first = std::clamp(static_cast<int>(std::floor(rel_radius * kN)), 1, kN);
+  int without = -1;  // the disc rule's first refusal: the code without the rule
+  Sphere without_sphere{};
   auto offer = [&](int s, double& dist, Sphere& d) {
     if (s < 0 || t.inside[s] < -unsure) return Offer::kNotInParent;  // clearly outside
     d = decode_sphere(t.cells[s], parent);
@@ -339,7 +329,7 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
     }
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
-    Sphere best_sphere;
+    Sphere best_sphere{};
     bool best_meets_rule = false;
     if (decided) {
       for (int a = 0; a < count[0] && decided; ++a)
@@ -387,12 +377,18 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
     }
     // No cell of this size contains the child (when the nearest does not, none does), or the
     // disc rule refuses the nearest that does.
-    if (best >= 0 && best_meets_rule) {
+    if (best < 0) continue;
+    if (best_meets_rule) {
       decoded = best_sphere;
       return best;
     }
+    if (without < 0) {
+      without = best;
+      without_sphere = best_sphere;
+    }
   }
-  return -1;
+  decoded = without_sphere;
+  return without;
 }
 
 int encode_normal(const Vec3f& n) {

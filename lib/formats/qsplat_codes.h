@@ -85,11 +85,12 @@ class SphereEncoder {
                  const Vec3f* disc_normal = nullptr, Sphere* decoded = nullptr) const;
 
  private:
-  // The search from cell size `from_size` (1..13) up; with `disc_normal`, the first size whose
-  // nearest cell that contains the child also meets the disc rule; -1 when none, else the code,
-  // its decoded sphere in `decoded`.
+  // The search, size by size from the smallest: the nearest cell that contains the child and
+  // lies inside the parent, and with `disc_normal` also meets the disc rule (else the next
+  // size's; when none does, the first without the rule). The code, its decoded sphere in
+  // `decoded`; -1 when no cell contains the child.
   int find(const double centre[3], double radius, SphereSearch search, const Vec3f* disc_normal,
-           int from_size, Sphere& decoded) const;
+           Sphere& decoded) const;
 
   Sphere parent_;
   double pc_[3], pr_;
