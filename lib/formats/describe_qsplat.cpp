@@ -34,23 +34,22 @@ nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
 }
 
 std::array<double, 3> qsplat_origin(const QSplatModel& m) {
+  // The run's provenance is the last line: the input's comments before it may hold anything.
   std::istringstream lines(m.comments);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (!line.starts_with("splatkit {")) continue;
-    const nlohmann::json j = nlohmann::json::parse(line.substr(9), nullptr, false);
-    if (j.is_discarded() || !j.is_object() || !j.contains("origin")) continue;
-    const nlohmann::json& o = j["origin"];
-    if (!o.is_array() || o.size() != 3) continue;
-    std::array<double, 3> origin{};
-    bool ok = true;
-    for (std::size_t k = 0; k < 3; ++k) {
-      ok = ok && o[k].is_number() && std::isfinite(o[k].get<double>());
-      if (ok) origin[k] = o[k].get<double>();
-    }
-    if (ok) return origin;
+  std::string line, last;
+  while (std::getline(lines, line))
+    if (!line.empty()) last = line;
+  if (!last.starts_with("splatkit {")) return {0, 0, 0};
+  const nlohmann::json j = nlohmann::json::parse(last.substr(9), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("origin")) return {0, 0, 0};
+  const nlohmann::json& o = j["origin"];
+  if (!o.is_array() || o.size() != 3) return {0, 0, 0};
+  std::array<double, 3> origin{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!o[k].is_number() || !std::isfinite(o[k].get<double>())) return {0, 0, 0};
+    origin[k] = o[k].get<double>();
   }
-  return {0, 0, 0};
+  return origin;
 }
 
 std::string describe_qsplat_text(const nlohmann::json& j) {

@@ -17,9 +17,9 @@ namespace splatkit {
 nlohmann::json describe_qsplat(const QSplatModel& model, const std::string& path);
 
 // The offset from the file's local frame to the coordinates of the cloud it was made from, which
-// build-qsplat records as "origin" in the JSON of its "splatkit {...}" comment line (the v11
-// spheres are float32: a georeferenced cloud is written near zero). Zero when no comment line
-// gives three finite numbers.
+// build-qsplat records as "origin" in the JSON of its "splatkit {...}" comment line, the last
+// (the v11 spheres are float32: a georeferenced cloud is written near zero). Zero when that line
+// gives no three finite numbers.
 std::array<double, 3> qsplat_origin(const QSplatModel& model);
 
 // The report of describe_qsplat as text, one fact per line.

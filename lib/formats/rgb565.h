@@ -2,8 +2,8 @@
 //
 // The decoder expands each channel to 8 bits by repeating its high bits (v << 3 | v >> 2 for red
 // and blue, v << 2 | v >> 4 for green); the encoder takes, per channel, the code whose expansion is
-// nearest to the 8-bit value: at most 4 off in red and blue, 2 in green, and no bias (truncation,
-// v >> 3, would brighten every mid-grey by about 5 levels once expanded).
+// nearest to the 8-bit value: at most 4 off in red and blue, 2 in green (truncation, v >> 3,
+// darkens dark values and brightens light ones by up to 7: 200 comes back as 206, 71 as 66).
 #pragma once
 
 #include <array>

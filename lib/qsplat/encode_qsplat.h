@@ -5,8 +5,9 @@
 // encode_sphere (qsplat_codes.h): the decoded sphere of every node contains the node's true
 // sphere (hence every splat below it; for interior nodes, the true sphere grown by
 // kInteriorMargin) and lies inside its decoded parent; a leaf's also keeps its splat's disc
-// covered when drawn as a disc seen obliquely (the disc rule, SphereEncoder). Deterministic for
-// any thread count (groups are placed by a prefix sum, then filled in parallel).
+// covered when drawn as a disc seen obliquely, where a cell up to the parent's own allows it (the
+// disc rule, SphereEncoder). Deterministic for any thread count (groups are placed by a prefix
+// sum, then filled in parallel).
 #pragma once
 
 #include <string>

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "formats/qsplat_codes.h"
+#include "formats/rgb565.h"
 #include "render/render_scene.h"
 #include "render/zbuffer_splats.h"
 
@@ -114,11 +115,13 @@ struct Traversal {
 
 const std::array<Vec3f, 65536>& linear_palette_565() {
   static const std::array<Vec3f, 65536> p = [] {
-    float five[32], six[64];  // each channel's 8-bit expansion, made linear once
-    for (int v = 0; v < 32; ++v) five[v] = srgb_to_linear(((v << 3) | (v >> 2)) / 255.0f);
-    for (int v = 0; v < 64; ++v) six[v] = srgb_to_linear(((v << 2) | (v >> 4)) / 255.0f);
+    float linear[256];  // each 8-bit value made linear once
+    for (int v = 0; v < 256; ++v) linear[v] = srgb_to_linear(static_cast<float>(v) / 255.0f);
     std::array<Vec3f, 65536> t{};
-    for (uint32_t w = 0; w < 65536; ++w) t[w] = {five[w >> 11], six[(w >> 5) & 63u], five[w & 31u]};
+    for (uint32_t w = 0; w < 65536; ++w) {
+      const std::array<uint8_t, 3> c = decode_rgb565(static_cast<uint16_t>(w));
+      t[w] = {linear[c[0]], linear[c[1]], linear[c[2]]};
+    }
     return t;
   }();
   return p;

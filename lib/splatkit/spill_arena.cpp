@@ -130,7 +130,8 @@ bool read_statm(std::size_t& resident, std::size_t& shared) {
   return true;
 }
 
-// sched_setattr's argument (linux/sched/types.h, whose struct sched_param clashes with glibc's).
+// sched_setattr's argument, the kernel's first layout (linux/sched/types.h's struct sched_param
+// clashes with glibc's, and glibc declares struct sched_attr only from 2.41).
 struct SchedAttr {
   uint32_t size, policy;
   uint64_t flags;
@@ -138,15 +139,22 @@ struct SchedAttr {
   uint32_t priority;
   uint64_t runtime, deadline, period;
 };
+static_assert(sizeof(SchedAttr) == 48, "SCHED_ATTR_SIZE_VER0");
 
 // Lets the calling thread run as soon as it wakes, even when the process's other threads (or
 // other processes) keep every core busy: the lowest real-time priority where the process may take
-// it (root, or a non-zero RLIMIT_RTPRIO), else the shortest time slice of the fair scheduler
-// (Linux 6.12 and later: a waking thread with a shorter slice preempts the running one), else
-// nothing. The watcher sleeps in a loop and works for microseconds per wake (a few milliseconds
-// when it trims): it cannot starve the others.
+// it (CAP_SYS_NICE, or a non-zero RLIMIT_RTPRIO), else the shortest time slice of the fair
+// scheduler (Linux 6.12 and later: a waking thread with a shorter slice preempts the running one;
+// earlier kernels ignore it), else nothing. A thread that already runs real-time (a process
+// started under chrt) keeps its priority, above its workers'. The watcher sleeps in a loop and
+// works for microseconds per wake (a few milliseconds when it trims): it cannot starve the
+// others.
 void wake_promptly() {
+  int policy = SCHED_OTHER;
   sched_param fifo{};
+  if (::pthread_getschedparam(::pthread_self(), &policy, &fifo) == 0 &&
+      (policy == SCHED_FIFO || policy == SCHED_RR))
+    return;
   fifo.sched_priority = 1;
   if (::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &fifo) == 0) return;
   SchedAttr fair{};

@@ -53,7 +53,7 @@ for line in sys.stdin:
     t.setdefault(k, []).append(float(v))
 p, o = statistics.median(t['peer']), statistics.median(t['ours'])
 print(f'mesh of $((side * side)) vertices, whole commands, medians of $runs runs by turns: '
-      f'qsplat_make {p:.3f} s, build-qsplat --threads $threads {o:.3f} s: {p / o:.2f}x faster')"
+      f'qsplat_make {p:.3f} s, build-qsplat --threads $threads {o:.3f} s: qsplat_make / build-qsplat = {p / o:.2f}')"
 else
   echo "peer: qsplat_make not found (set QSPLAT_MAKE=/path/to/qsplat_make; README, \"The QSplat peer\")"
 fi

@@ -43,13 +43,17 @@ tr -d ' \n' <"$WORK/m.json" | grep -q '"dropped_zero_radius":1' && pass ||
 
 # splat-info describes .qs.
 # The input's PLY comments go into the comment fragment as the original qsplat_make puts them:
-# the text after the keyword, a line each.
-{ printf 'ply\nformat ascii 1.0\ncomment scanned by hand\nelement vertex 6\n'
+# the text after the keyword, a line each; one that looks like splatkit's provenance does not
+# move the model (the run's own line, last, says where it is).
+{ printf 'ply\nformat ascii 1.0\ncomment scanned by hand\n'
+  printf 'comment splatkit {"origin": [1000000, 0, 0]}\nelement vertex 6\n'
   printf 'property float %s\n' x y z nx ny nz radius; printf 'end_header\n'
   for i in 0 1 2 3 4 5; do echo "$i 0 0 0 0 1 0.6"; done; } >"$WORK/commented.ply"
 expect_exit 0 "$BIN/build-qsplat" "$WORK/commented.ply" "$WORK/commented.qs" -q
 grep -aq "scanned by hand$" "$WORK/commented.qs" && pass || fail "PLY comment not carried over"
 grep -aq "comment scanned" "$WORK/commented.qs" && fail "PLY comment keeps its keyword" || pass
+expect_exit 0 "$BIN/splat-info" --json "$WORK/commented.qs"
+grep -q '"origin"' "$WORK/stdout" && fail "a PLY comment moved the model" || pass
 expect_exit 0 "$BIN/splat-info" "$WORK/torus.qs"
 grep -q "^Leaves: 12001" "$WORK/stdout" && pass || fail "splat-info .qs: $(head -8 "$WORK/stdout")"
 grep -q "^Colour: no" "$WORK/stdout" && pass || fail "splat-info .qs: no colour line"

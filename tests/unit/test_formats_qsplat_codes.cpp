@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "formats/qsplat_codes.h"
@@ -153,8 +154,14 @@ TEST(QSplatCodes, DiscRuleTakesTheFirstSizeWhoseNearestCellMeetsIt) {
       if (without < 0) without = nearest[size];
       if (rule[size]) want = nearest[size];
     }
-    const int got = encode(c, radius, SphereSearch::kNearestFirst, &n);
+    Sphere decoded;
+    const int got = encode(c, radius, SphereSearch::kNearestFirst, &n, &decoded);
     ASSERT_EQ(without, encode(c, radius)) << i;
+    EXPECT_EQ(encode(c, radius, SphereSearch::kExhaustive, &n), got) << i;
+    if (got >= 0) {
+      const Sphere q = decode_sphere(sphere_cells()[got], parent);
+      EXPECT_EQ(std::memcmp(&q, &decoded, sizeof q), 0) << i;
+    }
     if (want < 0) {
       ++unmet;
       EXPECT_EQ(got, without) << i;
@@ -165,7 +172,7 @@ TEST(QSplatCodes, DiscRuleTakesTheFirstSizeWhoseNearestCellMeetsIt) {
     }
   }
   EXPECT_GT(met, 500);
-  EXPECT_GT(moved, 300);  // the rule moves most leaves to a larger cell
+  EXPECT_GT(moved, 200);  // the rule moves a third of the children that can meet it
   EXPECT_GT(unmet, 0);    // children near the parent's surface
 }
 

@@ -78,10 +78,11 @@ TEST(QSplatEncode, FivePointsOnALineArePinnedByteForByte) {
     // 2 + 3 * 2/13, radius 3 * 11/13), 2 children: 7607 << 3 | 1 = 0xEDB9
     0xED, 0xB9, 0xBE, 0x88,
     // byte 52: A's group, no offset (its members are leaves, in input order). Leaf 0, (0, 0, 0)
-    // r 0.4: the cells of size 4 are centred at least 1/13 A-radius = 0.16 off its plane z = 0,
-    // which the disc rule (r + along + 1.25 across <= R) refuses; size 5's cell (1, 4, 4) is
-    // centred in the plane, 0.118 along x, radius 0.799: S = 5717. Leaves 1, 2: cells (5, 5, 5)
-    // and (8, 5, 5) of size 3, in the plane: S = 3930, 4293.
+    // r 0.4: size 4's nearest cell, (1, 4, 4), holds its sphere (radius 0.639) but is centred
+    // 0.16 off in y and in z (1/13 A-radius; that grid has no centre at 0): the disc rule
+    // refuses it (r + along + 1.25 across = 0.4 + 0.165 + 1.25 * 0.16 = 0.765 > 0.639); size 5's
+    // cell (1, 4, 4) is centred in the plane, 0.118 along x, radius 0.799: S = 5717. Leaves 1,
+    // 2: cells (5, 5, 5) and (8, 5, 5) of size 3, in the plane: S = 3930, 4293.
     0xB2, 0xA8, 0xBE, 0x88, 0x7A, 0xD0, 0xBE, 0x88, 0x86, 0x28, 0xBE, 0x88,
     // byte 64: B's group, no offset: cells (6, 5, 5) and (9, 5, 5) of size 3: S = 4051, 4414 =
     // leaves 3, 4
