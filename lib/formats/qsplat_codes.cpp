@@ -327,26 +327,29 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
         near[k][count[k]++] = other;
       if (count[k] == 2 && near[k][0] > near[k][1]) std::swap(near[k][0], near[k][1]);
     }
+    // The nearest cell of this size that contains the child, and whether it meets the rule.
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
     Sphere best_sphere{};
     bool best_meets_rule = false;
+    auto consider = [&](int s) {
+      double dist = 0;
+      Sphere d;
+      const Offer o = offer(s, dist, d);
+      if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
+        best_d = dist;
+        best = s;
+        best_sphere = d;
+        best_meets_rule = o == Offer::kFits;
+      }
+      return o;
+    };
     if (decided) {
       for (int a = 0; a < count[0] && decided; ++a)
         for (int b = 0; b < count[1] && decided; ++b)
-          for (int c = 0; c < count[2] && decided; ++c) {
-            const int s = cell(size, near[0][a], near[1][b], near[2][c]);
-            double dist = 0;
-            Sphere d;
-            const Offer o = offer(s, dist, d);
-            if (o == Offer::kNotInParent) decided = false;
-            if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
-              best_d = dist;
-              best = s;
-              best_sphere = d;
-              best_meets_rule = o == Offer::kFits;
-            }
-          }
+          for (int c = 0; c < count[2] && decided; ++c)
+            if (consider(cell(size, near[0][a], near[1][b], near[2][c])) == Offer::kNotInParent)
+              decided = false;
       if (!decided) {
         best = -1;
         best_d = std::numeric_limits<double>::infinity();
@@ -362,18 +365,7 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
       }
       for (int x = lo[0]; x <= hi[0]; ++x)
         for (int y = lo[1]; y <= hi[1]; ++y)
-          for (int z = lo[2]; z <= hi[2]; ++z) {
-            const int s = cell(size, x, y, z);
-            double dist = 0;
-            Sphere d;
-            const Offer o = offer(s, dist, d);
-            if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
-              best_d = dist;
-              best = s;
-              best_sphere = d;
-              best_meets_rule = o == Offer::kFits;
-            }
-          }
+          for (int z = lo[2]; z <= hi[2]; ++z) consider(cell(size, x, y, z));
     }
     // No cell of this size contains the child (when the nearest does not, none does), or the
     // disc rule refuses the nearest that does.
