@@ -6,12 +6,12 @@
 // keeps the process's resident memory under the limit: when it reaches kTrimFraction of it, the
 // file's pages are dropped from the process (madvise MADV_DONTNEED). Their contents stay in the
 // file, through the kernel's page cache, which writes them to disk and evicts them under memory
-// pressure, and come back on the next touch. So the process holds what it is working
-// on: with work that visits memory region by region (the cloud processed piece by piece in Morton
-// order, splat_pieces.h, and the sequential passes), that is far less than the whole. Allocations
-// below kMinBlock (headers, per-cell lists, small buffers) stay anonymous, and so do large blocks
-// while those in use total at most a quarter of the limit less 32 MiB (what the process holds
-// besides: libraries, small allocations, thread stacks): the work buffers of a piece, short-lived,
+// pressure, and come back on the next touch. So the process holds what it is working on: with
+// work that visits memory region by region (the cloud processed piece by piece in Morton order,
+// splat_pieces.h, and the sequential passes), that is far less than the whole. Allocations below
+// kMinBlock (headers, per-cell lists, small buffers) stay anonymous, and so do large blocks while
+// those in use total at most a quarter of the limit less 32 MiB (what the process holds besides:
+// libraries, small allocations, thread stacks): the work buffers of a piece, short-lived,
 // which in the file would be written to disk for nothing (the kernel writes a file's dirty pages
 // back once they pass a share of the machine's memory, however soon they are freed).
 // The watcher looks every millisecond and asks the scheduler to run it as soon as it wakes

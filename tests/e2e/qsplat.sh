@@ -41,7 +41,6 @@ tr -d ' \n' <"$WORK/m.json" | grep -q '"dropped_unused":1' && pass || fail "unus
 tr -d ' \n' <"$WORK/m.json" | grep -q '"dropped_zero_radius":1' && pass ||
   fail "degenerate-only vertex not counted"
 
-# splat-info describes .qs.
 # The input's PLY comments go into the comment fragment as the original qsplat_make puts them:
 # the text after the keyword, a line each; one that looks like splatkit's provenance does not
 # move the model (the run's own line, last, says where it is).
@@ -54,6 +53,8 @@ grep -aq "scanned by hand$" "$WORK/commented.qs" && pass || fail "PLY comment no
 grep -aq "comment scanned" "$WORK/commented.qs" && fail "PLY comment keeps its keyword" || pass
 expect_exit 0 "$BIN/splat-info" --json "$WORK/commented.qs"
 grep -q '"origin"' "$WORK/stdout" && fail "a PLY comment moved the model" || pass
+
+# splat-info describes .qs.
 expect_exit 0 "$BIN/splat-info" "$WORK/torus.qs"
 grep -q "^Leaves: 12001" "$WORK/stdout" && pass || fail "splat-info .qs: $(head -8 "$WORK/stdout")"
 grep -q "^Colour: no" "$WORK/stdout" && pass || fail "splat-info .qs: no colour line"
