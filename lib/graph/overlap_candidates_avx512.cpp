@@ -69,7 +69,9 @@ __attribute__((target("avx512f"))) inline __m512i sort16_avx512(__m512i v) {
 // GCC bug 105593.)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#if !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC's only
+#endif
 // The number of hits of p, sixteen candidates at a time (row_avx512's test).
 __attribute__((target("avx512f"))) uint32_t Candidates::count_avx512(const Sorted& s, uint32_t p) {
   const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),

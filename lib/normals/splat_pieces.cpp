@@ -263,9 +263,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       l.put_back(local.axes, cloud.axes);
       l.put_back(local.minor_radii, cloud.minor_radii);
     }
-    for (std::size_t p = 0; p < degenerate.size(); ++p)
-      if (local_bridges[p] != kNoBridge)
-        bridges.push_back({l.ids[degenerate[p]], l.ids[local_bridges[p]]});
+    for (std::size_t d = 0; d < degenerate.size(); ++d)
+      if (local_bridges[d] != kNoBridge)
+        bridges.push_back({l.ids[degenerate[d]], l.ids[local_bridges[d]]});
     report.degenerate_points += degenerate.size();
     report.unresolved_points += degenerate_stats.unresolved;
     progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");

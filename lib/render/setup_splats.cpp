@@ -185,7 +185,7 @@ template <bool kEllipse, bool kRoundInsn>
     y0 = max_f(y0, 0.0f);
     x1 = min_f(x1, float(k.width - 1));
     y1 = min_f(y1, float(k.height - 1));
-    b.ok[i] = front & (x0 <= x1) & (y0 <= y1) ? 1.0f : 0.0f;
+    b.ok[i] = (front & (x0 <= x1) & (y0 <= y1)) ? 1.0f : 0.0f;
     // The linear functions at the box corner.
     const Vec3f wu = (ax * nc - n * dot(ax, c)) * inv_r;
     const Vec3f wv = (ay * nc - n * dot(ay, c)) * (1.0f / rv);

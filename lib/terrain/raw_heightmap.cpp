@@ -14,6 +14,10 @@ namespace splatkit::terrain {
 
 namespace {
 
+// Wide enough for width × height × sample bytes of any two 64-bit sides (a GCC and Clang
+// extension, so marked as one).
+__extension__ typedef unsigned __int128 Uint128;
+
 int sample_bytes(const std::string& type) {
   if (type == "int8" || type == "uint8") return 1;
   if (type == "int16" || type == "uint16") return 2;
@@ -151,17 +155,16 @@ RawLayout parse_raw_layout(const std::string& text) {
 std::unique_ptr<HeightmapSource> open_raw_heightmap(const std::string& path,
                                                     const RawLayout& layout) {
   if (path != "-") {
-    const auto expected = static_cast<unsigned __int128>(layout.width) *
-                          static_cast<unsigned __int128>(layout.height) *
+    const auto expected = static_cast<Uint128>(layout.width) * static_cast<Uint128>(layout.height) *
                           static_cast<unsigned>(sample_bytes(layout.type));
     const int64_t length = file_length(path);
-    if (static_cast<unsigned __int128>(length) != expected)
-      throw_bad_input(display_name(path),
-                      std::to_string(length) + " bytes; --raw " + std::to_string(layout.width) +
-                          "," + std::to_string(layout.height) + "," + layout.type + " needs " +
-                          (expected < (static_cast<unsigned __int128>(1) << 63)
-                               ? std::to_string(uint64_t(expected))
-                               : std::string("more than 2^63")));
+    if (static_cast<Uint128>(length) != expected)
+      throw_bad_input(
+          display_name(path),
+          std::to_string(length) + " bytes; --raw " + std::to_string(layout.width) + "," +
+              std::to_string(layout.height) + "," + layout.type + " needs " +
+              (expected < (static_cast<Uint128>(1) << 63) ? std::to_string(uint64_t(expected))
+                                                          : std::string("more than 2^63")));
   }
   HeightmapInfo info;
   info.format = "raw";
