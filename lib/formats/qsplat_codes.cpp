@@ -228,29 +228,8 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
   return SphereEncoder(parent)(centre, radius, search);
 }
 
-namespace {
-
-// The disc rule (qsplat_codes.h) for the decoded cell d of a child (centre, radius).
-bool meets_disc_rule(const Sphere& d, const double centre[3], double radius, const Vec3f& n) {
-  const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
-               dz = d.centre.z - centre[2];
-  const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
-  const double along = std::sqrt(std::max(0.0, dx * dx + dy * dy + dz * dz - across * across));
-  return radius + along + kDiscSlope * across <= d.radius;
-}
-
-}  // namespace
-
 int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search,
                               const Vec3f* disc_normal, Sphere* decoded) const {
-  Sphere d{};
-  const int code = find(centre, radius, search, disc_normal, d);
-  if (decoded) *decoded = d;
-  return code;
-}
-
-int SphereEncoder::find(const double centre[3], double radius, SphereSearch search,
-                        const Vec3f* disc_normal, Sphere& decoded) const {
   const SphereTables& t = sphere_tables();
   const Sphere& parent = parent_;
   const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
@@ -273,7 +252,12 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
     if (dist + radius > d.radius) return Offer::kTooSmall;  // must contain the true sphere
     // ... and lie inside the parent
     if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) return Offer::kNotInParent;
-    if (disc_normal && !meets_disc_rule(d, centre, radius, *disc_normal)) return Offer::kOffTheDisc;
+    if (disc_normal) {  // the disc rule (header)
+      const Vec3f& n = *disc_normal;
+      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+      const double along = std::sqrt(std::max(0.0, dist2 - across * across));
+      if (radius + along + kDiscSlope * across > d.radius) return Offer::kOffTheDisc;
+    }
     return Offer::kFits;
   };
   auto cell = [&](int size, int x, int y, int z) {
@@ -371,7 +355,7 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
     // disc rule refuses the nearest that does.
     if (best < 0) continue;
     if (best_meets_rule) {
-      decoded = best_sphere;
+      if (decoded) *decoded = best_sphere;
       return best;
     }
     if (without < 0) {
@@ -379,7 +363,7 @@ int SphereEncoder::find(const double centre[3], double radius, SphereSearch sear
       without_sphere = best_sphere;
     }
   }
-  decoded = without_sphere;
+  if (decoded) *decoded = without_sphere;
   return without;
 }
 

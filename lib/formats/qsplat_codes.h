@@ -79,19 +79,13 @@ inline constexpr double kDiscSlope = 1.25;
 class SphereEncoder {
  public:
   explicit SphereEncoder(const Sphere& parent);
-  // `decoded` (optional) receives the code's decoded sphere, decode_sphere's.
+  // The code, -1 when no cell contains the child; `decoded` (optional) receives its decoded
+  // sphere, decode_sphere's.
   int operator()(const double centre[3], double radius,
                  SphereSearch search = SphereSearch::kNearestFirst,
                  const Vec3f* disc_normal = nullptr, Sphere* decoded = nullptr) const;
 
  private:
-  // The search, size by size from the smallest: the nearest cell that contains the child and
-  // lies inside the parent, and with `disc_normal` also meets the disc rule (else the next
-  // size's; when none does, the first without the rule). The code, its decoded sphere in
-  // `decoded`; -1 when no cell contains the child.
-  int find(const double centre[3], double radius, SphereSearch search, const Vec3f* disc_normal,
-           Sphere& decoded) const;
-
   Sphere parent_;
   double pc_[3], pr_;
   // How far (in parent radii) float rounding may move a decoded cell, and the same in steps of

@@ -4,8 +4,8 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <cassert>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <vector>
 

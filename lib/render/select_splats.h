@@ -33,7 +33,7 @@ struct DrawList {
   const Vec3f* axes = nullptr;
   const float* minor_radii = nullptr;
   // The arrays above when they are not the scene's (a level-of-detail selection made them).
-  std::shared_ptr<const void> storage;
+  std::shared_ptr<const void> storage = nullptr;
 };
 
 // What a level-of-detail selection did (all zero for a plain scene).

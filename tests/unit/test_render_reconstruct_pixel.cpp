@@ -20,14 +20,7 @@ struct Fixture {
   std::vector<SplatRaster> rasters{4};
   DrawList draws() {
     for (int i = 0; i < 4; ++i) rasters[i].normal = normals[i];
-    DrawList d;
-    d.count = 4;
-    d.positions = pos.data();
-    d.normals = normals.data();
-    d.radii = radii.data();
-    d.colors = colors.data();
-    d.surface_ids = ids.data();
-    return d;
+    return {4, pos.data(), normals.data(), radii.data(), colors.data(), ids.data()};
   }
   void range(int i, float lo, float hi) {
     rasters[i].zmin = lo;
@@ -130,13 +123,12 @@ TEST(RenderReconstructPixel, AnyArrivalOrderGivesTheSameBits) {
   const float depth_of[] = {1.07f, 1.05f, 1.0f, 1.13f, 1.0f, 1.0333f};
   const float weight_of[] = {0.3f, 0.71f, 0.13f, 0.9f, 0.55f, 0.37f};
   for (bool with_ids : {false, true}) {
-    DrawList d;
-    d.count = 6;
-    d.positions = pos.data();
-    d.normals = normals.data();
-    d.radii = radii.data();
-    d.colors = colors.data();
-    d.surface_ids = with_ids ? ids.data() : nullptr;
+    const DrawList d{6,
+                     pos.data(),
+                     normals.data(),
+                     radii.data(),
+                     colors.data(),
+                     with_ids ? ids.data() : nullptr};
     const BlendOptions o{BlendMode::kZThreshold, 0.05f};
     uint32_t order[] = {0, 1, 2, 3, 4, 5};
     PixelSurface first;

@@ -110,11 +110,7 @@ TEST(RenderSetupSplats, DiscsBehindOrCrossingTheEyeAreNotDrawn) {
   std::vector<Vec3f> c = {{0, 0, 6}, {0, 0, 5.05f}, {0, 0, 0}, {100, 0, 0}};
   std::vector<Vec3f> n = {{0, 0, 1}, {1, 0, 0}, {0, 0, 1}, {0, 0, 1}};
   std::vector<float> r = {0.1f, 0.1f, 0.1f, 0.1f};
-  DrawList draws;
-  draws.count = 4;
-  draws.positions = c.data();
-  draws.normals = n.data();
-  draws.radii = r.data();
+  DrawList draws{4, c.data(), n.data(), r.data(), nullptr, nullptr};
   std::vector<SplatRaster> out(4);
   EXPECT_EQ(setup_splats(draws, proj, {}, 0, 4, out.data()), 1u);
   EXPECT_FALSE(out[0].drawn());  // behind the eye
@@ -152,11 +148,7 @@ TEST_P(RenderSetupSplatsAt, SameBytesAsThePortablePath) {
     minor[i] = r[i] * (0.125f + 0.875f * std::fabs(u(rng)));
   }
   for (bool ellipses : {false, true}) {
-    DrawList draws;
-    draws.count = count;
-    draws.positions = c.data();
-    draws.normals = n.data();
-    draws.radii = r.data();
+    DrawList draws{count, c.data(), n.data(), r.data(), nullptr, nullptr};
     if (ellipses) {
       draws.axes = axes.data();
       draws.minor_radii = minor.data();
