@@ -38,6 +38,7 @@ import numpy as np
 WALL, ROOF, SLAB, GROUND, OBJECT, VEGETATION = 2, 3, 4, 1, 0, 5
 Z = np.array([0.0, 0.0, 1.0])
 SCAN_ANGLE = math.radians(25)
+SLAB_T = 0.3  # thickness of floor slabs and balconies, m
 NOISE = 0.3  # sigma of the -noisy variants, in units of the spacing h
 UTM_OFFSET = np.array([500000.0, 4100000.0, 300.0])
 
@@ -241,10 +242,10 @@ def transform(patch_list, angle, offset):
 
 def building_with_rooms(length, width, floors, wall, balconies, ids):
     """A closed building in its own frame (corner at the origin, footprint [0, L] x [0, W]):
-    thick walls sampled on both faces, a 0.2 m ground-floor slab (top face only: it lies on the
-    ground), 0.2 m floor slabs between storeys (top and bottom), a 0.3 m flat roof (top = roof,
+    thick walls sampled on both faces, a 0.3 m ground-floor slab (top face only: it lies on the
+    ground), 0.3 m floor slabs between storeys (top and bottom), a 0.3 m flat roof (top = roof,
     underside = ceiling). Storeys are 3 m; balconies are (storey, x0) pairs: 3 m wide, 1.4 m deep
-    0.2 m slabs on the y = 0 facade, level with that storey's floor slab."""
+    0.3 m slabs on the y = 0 facade, level with that storey's floor slab."""
     L, W, t = length, width, wall
     height = 3.0 * floors + 0.3
     outer = [(0, 0), (L, 0), (L, W), (0, W)]
@@ -252,12 +253,12 @@ def building_with_rooms(length, width, floors, wall, balconies, ids):
     inner_ccw = inner_cw[::-1]
     bw, depth = 3.0, 1.4
     patches = []
-    front_holes = [rect(x0, x0 + bw, 3.0 * k, 3.0 * k + 0.2) for k, x0 in balconies]
+    front_holes = [rect(x0, x0 + bw, 3.0 * k, 3.0 * k + SLAB_T) for k, x0 in balconies]
     for i in range(4):
         patches.append(vertical_face(outer[i], outer[(i + 1) % 4], 0, height, WALL, ids(),
                                      front_holes if i == 0 else ()))
     for k in range(floors):
-        floor_top = 3.0 * k + 0.2
+        floor_top = 3.0 * k + SLAB_T
         for i in range(4):
             patches.append(vertical_face(inner_cw[i], inner_cw[(i + 1) % 4], floor_top,
                                          3.0 * (k + 1), WALL, ids()))
@@ -267,10 +268,10 @@ def building_with_rooms(length, width, floors, wall, balconies, ids):
     for k, x0 in balconies:
         foot = [(x0, -depth), (x0 + bw, -depth), (x0 + bw, 0), (x0, 0)]
         z0 = 3.0 * k
-        patches.append(horizontal_face(foot, z0 + 0.2, True, SLAB, ids()))
+        patches.append(horizontal_face(foot, z0 + SLAB_T, True, SLAB, ids()))
         patches.append(horizontal_face(foot, z0, False, SLAB, ids()))
         for i in (0, 1, 3):  # edge 2 is against the facade
-            patches.append(vertical_face(foot[i], foot[(i + 1) % 4], z0, z0 + 0.2, SLAB, ids()))
+            patches.append(vertical_face(foot[i], foot[(i + 1) % 4], z0, z0 + SLAB_T, SLAB, ids()))
     return patches, outer
 
 
@@ -280,29 +281,31 @@ def footprint_world(outer, angle, offset):
 
 
 def city_patches():
-    """12 buildings on a 4 x 3 grid of 32 x 30 m blocks (streets between), three of them turned;
-    the ground (z = 0, segment 0) has holes under the footprints."""
+    """6 buildings on a 3 x 2 grid of 24 x 22 m blocks (streets between), two of them turned;
+    the ground (z = 0, segment 0) has holes under the footprints. Walls and slabs are 0.3-0.4 m
+    thick and the points about 0.12 m apart: each side of a wall is a surface of its own, as a
+    scan that saw both sides would sample it."""
     rng = np.random.default_rng(20240611)
     ids = itertools.count().__next__
     ground_id = ids()
     patches, footprints = [], []
-    for row in range(3):
-        for col in range(4):
-            length, width = rng.uniform(11, 18), rng.uniform(9, 14)
-            floors, wall = int(rng.integers(2, 6)), rng.uniform(0.2, 0.3)
-            angle = math.radians(rng.uniform(15, 35)) if (row * 4 + col) % 4 == 1 else 0.0
+    for row in range(2):
+        for col in range(3):
+            length, width = rng.uniform(9, 14), rng.uniform(8, 11)
+            floors, wall = int(rng.integers(2, 4)), rng.uniform(0.3, 0.4)
+            angle = math.radians(rng.uniform(15, 35)) if (row * 3 + col) % 3 == 1 else 0.0
             balconies = []
-            if (row * 4 + col) % 3 == 0:
+            if (row * 3 + col) % 2 == 0:
                 for k in range(1, floors):
                     x0 = rng.uniform(0.8, length - 3.8)
                     balconies.append((k, x0))
-            centre = np.array([32.0 * col, 30.0 * row]) + rng.uniform(-2, 2, 2)
+            centre = np.array([24.0 * col, 22.0 * row]) + rng.uniform(-2, 2, 2)
             # The footprint's centre goes to `centre` after the turn.
             offset = centre - to_world(np.array([length / 2, width / 2, 0]), angle, (0, 0))[:2]
             local, outer = building_with_rooms(length, width, floors, wall, balconies, ids)
             patches += transform(local, angle, offset)
             footprints.append(footprint_world(outer, angle, offset))
-    ground = horizontal_face([(-22, -20), (118, -20), (118, 80), (-22, 80)], 0.0, True, GROUND,
+    ground = horizontal_face([(-16, -15), (64, -15), (64, 37), (-16, 37)], 0.0, True, GROUND,
                              ground_id, footprints)
     return [ground] + patches
 
@@ -592,8 +595,8 @@ def main():
               f"{time.perf_counter() - started:.2f} s", flush=True)
 
     synthetic = [
-        ("city", city_patches, 180000, False, None, 1,
-         "12 closed buildings (thick walls sampled on both faces, floor slabs, flat roofs, "
+        ("city", city_patches, 300000, False, None, 1,
+         "6 closed buildings (thick walls sampled on both faces, floor slabs, flat roofs, "
          "balconies) on a ground plane with streets"),
         ("terrain", terrain_patches, 150000, False, None, 2,
          "500 x 500 m analytic heightfield with hills, a winding valley and a steep slope; "

@@ -36,18 +36,27 @@ NormalOptions normal_options(const EstimateNormalsOptions& o) {
   if (o.method != "pca" && o.method != "robust")
     throw_usage("--method must be pca or robust, got '" + o.method + "'");
   n.method = o.method == "robust" ? NormalMethod::kRobust : NormalMethod::kPca;
-  std::string orient = o.orient.empty() ? "mst" : o.orient;
+  std::string orient = o.orient.empty() ? "auto" : o.orient;
   if (!o.viewpoint.empty()) {
     if (!o.orient.empty() && o.orient != "viewpoint")
       throw_usage("--viewpoint conflicts with --orient " + o.orient);
     orient = "viewpoint";
     n.viewpoint = parse_triple(o.viewpoint, "--viewpoint");
   }
-  if (orient != "mst" && orient != "viewpoint" && orient != "none")
-    throw_usage("--orient must be mst, viewpoint or none, got '" + orient + "'");
-  n.orient = orient == "viewpoint" ? NormalOrientation::kViewpoint
-             : orient == "none"    ? NormalOrientation::kNone
-                                   : NormalOrientation::kMst;
+  n.orient = NormalOrientation::kNone;
+  for (NormalOrientation m :
+       {NormalOrientation::kAuto, NormalOrientation::kMst, NormalOrientation::kUp,
+        NormalOrientation::kViewpoint, NormalOrientation::kSensor,
+        NormalOrientation::kVisibility, NormalOrientation::kNone})
+    if (orientation_name(m) == orient) n.orient = m;
+  if (orientation_name(n.orient) != orient)
+    throw_usage("--orient must be auto, mst, up, viewpoint, sensor, visibility or none, got '" +
+                orient + "'");
+  if (o.normals_from != "auto" && o.normals_from != "estimate" && o.normals_from != "keep")
+    throw_usage("--normals must be auto, estimate or keep, got '" + o.normals_from + "'");
+  n.input_normals = o.normals_from == "keep"       ? InputNormals::kKeep
+                    : o.normals_from == "estimate" ? InputNormals::kEstimate
+                                                   : InputNormals::kAuto;
   if (!(n.radius_scale > 0) || !std::isfinite(n.radius_scale))
     throw_usage("--radius-scale must be a positive finite number");
   if (o.radius != "cover" && o.radius != "mean-knn")
@@ -74,6 +83,9 @@ nlohmann::json provenance_options(const NormalOptions& o) {
                       {"fit_centres", o.fit_centres},
                       {"method", method_name(o.method)},
                       {"orient", orientation_name(o.orient)},
+                      {"normals", o.input_normals == InputNormals::kKeep       ? "keep"
+                                  : o.input_normals == InputNormals::kEstimate ? "estimate"
+                                                                               : "auto"},
                       {"keep_duplicates", o.keep_duplicates},
                       {"order", o.spatial_order ? "spatial" : "input"}};
   if (o.viewpoint) j["viewpoint"] = *o.viewpoint;
@@ -149,6 +161,23 @@ std::vector<OutlierOptions> parse_outliers(const std::string& text) {
   return passes;
 }
 
+namespace {
+
+// What became of the input's normals, for the summary line.
+std::string normals_summary(const NormalReport& r) {
+  if (r.normals_source == "estimated")
+    return r.input_had_normals > 0
+               ? "normals estimated (the input's " + std::to_string(r.input_had_normals) +
+                     " replaced; --normals keep keeps them)"
+               : "normals estimated";
+  const std::string from = r.normals_source.starts_with("faces") ? "from the faces" : "kept";
+  return std::to_string(r.given_normals) + " normals " + from + ", " +
+         std::to_string(r.output_points - std::min(r.given_normals, r.output_points)) +
+         " estimated";
+}
+
+}  // namespace
+
 StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const ProgressFn& progress) {
   WriteOptions write;
   write.format = output_format(o.paths.output, o.format);
@@ -214,7 +243,9 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
           (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, "
                              : std::string()) +
               std::to_string(result.duplicates_merged) + " duplicates merged, " +
-              std::to_string(result.degenerate_points) + " degenerate"};
+              std::to_string(result.degenerate_points) + " degenerate, " +
+              normals_summary(result) + ", oriented by " +
+              result.orientation.value("method", std::string("none"))};
 }
 
 }  // namespace splatkit::apps

@@ -24,7 +24,10 @@ struct EstimateNormalsOptions {
   std::string radius = "cover";  // --radius: cover or mean-knn
   std::string splat = "circle";  // --splat: circle or ellipse
   std::string method = "pca";    // pca | robust
-  std::string orient;     // mst | viewpoint | none; empty: mst, or viewpoint with `viewpoint`
+  // auto | mst | up | viewpoint | sensor | visibility | none; empty: auto, or viewpoint with
+  // `viewpoint`.
+  std::string orient;
+  std::string normals_from = "auto";  // --normals: auto | estimate | keep
   std::string viewpoint;  // "x,y,z" in file coordinates, or empty
   std::string format;     // ply | splk, or empty: OUT's extension
   // --keep-order: the input's order, not the spatial one (sets normals.spatial_order).

@@ -24,6 +24,12 @@ namespace splatkit {
 
 // Neighbours whose median radius bounds a splat (estimate_normals).
 inline constexpr std::size_t kBoundRadiiK = 8;
+// estimate_normals' second bound, over a wider neighbourhood: no radius above kWideBoundRatio ×
+// the median of its kWideBoundK nearest (a sparse cluster smaller than that is bounded by the
+// surface around it), in at most kWideBoundPasses passes.
+inline constexpr std::size_t kWideBoundK = 32;
+inline constexpr float kWideBoundRatio = 3.0f;
+inline constexpr std::size_t kWideBoundPasses = 2;
 
 struct BoundRadiiResult {
   std::size_t capped = 0;   // points whose radius was lowered (counted once)

@@ -25,12 +25,14 @@
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
 #include "normals/splat_pieces.h"
+#include "normals/visibility_votes.h"
 #include "splatkit/error.h"
 #include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/shrinkable_array.h"
 #include "splatkit/spatial_index.h"
+#include "splatkit/vertex_normals.h"
 
 namespace splatkit {
 
@@ -58,21 +60,107 @@ nlohmann::json robust_stats_json(const RobustNormalStats& r) {
           {"noisy", r.noisy}};
 }
 
-// Phase 6. --orient mst joins the kNN rows found before the radius bound (it takes them).
+constexpr float kRefitCos = 0.98480775f;  // cos 10°
+
+bool uses_graph(NormalOrientation o) {
+  return o == NormalOrientation::kMst || o == NormalOrientation::kVisibility;
+}
+
+// Each point's sensor position in the positions' frame (points in the order `order` gives).
+std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
+                                                    const std::vector<uint32_t>& order) {
+  const std::array<std::string, 3> names = sensor_attributes(cloud);
+  std::vector<std::array<double, 3>> out(order.size());
+  for (std::size_t a = 0; a < 3; ++a) {
+    const ExtraValues& values = cloud.find_extra(names[a])->values;
+    for (std::size_t t = 0; t < order.size(); ++t)
+      out[t][a] = values[order[t]] - cloud.origin[a];
+  }
+  return out;
+}
+
+// Phase 7. The graph methods join the kNN rows found before the radius bound (they take them);
+// `given` (#N or empty) marks the normals taken from the input, which vote for their own signs.
 void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
-            NormalReport& report) {
-  if (o.orient == NormalOrientation::kMst) {
-    const OrientStats stats =
-        orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK);
+            NormalOrientation method, const std::vector<uint32_t>& order,
+            const std::vector<uint8_t>& given, NormalReport& report) {
+  nlohmann::json& j = report.orientation;
+  if (uses_graph(method)) {
+    std::vector<float> votes;
+    if (method == NormalOrientation::kVisibility) {
+      VisibilityOptions vo;
+      vo.up = o.up;
+      VisibilityStats vs;
+      votes = visibility_votes(cloud.positions, cloud.normals, cloud.radii, vo, &vs);
+      j["seen"] = vs.seen;
+    }
+    if (!given.empty()) {
+      votes.resize(cloud.size(), 0.0f);
+      for (std::size_t i = 0; i < given.size(); ++i)
+        if (given[i]) votes[i] = 1;
+    }
+    OrientRegionsOptions regions;
+    regions.split_gaps = method == NormalOrientation::kVisibility || !given.empty();
+    regions.evidence = votes;
+    const OrientStats stats = orient_normals_mst(std::move(*rows), cloud.positions,
+                                                 cloud.normals, kOrientK, regions);
     rows.reset();
     report.flipped_points = stats.flipped;
     report.components = stats.components;
-  } else if (o.orient == NormalOrientation::kViewpoint) {
+    j["sheets"] = stats.sheets;
+    if (!votes.empty()) {
+      j["by_evidence"] = stats.by_evidence;
+      j["against_evidence"] = stats.against_evidence;
+    }
+  } else if (method == NormalOrientation::kViewpoint) {
     const std::array<double, 3>& v = o.viewpoint ? *o.viewpoint : *cloud.viewpoint;
     const std::array<double, 3> local = {v[0] - cloud.origin[0], v[1] - cloud.origin[1],
                                          v[2] - cloud.origin[2]};
     report.flipped_points = orient_normals_viewpoint(cloud.positions, cloud.normals, local);
+  } else if (method == NormalOrientation::kSensor) {
+    report.flipped_points =
+        orient_normals_sensors(cloud.positions, cloud.normals, sensor_positions(cloud, order));
+  } else if (method == NormalOrientation::kUp) {
+    report.flipped_points = orient_normals_up(cloud.normals, o.up);
   }
+  j["flipped"] = report.flipped_points;
+}
+
+// A valid given normal: finite, of length within 10 % of 1 (normalised); else zero.
+Vec3f valid_normal(const Vec3f& n) {
+  const float l2 = squared_norm(n);
+  if (!std::isfinite(l2) || !(l2 > 0.81f && l2 < 1.21f)) return {0, 0, 0};
+  return n * (1.0f / std::sqrt(l2));
+}
+
+// The normals the cloud brings (input order, after merging): its own valid ones with kKeep, its
+// faces' area-weighted ones for a mesh (kAuto and kKeep, where it has none of its own); empty
+// when none apply. Zero where a point has none.
+std::vector<Vec3f> given_normals(const SplatCloud& cloud, const NormalOptions& o,
+                                 NormalReport& report) {
+  std::vector<Vec3f> given(cloud.size(), Vec3f{0, 0, 0});
+  std::size_t own = 0;
+  if (cloud.has_normals())
+    for (std::size_t i = 0; i < cloud.size(); ++i) own += squared_norm(valid_normal(cloud.normals[i])) > 0;
+  report.input_had_normals = own;
+  if (o.input_normals == InputNormals::kEstimate) return {};
+  const bool keep = o.input_normals == InputNormals::kKeep && own > 0;
+  if (keep)
+    for (std::size_t i = 0; i < cloud.size(); ++i) given[i] = valid_normal(cloud.normals[i]);
+  std::size_t from_faces = 0;
+  if (cloud.face_count() > 0) {
+    const std::vector<Vec3f> faces = vertex_normals(cloud);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      if (!(squared_norm(given[i]) > 0) && squared_norm(faces[i]) > 0) {
+        given[i] = normalized(faces[i]);
+        ++from_faces;
+      }
+  }
+  if (!keep && from_faces == 0) return {};
+  report.given_normals = (keep ? own : 0) + from_faces;
+  report.normals_source = keep ? "input" : "faces";
+  if (report.given_normals < cloud.size()) report.normals_source += "+estimated";
+  return given;
 }
 
 }  // namespace
@@ -81,13 +169,44 @@ std::string method_name(NormalMethod m) { return m == NormalMethod::kPca ? "pca"
 
 std::string orientation_name(NormalOrientation o) {
   switch (o) {
+    case NormalOrientation::kAuto:
+      return "auto";
     case NormalOrientation::kMst:
       return "mst";
+    case NormalOrientation::kUp:
+      return "up";
     case NormalOrientation::kViewpoint:
       return "viewpoint";
+    case NormalOrientation::kSensor:
+      return "sensor";
+    case NormalOrientation::kVisibility:
+      return "visibility";
     default:
       return "none";
   }
+}
+
+std::array<std::string, 3> sensor_attributes(const SplatCloud& cloud) {
+  for (const char* prefix : {"sensor_", "scanner_", "vp_"}) {
+    const std::string p = prefix;
+    if (cloud.find_extra(p + "x") && cloud.find_extra(p + "y") && cloud.find_extra(p + "z"))
+      return {p + "x", p + "y", p + "z"};
+  }
+  return {};
+}
+
+std::pair<NormalOrientation, std::string> choose_orientation(const SplatCloud& cloud,
+                                                             const NormalOptions& options) {
+  if (options.orient != NormalOrientation::kAuto) return {options.orient, "given"};
+  if (const auto s = sensor_attributes(cloud); !s[0].empty())
+    return {NormalOrientation::kSensor,
+            "the input has per-point sensor positions (" + s[0] + ", " + s[1] + ", " + s[2] + ")"};
+  if (options.viewpoint) return {NormalOrientation::kViewpoint, "--viewpoint given"};
+  if (cloud.viewpoint)
+    return {NormalOrientation::kViewpoint, "the input records its scanner position"};
+  return {NormalOrientation::kVisibility,
+          "no scanner position in the input: visibility from above and around, propagated "
+          "within smooth regions"};
 }
 
 nlohmann::json NormalReport::to_json() const {
@@ -104,6 +223,10 @@ nlohmann::json NormalReport::to_json() const {
           {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
           {"components", components},
+          {"orientation", orientation},
+          {"normals_source", normals_source},
+          {"given_normals", given_normals},
+          {"input_had_normals", input_had_normals},
           {"robust", robust},
           {"pieces", pieces},
           {"timings_s", timings},
@@ -203,6 +326,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (options.orient == NormalOrientation::kViewpoint && !options.viewpoint && !cloud.viewpoint)
     throw_usage(
         "--orient viewpoint needs --viewpoint x,y,z (the input carries no scanner position)");
+  if (options.orient == NormalOrientation::kSensor && sensor_attributes(cloud)[0].empty())
+    throw_usage(
+        "--orient sensor needs per-point sensor positions (attributes sensor_x, sensor_y, "
+        "sensor_z, or scanner_*, vp_*); the input has none");
+  if (!(std::fabs(squared_norm(options.up) - 1) < 1e-3f))
+    throw_usage("the up direction must be a unit vector");
   // Named by its input number, before merging and renumbering.
   for (std::size_t i = 0; i < cloud.size(); ++i)
     if (!std::isfinite(cloud.positions[i].x) || !std::isfinite(cloud.positions[i].y) ||
@@ -211,6 +340,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                   "point " + std::to_string(i) + " has a non-finite coordinate");
   NormalReport report;
   report.input_points = cloud.size();
+  const auto [method, reason] = choose_orientation(cloud, options);
+  report.orientation = {{"method", orientation_name(method)}, {"reason", reason}};
   const Clock::time_point start = Clock::now();
   auto timed = [&](const char* phase, auto&& work) {
     const Clock::time_point t0 = Clock::now();
@@ -224,6 +355,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   }
   const std::size_t n = cloud.size();
   report.output_points = n;
+  std::vector<Vec3f> given = given_normals(cloud, options, report);
   progress(0.05, "kd-tree");
   // Every stage below runs over the points renumbered in Morton order (morton_order.h: a
   // spatial order, so a point's neighbours are mostly near it in memory whatever the input's
@@ -232,6 +364,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // broken by the new numbers.
   std::vector<uint32_t> order;
   timed("order", [&] { order = morton_sort(cloud.positions); });
+  if (!given.empty()) given = gathered(given, order);
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
   cloud.axes.assign(options.ellipses ? n : 0, Vec3f{1, 0, 0});
@@ -242,7 +375,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // the edges from thread points to the next scan line that take the last place of their rows.
   std::optional<ShrinkableArray> rows;
   std::vector<Bridge> bridges;
-  const bool mst = options.orient == NormalOrientation::kMst && n > 0;
+  const bool mst = uses_graph(method) && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
     pieces.emplace(cloud.positions, options.piece_points);
     // In pieces they are the heads of the normals' own rows, when those are longer (without
@@ -259,6 +392,23 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   } else {
     timed("index", [&] { index = SpatialIndex(cloud.positions); });
     whole_cloud_splats(index, cloud, options, order, report, timed, progress, bridges);
+  }
+  // The given normals replace the estimated ones; the splats of those that turn by more than
+  // 10° are fitted again in their plane (not in pieces: the index is gone there).
+  std::vector<uint8_t> is_given;
+  if (!given.empty()) {
+    is_given.assign(n, 0);
+    std::vector<uint32_t> refit;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(squared_norm(given[i]) > 0)) continue;
+      is_given[i] = 1;
+      if (std::fabs(dot(given[i], cloud.normals[i])) < kRefitCos) refit.push_back(uint32_t(i));
+      cloud.normals[i] = given[i];
+    }
+    if (!pieces && !refit.empty())
+      timed("refit_given", [&] {
+        refit_splats(index, cloud, options, refit, kWideRowFactor * row_size(options));
+      });
   }
   if (n > 0) report.isolated_points = fill_isolated_radii(cloud.radii);
   if (options.ellipses)  // isolated points: circles of the radius they were given
@@ -281,7 +431,6 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
               index_knn_rows(index, k, out);
           },
           n, kOrientK);
-      if (!options.fit_centres) index = SpatialIndex();
     });
   if (const std::size_t w = std::min(kOrientK, n) - 1; rows && w > kBoundRadiiK) {
     // A thread point's k nearest lie on its own scan line: without an edge off it, each line (or
@@ -309,10 +458,19 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
         };
       const BoundRadiiResult b =
           bound_radii(medians, cloud.radii, cloud.minor_radii, options.max_radius_ratio);
-      report.bounded_radii = b.capped;
-      report.radii_over_bound = b.over;
+      // A sparse cluster (vegetation, a patch far from the rest) whose 8 nearest are as large
+      // as itself passes that bound; over its 32 nearest, the denser surface around it counts.
+      const BoundRadiiResult wide = bound_radii(
+          [&](const std::vector<float>& r) {
+            return pieces ? pieces->neighbour_median_radii(r, kWideBoundK)
+                          : neighbour_median_radii(index, r, kWideBoundK);
+          },
+          cloud.radii, cloud.minor_radii, kWideBoundRatio, kWideBoundPasses);
+      report.bounded_radii = b.capped + wide.capped;
+      report.radii_over_bound = b.over + wide.over;
     });
   }
+  if (!options.fit_centres) index = SpatialIndex();
   if (options.fit_centres && n > 0) {
     progress(0.82, "centres");
     timed("fit_centres", [&] {
@@ -321,9 +479,11 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     });
   }
   index = SpatialIndex();
-  if (options.orient != NormalOrientation::kNone && n > 0) {
+  if (method != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, rows, options, report); });
+    timed("orient", [&] { orient(cloud, rows, options, method, order, is_given, report); });
+    for (std::size_t i = 0; i < is_given.size(); ++i)  // kept as given, whatever their set says
+      if (is_given[i]) cloud.normals[i] = given[i];
   }
   if (pieces)
     report.pieces = {{"pieces", pieces->stats().pieces},

@@ -40,6 +40,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -49,7 +50,13 @@
 namespace splatkit {
 
 enum class NormalMethod { kPca, kRobust };
-enum class NormalOrientation { kMst, kViewpoint, kNone };
+// kAuto: kSensor when the input has per-point sensor positions, else kViewpoint when a scanner
+// position is given or recorded in the input, else kVisibility (choose_orientation).
+enum class NormalOrientation { kAuto, kMst, kUp, kViewpoint, kSensor, kVisibility, kNone };
+// Where the normals come from. kAuto: a mesh's (a cloud with faces) from its faces, else
+// estimated; kKeep: the input's valid normals are kept (a mesh's face normals where the input
+// has none), estimated only where missing or invalid; kEstimate: always estimated.
+enum class InputNormals { kAuto, kEstimate, kKeep };
 // kCover: each splat reaches the farthest vertex of its tangent-plane Voronoi cell among its row's
 // neighbours (cover_splat.h), capped at kCoverCapScale times the mean-kNN radius: no holes on
 // irregular sampling. kMeanKnn: the mean distance to the radius_k nearest neighbours ([IvoMSc]
@@ -72,7 +79,10 @@ struct NormalOptions {
   // change, by about the noise.
   bool fit_centres = false;
   NormalMethod method = NormalMethod::kPca;
-  NormalOrientation orient = NormalOrientation::kMst;
+  NormalOrientation orient = NormalOrientation::kAuto;
+  InputNormals input_normals = InputNormals::kAuto;
+  // The zenith of kUp and of kVisibility's views (a unit vector; scans are +z up).
+  Vec3f up{0, 0, 1};
   // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
   // no value here, the cloud's own viewpoint is used; neither present is an Error(kUsage).
   std::optional<std::array<double, 3>> viewpoint;
@@ -105,7 +115,16 @@ struct NormalReport {
                                       // cell) or after their normal changed
   double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
-  std::size_t components = 0;         // kNN-graph components (orient mst only)
+  std::size_t components = 0;         // kNN-graph components (orient mst, visibility)
+  // {"method" (the one that ran), "reason" (why auto chose it, or "given"), "sheets",
+  //  "by_evidence", "against_evidence", "seen" (visibility), "flipped"}; methods without a graph
+  // leave out what they do not have.
+  nlohmann::json orientation = nlohmann::json::object();
+  // Normals taken from the input (kKeep) or from a mesh's faces, and the source: "estimated",
+  // "input", "faces" or "input+estimated" / "faces+estimated".
+  std::size_t given_normals = 0;
+  std::string normals_source = "estimated";
+  std::size_t input_had_normals = 0;  // points whose input normal was valid (kept or not)
   // Method robust: {"candidates", "refined", "threshold", "median_variation", "k", "noisy"}
   // (robust_normals.h); null for pca.
   nlohmann::json robust = nullptr;
@@ -132,5 +151,14 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
 
 std::string method_name(NormalMethod m);
 std::string orientation_name(NormalOrientation o);
+
+// What kAuto resolves to for this cloud and options, and why (for the report); any other value
+// is returned as it is, with the reason "given".
+std::pair<NormalOrientation, std::string> choose_orientation(const SplatCloud& cloud,
+                                                             const NormalOptions& options);
+
+// The names of the per-point sensor position attributes of `cloud` (x, y, z: sensor_*, scanner_*
+// or vp_*), or an empty array when it has none.
+std::array<std::string, 3> sensor_attributes(const SplatCloud& cloud);
 
 }  // namespace splatkit

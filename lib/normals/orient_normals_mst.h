@@ -71,6 +71,29 @@ inline constexpr std::size_t kOrientK = 10;  // kNN row length, the point itself
 struct OrientStats {
   std::size_t flipped = 0;     // output normals whose sign changed
   std::size_t components = 0;  // connected components of the kNN graph (isolated points count)
+  std::size_t sheets = 0;      // smooth sheets before they were joined (step 1)
+  // With evidence: the points whose sign the evidence decided (their set joined the evidence's
+  // frame), and those among them left against their own non-zero vote.
+  std::size_t by_evidence = 0;
+  std::size_t against_evidence = 0;
+};
+
+// The regional variant of the same joins (`estimate-normals --orient visibility`).
+struct OrientRegionsOptions {
+  // Keep apart, while the sheets grow (then within 11.5°, as with evidence), the points of an edge that runs along both normals more
+  // than along the surface (|n·ê| > 1/2 at both ends: the two sides of a wall or slab thinner
+  // than the kNN reach, or two facing surfaces across a narrow gap), and measure such an edge's
+  // agreement on the mirrored normal, which says the two sides face opposite ways.
+  bool split_gaps = false;
+  // #N or empty: an absolute vote per point in [-1, 1] for its current sign (positive: keep it),
+  // e.g. visibility_votes.h. Each vote is an edge to a virtual point whose sign is fixed, summed
+  // and joined like the edges between sheets, but in the majority rounds only when the sum is at
+  // least 20 % of the set's points; a set joined to it takes its sign from the votes, others from
+  // their top-most point. With votes the sheets grow only within 11.5° (not 20°), and a set the
+  // majority rounds leave apart from the votes (an enclosed part that no view sees, such as the
+  // rooms behind a building's walls) gets a prior that faces its own inside: the sum over its
+  // points of n·(c − p)/|c − p|, c its centroid, as a vote of the whole set.
+  std::span<const float> evidence;
 };
 
 // index: built over positions (#N); taken by value and released once the kNN graph is built, so a
@@ -98,6 +121,7 @@ OrientStats orient_normals_mst(const KnnRowsFn& rows, std::span<const Vec3f> pos
 // The same over rows from orient_knn_rows(…, positions.size(), k), which it takes (their memory
 // becomes the graph's).
 OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> positions,
-                               std::span<Vec3f> normals, std::size_t k = kOrientK);
+                               std::span<Vec3f> normals, std::size_t k = kOrientK,
+                               const OrientRegionsOptions& regions = {});
 
 }  // namespace splatkit

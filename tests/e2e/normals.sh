@@ -185,4 +185,46 @@ for t in 1 2; do
     --threads $t
 done
 cmp -s "$WORK/sl-t1.splk" "$WORK/sl-t2.splk" && pass || fail "noisy cube: 1 and 2 threads differ"
+# Orientation on a city (ground, walls, roofs, floor slabs; splat-synth's normals face out):
+# auto chooses visibility and says why; >= 99 % of the normals agree with the truth, the ground
+# all up. --orient up points every normal up; --orient sensor needs sensor positions (usage error).
+expect_exit 0 "$BIN/splat-synth" -q city "$WORK/city.ply" -n 60000 --blocks 2
+expect_exit 0 "$EN" -q "$WORK/city.ply" "$WORK/city-n.ply" --keep-order --keep-duplicates \
+  --report "$WORK/city.json"
+grep -q '"method": "visibility"' "$WORK/city.json" && pass || fail "auto did not choose visibility"
+grep -q '"reason": "no scanner position' "$WORK/city.json" && pass || fail "auto gave no reason"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/city.ply" "$WORK/city.xyz"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/city-n.ply" "$WORK/city-n.xyz"
+paste -d' ' <(grep -v '^#' "$WORK/city.xyz" | cut -d' ' -f1-6) \
+  <(grep -v '^#' "$WORK/city-n.xyz" | cut -d' ' -f4-6) | awk '
+  { d = $4*$7 + $5*$8 + $6*$9; n++; ok += d > 0
+    if ($6 > 0.99 && $3 < 0.01) { g++; up += $9 > 0 } }
+  END { printf "%.4f %d %d\n", ok / n, g, up }' >"$WORK/city-score.txt"
+read -r agree ground ground_up <"$WORK/city-score.txt"
+awk -v a="$agree" 'BEGIN { exit !(a >= 0.99) }' && pass || fail "city: $agree agree with the truth"
+[ "$ground" -gt 0 ] && expect_eq "city: ground normals up" "$ground_up" "$ground"
+expect_exit 0 "$EN" -q "$WORK/city.ply" "$WORK/city-up.ply" --orient up
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/city-up.ply" "$WORK/city-up.xyz"
+expect_eq "--orient up: normals pointing down" \
+  "$(awk '!/^#/ && $6 < 0 { n++ } END { print n + 0 }' "$WORK/city-up.xyz")" 0
+expect_exit 2 "$EN" -q "$WORK/city.ply" "$WORK/o.ply" --orient sensor
+grep -q "sensor_x" "$WORK/stderr" && pass || fail "--orient sensor's error names no attribute"
+
+# --normals keep: the input's normals come out as they went in, and the summary says so; by
+# default they are replaced, and the summary says that too.
+expect_exit 0 "$EN" "$WORK/sphere.ply" "$WORK/kept.ply" --normals keep --keep-order \
+  --keep-duplicates
+grep -q "normals kept" "$WORK/stderr" && pass || fail "summary does not say the normals were kept"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/sphere.ply" "$WORK/in.xyz"
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/kept.ply" "$WORK/kept.xyz"
+cmp -s <(grep -v '^#' "$WORK/in.xyz" | cut -d' ' -f4-6) \
+  <(grep -v '^#' "$WORK/kept.xyz" | cut -d' ' -f4-6) && pass || fail "kept normals changed"
+expect_exit 0 "$EN" "$WORK/sphere.ply" "$WORK/replaced.ply"
+grep -q "replaced; --normals keep keeps them" "$WORK/stderr" && pass ||
+  fail "summary does not say the input's normals were replaced"
+# A mesh's normals come from its faces (OFF, wound outward).
+if [ -f "$SRC/data-samples/nefertiti.off" ]; then
+  expect_exit 0 "$EN" "$SRC/data-samples/nefertiti.off" "$WORK/mesh.ply"
+  grep -q "normals from the faces" "$WORK/stderr" && pass || fail "mesh normals not from faces"
+fi
 finish

@@ -9,11 +9,14 @@ int main(int argc, char** argv) {
       "PCA over the k nearest neighbours (or a crease-preserving robust method); splats that cover "
       "the surface: each reaches the farthest corner of its point's Voronoi cell among its "
       "neighbours in its tangent plane (--radius cover), as circles or as ellipses fitted to the "
-      "cells (--splat ellipse: far less overdraw on scan lines); orientation over the kNN graph "
-      "or towards a viewpoint. Exact duplicate points are merged (the first one's "
+      "cells (--splat ellipse: far less overdraw on scan lines); orientation by visibility and "
+      "smooth regions, over the kNN graph, up, or towards a viewpoint or sensor positions. Exact "
+      "duplicate points are merged (the first one's "
       "colour and "
       "attributes are kept). OUT is .ply (binary) or .splk; '-' writes .splk to stdout.",
       "  $ estimate-normals scan.ply scan.splk\n"
+      "  $ estimate-normals photogrammetry.ply out.ply --normals keep\n"
+      "  $ estimate-normals aerial.laz aerial.splk --orient up\n"
       "  $ estimate-normals scan.las out.ply --orient viewpoint --viewpoint 0,0,1.8\n"
       "  $ estimate-normals part.xyz part.splk --method robust -k 24 --report part.json\n"
       "  $ estimate-normals scan.las scan.splk --splat ellipse\n"
@@ -56,14 +59,27 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"pca", "robust"}))
       ->default_val("pca");
   app.add_option("--orient", o.orient,
-                 "mst: consistent over the kNN graph (smooth sheets grown as a minimum spanning "
-                 "tree grows them, joined across creases by the majority of all the edges between "
-                 "them), each set's top-most point facing +z (closed shapes point outward); "
-                 "viewpoint: towards "
-                 "--viewpoint or the input's scanner position; none: PCA's sign, made "
-                 "canonical (largest component positive)")
-      ->check(CLI::IsMember({"mst", "viewpoint", "none"}))
-      ->default_str("mst");
+                 "auto (default): sensor when the input has per-point sensor positions, else "
+                 "viewpoint when it records a scanner position, else visibility. visibility: "
+                 "smooth regions (never across a crease or between the two sides of a thin "
+                 "wall or slab), each region's sign from the sides of its splats seen from "
+                 "directions above and around the scene (+z up), joined with the parity its "
+                 "creases imply; mst: consistent over the kNN graph alone (sheets joined across "
+                 "creases by the majority of the edges between them), each set's top-most point "
+                 "facing +z; up: towards +z (aerial scans); viewpoint: towards --viewpoint or "
+                 "the input's scanner position; sensor: towards each point's sensor_x/y/z (or "
+                 "scanner_*, vp_*) attributes; none: PCA's sign, made canonical (largest "
+                 "component positive). The report says which ran and why")
+      ->check(CLI::IsMember({"auto", "mst", "up", "viewpoint", "sensor", "visibility", "none"}))
+      ->default_str("auto");
+  app.add_option("--normals", o.normals_from,
+                 "auto: a mesh's normals from its faces (area-weighted, oriented as they wind), "
+                 "a point cloud's estimated (its own normals replaced, which the summary says); "
+                 "keep: the input's valid normals kept as they are and used as evidence for "
+                 "orienting the rest, estimated only where missing, zero or not unit length; "
+                 "estimate: always estimated")
+      ->check(CLI::IsMember({"auto", "estimate", "keep"}))
+      ->default_str("auto");
   app.add_option("--viewpoint", o.viewpoint,
                  "Scanner position x,y,z in file coordinates (implies --orient viewpoint; "
                  "default: the input's own scanner position)");

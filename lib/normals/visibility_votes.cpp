@@ -1,0 +1,198 @@
+#include "normals/visibility_votes.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+#include "normals/cover_splat.h"
+
+namespace splatkit {
+
+namespace {
+
+constexpr float kMinFacing = 0.2f;  // views with |n·d| below this do not vote
+constexpr float kMinSlope = 0.05f;  // |n·d| below this is drawn as this (a disc seen edge-on)
+constexpr float kTolerance = 0.5f;  // × radius / |n·d|: depth tolerance of "seen"
+constexpr float kVoteScale = 1024;  // |n·d| summed as integers in 1/1024
+constexpr float kGrow = 0.75f;      // pixels added to every disc's radius when drawn
+
+struct View {
+  Vec3f d, u, w;  // towards the viewer, and the image's two axes
+};
+
+std::vector<View> view_directions(const VisibilityOptions& o) {
+  const Vec3f up = normalized(o.up);
+  const Vec3f e1 = tangent_axis(up), e2 = cross(up, e1);
+  const double z0 = std::sin(o.min_elevation_deg * std::numbers::pi / 180);
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+  std::vector<View> views(o.views);
+  for (std::size_t k = 0; k < o.views; ++k) {
+    // Equal areas of the cap: z uniform in [z0, 1].
+    const double z = 1 - (k + 0.5) / static_cast<double>(o.views) * (1 - z0);
+    const double r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * static_cast<double>(k);
+    const Vec3f d =
+        normalized(up * static_cast<float>(z) + e1 * static_cast<float>(r * std::cos(phi)) +
+                   e2 * static_cast<float>(r * std::sin(phi)));
+    const Vec3f u = tangent_axis(d);
+    views[k] = {d, u, cross(d, u)};
+  }
+  return views;
+}
+
+// One view's depth buffer and the votes it adds.
+struct ViewBuffer {
+  std::vector<float> depth;
+  std::vector<uint32_t> front, back;  // #N: sums of |n·d| from the normal's side and the other
+};
+
+class ViewDrawer {
+ public:
+  ViewDrawer(std::span<const Vec3f> p, std::span<const Vec3f> n, std::span<const float> r,
+             std::size_t max_pixels)
+      : p_(p), n_(n), r_(r), max_pixels_(std::max<std::size_t>(max_pixels, 1)) {
+    lo_ = hi_ = p[0];
+    for (const Vec3f& q : p) {
+      lo_ = {std::min(lo_.x, q.x), std::min(lo_.y, q.y), std::min(lo_.z, q.z)};
+      hi_ = {std::max(hi_.x, q.x), std::max(hi_.y, q.y), std::max(hi_.z, q.z)};
+    }
+    std::vector<float> sorted(r.begin(), r.end());
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    median_ = std::max(sorted[sorted.size() / 2], 1e-30f);
+    max_radius_ = *std::max_element(sorted.begin(), sorted.end());
+  }
+
+  void operator()(const View& v, ViewBuffer& out) {
+    frame(v);
+    out.depth.assign(width_ * height_, -std::numeric_limits<float>::infinity());
+    for (std::size_t i = 0; i < p_.size(); ++i) draw(v, i, out.depth);
+    for (std::size_t i = 0; i < p_.size(); ++i) test(v, i, out);
+  }
+
+  float pixel() const { return h_; }
+
+ private:
+  // The image's extent: the bounding box's corners projected, grown by the largest radius.
+  void frame(const View& v) {
+    float a0 = std::numeric_limits<float>::max(), a1 = -a0, b0 = a0, b1 = -a0;
+    for (int c = 0; c < 8; ++c) {
+      const Vec3f q{c & 1 ? hi_.x : lo_.x, c & 2 ? hi_.y : lo_.y, c & 4 ? hi_.z : lo_.z};
+      a0 = std::min(a0, dot(q, v.u)), a1 = std::max(a1, dot(q, v.u));
+      b0 = std::min(b0, dot(q, v.w)), b1 = std::max(b1, dot(q, v.w));
+    }
+    const float grow = max_radius_ + median_;
+    a0_ = a0 - grow, b0_ = b0 - grow;
+    const float wa = a1 - a0 + 2 * grow, wb = b1 - b0 + 2 * grow;
+    h_ = std::max(median_, std::sqrt(wa * wb / static_cast<float>(max_pixels_)));
+    width_ = static_cast<std::size_t>(wa / h_) + 1;
+    height_ = static_cast<std::size_t>(wb / h_) + 1;
+    while (width_ * height_ > max_pixels_) {  // rounding
+      h_ *= 1.01f;
+      width_ = static_cast<std::size_t>(wa / h_) + 1;
+      height_ = static_cast<std::size_t>(wb / h_) + 1;
+    }
+  }
+
+  std::size_t column(float a) const {
+    return static_cast<std::size_t>(std::clamp(a / h_, 0.0f, static_cast<float>(width_ - 1)));
+  }
+  std::size_t row(float b) const {
+    return static_cast<std::size_t>(std::clamp(b / h_, 0.0f, static_cast<float>(height_ - 1)));
+  }
+
+  // The disc's depth at the pixel centre (A, B) = (a + da, b + db): on its plane, whichever the
+  // normal's sign.
+  static float plane_depth(float t, float da, float db, float nu, float nw, float nd) {
+    const float slope = std::copysign(std::max(std::fabs(nd), kMinSlope), nd);
+    return t - (da * nu + db * nw) / slope;
+  }
+
+  void draw(const View& v, std::size_t i, std::vector<float>& depth) const {
+    const Vec3f& p = p_[i];
+    const Vec3f& n = n_[i];
+    const float a = dot(p, v.u) - a0_, b = dot(p, v.w) - b0_, t = dot(p, v.d);
+    // Grown by 3/4 of a pixel: a disc then writes every pixel it overlaps, not only those whose
+    // centre it holds, so that a surface's discs close the buffer where its splats do (a roof
+    // over a ceiling, a wall over its inner face).
+    const float nu = dot(n, v.u), nw = dot(n, v.w), nd = dot(n, v.d), r = r_[i] + kGrow * h_;
+    const std::size_t x0 = column(a - r), x1 = column(a + r), cx = column(a);
+    const std::size_t y0 = row(b - r), y1 = row(b + r), cy = row(b);
+    for (std::size_t y = y0; y <= y1; ++y)
+      for (std::size_t x = x0; x <= x1; ++x) {
+        const float da = (static_cast<float>(x) + 0.5f) * h_ - a;
+        const float db = (static_cast<float>(y) + 0.5f) * h_ - b;
+        const float z = plane_depth(t, da, db, nu, nw, nd);
+        // On the disc (|offset in its plane| <= r), or the pixel holding its centre.
+        if (da * da + db * db + (z - t) * (z - t) > r * r && (x != cx || y != cy)) continue;
+        float& d = depth[y * width_ + x];
+        d = std::max(d, z);
+      }
+  }
+
+  void test(const View& v, std::size_t i, ViewBuffer& out) const {
+    const Vec3f& p = p_[i];
+    const Vec3f& n = n_[i];
+    const float nd = dot(n, v.d);
+    if (std::fabs(nd) < kMinFacing) return;
+    const float a = dot(p, v.u) - a0_, b = dot(p, v.w) - b0_, t = dot(p, v.d);
+    const std::size_t x = column(a), y = row(b);
+    const float da = (static_cast<float>(x) + 0.5f) * h_ - a;
+    const float db = (static_cast<float>(y) + 0.5f) * h_ - b;
+    const float own = plane_depth(t, da, db, dot(n, v.u), dot(n, v.w), nd);
+    const float tolerance = std::min(kTolerance / std::fabs(nd), 1.0f) * r_[i];
+    if (own < out.depth[y * width_ + x] - tolerance) return;
+    const auto q = static_cast<uint32_t>(std::lround(std::fabs(nd) * kVoteScale));
+    (nd > 0 ? out.front : out.back)[i] += q;
+  }
+
+  std::span<const Vec3f> p_, n_;
+  std::span<const float> r_;
+  std::size_t max_pixels_;
+  Vec3f lo_, hi_;
+  float median_ = 0, max_radius_ = 0;
+  float a0_ = 0, b0_ = 0, h_ = 0;
+  std::size_t width_ = 0, height_ = 0;
+};
+
+}  // namespace
+
+std::vector<float> visibility_votes(std::span<const Vec3f> positions,
+                                    std::span<const Vec3f> normals, std::span<const float> radii,
+                                    const VisibilityOptions& options, VisibilityStats* stats) {
+  const std::size_t n = positions.size();
+  if (n == 0 || options.views == 0) return std::vector<float>(n, 0.0f);
+  const std::vector<View> views = view_directions(options);
+  const ViewDrawer prototype(positions, normals, radii, options.max_pixels);
+  tbb::enumerable_thread_specific<ViewBuffer> buffers([&] {
+    ViewBuffer b;
+    b.front.assign(n, 0);
+    b.back.assign(n, 0);
+    return b;
+  });
+  tbb::enumerable_thread_specific<ViewDrawer> drawers(prototype);
+  float pixel = 0;
+  tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t k) {
+    ViewDrawer& drawer = drawers.local();
+    drawer(views[k], buffers.local());
+    if (k == 0) pixel = drawer.pixel();
+  });
+  std::vector<uint32_t> front(n, 0), back(n, 0);
+  for (const ViewBuffer& b : buffers)
+    for (std::size_t i = 0; i < n; ++i) front[i] += b.front[i], back[i] += b.back[i];
+  std::vector<float> votes(n, 0.0f);
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = front[i], b = back[i];
+    if (f + b == 0) continue;
+    votes[i] = static_cast<float>((f - b) / (f + b));
+    ++seen;
+  }
+  if (stats) *stats = {seen, pixel};
+  return votes;
+}
+
+}  // namespace splatkit

@@ -1,0 +1,58 @@
+// visibility_votes: which side of each splat is seen from outside the scene, the absolute
+// evidence of `estimate-normals --orient visibility` (orient_normals_mst.h's
+// OrientRegionsOptions::evidence).
+//
+// A surface point seen from a direction d (from far away, looking back along −d) shows that
+// side: its outward normal has n·d > 0. The scene is drawn from `views` directions spread evenly
+// (a Fibonacci spiral) over the cap of the sphere from `min_elevation_deg` below the horizon up
+// to the zenith, `up` being the zenith: a scan is taken from above its ground and from outside
+// its buildings, and a view from below would see the ground's underside and, through an open
+// floor, the inner faces of the walls. Each view is an orthographic depth buffer of the splats
+// drawn as their discs (depth exact on each disc's plane, which does not depend on the normal's
+// sign), each grown by 3/4 of a pixel so that the discs of a surface leave no pixel open where
+// its splats do not; pixels are about the median radius, the buffer at most `max_pixels`. A
+// point is seen when its own disc's depth at its pixel is within a tolerance of the buffer's
+// (half its radius, growing as 1 / |n·d| as the disc turns away, up to its radius: neighbouring
+// discs of the same surface cross the pixel a little in front of it), and only views with
+// |n·d| >= 0.2 count (grazing views say little). The vote of point i is (F − B) / (F + B), F and B
+// the sums of |n·d| over the views that see it from the side its normal points to and from the
+// other side; 0 when no view sees it. Occlusion is what makes the votes: a wall's inner face is
+// hidden by the outer one, the ground under a roof by the roof.
+//
+// The idea is the visibility test of the hidden-point-removal literature (Katz, Tal, Basri 2007:
+// [Katz07] in docs/references.md) done by depth buffers over the splats, as surface splatting
+// draws them, instead of by convex hulls.
+//
+// Cost: per view one pass drawing every disc (a few pixels each) and one testing every point;
+// views run in parallel, each on its own buffer. Votes are sums of integers (|n·d| in 1/1024),
+// so the result does not depend on the thread count.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "splatkit/vec3.h"
+
+namespace splatkit {
+
+struct VisibilityOptions {
+  Vec3f up{0, 0, 1};              // unit
+  std::size_t views = 24;         // >= 1
+  float min_elevation_deg = -10;  // the lowest view, degrees above the horizon (-90..90)
+  std::size_t max_pixels = std::size_t{1} << 22;  // per view's buffer
+};
+
+struct VisibilityStats {
+  std::size_t seen = 0;  // points seen by at least one counted view
+  float pixel = 0;       // pixel size used (positions' units)
+};
+
+// positions, normals (unit, any sign), radii (> 0): #N. Returns #N votes in [-1, 1] for the
+// normals' current signs. Empty input gives an empty result.
+std::vector<float> visibility_votes(std::span<const Vec3f> positions,
+                                    std::span<const Vec3f> normals, std::span<const float> radii,
+                                    const VisibilityOptions& options = {},
+                                    VisibilityStats* stats = nullptr);
+
+}  // namespace splatkit
