@@ -73,6 +73,60 @@ std::vector<float> row_median_radii(std::span<const uint32_t> rows, std::size_t 
   return median;
 }
 
+BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec3f> positions,
+                                  std::vector<float>& radii, std::vector<float>& minor_radii,
+                                  float ratio, std::size_t k, std::size_t max_passes) {
+  BoundRadiiResult result;
+  const std::size_t n = radii.size();
+  if (n < 2) return result;
+  k = std::min(k, n - 1);
+  std::vector<float> sorted = radii;
+  std::nth_element(sorted.begin(), sorted.begin() + n / 50, sorted.end());
+  const float floor = ratio * sorted[n / 50];
+  std::vector<uint32_t> candidates;
+  for (std::size_t i = 0; i < n; ++i)
+    if (radii[i] > floor) candidates.push_back(static_cast<uint32_t>(i));
+  std::vector<float> median(candidates.size());
+  auto medians = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](auto& b) {
+      std::vector<uint32_t> row(k + 1);
+      std::vector<float> r(k);
+      for (std::size_t c = b.begin(); c < b.end(); ++c) {
+        const uint32_t i = candidates[c];
+        const std::size_t found = index.knn(positions[i], k + 1, row.data(), nullptr);
+        // The point itself is among the k + 1 nearest (first, or tied at distance 0).
+        std::size_t m = 0;
+        for (std::size_t j = 0; j < found && m < k; ++j)
+          if (row[j] != i) row[m++] = row[j];
+        median[c] = m > 0 ? lower_median(row.data(), m, radii, r) : 0.0f;
+      }
+    });
+  };
+  std::vector<uint8_t> capped(n, 0);
+  bool settled = false;
+  while (!settled && result.passes < max_passes) {
+    medians();
+    ++result.passes;
+    std::size_t now = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const uint32_t i = candidates[c];
+      const float cap = ratio * median[c];
+      if (!(radii[i] > cap) || !(cap > 0)) continue;
+      if (!minor_radii.empty()) minor_radii[i] *= cap / radii[i];
+      radii[i] = cap;
+      capped[i] = 1;
+      ++now;
+    }
+    settled = now == 0;
+  }
+  result.capped = static_cast<std::size_t>(std::count(capped.begin(), capped.end(), 1));
+  if (settled) return result;
+  medians();
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    result.over += median[c] > 0 && radii[candidates[c]] > ratio * median[c];
+  return result;
+}
+
 BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radii,
                              std::vector<float>& minor_radii, float ratio, std::size_t k,
                              std::size_t max_passes) {

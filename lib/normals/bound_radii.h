@@ -26,7 +26,7 @@ namespace splatkit {
 inline constexpr std::size_t kBoundRadiiK = 8;
 // estimate_normals' second bound, over a wider neighbourhood: no radius above kWideBoundRatio ×
 // the median of its kWideBoundK nearest (a sparse cluster smaller than that is bounded by the
-// surface around it), in at most kWideBoundPasses passes.
+// surface around it), in at most kWideBoundPasses passes (bound_wide_radii).
 inline constexpr std::size_t kWideBoundK = 32;
 inline constexpr float kWideBoundRatio = 3.0f;
 inline constexpr std::size_t kWideBoundPasses = 2;
@@ -49,6 +49,16 @@ BoundRadiiResult bound_radii(
     const std::function<std::vector<float>(const std::vector<float>&)>& medians,
     std::vector<float>& radii, std::vector<float>& minor_radii, float ratio,
     std::size_t max_passes = 4);
+
+// The bound of bound_radii over the k nearest other points of the points whose radius exceeds
+// ratio × the cloud's 2nd-percentile radius only (a smaller splat is no blob to speak of; on
+// even sampling that leaves a few per cent of the points to query, so the wider row costs
+// little), each pass reading the radii as the previous one left them. positions: #N, the
+// index's points. Counts as bound_radii does; `over` counts the candidates still over after the
+// last pass (a last query pass only when the passes ran out).
+BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec3f> positions,
+                                  std::vector<float>& radii, std::vector<float>& minor_radii,
+                                  float ratio, std::size_t k, std::size_t max_passes);
 
 // The median of the radii of each point's k nearest other points (#N). sq_reach (empty, or #N)
 // receives the squared distance of each point's k-th nearest other point.

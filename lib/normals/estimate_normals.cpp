@@ -108,6 +108,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     report.flipped_points = stats.flipped;
     report.components = stats.components;
     j["sheets"] = stats.sheets;
+    j["relabelled"] = stats.relabelled;
     if (!votes.empty()) {
       j["by_evidence"] = stats.by_evidence;
       j["against_evidence"] = stats.against_evidence;
@@ -126,11 +127,12 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
   j["flipped"] = report.flipped_points;
 }
 
-// A valid given normal: finite, of length within 10 % of 1 (normalised); else zero.
+// A valid given normal: finite, of length within 10 % of 1 (normalised, unless it is unit to
+// within float rounding: kept as it is); else zero.
 Vec3f valid_normal(const Vec3f& n) {
   const float l2 = squared_norm(n);
   if (!std::isfinite(l2) || !(l2 > 0.81f && l2 < 1.21f)) return {0, 0, 0};
-  return n * (1.0f / std::sqrt(l2));
+  return std::fabs(l2 - 1) <= 1e-5f ? n : n * (1.0f / std::sqrt(l2));
 }
 
 // The normals the cloud brings (input order, after merging): its own valid ones with kKeep, its
@@ -460,12 +462,14 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
           bound_radii(medians, cloud.radii, cloud.minor_radii, options.max_radius_ratio);
       // A sparse cluster (vegetation, a patch far from the rest) whose 8 nearest are as large
       // as itself passes that bound; over its 32 nearest, the denser surface around it counts.
-      const BoundRadiiResult wide = bound_radii(
-          [&](const std::vector<float>& r) {
-            return pieces ? pieces->neighbour_median_radii(r, kWideBoundK)
-                          : neighbour_median_radii(index, r, kWideBoundK);
-          },
-          cloud.radii, cloud.minor_radii, kWideBoundRatio, kWideBoundPasses);
+      const BoundRadiiResult wide =
+          pieces ? bound_radii(
+                       [&](const std::vector<float>& r) {
+                         return pieces->neighbour_median_radii(r, kWideBoundK);
+                       },
+                       cloud.radii, cloud.minor_radii, kWideBoundRatio, kWideBoundPasses)
+                 : bound_wide_radii(index, cloud.positions, cloud.radii, cloud.minor_radii,
+                                    kWideBoundRatio, kWideBoundK, kWideBoundPasses);
       report.bounded_radii = b.capped + wide.capped;
       report.radii_over_bound = b.over + wide.over;
     });

@@ -76,6 +76,8 @@ struct OrientStats {
   // frame), and those among them left against their own non-zero vote.
   std::size_t by_evidence = 0;
   std::size_t against_evidence = 0;
+  // The regional variant's last pass: points turned to follow their graph neighbours.
+  std::size_t relabelled = 0;
 };
 
 // The regional variant of the same joins (`estimate-normals --orient visibility`).
@@ -92,7 +94,8 @@ struct OrientRegionsOptions {
   // their top-most point. With votes the sheets grow only within 11.5° (not 20°), and a set the
   // majority rounds leave apart from the votes (an enclosed part that no view sees, such as the
   // rooms behind a building's walls) gets a prior that faces its own inside: the sum over its
-  // points of n·(c − p)/|c − p|, c its centroid, as a vote of the whole set.
+  // points of n·(c − p)/|c − p|, c its centroid, as a vote of the whole set. Last, a point
+  // whose signed agreements with its neighbours sum below −1/2 of their magnitudes turns.
   std::span<const float> evidence;
 };
 

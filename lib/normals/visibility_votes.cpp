@@ -20,6 +20,9 @@ constexpr float kMinSlope = 0.05f;  // |n·d| below this is drawn as this (a dis
 constexpr float kTolerance = 0.5f;  // × radius / |n·d|: depth tolerance of "seen"
 constexpr float kVoteScale = 1024;  // |n·d| summed as integers in 1/1024
 constexpr float kGrow = 0.75f;      // pixels added to every disc's radius when drawn
+// Pixel size in median radii. Measured against 1 on the scan set (building, city, noisy city,
+// CAD part, facade): the same orientations to within 0.2 %, the visibility pass faster.
+constexpr float kPixel = 2.0f;
 
 struct View {
   Vec3f d, u, w;  // towards the viewer, and the image's two axes
@@ -87,7 +90,7 @@ class ViewDrawer {
     const float grow = max_radius_ + median_;
     a0_ = a0 - grow, b0_ = b0 - grow;
     const float wa = a1 - a0 + 2 * grow, wb = b1 - b0 + 2 * grow;
-    h_ = std::max(median_, std::sqrt(wa * wb / static_cast<float>(max_pixels_)));
+    h_ = std::max(kPixel * median_, std::sqrt(wa * wb / static_cast<float>(max_pixels_)));
     width_ = static_cast<std::size_t>(wa / h_) + 1;
     height_ = static_cast<std::size_t>(wb / h_) + 1;
     while (width_ * height_ > max_pixels_) {  // rounding
@@ -119,8 +122,11 @@ class ViewDrawer {
     // centre it holds, so that a surface's discs close the buffer where its splats do (a roof
     // over a ceiling, a wall over its inner face).
     const float nu = dot(n, v.u), nw = dot(n, v.w), nd = dot(n, v.d), r = r_[i] + kGrow * h_;
-    const std::size_t x0 = column(a - r), x1 = column(a + r), cx = column(a);
-    const std::size_t y0 = row(b - r), y1 = row(b + r), cy = row(b);
+    // The disc's projection spans r·sqrt(1 − (n·u)²) along u (likewise w).
+    const float ru = r * std::sqrt(std::max(0.0f, 1 - nu * nu));
+    const float rw = r * std::sqrt(std::max(0.0f, 1 - nw * nw));
+    const std::size_t x0 = column(a - ru), x1 = column(a + ru), cx = column(a);
+    const std::size_t y0 = row(b - rw), y1 = row(b + rw), cy = row(b);
     for (std::size_t y = y0; y <= y1; ++y)
       for (std::size_t x = x0; x <= x1; ++x) {
         const float da = (static_cast<float>(x) + 0.5f) * h_ - a;

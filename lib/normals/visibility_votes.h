@@ -10,7 +10,7 @@
 // floor, the inner faces of the walls. Each view is an orthographic depth buffer of the splats
 // drawn as their discs (depth exact on each disc's plane, which does not depend on the normal's
 // sign), each grown by 3/4 of a pixel so that the discs of a surface leave no pixel open where
-// its splats do not; pixels are about the median radius, the buffer at most `max_pixels`. A
+// its splats do not; pixels are twice the median radius, the buffer at most `max_pixels`. A
 // point is seen when its own disc's depth at its pixel is within a tolerance of the buffer's
 // (half its radius, growing as 1 / |n·d| as the disc turns away, up to its radius: neighbouring
 // discs of the same surface cross the pixel a little in front of it), and only views with
@@ -38,7 +38,10 @@ namespace splatkit {
 
 struct VisibilityOptions {
   Vec3f up{0, 0, 1};              // unit
-  std::size_t views = 24;         // >= 1
+  // 8: measured against 12 and 24 on the scan set, the same orientations to ±0.3 % (the real
+  // building scan 99.6 % right where its reference is consistent, against 99.4 % with 24), in
+  // a third of the time.
+  std::size_t views = 8;  // >= 1
   float min_elevation_deg = -10;  // the lowest view, degrees above the horizon (-90..90)
   std::size_t max_pixels = std::size_t{1} << 22;  // per view's buffer
 };

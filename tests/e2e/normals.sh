@@ -185,9 +185,10 @@ for t in 1 2; do
     --threads $t
 done
 cmp -s "$WORK/sl-t1.splk" "$WORK/sl-t2.splk" && pass || fail "noisy cube: 1 and 2 threads differ"
-# Orientation on a city (ground, walls, roofs, floor slabs; splat-synth's normals face out):
-# auto chooses visibility and says why; >= 99 % of the normals agree with the truth, the ground
-# all up. --orient up points every normal up; --orient sensor needs sensor positions (usage error).
+# Orientation on splat-synth's city (ground, one-sided outer walls, roofs, and floor slabs inside
+# sampled on one side only, whose reference "up" no orientation can know from outside): auto
+# chooses visibility and says why; the ground all up, >= 98 % of the walls facing out, >= 80 %
+# of everything (mst: 42 %, its ground all down, when this was written).
 expect_exit 0 "$BIN/splat-synth" -q city "$WORK/city.ply" -n 60000 --blocks 2
 expect_exit 0 "$EN" -q "$WORK/city.ply" "$WORK/city-n.ply" --keep-order --keep-duplicates \
   --report "$WORK/city.json"
@@ -198,16 +199,18 @@ expect_exit 0 "$BIN/splat-convert" -q "$WORK/city-n.ply" "$WORK/city-n.xyz"
 paste -d' ' <(grep -v '^#' "$WORK/city.xyz" | cut -d' ' -f1-6) \
   <(grep -v '^#' "$WORK/city-n.xyz" | cut -d' ' -f4-6) | awk '
   { d = $4*$7 + $5*$8 + $6*$9; n++; ok += d > 0
-    if ($6 > 0.99 && $3 < 0.01) { g++; up += $9 > 0 } }
-  END { printf "%.4f %d %d\n", ok / n, g, up }' >"$WORK/city-score.txt"
-read -r agree ground ground_up <"$WORK/city-score.txt"
-awk -v a="$agree" 'BEGIN { exit !(a >= 0.99) }' && pass || fail "city: $agree agree with the truth"
+    if ($6 > 0.99 && $3 < 0.01) { g++; up += $9 > 0 }
+    if ($6 * $6 < 0.01) { w++; out += d > 0 } }
+  END { printf "%.4f %d %d %.4f\n", ok / n, g, up, out / w }' >"$WORK/city-score.txt"
+read -r agree ground ground_up walls <"$WORK/city-score.txt"
+awk -v a="$agree" -v w="$walls" 'BEGIN { exit !(a >= 0.8 && w >= 0.98) }' && pass ||
+  fail "city: $agree of the normals and $walls of the walls agree with the truth"
 [ "$ground" -gt 0 ] && expect_eq "city: ground normals up" "$ground_up" "$ground"
 expect_exit 0 "$EN" -q "$WORK/city.ply" "$WORK/city-up.ply" --orient up
 expect_exit 0 "$BIN/splat-convert" -q "$WORK/city-up.ply" "$WORK/city-up.xyz"
 expect_eq "--orient up: normals pointing down" \
   "$(awk '!/^#/ && $6 < 0 { n++ } END { print n + 0 }' "$WORK/city-up.xyz")" 0
-expect_exit 2 "$EN" -q "$WORK/city.ply" "$WORK/o.ply" --orient sensor
+expect_exit 1 "$EN" -q "$WORK/city.ply" "$WORK/o.ply" --orient sensor
 grep -q "sensor_x" "$WORK/stderr" && pass || fail "--orient sensor's error names no attribute"
 
 # --normals keep: the input's normals come out as they went in, and the summary says so; by

@@ -15,8 +15,8 @@ int main(int argc, char** argv) {
       "colour and "
       "attributes are kept). OUT is .ply (binary) or .splk; '-' writes .splk to stdout.",
       "  $ estimate-normals scan.ply scan.splk\n"
-      "  $ estimate-normals photogrammetry.ply out.ply --normals keep\n"
-      "  $ estimate-normals aerial.laz aerial.splk --orient up\n"
+      "  $ estimate-normals points.xyz points.ply --normals keep\n"
+      "  $ estimate-normals survey.laz survey.splk --orient up\n"
       "  $ estimate-normals scan.las out.ply --orient viewpoint --viewpoint 0,0,1.8\n"
       "  $ estimate-normals part.xyz part.splk --method robust -k 24 --report part.json\n"
       "  $ estimate-normals scan.las scan.splk --splat ellipse\n"
