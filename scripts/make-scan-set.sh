@@ -54,17 +54,8 @@ else
 fi
 
 # The real scans: CGAL's demo data set, in Debian's libcgal-demo (not installed, only unpacked).
-fetch_cgal() {
-  (cd "$tmp" && apt-get download libcgal-demo > /dev/null 2>&1) ||
-    { [[ $(id -u) -eq 0 ]] && apt-get update -qq > /dev/null 2>&1 &&
-      (cd "$tmp" && apt-get download libcgal-demo > /dev/null 2>&1); } || return 1
-  dpkg -x "$tmp"/libcgal-demo_*.deb "$tmp/deb" &&
-    tar -xzf "$tmp/deb/usr/share/doc/libcgal-demo/data.tar.gz" -C "$tmp" \
-      data/points_3/building.ply data/points_3/ball.ply
-}
-if fetch_cgal; then
-  version=$(dpkg-deb -f "$tmp"/libcgal-demo_*.deb Version)
-  args+=(--cgal-dir "$tmp/data/points_3" --cgal-package "libcgal-demo $version")
+if version=$("$top/scripts/fetch-cgal-scans.sh" "$tmp/cgal"); then
+  args+=(--cgal-dir "$tmp/cgal" --cgal-package "libcgal-demo $version")
 else
   echo "make-scan-set: could not get Debian's libcgal-demo; skipping the real scans" \
     "(building, ball)" >&2

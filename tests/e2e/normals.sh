@@ -156,14 +156,18 @@ expect_exit 1 "$EN" -q "$WORK/lines.ply" "$WORK/x.splk" --radius wide
 expect_exit 1 "$EN" -q "$WORK/lines.ply" "$WORK/x.splk" --splat square
 
 # Orientation on a noisy scan-line cube (the faces meet at creases; robust normals are sharp
-# there, PCA's are noisy): below 1 % of the normals inward with either method, and below 0.1 % of
-# those within 60° of the truth (a spanning tree alone, which links two faces by one edge, turned
-# a whole face inward here: 32 % of the robust normals).
+# there, PCA's are noisy): below 1 % of the normals inward with either method and either
+# orientation, and below 0.1 % of those within 60° of the truth with --orient mst, 0.2 % with the
+# default (visibility: its sheets grow within 11.5° only, so a few noisy normals are signed by
+# their own edges; 0.08 % and 0.13 % measured) (a spanning tree alone, which links two faces by
+# one edge, turned a whole face inward here: 32 % of the robust normals).
 expect_exit 0 "$BIN/splat-synth" -q cube "$WORK/sl.splk" -n 50000 --scan-lines 4 --noise 0.002
 expect_exit 0 "$BIN/splat-convert" -q "$WORK/sl.splk" "$WORK/sl.xyz"
-for m in robust pca; do
+for run in robust:mst pca:mst robust:auto pca:auto; do
+  m=${run%:*} orient=${run#*:}
+  limit=$([ "$orient" = mst ] && echo 0.001 || echo 0.002)
   expect_exit 0 "$BIN/estimate-normals" -q "$WORK/sl.splk" "$WORK/sl-$m.splk" --method $m \
-    --keep-order --keep-duplicates
+    --orient "$orient" --keep-order --keep-duplicates
   expect_exit 0 "$BIN/splat-convert" -q "$WORK/sl-$m.splk" "$WORK/sl-$m.xyz"
   python3 - "$WORK/sl.xyz" "$WORK/sl-$m.xyz" <<'PY' >"$WORK/inward.txt" || fail "$m: comparison failed"
 import sys
@@ -176,8 +180,9 @@ close = [d for d in dots if abs(d) > 0.5]
 print(sum(d < 0 for d in dots) / len(dots), sum(d < 0 for d in close) / len(close))
 PY
   read -r all meaningful <"$WORK/inward.txt"
-  awk -v a="$all" -v m="$meaningful" 'BEGIN {exit !(a < 0.01 && m < 0.001)}' && pass ||
-    fail "$m normals of a noisy scan-line cube inward: $all of all, $meaningful of those within 60°"
+  awk -v a="$all" -v m="$meaningful" -v l="$limit" 'BEGIN {exit !(a < 0.01 && m < l)}' && pass ||
+    fail "$m normals of a noisy scan-line cube inward (--orient $orient): $all of all," \
+      "$meaningful of those within 60°"
 done
 # ... and the same bytes for 1 and 2 threads there, where the sheets join by their votes.
 for t in 1 2; do
