@@ -46,8 +46,8 @@ NormalOptions normal_options(const EstimateNormalsOptions& o) {
   n.orient = NormalOrientation::kNone;
   for (NormalOrientation m :
        {NormalOrientation::kAuto, NormalOrientation::kMst, NormalOrientation::kUp,
-        NormalOrientation::kViewpoint, NormalOrientation::kSensor,
-        NormalOrientation::kVisibility, NormalOrientation::kNone})
+        NormalOrientation::kViewpoint, NormalOrientation::kSensor, NormalOrientation::kVisibility,
+        NormalOrientation::kNone})
     if (orientation_name(m) == orient) n.orient = m;
   if (orientation_name(n.orient) != orient)
     throw_usage("--orient must be auto, mst, up, viewpoint, sensor, visibility or none, got '" +
@@ -193,8 +193,10 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
     if (outliers.empty()) throw_usage("--outliers-out needs --outliers sor or radius");
     if (format_of_extension(o.outliers_out) == FileFormat::kUnknown &&
         !is_stream_path(o.outliers_out))
-      throw_usage("--outliers-out's extension names no format (.ply, .splk, .xyz, .off, .las, "
-                  ".laz): " + o.outliers_out);
+      throw_usage(
+          "--outliers-out's extension names no format (.ply, .splk, .xyz, .off, .las, "
+          ".laz): " +
+          o.outliers_out);
     writable_format(o.outliers_out, {});
   }
   Stage stage("estimate-normals", o.paths);
@@ -203,8 +205,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   // As for a single point: no splat can be made (and an empty file with no normals would only
   // fail the next tool, with a message about normals).
   if (doc.cloud.size() == 0) throw_bad_input(stage.input_name(), "the file has no points");
-  spill::check_room(doc.cloud.size() * (kSpillBytesPerPoint +
-                                        (options.ellipses ? kSpillEllipseBytesPerPoint : 0)));
+  spill::check_room(doc.cloud.size() *
+                    (kSpillBytesPerPoint + (options.ellipses ? kSpillEllipseBytesPerPoint : 0)));
   // Outliers go first, on the cloud as read (duplicates included), as PCL's filters see it.
   const std::size_t points_read = doc.cloud.size();
   OutlierPassesResult removed;
@@ -220,7 +222,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
       write_cloud(aside, *aside_file);
     }
     if (doc.cloud.size() == 0)
-      throw_bad_input(stage.input_name(), "--outliers " + o.outliers + " removed every one of its " +
+      throw_bad_input(stage.input_name(), "--outliers " + o.outliers +
+                                              " removed every one of its " +
                                               std::to_string(points_read) + " points");
   }
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
@@ -235,7 +238,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
     if (!outliers.empty()) report["outliers"] = removed.to_json(outliers);
     report["input_points"] = points_read;  // before the outliers went
     const uint64_t rss = peak_rss_bytes();
-    report["peak_rss_bytes_per_point"] = static_cast<double>(rss) / static_cast<double>(points_read);
+    report["peak_rss_bytes_per_point"] =
+        static_cast<double>(rss) / static_cast<double>(points_read);
   }
   OutputFile* also[] = {aside_file.get()};
   stage.write(doc, write, std::move(report), also);
@@ -243,9 +247,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
           (!outliers.empty() ? std::to_string(removed.removed) + " outliers removed, "
                              : std::string()) +
               std::to_string(result.duplicates_merged) + " duplicates merged, " +
-              std::to_string(result.degenerate_points) + " degenerate, " +
-              normals_summary(result) + ", oriented by " +
-              result.orientation.value("method", std::string("none"))};
+              std::to_string(result.degenerate_points) + " degenerate, " + normals_summary(result) +
+              ", oriented by " + result.orientation.value("method", std::string("none"))};
 }
 
 }  // namespace splatkit::apps

@@ -28,8 +28,8 @@ struct EstimateNormalsOptions {
   // `viewpoint`.
   std::string orient;
   std::string normals_from = "auto";  // --normals: auto | estimate | keep
-  std::string viewpoint;  // "x,y,z" in file coordinates, or empty
-  std::string format;     // ply | splk, or empty: OUT's extension
+  std::string viewpoint;              // "x,y,z" in file coordinates, or empty
+  std::string format;                 // ply | splk, or empty: OUT's extension
   // --keep-order: the input's order, not the spatial one (sets normals.spatial_order).
   bool keep_order = false;
   // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" joined by '+', each

@@ -48,15 +48,15 @@ std::vector<float> neighbour_median_radii(const SpatialIndex& index,
   std::vector<float> median(radii.size(), 0.0f);
   if (radii.size() < 2) return median;
   k = std::min(k, radii.size() - 1);
-  index.for_each_knn_block(k + 1, [&](std::span<const uint32_t> queries,
-                                      std::span<const uint32_t> rows,
-                                      std::span<const float> sq_dists) {
-    std::vector<float> r(k);
-    for (std::size_t q = 0; q < queries.size(); ++q) {
-      median[queries[q]] = lower_median(rows.data() + q * (k + 1) + 1, k, radii, r);
-      if (!sq_reach.empty()) sq_reach[queries[q]] = sq_dists[q * (k + 1) + k];
-    }
-  });
+  index.for_each_knn_block(
+      k + 1, [&](std::span<const uint32_t> queries, std::span<const uint32_t> rows,
+                 std::span<const float> sq_dists) {
+        std::vector<float> r(k);
+        for (std::size_t q = 0; q < queries.size(); ++q) {
+          median[queries[q]] = lower_median(rows.data() + q * (k + 1) + 1, k, radii, r);
+          if (!sq_reach.empty()) sq_reach[queries[q]] = sq_dists[q * (k + 1) + k];
+        }
+      });
   return median;
 }
 
@@ -76,9 +76,8 @@ std::vector<float> row_median_radii(std::span<const uint32_t> rows, std::size_t 
 BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec3f> positions,
                                   std::vector<float>& radii, std::vector<float>& minor_radii,
                                   float ratio, std::size_t k, std::size_t max_passes) {
-  BoundRadiiResult result;
   const std::size_t n = radii.size();
-  if (n < 2) return result;
+  if (n < 2) return {};
   k = std::min(k, n - 1);
   std::vector<float> sorted = radii;
   std::nth_element(sorted.begin(), sorted.begin() + n / 50, sorted.end());
@@ -86,11 +85,12 @@ BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec
   std::vector<uint32_t> candidates;
   for (std::size_t i = 0; i < n; ++i)
     if (radii[i] > floor) candidates.push_back(static_cast<uint32_t>(i));
-  std::vector<float> median(candidates.size());
-  auto medians = [&] {
+  // The candidates' medians; 0 (no bound) for the others.
+  auto medians = [&](const std::vector<float>& r) {
+    std::vector<float> median(n, 0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](auto& b) {
       std::vector<uint32_t> row(k + 1);
-      std::vector<float> r(k);
+      std::vector<float> scratch(k);
       for (std::size_t c = b.begin(); c < b.end(); ++c) {
         const uint32_t i = candidates[c];
         const std::size_t found = index.knn(positions[i], k + 1, row.data(), nullptr);
@@ -98,33 +98,12 @@ BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec
         std::size_t m = 0;
         for (std::size_t j = 0; j < found && m < k; ++j)
           if (row[j] != i) row[m++] = row[j];
-        median[c] = m > 0 ? lower_median(row.data(), m, radii, r) : 0.0f;
+        if (m > 0) median[i] = lower_median(row.data(), m, r, scratch);
       }
     });
+    return median;
   };
-  std::vector<uint8_t> capped(n, 0);
-  bool settled = false;
-  while (!settled && result.passes < max_passes) {
-    medians();
-    ++result.passes;
-    std::size_t now = 0;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      const uint32_t i = candidates[c];
-      const float cap = ratio * median[c];
-      if (!(radii[i] > cap) || !(cap > 0)) continue;
-      if (!minor_radii.empty()) minor_radii[i] *= cap / radii[i];
-      radii[i] = cap;
-      capped[i] = 1;
-      ++now;
-    }
-    settled = now == 0;
-  }
-  result.capped = static_cast<std::size_t>(std::count(capped.begin(), capped.end(), 1));
-  if (settled) return result;
-  medians();
-  for (std::size_t c = 0; c < candidates.size(); ++c)
-    result.over += median[c] > 0 && radii[candidates[c]] > ratio * median[c];
-  return result;
+  return bound_radii(medians, radii, minor_radii, ratio, max_passes);
 }
 
 BoundRadiiResult bound_radii(const SpatialIndex& index, std::vector<float>& radii,

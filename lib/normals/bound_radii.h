@@ -32,9 +32,9 @@ inline constexpr float kWideBoundRatio = 3.0f;
 inline constexpr std::size_t kWideBoundPasses = 2;
 
 struct BoundRadiiResult {
-  std::size_t capped = 0;   // points whose radius was lowered (counted once)
+  std::size_t capped = 0;  // points whose radius was lowered (counted once)
   std::size_t passes = 0;
-  std::size_t over = 0;     // radii still above ratio × their neighbours' median after the last pass
+  std::size_t over = 0;  // radii still above ratio × their neighbours' median after the last pass
 };
 
 // radii: #N, positive; minor_radii: #N or empty. ratio >= 1 (smaller values are a usage error the
@@ -54,8 +54,7 @@ BoundRadiiResult bound_radii(
 // ratio × the cloud's 2nd-percentile radius only (a smaller splat is no blob to speak of; on
 // even sampling that leaves a few per cent of the points to query, so the wider row costs
 // little), each pass reading the radii as the previous one left them. positions: #N, the
-// index's points. Counts as bound_radii does; `over` counts the candidates still over after the
-// last pass (a last query pass only when the passes ran out).
+// index's points. Counts as bound_radii does (`over`: among the candidates).
 BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec3f> positions,
                                   std::vector<float>& radii, std::vector<float>& minor_radii,
                                   float ratio, std::size_t k, std::size_t max_passes);

@@ -73,8 +73,7 @@ std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
   std::vector<std::array<double, 3>> out(order.size());
   for (std::size_t a = 0; a < 3; ++a) {
     const ExtraValues& values = cloud.find_extra(names[a])->values;
-    for (std::size_t t = 0; t < order.size(); ++t)
-      out[t][a] = values[order[t]] - cloud.origin[a];
+    for (std::size_t t = 0; t < order.size(); ++t) out[t][a] = values[order[t]] - cloud.origin[a];
   }
   return out;
 }
@@ -102,8 +101,8 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     OrientRegionsOptions regions;
     regions.split_gaps = method == NormalOrientation::kVisibility || !given.empty();
     regions.evidence = votes;
-    const OrientStats stats = orient_normals_mst(std::move(*rows), cloud.positions,
-                                                 cloud.normals, kOrientK, regions);
+    const OrientStats stats =
+        orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
     rows.reset();
     report.flipped_points = stats.flipped;
     report.components = stats.components;
@@ -143,7 +142,8 @@ std::vector<Vec3f> given_normals(const SplatCloud& cloud, const NormalOptions& o
   std::vector<Vec3f> given(cloud.size(), Vec3f{0, 0, 0});
   std::size_t own = 0;
   if (cloud.has_normals())
-    for (std::size_t i = 0; i < cloud.size(); ++i) own += squared_norm(valid_normal(cloud.normals[i])) > 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      own += squared_norm(valid_normal(cloud.normals[i])) > 0;
   report.input_had_normals = own;
   if (o.input_normals == InputNormals::kEstimate) return {};
   const bool keep = o.input_normals == InputNormals::kKeep && own > 0;
@@ -388,8 +388,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("normals_radii", [&] {
       pieces->normals_and_splats(
           cloud, options, report, progress,
-          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(),
-          bridges);
+          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(), bridges);
     });
   } else {
     timed("index", [&] { index = SpatialIndex(cloud.positions); });

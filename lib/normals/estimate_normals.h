@@ -33,7 +33,8 @@
 // merging), in the input's order or with spatial_order in Morton order (morton_order.h), with
 // normals and radii replaced; never NaN. Deterministic: byte-identical results for any thread count
 // (every per-point result depends only on the point's own kNN row, and kNN rows are exact with ties
-// broken by index), and the same with or without pieces. Runs in parallel with TBB under the caller's limits.
+// broken by index), and the same with or without pieces. Runs in parallel with TBB under the
+// caller's limits.
 #pragma once
 
 #include <array>
@@ -130,9 +131,9 @@ struct NormalReport {
   nlohmann::json robust = nullptr;
   // With piece_points: {"pieces", "halo_points", "reruns"} (SplatPieces::Stats); else null.
   nlohmann::json pieces = nullptr;
-  // Seconds per phase: "merge_duplicates", "order", "index", "normals_radii", "degenerate", "robust",
-  // "refit_splats", "knn_rows", "bound_radii", "fit_centres", "orient", "reorder" (only the phases
-  // that ran), and "total" (all of them).
+  // Seconds per phase: "merge_duplicates", "order", "index", "normals_radii", "degenerate",
+  // "robust", "refit_splats", "knn_rows", "bound_radii", "fit_centres", "orient", "reorder" (only
+  // the phases that ran), and "total" (all of them).
   nlohmann::json timings = nlohmann::json::object();
 
   // {"input_points", "output_points", "duplicates_merged", "degenerate_points", ...,

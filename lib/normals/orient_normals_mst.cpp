@@ -253,15 +253,14 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   std::vector<Edge> between;
   between.reserve(count);
   for_each_between([&](uint32_t i, uint32_t j) {
-    between.push_back({i, j,
-                       agreement(positions[i], normals[i], positions[j], normals[j],
-                                 options.split_gaps)});
+    between.push_back(
+        {i, j, agreement(positions[i], normals[i], positions[j], normals[j], options.split_gaps)});
   });
   if (votes)
     for (std::size_t i = 0; i < n; ++i)
       if (options.evidence[i] != 0)
-        between.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(n),
-                           options.evidence[i]});
+        between.push_back(
+            {static_cast<uint32_t>(i), static_cast<uint32_t>(n), options.evidence[i]});
   // One round: the agreements summed per pair of sets, in the sets' frames, then the pairs
   // joined strongest sum first, with its sign; with `majority`, only where the sum is a clear
   // majority. Returns the joins.
@@ -371,8 +370,7 @@ std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f
   std::vector<uint8_t> flip(n);
   for (std::size_t i = 0; i < n; ++i) root[i] = sets.find(static_cast<uint32_t>(i), flip[i]);
   uint8_t voted_flip = 0;
-  const uint32_t voted =
-      evidence.empty() ? kNone : sets.find(static_cast<uint32_t>(n), voted_flip);
+  const uint32_t voted = evidence.empty() ? kNone : sets.find(static_cast<uint32_t>(n), voted_flip);
   std::vector<uint32_t> seed(n + 1, kNone);  // per root: its set's top-most point
   std::size_t components = 0;
   for (std::size_t i = 0; i < n; ++i) {

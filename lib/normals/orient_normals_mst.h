@@ -82,10 +82,11 @@ struct OrientStats {
 
 // The regional variant of the same joins (`estimate-normals --orient visibility`).
 struct OrientRegionsOptions {
-  // Keep apart, while the sheets grow (then within 11.5°, as with evidence), the points of an edge that runs along both normals more
-  // than along the surface (|n·ê| > 1/2 at both ends: the two sides of a wall or slab thinner
-  // than the kNN reach, or two facing surfaces across a narrow gap), and measure such an edge's
-  // agreement on the mirrored normal, which says the two sides face opposite ways.
+  // Keep apart, while the sheets grow (then within 11.5°, as with evidence), the points of an edge
+  // that runs along both normals more than along the surface (|n·ê| > 1/2 at both ends: the two
+  // sides of a wall or slab thinner than the kNN reach, or two facing surfaces across a narrow
+  // gap), and measure such an edge's agreement on the mirrored normal, which says the two sides
+  // face opposite ways.
   bool split_gaps = false;
   // #N or empty: an absolute vote per point in [-1, 1] for its current sign (positive: keep it),
   // e.g. visibility_votes.h. Each vote is an edge to a virtual point whose sign is fixed, summed

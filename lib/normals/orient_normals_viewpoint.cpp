@@ -34,8 +34,8 @@ double towards_point(const Vec3f& p, const Vec3f& n, const std::array<double, 3>
 
 std::size_t orient_normals_sensors(std::span<const Vec3f> positions, std::span<Vec3f> normals,
                                    std::span<const std::array<double, 3>> sensors) {
-  return flip_where_away(normals,
-                         [&](std::size_t i) { return towards_point(positions[i], normals[i], sensors[i]); });
+  return flip_where_away(
+      normals, [&](std::size_t i) { return towards_point(positions[i], normals[i], sensors[i]); });
 }
 
 std::size_t orient_normals_up(std::span<Vec3f> normals, const Vec3f& up) {
@@ -44,9 +44,8 @@ std::size_t orient_normals_up(std::span<Vec3f> normals, const Vec3f& up) {
 
 std::size_t orient_normals_viewpoint(std::span<const Vec3f> positions, std::span<Vec3f> normals,
                                      const std::array<double, 3>& viewpoint) {
-  return flip_where_away(normals, [&](std::size_t i) {
-    return towards_point(positions[i], normals[i], viewpoint);
-  });
+  return flip_where_away(
+      normals, [&](std::size_t i) { return towards_point(positions[i], normals[i], viewpoint); });
 }
 
 }  // namespace splatkit

@@ -37,11 +37,11 @@
 namespace splatkit {
 
 struct VisibilityOptions {
-  Vec3f up{0, 0, 1};              // unit
+  Vec3f up{0, 0, 1};  // unit
   // 8: measured against 12 and 24 on the scan set, the same orientations to ±0.3 % (the real
   // building scan 99.6 % right where its reference is consistent, against 99.4 % with 24), in
   // a third of the time.
-  std::size_t views = 8;  // >= 1
+  std::size_t views = 8;          // >= 1
   float min_elevation_deg = -10;  // the lowest view, degrees above the horizon (-90..90)
   std::size_t max_pixels = std::size_t{1} << 22;  // per view's buffer
 };

@@ -4,11 +4,13 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 
 #include "splatkit/error.h"
 #include "splatkit/sized_in_parallel.h"
+#include "splatkit/vertex_normals.h"
 
 namespace splatkit::qsplat {
 
@@ -43,25 +45,15 @@ void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const V
 
 QSplatLeaves from_mesh(const SplatCloud& cloud) {
   const std::size_t n = cloud.size();
-  std::vector<Vec3f> normal(n);
+  const std::vector<Vec3f> normal = vertex_normals(cloud);
   std::vector<double> radius(n, 0.0);
   std::vector<uint8_t> used(n, 0);
-  for (std::size_t f = 0; f < cloud.face_count(); ++f) {
-    const uint32_t b = cloud.face_offsets[f], e = cloud.face_offsets[f + 1];
-    for (uint32_t k = b; k < e; ++k) used[cloud.face_indices[k]] = 1;
-    for (uint32_t k = b + 1; k + 1 < e; ++k) {
-      const uint32_t t[3] = {cloud.face_indices[b], cloud.face_indices[k],
-                             cloud.face_indices[k + 1]};
-      const Vec3f &p0 = cloud.positions[t[0]], &p1 = cloud.positions[t[1]],
-                  &p2 = cloud.positions[t[2]];
-      const Vec3f fn = cross(p1 - p0, p2 - p0);  // length: twice the area
-      const double r = triangle_sphere_radius(p0, p1, p2);
-      for (uint32_t v : t) {
-        normal[v] += fn;
-        radius[v] = std::max(radius[v], r);
-      }
-    }
-  }
+  for (uint32_t v : cloud.face_indices) used[v] = 1;
+  for_each_triangle(cloud, [&](const std::array<uint32_t, 3>& t) {
+    const double r =
+        triangle_sphere_radius(cloud.positions[t[0]], cloud.positions[t[1]], cloud.positions[t[2]]);
+    for (uint32_t v : t) radius[v] = std::max(radius[v], r);
+  });
   QSplatLeaves out;
   for (std::size_t i = 0; i < n; ++i) {
     if (!used[i]) {

@@ -58,7 +58,8 @@ TEST(NormalsBoundRadii, MeasuredDefaultOnA100xDensityGradient) {
   SplatCloud strays = gradient_plane(30000, 60, 1);
   estimate_normals(strays, off);
   const std::vector<float> s = ratios(strays);
-  std::printf("with 60 strays, unbounded: ratio p99.9 %.2f max %.2f\n", quantile(s, 0.999), s.back());
+  std::printf("with 60 strays, unbounded: ratio p99.9 %.2f max %.2f\n", quantile(s, 0.999),
+              s.back());
   // The default bounds the strays and leaves (almost) all of the clean gradient alone.
   EXPECT_LE(quantile(r, 0.999), kDefaultMaxRadiusRatio);
   EXPECT_GT(s.back(), 2 * kDefaultMaxRadiusRatio);
@@ -117,8 +118,8 @@ TEST(NormalsBoundRadii, MediansFromTheOrientationsRowsEqualTheirOwnKnnPass) {
     for (float& r : radii) r = static_cast<float>(rng.uniform(0.01, 1.0));
     const SpatialIndex index(c.positions);
     const ShrinkableArray rows = orient_knn_rows(
-        [&](std::size_t k, std::span<uint32_t> out) { index_knn_rows(index, k, out); },
-        c.size(), kOrientK);
+        [&](std::size_t k, std::span<uint32_t> out) { index_knn_rows(index, k, out); }, c.size(),
+        kOrientK);
     const std::size_t width = std::min(kOrientK, c.size()) - 1;
     ASSERT_EQ(rows.size(), c.size() * width);
     const std::vector<float> from_rows = row_median_radii(

@@ -123,7 +123,7 @@ TEST(NormalsOrientVisibility, UpAndSensor) {
   estimate_normals(up, o);
   for (const Vec3f& n : up.normals) EXPECT_GE(n.z, 0.0f);
 
-  // A sensor at 1.7 m on the ground in front of each point: every normal faces it.
+  // Each point's sensor 5 m out along its true normal: every normal faces it.
   SplatCloud sensed = s.cloud;
   std::vector<double> sx, sy, sz;
   for (std::size_t i = 0; i < sensed.size(); ++i) {
