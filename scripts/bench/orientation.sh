@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Normal orientation scored per scene: estimate-normals (its default options) against CGAL 5.5 (pca_estimate_normals + mst_orient_normals, k = 16), Open3D
+# Normal orientation scored per scene: estimate-normals (its default options) against CGAL 5.5
+# (pca_estimate_normals + mst_orient_normals, k = 16), Open3D 0.16
 # (estimate_normals(KDTreeSearchParamKNN(16)) + orient_normals_consistent_tangent_plane(16)) and
-# CloudCompare (-OCTREE_NORMALS R -MODEL LS, then -ORIENT_NORMS_MST 16; R = the scene's median
+# CloudCompare 2.11 (-OCTREE_NORMALS R -MODEL LS, then -ORIENT_NORMS_MST 16; R = the scene's median
 # distance to the 16th nearest neighbour), run by turns on each scene of a scan set
 # (scripts/make-scan-set.sh: NAME.ply with reference normals and classes, plus scenes.json).
 # Every tool reads the same copy of the scene with x, y, z alone, so that no reference normal can
@@ -20,7 +21,8 @@
 #
 # usage: scripts/bench/orientation.sh [SCENE_DIR] [THREADS] [--json FILE]
 #   SCENE_DIR: a scan set (default: scripts/make-scan-set.sh into a temp dir); THREADS: 2.
-#   env: BUILD_DIR          splatkit's build (default build/; estimate-normals found under it)
+#   env: BUILD_DIR          splatkit's build (default build/; estimate-normals found under it,
+#                           waited for while missing, and copied: one binary for the whole run)
 #        BENCH_BUILD_DIR    where bench_orient_cgal is built (default build-bench/)
 #        SPLATKIT_ARGS      extra estimate-normals options for the run labelled "splatkit"
 #        SPLATKIT_VARIANTS  more runs, "label:options;label:options", e.g.
@@ -71,7 +73,8 @@ if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" -eq 0 ] && [ "${ORIENTATION_INSTALL:
   export DEBIAN_FRONTEND=noninteractive
   apt-get -o DPkg::Lock::Timeout=600 update -qq >/dev/null || true
   apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${missing[@]}" \
-    >"$work/apt.log" 2>&1 || { echo "orientation: apt-get install failed:" >&2; tail -3 "$work/apt.log" >&2; }
+    >"$work/apt.log" 2>&1 ||
+    { echo "orientation: apt-get install failed:" >&2; tail -3 "$work/apt.log" >&2; }
 fi
 if ! "$py" -c 'import numpy' 2>/dev/null; then
   echo "orientation: $py has no numpy (apt-get install python3-numpy python3-scipy)" >&2
@@ -88,12 +91,21 @@ find_ours() {
   done
   return 1
 }
-ours=$(find_ours 60) || { echo "orientation: no estimate-normals under $build" >&2; exit 2; }
+# A private copy, run for every scene: the build dir may be rebuilt while the bench runs.
+ours_src=""
+for _ in $(seq 30); do
+  ours_src=$(find_ours 60) || { echo "orientation: no estimate-normals under $build" >&2; exit 2; }
+  cp "$ours_src" "$work/estimate-normals" 2>/dev/null &&
+    "$work/estimate-normals" --help >/dev/null 2>&1 && break
+  ours_src="" && sleep 10  # caught while being written
+done
+[ -n "$ours_src" ] || { echo "orientation: $build's estimate-normals does not run" >&2; exit 2; }
+ours=$work/estimate-normals
 
 if [ -z "$scene_dir" ]; then
   scene_dir=$work/scenes
   echo "orientation: making the scan set (scripts/make-scan-set.sh)" >&2
-  bin_dir=$(dirname "$ours")
+  bin_dir=$(dirname "$ours_src")
   [ -x "$bin_dir/splat-synth" ] || bin_dir=""
   bash "$root/scripts/make-scan-set.sh" "$scene_dir" ${bin_dir:+"$bin_dir"} >&2
 fi
@@ -105,7 +117,8 @@ for peer in $peers; do
       if ! { cmake -S "$root" -B "$bench_build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
                -DSPLATKIT_BUILD_BENCH=ON -DSPLATKIT_BUILD_TESTS=OFF &&
              ninja -C "$bench_build" -j2 bench_orient_cgal; } >"$work/cgal-build.log" 2>&1; then
-        skip[cgal]="bench_orient_cgal did not build: $(grep -m1 -i 'error' "$work/cgal-build.log" || tail -1 "$work/cgal-build.log")"
+        skip[cgal]="bench_orient_cgal did not build: $(grep -m1 -i 'error' "$work/cgal-build.log" ||
+          tail -1 "$work/cgal-build.log")"
       fi ;;
     open3d)
       "$py" -c 'import open3d' >/dev/null 2>&1 || skip[open3d]="python3-open3d is not installed" ;;
@@ -114,11 +127,14 @@ for peer in $peers; do
       if [ -z "$cc" ]; then
         skip[cloudcompare]="CloudCompare is not installed (Debian: cloudcompare)"
       else  # can it run without a display? Four points in, the same out.
-        printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n' >"$work/cc-probe.ply"
+        printf '%s\n' ply 'format ascii 1.0' 'element vertex 4' 'property float x' \
+          'property float y' 'property float z' end_header '0 0 0' '1 0 0' '0 1 0' '0 0 1' \
+          >"$work/cc-probe.ply"
         QT_QPA_PLATFORM=offscreen timeout 60 "$cc" -SILENT -AUTO_SAVE OFF -O "$work/cc-probe.ply" \
           -C_EXPORT_FMT PLY -NO_TIMESTAMP -SAVE_CLOUDS FILE "$work/cc-probe-out.ply" \
           >"$work/cc-probe.log" 2>&1 && [ -s "$work/cc-probe-out.ply" ] ||
-          skip[cloudcompare]="cannot run headless: $(grep -v '^\s*$' "$work/cc-probe.log" | tail -1)"
+          skip[cloudcompare]="cannot run headless: $(grep -v '^\s*$' "$work/cc-probe.log" |
+            tail -1)"
       fi ;;
     *) echo "orientation: unknown peer $peer" >&2; exit 2 ;;
   esac
@@ -128,8 +144,11 @@ cgal_bin=$bench_build/scripts/bench/bench_orient_cgal
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 version() { dpkg-query -W -f='${Version}' "$1" 2>/dev/null || echo "not installed"; }
 echo "CPU: $cpu ($(nproc) cores), threads $threads, timeout ${timeout_s} s per command"
-echo "splatkit: $ours (repo HEAD $(git -C "$root" log -1 --format=%h 2>/dev/null || echo '?')," \
-  "options: -q --keep-order --keep-duplicates --threads $threads${SPLATKIT_ARGS:+ $SPLATKIT_ARGS})"
+head=$(git -C "$root" log -1 --format=%h 2>/dev/null || echo '?')
+splatkit_info="$ours_src (built $(date -r "$ours_src" '+%F %T'), sha1 $(sha1sum "$ours" |
+  cut -c1-12), repo HEAD $head)"
+echo "splatkit: $splatkit_info, options: -q --keep-order --keep-duplicates --threads" \
+  "$threads${SPLATKIT_ARGS:+ $SPLATKIT_ARGS}"
 echo "peers: CGAL $(version libcgal-dev), Open3D $(version python3-open3d)," \
   "CloudCompare $(version cloudcompare); scenes: $scene_dir"
 for peer in "${!skip[@]}"; do echo "$peer: not run (${skip[$peer]})"; done
@@ -144,7 +163,10 @@ for v in "${variants[@]}"; do
 done
 
 # record KEY VALUE ...: one JSON line of strings into the scene's run list.
-record() { "$py" -c 'import json, sys; print(json.dumps(dict(zip(sys.argv[1::2], sys.argv[2::2]))))' "$@" >>"$runs_file"; }
+record() {
+  "$py" -c 'import json, sys; print(json.dumps(dict(zip(sys.argv[1::2], sys.argv[2::2]))))' \
+    "$@" >>"$runs_file"
+}
 
 # timed LABEL OUT LOG CMD...: runs CMD with the timeout, records its wall time and status.
 timed() {
@@ -165,7 +187,8 @@ timed() {
     status=failed reason="exit $rc: $(grep -v '^\s*$' "$log" | tail -1 | cut -c1-160)"
   fi
   record tool "$label" status "$status" time_s "$secs" file "$out" reason "$reason" \
-    note "$(grep -m1 -o '"unoriented": [1-9][0-9]*' "$log" | sed 's/"unoriented": \(.*\)/\1 left unoriented/' || true)"
+    note "$(grep -m1 -o '"unoriented": [1-9][0-9]*' "$log" |
+      sed 's/"unoriented": \(.*\)/\1 left unoriented/' || true)"
   printf ' %s %s s%s' "$label" "$secs" "$([ "$status" = ok ] || echo " ($status)")"
 }
 
@@ -179,7 +202,6 @@ while IFS=$'\t' read -r name ply kind meta; do
   radius=$("$py" "$scorer" --prepare "$ply" "$xyz" 16)
   printf '%s (%s):' "$name" "$kind"
   for i in "${!labels[@]}"; do
-    ours=$(find_ours 30) || { echo "orientation: estimate-normals vanished from $build" >&2; exit 2; }
     # shellcheck disable=SC2086  # the options are words
     timed "${labels[$i]}" "$work/$name.$i.ours.ply" "$work/$name.$i.ours.log" "$ours" "$xyz" \
       "$work/$name.$i.ours.ply" -q --keep-order --keep-duplicates --threads "$threads" ${runs[$i]}
@@ -208,7 +230,7 @@ while IFS=$'\t' read -r name ply kind meta; do
 done <"$work/scenes.tsv"
 
 status=0
-"$py" "$scorer" --report "$results" --cpu "$cpu" --threads "$threads" \
+"$py" "$scorer" --report "$results" --cpu "$cpu" --threads "$threads" --splatkit "$splatkit_info" \
   ${json_out:+--json "$json_out"} || status=$?
 [ -z "$json_out" ] || echo "JSON: $json_out"
 if [ "$status" -eq 3 ]; then

@@ -24,6 +24,7 @@ usage:
       Writes SCENE's x, y, z alone (binary PLY, for the peers that would otherwise read the
       reference normals) and prints the median distance to the K-th nearest neighbour (K = 16).
   score_orientation.py --report RESULTS.jsonl [--json OUT.json] [--cpu MODEL] [--threads T]
+                       [--splatkit TEXT]
       Prints a table per scene, a summary per tool and splatkit's targets (ok / MISS); exits 3
       when a target is missed.
 
@@ -83,7 +84,8 @@ def read_ply(path):
             lines = data.split(b"\n")
             rows = [ln for ln in lines[offset:offset + count]]
             if name == "vertex":
-                table = np.array([r.split() for r in rows], dtype=np.float64).reshape(count, len(props))
+                table = np.array([r.split() for r in rows], dtype=np.float64)
+                table = table.reshape(count, len(props))
                 return {p: table[:, i].astype(t) for i, (p, t) in enumerate(props)}
             offset += count
             continue
@@ -130,7 +132,8 @@ def grid_knn(points, k, qxyz, qself=None):
         pending, ring = group, 1
         while len(pending):
             r = np.arange(-ring, ring + 1)
-            cells = np.stack(np.meshgrid(r, r, r, indexing="ij"), -1).reshape(-1, 3) + qcells[group[0]]
+            cells = np.stack(np.meshgrid(r, r, r, indexing="ij"), -1).reshape(-1, 3)
+            cells += qcells[group[0]]
             keys = flat(cells[np.all((cells >= 0) & (cells < dims), axis=1)])
             starts = np.searchsorted(sorted_keys, keys, "left")
             ends = np.searchsorted(sorted_keys, keys, "right")
@@ -289,7 +292,7 @@ def missed_of(v, count):
     return "" if v is None or v == 1.0 else f" ({round((1 - v) * count)} of {count} not)"
 
 
-def report(path, json_out, cpu, threads):
+def report(path, json_out, cpu, threads, splatkit):
     rows = [json.loads(line) for line in open(path) if line.strip()]
     scenes, tools = {}, []
     for r in rows:
@@ -301,7 +304,8 @@ def report(path, json_out, cpu, threads):
         real = s["kind"] == "real"
         print(f"\n{name}: {s['kind']}, {'closed' if s['closed'] else 'open'}, {s['points']} points"
               + (f" ({s['source']})" if s.get("source") else ""))
-        head = f"  {'tool':22} {'agree %':>8} {'walls out %':>11} {'ground up %':>11} {'roof up %':>9}"
+        head = (f"  {'tool':22} {'agree %':>8} {'walls out %':>11} {'ground up %':>11}"
+                f" {'roof up %':>9}")
         head += f" {'consistent %':>12}" if real else ""
         print(head + f" {'time s':>8}")
         for tool in tools:
@@ -309,7 +313,8 @@ def report(path, json_out, cpu, threads):
             if r is None:
                 continue
             if r["status"] != "ok":
-                print(f"  {tool:22} {r['status']}" + (f" ({r['reason']})" if r.get("reason") else ""))
+                why = f" ({r['reason']})" if r.get("reason") else ""
+                print(f"  {tool:22} {r['status']}{why}")
                 continue
             line = (f"  {tool:22} {pct(r['agree']):>8} {pct(r['walls_out']):>11}"
                     f" {pct(r['ground_up']):>11} {pct(r['roof_up']):>9}")
@@ -387,7 +392,8 @@ def report(path, json_out, cpu, threads):
     print(f"  {len(checks) - missed} ok, {missed} missed")
     if json_out:
         with open(json_out, "w") as f:
-            json.dump({"cpu": cpu, "threads": threads, "targets": TARGETS, "scenes": scenes,
+            json.dump({"cpu": cpu, "threads": threads, "splatkit": splatkit, "targets": TARGETS,
+                       "scenes": scenes,
                        "summary": summary,
                        "checks": [{"check": t, "ok": ok} for t, ok in checks]}, f, indent=1)
     return 3 if missed else 0
@@ -405,7 +411,8 @@ def main(argv):
         return 0
     if argv[:1] == ["--report"]:
         opts = dict(zip(argv[2::2], argv[3::2]))
-        return report(argv[1], opts.get("--json"), opts.get("--cpu", "?"), opts.get("--threads", "?"))
+        return report(argv[1], opts.get("--json"), opts.get("--cpu", "?"),
+                      opts.get("--threads", "?"), opts.get("--splatkit", "?"))
     kind = "synthetic"
     if "--kind" in argv:
         i = argv.index("--kind")

@@ -46,8 +46,7 @@ double seconds_since(Clock::time_point t0) {
 std::size_t type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
   if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" ||
-      t == "float32")
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32")
     return 4;
   if (t == "double" || t == "float64") return 8;
   throw std::runtime_error("unknown PLY type " + t);
@@ -161,8 +160,9 @@ int main(int argc, char** argv) try {
   for (std::size_t i = 0; i < positions.size(); ++i)
     points.emplace_back(positions[i], Vector(0, 0, 0), i);
 
-  const auto params = CGAL::parameters::point_map(CGAL::Nth_of_tuple_property_map<0, PointNormalIndex>())
-                          .normal_map(CGAL::Nth_of_tuple_property_map<1, PointNormalIndex>());
+  const auto params =
+      CGAL::parameters::point_map(CGAL::Nth_of_tuple_property_map<0, PointNormalIndex>())
+          .normal_map(CGAL::Nth_of_tuple_property_map<1, PointNormalIndex>());
   auto t0 = Clock::now();
   CGAL::pca_estimate_normals<CGAL::Parallel_if_available_tag>(points, k, params);
   const double pca_s = seconds_since(t0);
