@@ -38,6 +38,7 @@
 # CloudCompare uses every core. Points are kept in the input's order by every tool (checked by
 # position where the output has positions: CloudCompare's and splatkit's).
 set -euo pipefail
+{  # read whole before it runs: editing this file cannot break a run in progress
 root=$(cd "$(dirname "$0")/../.." && pwd)
 here=$root/scripts/bench
 build=${BUILD_DIR:-$root/build}
@@ -238,3 +239,4 @@ if [ "$status" -eq 3 ]; then
   exit 0
 fi
 exit "$status"
+}
