@@ -342,8 +342,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
                   "point " + std::to_string(i) + " has a non-finite coordinate");
   NormalReport report;
   report.input_points = cloud.size();
-  const auto [method, reason] = choose_orientation(cloud, options);
-  report.orientation = {{"method", orientation_name(method)}, {"reason", reason}};
+  const std::pair<NormalOrientation, std::string> chosen = choose_orientation(cloud, options);
+  const NormalOrientation method = chosen.first;  // (a lambda below captures it: no binding)
+  report.orientation = {{"method", orientation_name(method)}, {"reason", chosen.second}};
   const Clock::time_point start = Clock::now();
   auto timed = [&](const char* phase, auto&& work) {
     const Clock::time_point t0 = Clock::now();
