@@ -21,13 +21,18 @@
 //   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
 //      splats of the points whose normal phases 4 and 5 changed are fitted again in their new
 //      tangent plane (one kNN query each);
-//   6. with orient mst, each point's kOrientK - 1 nearest other points ("knn_rows": one kNN pass,
-//      or in pieces the heads of phase 3's rows), the last one replaced by phase 4's edge to the
-//      next scan line for a thread point; the radius bound (bound_radii.h, max_radius_ratio)
-//      reads its neighbours from them when they exist, else runs kNN passes of its own;
-//   7. orientation: mst (consistent over a minimum spanning tree of those rows, outward per
-//      component), viewpoint (towards a scanner position) or none (canonical sign, see
-//      neighborhood_pca.h).
+//   6. with orient mst or visibility, each point's kOrientK - 1 nearest other points
+//      ("knn_rows": one kNN pass, or in pieces the heads of phase 3's rows), the last one
+//      replaced by phase 4's edge to the next scan line for a thread point; the radius bound
+//      (bound_radii.h, max_radius_ratio) reads its neighbours from them when they exist, else
+//      runs kNN passes of its own, then the wider bound (3 × the median of the 32 nearest,
+//      bound_wide_radii); normals given by the input (InputNormals) replace the estimated ones
+//      before it, their splats fitted again where they turn by more than 10°;
+//   7. orientation (choose_orientation resolves kAuto): visibility (orient_normals_mst.h's
+//      regional variant over those rows, signed by visibility_votes.h), mst (consistent over
+//      those rows, outward per component), up, viewpoint or sensor (orient_normals_viewpoint.h),
+//      or none (canonical sign, see neighborhood_pca.h); given normals vote for their own signs
+//      and come out as they went in.
 //
 // Output: the same cloud (positions, colours, extras, faces carried through; faces remapped after
 // merging), in the input's order or with spatial_order in Morton order (morton_order.h), with
