@@ -71,6 +71,7 @@ class ViewDrawer {
 
   void operator()(const View& v, ViewBuffer& out) {
     frame(v);
+    if (!usable_) return;
     out.depth.assign(width_ * height_, -std::numeric_limits<float>::infinity());
     for (std::size_t i = 0; i < p_.size(); ++i) draw(v, i, out.depth);
     for (std::size_t i = 0; i < p_.size(); ++i) test(v, i, out);
@@ -90,6 +91,9 @@ class ViewDrawer {
     const float grow = max_radius_ + median_;
     a0_ = a0 - grow, b0_ = b0 - grow;
     const float wa = a1 - a0 + 2 * grow, wb = b1 - b0 + 2 * grow;
+    // Extents beyond float (a stray point near its limit): the view votes for nothing.
+    usable_ = std::isfinite(wa * wb) && std::isfinite(a0_) && std::isfinite(b0_);
+    if (!usable_) return;
     h_ = std::max(kPixel * median_, std::sqrt(wa * wb / static_cast<float>(max_pixels_)));
     width_ = static_cast<std::size_t>(wa / h_) + 1;
     height_ = static_cast<std::size_t>(wb / h_) + 1;
@@ -100,12 +104,14 @@ class ViewDrawer {
     }
   }
 
-  std::size_t column(float a) const {
-    return static_cast<std::size_t>(std::clamp(a / h_, 0.0f, static_cast<float>(width_ - 1)));
+  // The cell of image coordinate x in [0, size): clamped, NaN (an overflowed offset) to 0.
+  std::size_t cell(float x, std::size_t size) const {
+    const float c = x / h_;
+    if (!(c > 0)) return 0;
+    return c >= static_cast<float>(size - 1) ? size - 1 : static_cast<std::size_t>(c);
   }
-  std::size_t row(float b) const {
-    return static_cast<std::size_t>(std::clamp(b / h_, 0.0f, static_cast<float>(height_ - 1)));
-  }
+  std::size_t column(float a) const { return cell(a, width_); }
+  std::size_t row(float b) const { return cell(b, height_); }
 
   // The disc's depth at the pixel centre (A, B) = (a + da, b + db): on its plane, whichever the
   // normal's sign.
@@ -161,6 +167,7 @@ class ViewDrawer {
   Vec3f lo_, hi_;
   float median_ = 0, max_radius_ = 0;
   float a0_ = 0, b0_ = 0, h_ = 0;
+  bool usable_ = true;
   std::size_t width_ = 0, height_ = 0;
 };
 

@@ -16,7 +16,8 @@
 // discs of the same surface cross the pixel a little in front of it), and only views with
 // |n·d| >= 0.2 count (grazing views say little). The vote of point i is (F − B) / (F + B), F and B
 // the sums of |n·d| over the views that see it from the side its normal points to and from the
-// other side; 0 when no view sees it. Occlusion is what makes the votes: a wall's inner face is
+// other side; 0 when no view sees it (a view whose image extent overflows float, from a stray
+// point near its limit, sees nothing). Occlusion is what makes the votes: a wall's inner face is
 // hidden by the outer one, the ground under a roof by the roof.
 //
 // The idea is the visibility test of the hidden-point-removal literature (Katz, Tal, Basri 2007:
