@@ -69,7 +69,13 @@ if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
     "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG"
   install_laz_perf "$top/build-asan"
   stage_time "ASan build"
+  # LeakSanitizer's exit-time tracer crashed ("Tracer caught signal 11", after the test had
+  # passed) on the test that reads a 1201² SRTM GeoTIFF through the OpenImageIO module, on the
+  # AMD EPYC machine; that test runs with the leak check off (ASan and UBSan still on).
+  no_leak_check='TerrainTessFactors.SharedEdgesAgreeForRandomCamerasRealSrtm'
   (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-     ctest --output-on-failure -j "$jobs")
+     ctest --output-on-failure -j "$jobs" -E "^($no_leak_check)\$")
+  (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+     ctest --output-on-failure -R "^($no_leak_check)\$")
   stage_time "ASan tests"
 fi
