@@ -142,13 +142,14 @@ std::vector<Vec3f> given_normals(const SplatCloud& cloud, const NormalOptions& o
   std::vector<Vec3f> given(cloud.size(), Vec3f{0, 0, 0});
   std::size_t own = 0;
   if (cloud.has_normals())
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-      own += squared_norm(valid_normal(cloud.normals[i])) > 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      given[i] = valid_normal(cloud.normals[i]);
+      own += squared_norm(given[i]) > 0;
+    }
   report.input_had_normals = own;
   if (o.input_normals == InputNormals::kEstimate) return {};
   const bool keep = o.input_normals == InputNormals::kKeep && own > 0;
-  if (keep)
-    for (std::size_t i = 0; i < cloud.size(); ++i) given[i] = valid_normal(cloud.normals[i]);
+  if (!keep) std::fill(given.begin(), given.end(), Vec3f{0, 0, 0});
   std::size_t from_faces = 0;
   if (cloud.face_count() > 0) {
     const std::vector<Vec3f> faces = vertex_normals(cloud);

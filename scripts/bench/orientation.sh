@@ -12,7 +12,7 @@
 # est_z > 0), roof up % (class 3), for real scans agree on consistent % (only the points whose
 # 16 nearest neighbours' reference normals all agree with theirs: real reference normals flip in
 # places), and the wall time of the whole command (reading and writing included). A missing,
-# NaN or zero normal counts as wrong (CGAL leaves the points outside its seed's component
+# NaN or zero normal counts as wrong (CGAL leaves the points outside its top-most point's component
 # unoriented).
 # Targets (splatkit's default run): synthetic scenes agree >= 99 % (closed ones >= 99.99 %),
 # ground up 100 %, walls out >= 99 %; real scans agree on consistent >= 97 % and above every peer

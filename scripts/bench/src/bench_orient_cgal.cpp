@@ -6,10 +6,10 @@
 //   SCENE.ply: PLY (binary little endian or ascii) whose vertex element has x, y, z (float or
 //   double); every other property is skipped, so reference normals are never read.
 //   OUT.ply: binary little-endian PLY with float nx, ny, nz only, in the input's order.
-//   mst_orient_normals moves the points it cannot orient (those outside the seed's connected
-//   component) to the end of the range; each point carries its input index, so they are written
-//   back in place, as (0, 0, 0): the scorer counts them as wrong.
-//   Prints one JSON line: points, unoriented, pca_s, mst_s (the calls alone, without I/O).
+//   mst_orient_normals moves the points it cannot orient (those outside the top-most point's
+//   connected component) to the end of the range; each point carries its input index, so they are
+//   written back in place, as (0, 0, 0): the scorer counts them as wrong. Prints one JSON line:
+//   points, unoriented, pca_s, mst_s (the calls alone, without I/O).
 #include <tbb/global_control.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
