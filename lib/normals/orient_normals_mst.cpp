@@ -271,20 +271,35 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   };
   std::vector<Link> links;
   links.reserve(count);
+  // The votes (edges to the virtual point n) summed per set first, in `between`'s order: one
+  // link per voted set rather than one per point to sort.
+  std::vector<float> vote_sum(votes ? nodes : 0), vote_abs(votes ? nodes : 0);
+  std::vector<uint32_t> voted_sets;
   auto round = [&](bool majority) {
     read_sets();
     links.clear();
+    voted_sets.clear();
     std::size_t kept = 0;
     for (const Edge& e : between) {
       const uint32_t ri = root[e.i], rj = root[e.j];
       if (ri == rj) continue;
       between[kept++] = e;
       const float a = parity[e.i] != parity[e.j] ? -e.agree : e.agree;
-      const bool vote = votes && e.j == n;
-      links.push_back({std::min(ri, rj), std::max(ri, rj), a, std::fabs(a), vote ? a : 0.0f,
-                       vote ? std::fabs(a) : 0.0f});
+      if (votes && e.j == n) {
+        if (vote_abs[ri] == 0) voted_sets.push_back(ri);
+        vote_sum[ri] += a;
+        vote_abs[ri] += std::fabs(a);
+        continue;
+      }
+      links.push_back({std::min(ri, rj), std::max(ri, rj), a, std::fabs(a), 0.0f, 0.0f});
     }
     between.resize(kept);
+    for (uint32_t r : voted_sets) {
+      const uint32_t v = root[n];
+      links.push_back({std::min(r, v), std::max(r, v), vote_sum[r], vote_abs[r], vote_sum[r],
+                       vote_abs[r]});
+      vote_sum[r] = vote_abs[r] = 0;
+    }
     // (std::sort is deterministic for a given input: the sums do not depend on the threads.)
     std::sort(links.begin(), links.end(),
               [](const Link& x, const Link& y) { return std::tie(x.a, x.b) < std::tie(y.a, y.b); });
@@ -325,12 +340,12 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   };
   for (int r = 0; r < kMaxRounds && !between.empty(); ++r)
     if (round(true) == 0) break;
-  if (votes) {
+  if (votes) read_sets();
+  if (votes && size[root[n]] < n) {
     // A set the majorities did not join to the votes' frame is one no view sees clearly and no
     // crease ties to what is seen: an enclosed part (the rooms behind a building's walls). Its
     // prior faces its own inside, as a scanner standing in it would see it: each point votes
     // n·(c − p) / |c − p| towards the set's centroid c, summed in the set's frame.
-    read_sets();
     const uint32_t voted = root[n];
     std::vector<double> sum(n, 0.0);
     std::vector<Vec3f> centre(n, Vec3f{0, 0, 0});

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "normals/cover_splat.h"
 
@@ -102,22 +103,23 @@ class ViewDrawer {
       width_ = static_cast<std::size_t>(wa / h_) + 1;
       height_ = static_cast<std::size_t>(wb / h_) + 1;
     }
+    inv_h_ = 1 / h_;
   }
 
   // The cell of image coordinate x in [0, size): clamped, NaN (an overflowed offset) to 0.
   std::size_t cell(float x, std::size_t size) const {
-    const float c = x / h_;
+    const float c = x * inv_h_;
     if (!(c > 0)) return 0;
     return c >= static_cast<float>(size - 1) ? size - 1 : static_cast<std::size_t>(c);
   }
   std::size_t column(float a) const { return cell(a, width_); }
   std::size_t row(float b) const { return cell(b, height_); }
 
-  // The disc's depth at the pixel centre (A, B) = (a + da, b + db): on its plane, whichever the
-  // normal's sign.
-  static float plane_depth(float t, float da, float db, float nu, float nw, float nd) {
+  // The disc's depth gradient in the image: its depth at the pixel centre (a + da, b + db) is
+  // t − da·su − db·sw, on its plane whichever the normal's sign (edge-on discs as kMinSlope).
+  static std::pair<float, float> depth_slopes(float nu, float nw, float nd) {
     const float slope = std::copysign(std::max(std::fabs(nd), kMinSlope), nd);
-    return t - (da * nu + db * nw) / slope;
+    return {nu / slope, nw / slope};
   }
 
   void draw(const View& v, std::size_t i, std::vector<float>& depth) const {
@@ -133,16 +135,36 @@ class ViewDrawer {
     const float rw = r * std::sqrt(std::max(0.0f, 1 - nw * nw));
     const std::size_t x0 = column(a - ru), x1 = column(a + ru), cx = column(a);
     const std::size_t y0 = row(b - rw), y1 = row(b + rw), cy = row(b);
-    for (std::size_t y = y0; y <= y1; ++y)
-      for (std::size_t x = x0; x <= x1; ++x) {
-        const float da = (static_cast<float>(x) + 0.5f) * h_ - a;
-        const float db = (static_cast<float>(y) + 0.5f) * h_ - b;
-        const float z = plane_depth(t, da, db, nu, nw, nd);
-        // On the disc (|offset in its plane| <= r), or the pixel holding its centre.
-        if (da * da + db * db + (z - t) * (z - t) > r * r && (x != cx || y != cy)) continue;
-        float& d = depth[y * width_ + x];
-        d = std::max(d, z);
+    // The pixel centres on the disc, row by row: at offset db from the centre the disc's
+    // |offset in its plane|² = da² + db² + (da·nu + db·nw)² / slope² <= r² is a quadratic in da,
+    // solved once per row; the depth is linear along the row.
+    const auto [su, sw] = depth_slopes(nu, nw, nd);
+    const float qa = 1 + su * su, to_x = inv_h_ / qa, a_x = a * inv_h_ - 0.5f;
+    for (std::size_t y = y0; y <= y1; ++y) {
+      const float db = (static_cast<float>(y) + 0.5f) * h_ - b;
+      const float half_b = db * sw * su;
+      const float c = db * db * (1 + sw * sw) - r * r;
+      const float disc = half_b * half_b - qa * c;
+      float* line = depth.data() + y * width_;
+      if (disc >= 0) {
+        const float root = std::sqrt(disc);
+        // da in [(-half_b - root) / qa, (-half_b + root) / qa]; pixel x has da = (x + ½)h − a.
+        const float lo = a_x - (half_b + root) * to_x, hi = a_x + (root - half_b) * to_x;
+        const std::size_t from = std::max(x0, lo > 0 ? static_cast<std::size_t>(std::ceil(lo)) : 0);
+        const float hi_c = std::min(hi, static_cast<float>(x1));
+        if (hi_c >= 0) {
+          const std::size_t to = static_cast<std::size_t>(hi_c);
+          for (std::size_t x = from; x <= to; ++x) {
+            const float da = (static_cast<float>(x) + 0.5f) * h_ - a;
+            line[x] = std::max(line[x], t - da * su - db * sw);
+          }
+        }
       }
+      if (y == cy) {  // the pixel holding the centre, on the disc or not
+        const float da = (static_cast<float>(cx) + 0.5f) * h_ - a;
+        line[cx] = std::max(line[cx], t - da * su - db * sw);
+      }
+    }
   }
 
   void test(const View& v, std::size_t i, ViewBuffer& out) const {
@@ -154,7 +176,8 @@ class ViewDrawer {
     const std::size_t x = column(a), y = row(b);
     const float da = (static_cast<float>(x) + 0.5f) * h_ - a;
     const float db = (static_cast<float>(y) + 0.5f) * h_ - b;
-    const float own = plane_depth(t, da, db, dot(n, v.u), dot(n, v.w), nd);
+    const auto [su, sw] = depth_slopes(dot(n, v.u), dot(n, v.w), nd);
+    const float own = t - da * su - db * sw;
     const float tolerance = std::min(kTolerance / std::fabs(nd), 1.0f) * r_[i];
     if (own < out.depth[y * width_ + x] - tolerance) return;
     const auto q = static_cast<uint32_t>(std::lround(std::fabs(nd) * kVoteScale));
@@ -166,7 +189,7 @@ class ViewDrawer {
   std::size_t max_pixels_;
   Vec3f lo_, hi_;
   float median_ = 0, max_radius_ = 0;
-  float a0_ = 0, b0_ = 0, h_ = 0;
+  float a0_ = 0, b0_ = 0, h_ = 0, inv_h_ = 0;
   bool usable_ = true;
   std::size_t width_ = 0, height_ = 0;
 };

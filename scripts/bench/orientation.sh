@@ -27,7 +27,7 @@
 #        SPLATKIT_ARGS      extra estimate-normals options for the run labelled "splatkit"
 #        SPLATKIT_VARIANTS  more runs, "label:options;label:options", e.g.
 #                           "mst:--orient mst;robust:--method robust" (labelled splatkit:LABEL)
-#        ORIENTATION_PEERS  the peers to run (default "cgal open3d cloudcompare")
+#        ORIENTATION_PEERS  the peers to run (default "cgal open3d cloudcompare"; "" for none)
 #        ORIENTATION_TIMEOUT seconds per command (default 120; a run past it is reported as such)
 #        CC_RADIUS          CloudCompare's normal radius instead of the 16-NN median (or AUTO)
 #        ORIENTATION_JSON   the whole result as JSON (same as --json)
@@ -54,7 +54,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 scene_dir=${positional[0]:-} threads=${positional[1]:-2}
-peers=${ORIENTATION_PEERS:-cgal open3d cloudcompare}
+peers=${ORIENTATION_PEERS-cgal open3d cloudcompare}  # set and empty: splatkit alone
 timeout_s=${ORIENTATION_TIMEOUT:-120}
 py=/usr/bin/python3  # Debian's: python3-numpy, python3-scipy and python3-open3d live there
 scorer=$here/score_orientation.py
