@@ -276,7 +276,7 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   if (options.blend == BlendMode::kZBuffer) return render_zbuffer(scene, projection, options, out);
   FrameStats stats;
   DrawList draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
-                                 options.spt_error_px);
+                                 options.spt_error_px, options.cull_backfaces);
   if (!options.surface_ids) draws.surface_ids = nullptr;
   if (!options.clip) {
     draws.clip = nullptr;
@@ -348,7 +348,8 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
   DrawList draws;
   if (scene.qsplat) {
     const QSplatZBufferCounts c =
-        draw_qsplat_zbuffer(*scene.qsplat, projection, options.qsplat_threshold_px, zb);
+        draw_qsplat_zbuffer(*scene.qsplat, projection, options.qsplat_threshold_px,
+                            options.cull_backfaces, zb);
     stats.lod = c.lod;
     stats.splats_in = c.selected;
     stats.splats_drawn = c.drawn;
@@ -366,7 +367,7 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
     stats.select_s = seconds(cleared, Clock::now());
   } else {
     draws = select_splats(scene, projection, options.qsplat_threshold_px, &stats.lod,
-                          options.spt_error_px);
+                          options.spt_error_px, options.cull_backfaces);
     stats.splats_in = draws.count;
     const bool cull = options.cull_backfaces;
     stats.splats_drawn = tbb::parallel_reduce(

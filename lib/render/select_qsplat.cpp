@@ -28,6 +28,7 @@ struct Traversal {
   const QSplatModel& m;
   const Projection& proj;
   float threshold;
+  bool cull_backfaces;  // test the normal cones
   float plane_x[2], plane_y[2];  // (a, b) of the side planes a·x − b·z = 0, normalised
 
   // What a node's sphere proves for every sphere below it (each decoded child sphere lies inside
@@ -52,7 +53,7 @@ struct Traversal {
         proved |= kInside;
     }
     const int cone = m.cones[i];
-    if (cone < 3 && !(proved & kFront)) {
+    if (cull_backfaces && cone < 3 && !(proved & kFront)) {
       const Vec3f& n = qsplat::decode_normal(m.normal_codes[i]);
       const Vec3f v = proj.eye - m.centres[i];
       const float nv = dot(n, v);
@@ -154,8 +155,9 @@ struct ZBufferSink {
   }
 };
 
-Traversal make_traversal(const QSplatModel& m, const Projection& proj, float threshold_px) {
-  Traversal t{m, proj, threshold_px, {}, {}};
+Traversal make_traversal(const QSplatModel& m, const Projection& proj, float threshold_px,
+                         bool cull_backfaces) {
+  Traversal t{m, proj, threshold_px, cull_backfaces, {}, {}};
   const float tx = proj.cx / proj.focal_px, ty = proj.cy / proj.focal_px;
   const float nx = std::sqrt(1 + tx * tx), ny = std::sqrt(1 + ty * ty);
   t.plane_x[0] = 1 / nx;
@@ -201,8 +203,8 @@ void append(Draws& to, Draws&& from) {
 }  // namespace
 
 DrawList select_qsplat(const QSplatModel& m, const Projection& proj, float threshold_px,
-                       LodStats* stats) {
-  const Traversal t = make_traversal(m, proj, threshold_px);
+                       bool cull_backfaces, LodStats* stats) {
+  const Traversal t = make_traversal(m, proj, threshold_px, cull_backfaces);
   const auto& palette = linear_palette_565();
   DrawSink top{m, palette, {}};
   const LodStats total = traverse(
@@ -224,8 +226,9 @@ DrawList select_qsplat(const QSplatModel& m, const Projection& proj, float thres
 }
 
 QSplatZBufferCounts draw_qsplat_zbuffer(const QSplatModel& m, const Projection& proj,
-                                        float threshold_px, DepthKeyBuffer& buffer) {
-  const Traversal t = make_traversal(m, proj, threshold_px);
+                                        float threshold_px, bool cull_backfaces,
+                                        DepthKeyBuffer& buffer) {
+  const Traversal t = make_traversal(m, proj, threshold_px, cull_backfaces);
   ZBufferSink top{m, proj, buffer};
   QSplatZBufferCounts c;
   c.lod = traverse(

@@ -6,8 +6,10 @@
 namespace splatkit::render {
 
 DrawList select_splats(const RenderScene& scene, const Projection& projection,
-                       float lod_threshold_px, LodStats* stats, float spt_error_px) {
-  if (scene.qsplat) return select_qsplat(*scene.qsplat, projection, lod_threshold_px, stats);
+                       float lod_threshold_px, LodStats* stats, float spt_error_px,
+                       bool cull_backfaces) {
+  if (scene.qsplat)
+    return select_qsplat(*scene.qsplat, projection, lod_threshold_px, cull_backfaces, stats);
   if (scene.spt) return select_spt(*scene.spt, scene.bounds, projection, spt_error_px, stats);
   DrawList d;
   d.count = scene.size();

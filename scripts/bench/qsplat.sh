@@ -62,7 +62,8 @@ for px in 1 4 16; do
   fbest=0
   for _ in $(seq "$runs"); do
     "$bin/splat-view" -q "$work/model.qs" -o "$work/qs-$px.png" --width 1920 --height 1080 \
-      --qsplat-threshold "$px" --threads "$threads" --stats "$work/stats.json" --blend "$blend"
+      --qsplat-threshold "$px" --threads "$threads" --stats "$work/stats.json" --blend "$blend" \
+      --cull-backfaces
     line=$(python3 -c "
 import json; j = json.load(open('$work/stats.json')); q = j['qsplat']
 print(j['time_ms']['frame'], j['time_ms']['select'], q['nodes_visited'], q['culled_frustum'],

@@ -87,11 +87,10 @@ TEST_P(RenderQSplat, MatchesThePlainSplatRenderAtOnePixel) {
   options.planes = {true, false, true};
   // The same blending epsilon for both (the default follows the scene's mean radius).
   options.epsilon = 2 * plain.mean_radius;
-  options.cull_backfaces = true;
+  options.cull_backfaces = true;  // for the QSplat render: the traversal culls by the cones
   Framebuffer a, b;
   FrameRenderer renderer;
   renderer.render(plain, cam, options, a);
-  options.cull_backfaces = false;  // the traversal culls by the cones whatever this says
   if (k.zbuffer) options.blend = BlendMode::kZBuffer;
   const FrameStats s = renderer.render(qs, cam, options, b);
 
@@ -138,21 +137,34 @@ TEST(RenderQSplat, LargerThresholdsDrawFewerSplatsAndCullOutsideTheFrustum) {
   const RenderScene qs = qsplat_scene_of(testing::sample_shape(Shape::kTorus, 30000));
   const Projection p = make_projection(camera_at(7.0f));
   LodStats s1, s4, s16;
-  const DrawList d1 = select_qsplat(*qs.qsplat, p, 1, &s1);
-  const DrawList d4 = select_qsplat(*qs.qsplat, p, 4, &s4);
-  const DrawList d16 = select_qsplat(*qs.qsplat, p, 16, &s16);
+  const DrawList d1 = select_qsplat(*qs.qsplat, p, 1, true, &s1);
+  const DrawList d4 = select_qsplat(*qs.qsplat, p, 4, true, &s4);
+  const DrawList d16 = select_qsplat(*qs.qsplat, p, 16, true, &s16);
   EXPECT_GT(d1.count, d4.count);
   EXPECT_GT(d4.count, d16.count);
   // Close up, looking at one side: most of the torus is outside the frustum.
   Camera close = camera_at(1.6f);
   close.fov_y_deg = 20;
   LodStats sc;
-  select_qsplat(*qs.qsplat, make_projection(close), 1, &sc);
+  select_qsplat(*qs.qsplat, make_projection(close), 1, true, &sc);
   EXPECT_GT(sc.culled_frustum, 0u);
   // Deterministic for any thread count: same order, same values.
-  const DrawList again = select_qsplat(*qs.qsplat, p, 4, nullptr);
+  const DrawList again = select_qsplat(*qs.qsplat, p, 4, true, nullptr);
   ASSERT_EQ(again.count, d4.count);
   for (std::size_t i = 0; i < d4.count; ++i) ASSERT_EQ(again.positions[i], d4.positions[i]);
+}
+
+// The normal cones cull back faces only when asked (as --cull-backfaces does for plain splats):
+// otherwise the far side of the torus is selected too, behind the near one.
+TEST(RenderQSplat, NormalConesCullOnlyWithCullBackfaces) {
+  const RenderScene qs = qsplat_scene_of(testing::sample_shape(Shape::kTorus, 30000));
+  const Projection p = make_projection(camera_at(7.0f));
+  LodStats culled, kept;
+  const DrawList one_sided = select_qsplat(*qs.qsplat, p, 1, true, &culled);
+  const DrawList two_sided = select_qsplat(*qs.qsplat, p, 1, false, &kept);
+  EXPECT_GT(culled.culled_cone, 0u);
+  EXPECT_EQ(kept.culled_cone, 0u);
+  EXPECT_GT(two_sided.count, one_sided.count + one_sided.count / 4);
 }
 
 }  // namespace

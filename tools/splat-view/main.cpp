@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
       ->default_val(8)
       ->check(CLI::Range(1, render::kMaxFragmentsPerPixel));
   app.add_flag("--cull-backfaces", o.render.cull_backfaces,
-               "Skip splats facing away (closed, consistently oriented models only)");
+               "Skip splats facing away, and QSplat nodes whose normal cone faces away "
+               "(closed, consistently oriented models only)");
   app.add_option("--qsplat-threshold", o.render.qsplat_threshold_px,
                  "QSplat .qs input: recurse until a node's projected size is at most PX pixels "
                  "(0.25 to 50); nodes are drawn as discs of their sphere's size")
