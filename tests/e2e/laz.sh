@@ -162,6 +162,11 @@ b = bytearray(d); struct.pack_into("<H", b, vlr + 0, 1); w("pointwise.laz", b)
 b = bytearray(d); struct.pack_into("<H", b, vlr + 34 + 4, 1); w("item-v1.laz", b)
 b = bytearray(d); b[vlr - 54 + 2:vlr - 54 + 18] = b"something else\0\0"; w("no-vlr.laz", b)
 PY
+# Bytes after the chunk table are refused as after a LAS file's last record (LAS 1.2 and 1.4).
+for f in h.laz "$S/torus-las12.laz" "$S/two-spheres-las14.laz"; do
+  cp "$f" tail-in.laz && head -c 1000 /dev/urandom >>tail-in.laz
+  bounded 2 "tail-in.laz: 100[01] bytes of trailing data after the LAZ chunk table" tail-in.laz
+done
 bounded 2 "chunk table offset .* lies outside the point data" trunc.laz
 bounded 2 "chunk table offset .* lies outside the point data" table-offset.laz
 bounded 2 "chunk table lists 4294967295 chunks but the point data has room for at most" table-count.laz
