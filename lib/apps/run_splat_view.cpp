@@ -236,6 +236,11 @@ Resolved resolve(const SplatViewOptions& o) {
                   " needs an output name with one frame number field such as %04d (and %% for "
                   "a '%'), got '" +
                   o.output + "'");
+  } else if (parse_frame_pattern(o.output).fields > 0) {
+    // One image: its name is taken as it is, so a frame number field is a forgotten option.
+    throw_usage("'" + o.output +
+                "' has a frame number field, which only --turntable or --path fill; name the "
+                "one image without it");
   }
   check_output_format(o.turntable > 0 || !o.path.empty() ? frame_path(o.output, 0) : o.output);
   return r;

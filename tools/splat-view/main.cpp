@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", o.output,
                  "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
                  "surface_id channel when the file has surface ids and --no-surface-ids is not "
-                 "given); '-' = PNG to stdout")
+                 "given); no other format. '-' = PNG to stdout. A frame number field such as "
+                 "%04d only with --turntable or --path")
       ->required();
   app.add_option("--eye", o.eye,
                  "Camera position x,y,z, in the file's coordinates (georeferenced ones too)")
