@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
       "Render a splat file (positions, normals, radii, optional colours) to an image; QSplat .qs "
       "and Sequential Point Tree .spt files are drawn by level of detail",
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
-      "$ splat-view scan.ply -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
+      "$ splat-view scan.splk -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
