@@ -220,6 +220,17 @@ expect_eq "same triangles" "$(json "$WORK/w.json" 'd["triangles"]')" "$(json "$W
 expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/away.png" \
   --width 64 --height 48 --eye 0,1e6,1e4 --target 0,2e6,1e4 -q --stats "$WORK/away.json"
 expect_eq "looking away" "$(json "$WORK/away.json" '(d["visible_tiles"], d["triangles"])')" "(0, 0)"
+expect_stderr "^splat-view: warning: .*away.png: the frame draws no terrain \(0 triangles\).*EPSG:4326: x = longitude"
+[ -s "$WORK/away.png" ] && pass || fail "an empty frame is still an image"
+# --eye/--target in the DEM's own lon/lat (and heights): south of the centre, looking at it.
+read -r eye target <<<"$(json "$WORK/t.json" '(lambda g: "%.6f,%.6f,6000 %.6f,%.6f,2000" % (
+  g["tiepoint"][3] + 128 * g["pixel_scale"][0], g["tiepoint"][4] - 200 * g["pixel_scale"][1],
+  g["tiepoint"][3] + 128 * g["pixel_scale"][0], g["tiepoint"][4] - 128 * g["pixel_scale"][1]))(d["header"]["georef"])')"
+expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/lonlat.png" \
+  --width 64 --height 48 --eye "$eye" --target "$target" -q --stats "$WORK/lonlat.json"
+expect_eq "a lon/lat camera draws" "$(json "$WORK/lonlat.json" 'd["triangles"] > 1000')" "True"
+expect_eq "the frame of the options" "$(json "$WORK/lonlat.json" 'd["camera"]["options_frame"][:9]')" "EPSG:4326"
+grep -q warning "$WORK/stderr" && fail "a frame that draws warned: $(cat "$WORK/stderr")" || pass
 expect_exit 1 "$BIN/splat-view" --terrain "$DEM" -o "$WORK/x.png"
 expect_stderr "needs --ham"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t100.exr.bad" -o "$WORK/x.png"

@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
                  "%04d only with --turntable or --path")
       ->required();
   app.add_option("--eye", o.eye,
-                 "Camera position x,y,z, in the file's coordinates (georeferenced ones too)")
+                 "Camera position x,y,z, in the file's coordinates (georeferenced ones too; "
+                 "with --terrain the map's: longitude, latitude and height for a lon/lat DEM, "
+                 "projected x, y for a projected one, column, -row without georeferencing)")
       ->type_name("X,Y,Z");
   app.add_option("--target", o.target,
                  "Point looked at x,y,z, in the file's coordinates (default: model centre)")
