@@ -191,6 +191,17 @@ head -c 2000 /dev/zero >"$WORK/void.raw"
 expect_exit 2 "$BIN/build-ham" "$WORK/void.raw" "$WORK/x.exr" --raw 40,50,uint8 --nodata 0
 expect_stderr "void.raw: every sample is a void"
 [ ! -e "$WORK/x.exr" ] && pass || fail "a refused map left OUT behind"
+# The same as SRTM voids (int16 -32768, a map taller than the void filler's look-ahead, from a
+# file and from stdin, with --ham-full and a report): refused, nothing of any output left.
+python3 -c 'import struct, sys; open(sys.argv[1], "wb").write(struct.pack("<%dh" % (300 * 300), *([-32768] * (300 * 300))))' \
+  "$WORK/void16.raw"
+mkdir -p "$WORK/voidout"
+expect_exit 2 "$BIN/build-ham" "$WORK/void16.raw" "$WORK/voidout/x.exr" --raw 300,300,int16 \
+  --nodata -32768 --ham-full "$WORK/voidout/full.exr" --report "$WORK/voidout/r.json"
+expect_stderr "^build-ham: .*void16.raw: every sample is a void"
+expect_exit 2 bash -c "'$BIN/build-ham' - '$WORK/voidout/x.exr' --raw 300,300,int16 --nodata -32768 <'$WORK/void16.raw'"
+expect_stderr "^build-ham: <stdin>: every sample is a void"
+[ -z "$(ls -A "$WORK/voidout")" ] && pass || fail "an all-void map left: $(ls "$WORK/voidout")"
 # Heights near the float range overflow their slopes: the file's fault (exit 2), not an option's.
 python3 -c 'import struct, sys; open(sys.argv[1], "wb").write(struct.pack("<64f", *([3e38, -3e38] * 32)))' \
   "$WORK/huge.raw"
