@@ -109,7 +109,7 @@ void Tool::add_memory_options(apps::MemoryLimit& limit, const std::string& work_
                   "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
                   "are paged in as the work reaches them. " +
                       work_help)
-      ->transform(parse_size, "SIZE");
+      ->transform(CLI::Validator(parse_size, "SIZE"));
   app_.add_option("--tmp-dir", limit.tmp_dir,
                   "Directory of --max-memory's temporary file (default: $TMPDIR, else /tmp)")
       ->needs(max);
