@@ -293,7 +293,7 @@ TEST(Pcd, BodyErrors) {
   expect_error(h2 + "1 2 3\n4 5 6\n7 8 9\n", bad,
                "line 14: trailing data after the last of 2 points");
   expect_error(h2 + "1 2 3\n   \n4 5 6\n", bad, "line of only spaces among the points");
-  expect_error(h2 + "1 2 3\n4 inf 6\n", bad, "point 1: infinite coordinate");
+  expect_error(h2 + "1 2 3\n4 inf 6\n", bad, "point 1: NaN or infinite coordinate (y = inf)");
   expect_error(header("x y z", "4 4 4", "F F F", "1 1 1", 100000, 1, "ascii") + "1 2 3\n", bad,
                "POINTS 100000 cannot fit in the");
 
