@@ -217,15 +217,13 @@ void write_las(const LoadedCloud& doc, OutputFile& out, bool compressed, int las
                        *angle = extra("scan_angle"), *user = extra("user_data"),
                        *source = extra("point_source_id");
   // Return k of n: a cloud with return numbers but no counts gets n = k, the fewest returns that
-  // hold k; one with neither is each point its own single return (return 0 is not valid). A
-  // count the cloud has below its return number is raised to it (return 3 of 2 is no valid LAS
-  // record; readers take it for a broken one), at least 1.
+  // hold k; one with neither is each point its own single return (return 0 is not valid). Counts
+  // the cloud has are written as they are, even below the number (a round trip keeps the data).
   auto returns = [&](std::size_t i, double top) {
     return static_cast<int>(value(ret, i, 0, top, 1));
   };
   auto returns_total = [&](std::size_t i, double top) {
-    const int given = rets ? static_cast<int>(value(rets, i, 0, top)) : 0;
-    return std::max({given, returns(i, top), 1});
+    return rets ? static_cast<int>(value(rets, i, 0, top)) : std::max(returns(i, top), 1);
   };
   for (std::size_t i = 0; i < c.size(); ++i) {
     unsigned char* r = records.data() + i * rl;
