@@ -118,9 +118,10 @@ OutlierOptions parse_outlier_pass(const std::string& text, const std::string& wh
   else if (rule == "plane")
     o.rule = OutlierRule::kPlane, o.k = kDefaultPlaneK, o.sigma = kDefaultPlaneT;
   else
-    throw_usage("--outliers must be none, sor[:K,SIGMA], radius[:R,N] or plane[:K,T] (passes "
-                "joined by +), got '" +
-                whole + "'");
+    throw_usage(
+        "--outliers must be none, sor[:K,SIGMA], radius[:R,N] or plane[:K,T] (passes "
+        "joined by +), got '" +
+        whole + "'");
   if (colon == std::string::npos) return o;
   const std::string args = text.substr(colon + 1);
   const std::size_t comma = args.find(',');

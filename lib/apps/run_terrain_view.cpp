@@ -70,9 +70,9 @@ FileFrame file_frame(const nlohmann::json& geo) {
     return f;
   }
   const std::string crs = geo.value("crs", std::string());
-  g.name = crs == "EPSG:4326" ? "EPSG:4326: x = longitude, y = latitude (degrees), z = height"
-                              : (crs.empty() ? std::string("the map's") : crs) +
-                                    ": x, y projected, z = height";
+  g.name = crs == "EPSG:4326"
+               ? "EPSG:4326: x = longitude, y = latitude (degrees), z = height"
+               : (crs.empty() ? std::string("the map's") : crs) + ": x, y projected, z = height";
   return g;
 }
 
@@ -91,9 +91,8 @@ render::Camera make_camera(const SplatViewOptions& o, const render::BoundingSphe
   if (!o.eye.empty()) {
     render::Camera c;
     c.eye = to_view(parse_triple(o.eye, "--eye"), file, view, z_scale);
-    c.target = o.target.empty()
-                   ? bounds.center
-                   : to_view(parse_triple(o.target, "--target"), file, view, z_scale);
+    c.target = o.target.empty() ? bounds.center
+                                : to_view(parse_triple(o.target, "--target"), file, view, z_scale);
     for (const Vec3f& v : {c.eye, c.target})
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
         throw_usage("--eye and --target must lie within float range in the view's metres (" +
@@ -171,8 +170,8 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   ro.tess.d_max_tiles = t.tess_distance_tiles;
   ro.wireframe = t.wireframe;
   if (!o.background.empty()) ro.background = parse_background(o.background);
-  const nlohmann::json georef = tiles.header.contains("georef") ? tiles.header["georef"]
-                                                                : nlohmann::json(nullptr);
+  const nlohmann::json georef =
+      tiles.header.contains("georef") ? tiles.header["georef"] : nlohmann::json(nullptr);
   const FileFrame file = file_frame(georef);
   const render::Camera camera =
       make_camera(o, terrain::terrain_bounds(map, frame), file, frame, tiles.z_scale);

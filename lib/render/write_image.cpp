@@ -27,8 +27,7 @@ bool is_exr(const std::string& path) { return extension_of(path) == "exr"; }
 // length).
 std::string checked_extension(const std::string& path) {
   const std::string ext = extension_of(path);
-  if (ext.empty())
-    throw_usage(display_name(path, true) + ": no file extension; use .png or .exr");
+  if (ext.empty()) throw_usage(display_name(path, true) + ": no file extension; use .png or .exr");
   if (ext != "png" && ext != "exr")
     throw_usage(display_name(path, true) + ": images are written as .png or .exr, not ." + ext);
   if (ext != "png") {

@@ -104,12 +104,14 @@ void Tool::add_threads_option() {
 
 void Tool::add_memory_options(apps::MemoryLimit& limit, const std::string& work_help) {
   memory_ = &limit;
-  CLI::Option* max = app_.add_option("--max-memory", limit.max_bytes,
-                  "Keep the resident memory under SIZE (e.g. 2G, 1.5G, 512M; at least 64M): the large "
-                  "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
-                  "are paged in as the work reaches them. " +
-                      work_help)
-      ->transform(CLI::Validator(parse_size, "SIZE"));
+  CLI::Option* max =
+      app_.add_option(
+              "--max-memory", limit.max_bytes,
+              "Keep the resident memory under SIZE (e.g. 2G, 1.5G, 512M; at least 64M): the large "
+              "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
+              "are paged in as the work reaches them. " +
+                  work_help)
+          ->transform(CLI::Validator(parse_size, "SIZE"));
   app_.add_option("--tmp-dir", limit.tmp_dir,
                   "Directory of --max-memory's temporary file (default: $TMPDIR, else /tmp)")
       ->needs(max);
