@@ -244,6 +244,17 @@ expect_eq "the frame of the options" "$(json "$WORK/lonlat.json" 'd["camera"]["o
 grep -q warning "$WORK/stderr" && fail "a frame that draws warned: $(cat "$WORK/stderr")" || pass
 expect_exit 1 "$BIN/splat-view" --terrain "$DEM" -o "$WORK/x.png"
 expect_stderr "needs --ham"
+# Options at their extremes name themselves (--fov was blamed on --view's distance).
+for v in 0 -1 180 1e300 nan inf; do
+  expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" --fov "$v"
+  expect_stderr "^splat-view: --fov must be in \(0, 180\) degrees"
+done
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" --eye 1e300,0,0
+expect_stderr "^splat-view: --eye and --target must lie within float range"
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" \
+  --eye -121.7,46.8,3000 --target -121.7,46.8,3000
+expect_stderr "^splat-view: --eye and --target must differ"
+[ ! -e "$WORK/x.png" ] && pass || fail "a refused terrain view wrote OUT"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t100.exr.bad" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$WORK/N00E000.hgt" --ham "$WORK/t.exr" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/full.exr" -o "$WORK/x.png"
