@@ -224,4 +224,16 @@ bounded 3 "LASzip compressor 2 for point data format 7 is not supported \(3, lay
 bounded 3 "LASzip item POINT14 version 4 is not supported \(3 is\)" l-item-v4.laz
 bounded 2 "LASzip item 1 is RGBNIR14 of 6 bytes; point data format 7 needs RGB14" l-item-nir.laz
 
+# A careless user's LAZ: an empty cloud, one point and 100 identical points out and back in; a
+# missing directory (4), nothing left.
+sweep_ply empty.ply 0; sweep_ply one.ply 1; sweep_ply dup.ply 100
+for f in empty one dup; do
+  expect_exit 0 "$BIN/splat-convert" -q "$f.ply" "$f.laz"
+  expect_exit 0 "$BIN/splat-info" "$f.laz"
+  grep -q "^Points: $(case $f in empty) echo 0 ;; one) echo 1 ;; dup) echo 100 ;; esac)\$" "$WORK/stdout" &&
+    pass || fail "$f.laz: $(grep Points "$WORK/stdout")"
+done
+expect_exit 4 "$BIN/splat-convert" -q dup.ply no/such/x.laz
+expect_stderr "no/such/x.laz: cannot create"
+
 finish
