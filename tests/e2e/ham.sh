@@ -279,4 +279,36 @@ for opt in "--ham $WORK/t.exr" --wireframe "--tess-error 3"; do
     fail "$opt without --terrain: $(cat "$WORK/stderr")"
 done
 
+# A careless user's build-ham: --tile and --z-scale at their extremes (1), a 1 x 1 and a flat map
+# (valid tiles), splats or a .qs as the heightmap (2), OUT and --ham-full in a missing directory
+# and OUT in a read-only one (4); nothing left behind.
+for v in 0 -1 1e12 nan inf; do
+  expect_exit 1 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --tile "$v"
+  grep -q "^build-ham: --tile" "$WORK/stderr" && pass || fail "--tile $v: $(head -1 "$WORK/stderr")"
+done
+for v in 0 -1 nan inf; do
+  expect_exit 1 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --z-scale "$v"
+  grep -q "^build-ham: --z-scale" "$WORK/stderr" && pass || fail "--z-scale $v: $(head -1 "$WORK/stderr")"
+done
+head -c 2 /dev/zero >"$WORK/one.raw"
+expect_exit 0 "$BIN/build-ham" -q "$WORK/one.raw" "$WORK/one.exr" --raw 1,1,int16
+head -c 2000 /dev/zero >"$WORK/flat.raw"
+expect_exit 0 "$BIN/build-ham" -q "$WORK/flat.raw" "$WORK/flat.exr" --raw 40,50,uint8
+"$BIN/estimate-normals" -q "$S/sphere.ply" "$WORK/s.splk" && "$BIN/build-qsplat" -q "$WORK/s.splk" "$WORK/s.qs"
+for f in s.splk s.qs; do
+  expect_exit 2 "$BIN/build-ham" -q "$WORK/$f" "$WORK/x.exr"
+  expect_stderr "^build-ham: .*$f: "
+done
+expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/no/such/x.exr"
+expect_stderr "no/such/x.exr: cannot create"
+expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --ham-full "$WORK/no/such/f.exr"
+expect_stderr "no/such/f.exr: cannot create"
+mkdir -p "$WORK/ro"
+if mount -t tmpfs -o ro,size=64k tmpfs "$WORK/ro" 2>/dev/null; then
+  expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/ro/x.exr"
+  expect_stderr "ro/x.exr: cannot create: Read-only file system"
+  umount "$WORK/ro"
+fi
+[ ! -e "$WORK/x.exr" ] && pass || fail "a refused run left x.exr"
+
 finish
