@@ -167,6 +167,24 @@ for f in h.laz "$S/torus-las12.laz" "$S/two-spheres-las14.laz"; do
   cp "$f" tail-in.laz && head -c 1000 /dev/urandom >>tail-in.laz
   bounded 2 "tail-in.laz: 100[01] bytes of trailing data after the LAZ chunk table" tail-in.laz
 done
+# LAS 1.4 EVLRs after the chunk table are read over (the same cloud); bytes after the last EVLR,
+# or an EVLR that overlaps the chunk table, are refused.
+python3 - "$S/two-spheres-las14.laz" <<'PY'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+def evlr(payload):
+    return struct.pack("<H16sHQ32s", 0, b"splatkit test", 1, len(payload), b"an EVLR") + payload
+def w(name, b, start, count):
+    b = bytearray(b); struct.pack_into("<QI", b, 235, start, count); open(name, "wb").write(b)
+w("evlr.laz", d + evlr(b"x" * 100) + evlr(b""), len(d), 2)
+w("evlr-tail.laz", d + evlr(b"x" * 100) + b"garbage", len(d), 1)
+w("evlr-overlap.laz", d + evlr(b"x" * 100), len(d) - 20, 1)
+PY
+expect_exit 0 "$BIN/splat-convert" -q evlr.laz evlr.ply
+"$BIN/splat-convert" -q "$S/two-spheres-las14.laz" no-evlr.ply
+cmp -s evlr.ply no-evlr.ply && pass || fail "EVLRs after the chunk table changed the cloud"
+bounded 2 "evlr-tail.laz: 7 bytes of trailing data after the EVLR" evlr-tail.laz
+bounded 2 "evlr-overlap.laz: first EVLR at byte [0-9]+ does not lie between the end of the LAZ chunk table" evlr-overlap.laz
 bounded 2 "chunk table offset .* lies outside the point data" trunc.laz
 bounded 2 "chunk table offset .* lies outside the point data" table-offset.laz
 bounded 2 "chunk table lists 4294967295 chunks but the point data has room for at most" table-count.laz
