@@ -140,6 +140,7 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (o.occlusion != "none") throw_usage("--occlusion does not apply to --terrain");
   if (!(t.tess_error_px > 0)) throw_usage("--tess-error must be > 0");
   if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180)) throw_usage("--fov must be in (0, 180) degrees");
+  check_single_image_name(o.output);
   render::check_output_format(o.output);
   Stage stage("splat-view", {t.heightmap, o.output, o.stats_path}, "--stats");
   const terrain::HamTiles tiles =

@@ -255,6 +255,11 @@ expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x
   --eye -121.7,46.8,3000 --target -121.7,46.8,3000
 expect_stderr "^splat-view: --eye and --target must differ"
 [ ! -e "$WORK/x.png" ] && pass || fail "a refused terrain view wrote OUT"
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/k-%04d.png"
+expect_stderr "k-%04d.png' has a frame number field"
+ls "$WORK" | grep -q '^k-' && fail "a literal k-%04d.png was written" || pass
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.tif"
+expect_stderr "x.tif: images are written as .png or .exr, not .tif"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t100.exr.bad" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$WORK/N00E000.hgt" --ham "$WORK/t.exr" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/full.exr" -o "$WORK/x.png"
