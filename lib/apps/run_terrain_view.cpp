@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/describe_terrain_file.h"
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
 #include "render/write_image.h"
@@ -149,6 +150,7 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (tiles.header.contains("nodata") && tiles.header["nodata"].is_number())
     nodata = tiles.header["nodata"].get<double>();
   const terrain::TerrainMap map = stage.phase("read", "reading " + stage.input_name(), [&] {
+    if (t.raw.empty()) check_heightmap_kind(t.heightmap);
     auto source = terrain::open_heightmap(t.heightmap, t.raw);
     return terrain::load_terrain_map(*source, nodata, tiles.z_scale);
   });

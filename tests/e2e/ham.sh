@@ -300,10 +300,14 @@ expect_exit 0 "$BIN/build-ham" -q "$WORK/one.raw" "$WORK/one.exr" --raw 1,1,int1
 head -c 2000 /dev/zero >"$WORK/flat.raw"
 expect_exit 0 "$BIN/build-ham" -q "$WORK/flat.raw" "$WORK/flat.exr" --raw 40,50,uint8
 "$BIN/estimate-normals" -q "$S/sphere.ply" "$WORK/s.splk" && "$BIN/build-qsplat" -q "$WORK/s.splk" "$WORK/s.qs"
-for f in s.splk s.qs; do
-  expect_exit 2 "$BIN/build-ham" -q "$WORK/$f" "$WORK/x.exr"
-  expect_stderr "^build-ham: .*$f: "
+for f in "$WORK/s.splk" "$WORK/s.qs" "$S/sphere.ply"; do
+  expect_exit 3 "$BIN/build-ham" -q "$f" "$WORK/x.exr"
+  expect_stderr "^build-ham: .*${f##*/}: a .*, not a heightmap \\(GeoTIFF/TIFF"
 done
+rm -f "$WORK/x.png"
+expect_exit 3 "$BIN/splat-view" -q --terrain "$WORK/s.qs" --ham "$WORK/t.exr" -o "$WORK/x.png"
+expect_stderr "^splat-view: .*s.qs: a QSplat hierarchy \\(.qs\\), not a heightmap"
+[ ! -e "$WORK/x.png" ] && pass || fail "a refused terrain view wrote OUT"
 expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/no/such/x.exr"
 expect_stderr "no/such/x.exr: cannot create"
 expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --ham-full "$WORK/no/such/f.exr"
