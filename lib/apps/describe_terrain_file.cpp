@@ -1,8 +1,12 @@
 #include "apps/describe_terrain_file.h"
 
+#include <fstream>
 #include <sstream>
 #include <string_view>
 
+#include "formats/read_qsplat.h"
+#include "formats/splk.h"
+#include "formats/spt_codes.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 #include "terrain/terrain_images.h"
@@ -71,6 +75,27 @@ std::string describe_terrain_text(const nlohmann::json& r) {
     s << "\n";
   }
   return s.str();
+}
+
+std::string non_heightmap_kind(const std::string& path) {
+  if (path == "-") return "";
+  std::ifstream in(path, std::ios::binary);
+  char buf[16] = {};
+  in.read(buf, sizeof buf);
+  const std::string_view head(buf, static_cast<std::size_t>(in.gcount()));
+  if (looks_like_qsplat(head)) return "a QSplat hierarchy (.qs)";
+  if (spt::looks_like_spt(head)) return "a Sequential Point Tree (.spt)";
+  if (is_splk_magic(head)) return "a splat file (.splk)";
+  if (head.starts_with("ply\n") || head.starts_with("ply\r")) return "a PLY file";
+  if (head.starts_with("LASF")) return "a LAS/LAZ point cloud";
+  return "";
+}
+
+void check_heightmap_kind(const std::string& path) {
+  const std::string kind = non_heightmap_kind(path);
+  if (!kind.empty())
+    throw_unsupported(path, kind + ", not a heightmap (GeoTIFF/TIFF, PNG, EXR, SRTM .hgt, or "
+                                   "headerless RAW with --raw)");
 }
 
 }  // namespace splatkit::apps

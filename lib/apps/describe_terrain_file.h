@@ -16,4 +16,13 @@ nlohmann::json describe_terrain_file(const std::string& path);
 // The text splat-info prints for such a report.
 std::string describe_terrain_text(const nlohmann::json& report);
 
+// What `path` is by its first bytes when it is a file splatkit reads as something other than a
+// heightmap ("a QSplat hierarchy (.qs)", "a PLY file", ...), else "" (also for '-', unreadable
+// files and anything else: the heightmap readers then say what is wrong).
+std::string non_heightmap_kind(const std::string& path);
+
+// Throws Error(kUnsupported) "<path>: <kind>, not a heightmap: ..." when non_heightmap_kind says
+// so (build-ham's input, splat-view --terrain's map).
+void check_heightmap_kind(const std::string& path);
+
 }  // namespace splatkit::apps

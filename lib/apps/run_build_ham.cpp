@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "apps/describe_terrain_file.h"
 #include "apps/stage.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
@@ -25,6 +26,7 @@ namespace {
 using terrain::HeightmapSource;
 
 std::unique_ptr<HeightmapSource> open_source(const BuildHamOptions& o) {
+  if (o.raw.empty()) check_heightmap_kind(o.paths.input);
   return terrain::open_heightmap(o.paths.input, o.raw);
 }
 

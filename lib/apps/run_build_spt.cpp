@@ -25,10 +25,13 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   const std::string& output = o.paths.output;
   if (!is_stream_path(output) && lower_extension(output) != "spt")
     throw_usage("OUT must end in .spt or be '-': " + output);
+  // (the options are floats: 1e300 arrives as inf)
   if (!(o.epsilon > 0) || !std::isfinite(o.epsilon))
-    throw_usage("--epsilon must be a positive number of radians");
+    throw_usage("--epsilon must be a positive number of radians within float range, got " +
+                std::to_string(o.epsilon));
   if (!(o.color_weight >= 0) || !std::isfinite(o.color_weight))
-    throw_usage("--color-weight must be zero or positive");
+    throw_usage("--color-weight must be zero or positive and within float range, got " +
+                std::to_string(o.color_weight));
   Stage stage("build-spt", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
   spill::check_room(doc.cloud.size() * kSpillBytesPerPoint);

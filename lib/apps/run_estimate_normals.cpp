@@ -115,9 +115,12 @@ OutlierOptions parse_outlier_pass(const std::string& text, const std::string& wh
     o.rule = OutlierRule::kStatistical;
   else if (rule == "radius")
     o.rule = OutlierRule::kRadius;
+  else if (rule == "plane")
+    o.rule = OutlierRule::kPlane, o.k = kDefaultPlaneK, o.sigma = kDefaultPlaneT;
   else
     throw_usage(
-        "--outliers must be none, sor[:K,SIGMA] or radius[:R,N] (passes joined by +), got '" +
+        "--outliers must be none, sor[:K,SIGMA], radius[:R,N] or plane[:K,T] (passes "
+        "joined by +), got '" +
         whole + "'");
   if (colon == std::string::npos) return o;
   const std::string args = text.substr(colon + 1);
@@ -130,6 +133,11 @@ OutlierOptions parse_outlier_pass(const std::string& text, const std::string& wh
     o.sigma = outlier_number<double>(b, text);
     if (o.k < 1 || o.k > 1024 || !std::isfinite(o.sigma))
       throw_usage("--outliers " + text + ": K must be 1..1024 and SIGMA finite");
+  } else if (o.rule == OutlierRule::kPlane) {
+    o.k = outlier_number<std::size_t>(a, text);
+    o.sigma = outlier_number<double>(b, text);
+    if (o.k < 3 || o.k > 1024 || !(o.sigma > 0) || !std::isfinite(o.sigma))
+      throw_usage("--outliers " + text + ": K must be 3..1024 and T positive and finite");
   } else {
     o.radius = outlier_number<double>(a, text);
     o.min_neighbors = outlier_number<std::size_t>(b, text);
@@ -148,7 +156,7 @@ std::vector<OutlierOptions> parse_outliers(const std::string& text) {
     const std::size_t plus = text.find('+', begin);
     const std::string pass = text.substr(begin, plus - begin);
     if (pass == "sor") {
-      for (const OutlierOptions& o : default_statistical_passes()) passes.push_back(o);
+      for (const OutlierOptions& o : default_outlier_passes()) passes.push_back(o);
     } else {
       passes.push_back(parse_outlier_pass(pass, text));
     }

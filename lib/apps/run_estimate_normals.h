@@ -32,9 +32,9 @@ struct EstimateNormalsOptions {
   std::string format;                 // ply | splk, or empty: OUT's extension
   // --keep-order: the input's order, not the spatial one (sets normals.spatial_order).
   bool keep_order = false;
-  // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" joined by '+', each
-  // applied to what the previous kept ("sor" alone: the default passes, sor:12,3+sor:6,3.5;
-  // normals/remove_outliers.h); the points removed before
+  // --outliers: "" or "none", or passes "sor[:K,SIGMA]" / "radius[:R,N]" / "plane[:K,T]" joined
+  // by '+', each applied to what the previous kept ("sor" alone: the default passes,
+  // sor:12,3+sor:6,3.5+plane:16,6; normals/remove_outliers.h); the points removed before
   // anything else, all passes' written to `outliers_out` when it is not empty.
   std::string outliers;
   std::string outliers_out;

@@ -236,6 +236,8 @@ Resolved resolve(const SplatViewOptions& o) {
                   " needs an output name with one frame number field such as %04d (and %% for "
                   "a '%'), got '" +
                   o.output + "'");
+  } else {
+    check_single_image_name(o.output);
   }
   check_output_format(o.turntable > 0 || !o.path.empty() ? frame_path(o.output, 0) : o.output);
   return r;
@@ -392,6 +394,13 @@ uint64_t surface_count(const std::vector<uint32_t>& ids) {
 }
 
 }  // namespace
+
+void check_single_image_name(const std::string& output) {
+  if (parse_frame_pattern(output).fields > 0)
+    throw_usage("'" + output +
+                "' has a frame number field, which only --turntable or --path fill; name the "
+                "one image without it");
+}
 
 std::string frame_path(const std::string& pattern, int index) {
   const FramePattern f = parse_frame_pattern(pattern);

@@ -74,4 +74,8 @@ SplatViewSummary run_splat_view(const SplatViewOptions& options,
 // run_splat_view): its one %d, %Nd or %0Nd field replaced by the number, each %% by a %.
 std::string frame_path(const std::string& pattern, int index);
 
+// Throws Error(kUsage) when `output`, the name of one image (no --turntable or --path), holds a
+// frame number field (%d, %Nd, %0Nd): only those options fill it, so it is a forgotten option.
+void check_single_image_name(const std::string& output);
+
 }  // namespace splatkit::apps

@@ -3,7 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
+#include <vector>
 
+#include "apps/describe_terrain_file.h"
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
 #include "render/write_image.h"
@@ -31,12 +34,71 @@ std::array<float, 3> parse_view(const std::string& text) {
   return v;
 }
 
-render::Camera make_camera(const SplatViewOptions& o, const render::BoundingSphere& bounds) {
+// The file's coordinates of the texels: X = x0 + column * dx, Y = y0 + row * dy (dy < 0 for a
+// north-up map), from the georeferencing the tiles carry (GeoTIFF tiepoint and pixel scale, with
+// the half-texel shift of PixelIsArea; a north-up ModelTransformation; SRTM's origin); without
+// one, X is the column and Y minus the row. Heights are the file's, times --z-scale in the view.
+struct FileFrame {
+  double x0 = 0, dx = 1, y0 = 0, dy = -1;
+  std::string name = "texels: x = column, y = -row, z = height";
+};
+
+FileFrame file_frame(const nlohmann::json& geo) {
+  FileFrame f;
+  if (!geo.is_object()) return f;
+  auto numbers = [&](const char* key, std::size_t n) {
+    std::vector<double> v;
+    const auto it = geo.find(key);
+    if (it == geo.end() || !it->is_array() || it->size() < n) return v;
+    for (const auto& x : *it) {
+      if (!x.is_number() || !std::isfinite(x.get<double>())) return std::vector<double>{};
+      v.push_back(x.get<double>());
+    }
+    return v;
+  };
+  const double area = geo.value("raster_type", std::string("area")) == "point" ? 0.0 : 0.5;
+  const std::vector<double> scale = numbers("pixel_scale", 2), tie = numbers("tiepoint", 6),
+                            origin = numbers("origin", 2), m = numbers("transformation", 16);
+  FileFrame g;
+  if (scale.size() >= 2 && scale[0] > 0 && scale[1] > 0 && tie.size() >= 6) {
+    g = {tie[3] + (area - tie[0]) * scale[0], scale[0], tie[4] - (area - tie[1]) * scale[1],
+         -scale[1], ""};
+  } else if (scale.size() >= 2 && scale[0] > 0 && scale[1] > 0 && origin.size() >= 2) {
+    g = {origin[0], scale[0], origin[1], -scale[1], ""};  // SRTM: the north-west sample
+  } else if (m.size() >= 16 && m[1] == 0 && m[4] == 0 && m[0] != 0 && m[5] != 0) {
+    g = {m[3] + area * m[0], m[0], m[7] + area * m[5], m[5], ""};
+  } else {
+    return f;
+  }
+  const std::string crs = geo.value("crs", std::string());
+  g.name = crs == "EPSG:4326"
+               ? "EPSG:4326: x = longitude, y = latitude (degrees), z = height"
+               : (crs.empty() ? std::string("the map's") : crs) + ": x, y projected, z = height";
+  return g;
+}
+
+// A point in the file's coordinates, in the frame the terrain is drawn in: metres (texel sizes
+// from the tiles) east and north of the north-west texel, heights times z_scale.
+Vec3f to_view(const std::array<double, 3>& p, const FileFrame& f, const terrain::TerrainFrame& v,
+              double z_scale) {
+  const double column = (p[0] - f.x0) / f.dx, row = (p[1] - f.y0) / f.dy;
+  return to_vec3({column * v.sx, -row * v.sy, p[2] * z_scale});
+}
+
+render::Camera make_camera(const SplatViewOptions& o, const render::BoundingSphere& bounds,
+                           const FileFrame& file, const terrain::TerrainFrame& view,
+                           double z_scale) {
   const Vec3f up = o.up.empty() ? Vec3f{0, 0, 1} : to_vec3(parse_triple(o.up, "--up"));
   if (!o.eye.empty()) {
     render::Camera c;
-    c.eye = to_vec3(parse_triple(o.eye, "--eye"));
-    c.target = o.target.empty() ? bounds.center : to_vec3(parse_triple(o.target, "--target"));
+    c.eye = to_view(parse_triple(o.eye, "--eye"), file, view, z_scale);
+    c.target = o.target.empty() ? bounds.center
+                                : to_view(parse_triple(o.target, "--target"), file, view, z_scale);
+    for (const Vec3f& v : {c.eye, c.target})
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw_usage("--eye and --target must lie within float range in the view's metres (" +
+                    file.name + ")");
+    if (!(norm(c.target - c.eye) > 0)) throw_usage("--eye and --target must differ");
     c.up = o.up.empty() ? render::automatic_up(c.target - c.eye, up) : up;
     c.fov_y_deg = o.fov_y_deg;
     c.width = o.width;
@@ -78,6 +140,8 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (!o.path.empty()) throw_usage("--path does not apply to --terrain");
   if (o.occlusion != "none") throw_usage("--occlusion does not apply to --terrain");
   if (!(t.tess_error_px > 0)) throw_usage("--tess-error must be > 0");
+  if (!(o.fov_y_deg > 0 && o.fov_y_deg < 180)) throw_usage("--fov must be in (0, 180) degrees");
+  check_single_image_name(o.output);
   render::check_output_format(o.output);
   Stage stage("splat-view", {t.heightmap, o.output, o.stats_path}, "--stats");
   const terrain::HamTiles tiles =
@@ -86,6 +150,7 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (tiles.header.contains("nodata") && tiles.header["nodata"].is_number())
     nodata = tiles.header["nodata"].get<double>();
   const terrain::TerrainMap map = stage.phase("read", "reading " + stage.input_name(), [&] {
+    if (t.raw.empty()) check_heightmap_kind(t.heightmap);
     auto source = terrain::open_heightmap(t.heightmap, t.raw);
     return terrain::load_terrain_map(*source, nodata, tiles.z_scale);
   });
@@ -109,7 +174,11 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   ro.tess.d_max_tiles = t.tess_distance_tiles;
   ro.wireframe = t.wireframe;
   if (!o.background.empty()) ro.background = parse_background(o.background);
-  const render::Camera camera = make_camera(o, terrain::terrain_bounds(map, frame));
+  const nlohmann::json georef =
+      tiles.header.contains("georef") ? tiles.header["georef"] : nlohmann::json(nullptr);
+  const FileFrame file = file_frame(georef);
+  const render::Camera camera =
+      make_camera(o, terrain::terrain_bounds(map, frame), file, frame, tiles.z_scale);
   render::Framebuffer fb;
   fb.allocate(o.width, o.height, render::planes_for_output(o.output));
   const terrain::TerrainRenderStats stats = stage.phase("render", "rendering", [&] {
@@ -140,6 +209,8 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
         {"camera",
          {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
           {"target", {camera.target.x, camera.target.y, camera.target.z}},
+          {"frame", "metres east and north of the north-west texel, heights times z_scale"},
+          {"options_frame", file.name},
           {"fov_y_deg", camera.fov_y_deg}}},
         {"tiles", stats.tiles},
         {"visible_tiles", stats.visible_tiles},
@@ -152,6 +223,12 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   }
   OutputFile* outputs[] = {&out};
   stage.commit(outputs, std::move(report));
+  if (stats.triangles == 0)
+    std::fprintf(stderr,
+                 "splat-view: warning: %s: the frame draws no terrain (0 triangles): the camera "
+                 "sees none of %s (--eye and --target are in the file's coordinates, %s)\n",
+                 display_name(o.output, true).c_str(), stage.input_name().c_str(),
+                 file.name.c_str());
   std::ostringstream extra;
   extra << stats.visible_tiles << " of " << stats.tiles << " tiles visible, " << stats.triangles
         << " triangles (" << stats.triangles_at_64 << " at factor 64)";

@@ -5,10 +5,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <limits>
-#include <string>
 #include <functional>
+#include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "formats/laz.h"
@@ -261,8 +261,8 @@ class PointDecoder {
   struct Columns {
     uint16_t *intensity, *source, *nir;
     uint8_t *ret, *rets, *cls, *user;
-    int8_t* angle8;    // formats 0-5: whole degrees
-    float* angle;      // formats 6-8: 0.006-degree steps, kept in degrees
+    int8_t* angle8;  // formats 0-5: whole degrees
+    float* angle;    // formats 6-8: 0.006-degree steps, kept in degrees
     double* gps;
   };
   template <class T>
@@ -403,6 +403,8 @@ void read_records(InputStream& in, const std::function<void(const LasHeader&)>& 
     info.point_offset = h.point_offset;
     info.laszip_vlr = laszip;
     info.has_laszip_vlr = has_laszip;
+    info.evlr_start = h.evlr_start;
+    info.evlr_count = h.evlr_count;
     check_laz_vlr(in.path(), info);
   }
   on_header(h);
@@ -412,7 +414,8 @@ void read_records(InputStream& in, const std::function<void(const LasHeader&)>& 
   }
   std::vector<unsigned char> block;
   for (uint64_t done = 0; done < h.count;) {
-    const std::size_t n = static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h.count - done));
+    const std::size_t n =
+        static_cast<std::size_t>(std::min<uint64_t>(kBlockPoints, h.count - done));
     block.resize(n * h.record_length);
     const std::size_t got = in.read_some(block.data(), block.size());
     if (got != block.size())
@@ -434,7 +437,10 @@ LoadedCloud read_las(InputStream& in, const ReadOptions& options) {
   std::unique_ptr<PointDecoder> decoder;
   uint64_t done = 0;
   read_records(
-      in, [&](const LasHeader& header) { decoder = std::make_unique<PointDecoder>(in, header, doc.cloud); },
+      in,
+      [&](const LasHeader& header) {
+        decoder = std::make_unique<PointDecoder>(in, header, doc.cloud);
+      },
       [&](const unsigned char* records, std::size_t n) {
         decoder->add_records(records, n, done);
         done += n;
@@ -455,7 +461,11 @@ LasRecordsInfo read_las_records(InputStream& in,
     return LasRecordsInfo{x.format, x.record_length, x.count, x.compressed};
   };
   read_records(
-      in, [&](const LasHeader& x) { if (on_info) on_info(info(x)); }, sink, vlr_names, h);
+      in,
+      [&](const LasHeader& x) {
+        if (on_info) on_info(info(x));
+      },
+      sink, vlr_names, h);
   return info(h);
 }
 

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <limits>
 #include <string>
 #include <vector>
@@ -34,6 +37,21 @@ void put_text(unsigned char* p, std::size_t n, const std::string& s) {
 }
 
 }  // namespace
+
+std::pair<uint16_t, uint16_t> las_creation_date() {
+  const char* env = std::getenv("SOURCE_DATE_EPOCH");
+  long long seconds = 0;
+  if (env && *env) {
+    const char* end = env + std::strlen(env);
+    const auto [at, ec] = std::from_chars(env, end, seconds);
+    std::tm tm{};
+    const std::time_t t = static_cast<std::time_t>(seconds);
+    if (ec == std::errc() && at == end && seconds >= 0 && ::gmtime_r(&t, &tm) &&
+        tm.tm_year + 1900 <= 65535)
+      return {static_cast<uint16_t>(tm.tm_yday + 1), static_cast<uint16_t>(tm.tm_year + 1900)};
+  }
+  return {1, 2000};
+}
 
 void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
                        const unsigned char* records, uint64_t count, bool compressed,
@@ -71,6 +89,11 @@ void write_las_records(OutputFile& out, const LasRecordsLayout& layout,
   h[25] = v14 ? 4 : 2;
   put_text(h + 26, 32, "splatkit");
   put_text(h + 58, 32, layout.generating_software);
+  const auto [day, year] = layout.creation_year
+                               ? std::pair(layout.creation_day, layout.creation_year)
+                               : las_creation_date();
+  put16(h + 90, day);
+  put16(h + 92, year);
   put16(h + 94, static_cast<uint32_t>(header_size));
   put32(h + 96, static_cast<uint32_t>(header_size + vlr.size()));
   put32(h + 100, compressed ? 1 : 0);

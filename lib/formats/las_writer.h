@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "formats/loaded_cloud.h"
@@ -18,11 +19,19 @@ struct LasRecordsLayout {
   double scale[3] = {0.001, 0.001, 0.001};
   double offset[3] = {0, 0, 0};
   std::string generating_software = "splatkit";
+  // File creation day of year (1-366) and year: las_creation_date() by default.
+  uint16_t creation_day = 0, creation_year = 0;
 };
+
+// The creation date splatkit writes, the same on every run so that outputs stay byte-identical:
+// the UTC date of $SOURCE_DATE_EPOCH (seconds since 1970, the reproducible-builds convention) when
+// it is set to such a number, else day 1 of 2000. Returns {day of year, year}.
+std::pair<uint16_t, uint16_t> las_creation_date();
 
 // Writes `count` LAS records (record_length bytes each, as in an uncompressed file) as a LAS 1.2
 // file (formats 0-3) or LAS 1.4 file (formats 6-8, 64-bit point counts), or, when `compressed`,
-// as LAZ with chunks of `chunk_size` points. The header's bounds and returns-by-number counts are
+// as LAZ with chunks of `chunk_size` points. The creation date is the layout's, or
+// las_creation_date() when its year is 0. The header's bounds and returns-by-number counts are
 // computed from the records. Throws Error(kUnsupported) for more than 2^32 - 1 points in LAS 1.2.
 // variable_chunks: the LASzip VLR says "variable" and the chunk table stores each chunk's point
 // count (chunks then hold chunk_size, chunk_size + 1, chunk_size + 2,

@@ -28,6 +28,7 @@ constexpr uint64_t kMaxPointsPerByte = 1024;
 // and at least 4 chunks per worker thread. Small enough that the batch's records stay mostly in
 // cache on their way to the sink, and that the buffer costs few page faults.
 constexpr uint64_t kBatchPoints = uint64_t{1} << 19;
+constexpr uint64_t kEvlrHeaderBytes = 60;
 
 std::vector<unsigned char> read_rest(InputStream& in) {
   std::vector<unsigned char> data;
@@ -47,8 +48,12 @@ struct Chunk {
   uint64_t offset = 0, bytes = 0;  // within the point data
 };
 
+// The chunks of the point data; `table_end` receives where the chunk table's coded entries end
+// and `end` where the point data ends (before the 8-byte table offset a streaming LASzip
+// appends), both within `data`.
 std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& info,
-                                const laz::LaszipVlr& vlr, std::span<const unsigned char> data) {
+                                const laz::LaszipVlr& vlr, std::span<const unsigned char> data,
+                                uint64_t& table_end, uint64_t& end_of_data) {
   if (data.size() < 8)
     throw_bad_input(path, "LAZ point data is " + std::to_string(data.size()) +
                               " bytes, too short for the chunk table offset");
@@ -58,6 +63,9 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
       ~uint64_t{0}) {  // written by a streaming LASzip: the offset is the file's last 8 bytes
     if (data.size() < 16) throw_bad_input(path, "LAZ chunk table offset missing at the end");
     table = get64(data.data() + data.size() - 8);
+    end_of_data = data.size() - 8;
+  } else {
+    end_of_data = data.size();
   }
   if (table < info.point_offset + 8 || table > end || end - table < 8)
     throw_bad_input(path, "LAZ chunk table offset " + std::to_string(table) +
@@ -85,11 +93,13 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
                     " points, but the chunk table lists " + std::to_string(n) + " chunks");
   }
   std::vector<laz::ChunkEntry> entries;
+  std::size_t used = 0;
   try {
-    entries = laz::decode_chunk_table(data.subspan(rel + 8), n, variable);
+    entries = laz::decode_chunk_table(data.subspan(rel + 8), n, variable, &used);
   } catch (const laz::LazDataError& e) {
     throw_bad_input(path, std::string("LAZ chunk table: ") + e.what());
   }
+  table_end = rel + 8 + used;
   std::vector<Chunk> chunks;
   chunks.reserve(n);
   uint64_t offset = 8, first = 0;
@@ -122,6 +132,42 @@ std::vector<Chunk> chunk_layout(const std::string& path, const LazPointsInfo& in
     throw_bad_input(path, "header says " + std::to_string(info.count) +
                               " points but the LAZ chunks hold " + std::to_string(first));
   return chunks;
+}
+
+// After the chunk table: LAS 1.4 extended VLRs (each header checked, the last ending the file),
+// otherwise nothing but the one byte of look-ahead slack the chunks get too.
+void check_tail(const std::string& path, const LazPointsInfo& info,
+                std::span<const unsigned char> data, uint64_t table_end, uint64_t end_of_data) {
+  uint64_t at = table_end;
+  const char* last = "LAZ chunk table";
+  if (info.evlr_count > 0) {
+    if (info.evlr_start < info.point_offset + table_end ||
+        info.evlr_start > info.point_offset + end_of_data)
+      throw_bad_input(path, "first EVLR at byte " + std::to_string(info.evlr_start) +
+                                " does not lie between the end of the LAZ chunk table (byte " +
+                                std::to_string(info.point_offset + table_end) +
+                                ") and the end of the file");
+    at = info.evlr_start - info.point_offset;
+    for (uint32_t k = 0; k < info.evlr_count; ++k) {
+      if (end_of_data - at < kEvlrHeaderBytes)
+        throw_bad_input(path, "EVLR " + std::to_string(k) + " of " +
+                                  std::to_string(info.evlr_count) +
+                                  ": unexpected end of file in its header");
+      const uint64_t length = get64(data.data() + at + 20);
+      at += kEvlrHeaderBytes;
+      if (length > end_of_data - at)
+        throw_bad_input(path, "EVLR " + std::to_string(k) + " of " +
+                                  std::to_string(info.evlr_count) + " claims " +
+                                  std::to_string(length) + " bytes, past the end of the file");
+      at += length;
+    }
+    last = "EVLR";
+    if (at == end_of_data) return;
+  } else if (end_of_data - at <= 1) {
+    return;
+  }
+  throw_bad_input(path, std::to_string(end_of_data - at) + " bytes of trailing data after the " +
+                            last + " (file byte " + std::to_string(info.point_offset + at) + ")");
 }
 
 }  // namespace
@@ -178,8 +224,11 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   std::string error;
   laz::parse_laszip_vlr(info.laszip_vlr, vlr, error);  // checked by check_laz_vlr
   const std::vector<unsigned char> data = read_rest(in);
+  if (info.count == 0 && data.empty()) return;
+  uint64_t table_end = 0, end_of_data = 0;
+  const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data, table_end, end_of_data);
+  check_tail(path, info, data, table_end, end_of_data);
   if (info.count == 0) return;
-  const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data);
   const std::size_t rl = info.record_length;
   const uint64_t workers =
       static_cast<uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency()));

@@ -14,12 +14,14 @@
 namespace splatkit {
 
 struct LazPointsInfo {
-  int format = 0;              // point data format (low 6 bits of the format byte)
-  uint16_t record_length = 0;  // bytes per decoded record
-  uint64_t count = 0;          // points the header announces
-  uint64_t point_offset = 0;   // file offset of the point data (where `in` stands)
+  int format = 0;                             // point data format (low 6 bits of the format byte)
+  uint16_t record_length = 0;                 // bytes per decoded record
+  uint64_t count = 0;                         // points the header announces
+  uint64_t point_offset = 0;                  // file offset of the point data (where `in` stands)
   std::span<const unsigned char> laszip_vlr;  // payload of the LASzip VLR; empty when absent
   bool has_laszip_vlr = false;
+  uint64_t evlr_start = 0;  // LAS 1.4: file offset of the first extended VLR
+  uint32_t evlr_count = 0;  // and how many there are (they follow the chunk table)
 };
 
 // Checks the LASzip VLR against the format (Error kUnsupported for a compressor, coder, item or
@@ -29,8 +31,8 @@ void check_laz_vlr(const std::string& path, const LazPointsInfo& info);
 // Reads the rest of `in` (point data, chunk table, anything after) and passes the decoded records
 // to `sink` in file order, record_length bytes each, in batches of whole chunks; the chunks of a
 // batch are decoded in parallel (TBB). Throws Error(kBadInput) naming the chunk for a truncated or
-// corrupt chunk, a chunk table that does not fit the file, or a point count the chunks disagree
-// with.
+// corrupt chunk, a chunk table that does not fit the file, a point count the chunks disagree
+// with, or bytes after the chunk table (or after the last EVLR) that belong to nothing, as LAS.
 void read_laz_points(InputStream& in, const LazPointsInfo& info,
                      const std::function<void(const unsigned char* records, std::size_t n)>& sink);
 

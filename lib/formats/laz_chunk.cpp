@@ -423,8 +423,10 @@ void encode_chunk(const unsigned char* records, uint64_t count, const std::vecto
 }
 
 std::vector<ChunkEntry> decode_chunk_table(std::span<const unsigned char> bytes, uint32_t chunks,
-                                           bool variable) {
+                                           bool variable, std::size_t* used) {
   std::vector<ChunkEntry> table;
+  if (used) *used = 0;
+  if (chunks == 0) return table;
   ArithmeticDecoder dec(bytes.data(), bytes.data() + bytes.size());
   dec.init();
   IntegerCompressor ic(32, 2);
@@ -439,6 +441,7 @@ std::vector<ChunkEntry> decode_chunk_table(std::span<const unsigned char> bytes,
     e.bytes = static_cast<uint32_t>(last_bytes);
     table.push_back(e);
   }
+  if (used) *used = static_cast<std::size_t>(dec.position() - bytes.data());
   return table;
 }
 

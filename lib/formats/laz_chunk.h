@@ -30,7 +30,12 @@ enum ItemType : uint16_t {
   kItemWavePacket14 = 13,
   kItemByte14 = 14,
 };
-enum Compressor : uint16_t { kNone = 0, kPointWise = 1, kPointWiseChunked = 2, kLayeredChunked = 3 };
+enum Compressor : uint16_t {
+  kNone = 0,
+  kPointWise = 1,
+  kPointWiseChunked = 2,
+  kLayeredChunked = 3
+};
 
 inline constexpr uint32_t kVariableChunkSize = 0xFFFFFFFFu;
 inline constexpr uint16_t kLaszipRecordId = 22204;
@@ -89,9 +94,10 @@ struct ChunkEntry {
 };
 
 // Decodes the arithmetic-coded part of a chunk table (after its version and count) of `chunks`
-// entries; `variable` when the counts are stored too (chunk size kVariableChunkSize).
+// entries; `variable` when the counts are stored too (chunk size kVariableChunkSize). `used`, when
+// given, receives the bytes the decoder consumed (0 for no chunks: the coder then writes nothing).
 std::vector<ChunkEntry> decode_chunk_table(std::span<const unsigned char> bytes, uint32_t chunks,
-                                           bool variable);
+                                           bool variable, std::size_t* used = nullptr);
 // Appends a complete chunk table (version 0, count, coded entries).
 void encode_chunk_table(const std::vector<ChunkEntry>& chunks, bool variable,
                         std::vector<unsigned char>& out);

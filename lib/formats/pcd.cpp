@@ -520,7 +520,7 @@ std::size_t type_size(const PclField& f) { return f.type ? scalar_size(*f.type) 
 class FieldMapper {
  public:
   FieldMapper(const std::string& file, const PclRecords& pc) : file_(file), pc_(pc) {}
-  uint64_t map(SplatCloud& c);
+  void map(SplatCloud& c);
 
  private:
   const PclField* find(const char* name) const {
@@ -544,7 +544,7 @@ void FieldMapper::check_fields() const {
       throw_bad_input(file_, "field '" + f.name + "' does not fit in the point record");
 }
 
-uint64_t FieldMapper::map(SplatCloud& c) {
+void FieldMapper::map(SplatCloud& c) {
   check_fields();
   const PclField* xyz[3] = {find("x"), find("y"), find("z")};
   if (!xyz[0] || !xyz[1] || !xyz[2]) throw_bad_input(file_, "no x, y and z fields");
@@ -570,18 +570,17 @@ uint64_t FieldMapper::map(SplatCloud& c) {
   }
 
   const std::size_t n = static_cast<std::size_t>(pc_.width) * pc_.height;
-  uint64_t dropped = 0;
   PositionBuilder positions(c, file_);
   for (std::size_t i = 0; i < n; ++i) {
     const uint8_t* rec = pc_.data.data() + i * pc_.point_step;
     std::array<double, 3> p;
     for (int k = 0; k < 3; ++k) p[k] = load(rec + xyz[k]->offset, *xyz[k]->type);
-    if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2])) {
-      ++dropped;  // organised clouds mark missing returns with NaN
-      continue;
-    }
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      throw_bad_input(file_, "point " + std::to_string(i) + ": infinite coordinate");
+    // One policy in every reader: a point without a position is refused, never dropped (an
+    // organised cloud's missing returns too: PCL's removeNaNFromPointCloud drops them first).
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(p[k]))
+        throw_bad_input(file_, "point " + std::to_string(i) + ": NaN or infinite coordinate (" +
+                                   "xyz"[k] + " = " + std::to_string(p[k]) + ")");
     for (double x : p)
       if (!fits_float(x))
         throw_bad_input(file_, "point " + std::to_string(i) + ": coordinate " + std::to_string(x) +
@@ -608,17 +607,16 @@ uint64_t FieldMapper::map(SplatCloud& c) {
     }
   }
   positions.finish();
-  return dropped;
 }
 
-nlohmann::json header_json(const PcdHeader& h, uint64_t dropped) {
+nlohmann::json header_json(const PcdHeader& h) {
   nlohmann::json fields = nlohmann::json::array();
   for (const auto& f : h.fields)
     fields.push_back(
         {{"name", f.name}, {"size", f.size}, {"type", std::string(1, f.type)}, {"count", f.count}});
-  return {{"version", h.version},     {"fields", fields},      {"width", h.width},
-          {"height", h.height},       {"points", h.points},    {"data", h.data},
-          {"viewpoint", h.viewpoint}, {"dropped_nan", dropped}};
+  return {{"version", h.version},    {"fields", fields},   {"width", h.width},
+          {"height", h.height},      {"points", h.points}, {"data", h.data},
+          {"viewpoint", h.viewpoint}};
 }
 
 }  // namespace
@@ -632,16 +630,15 @@ LoadedCloud read_pcd(InputStream& in, const ReadOptions& options) {
   if (spill) spill->close();
 
   LoadedCloud doc;
-  uint64_t dropped = 0;
   if (h.points > 0) {
     PclRecords pc;
     const std::string why = pcl_pcd(in.path()).read(spill ? spill->path() : in.path(), pc);
     if (!why.empty()) throw_bad_input(in.path(), why);
-    dropped = FieldMapper(in.path(), pc).map(doc.cloud);
+    FieldMapper(in.path(), pc).map(doc.cloud);
   }
   if (h.viewpoint[0] != 0 || h.viewpoint[1] != 0 || h.viewpoint[2] != 0)
     doc.cloud.viewpoint = std::array<double, 3>{h.viewpoint[0], h.viewpoint[1], h.viewpoint[2]};
-  doc.header = header_json(h, dropped);
+  doc.header = header_json(h);
   return doc;
 }
 

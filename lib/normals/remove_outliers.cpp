@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "normals/neighborhood_pca.h"
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
@@ -24,6 +25,38 @@ std::vector<float> mean_knn_distances(const SpatialIndex& index, std::size_t k) 
     }
   });
   return d;
+}
+
+// The plane rule: for each point, the PCA plane of its k nearest other points; the point's
+// distance h to it against the plane's own RMS residual and the mean neighbour distance.
+std::vector<uint8_t> off_plane(std::span<const Vec3f> positions, const SpatialIndex& index,
+                               const OutlierOptions& o) {
+  std::vector<uint8_t> out(positions.size(), 0);
+  const std::size_t k = o.k;
+  index.for_each_knn_block(k + 1, [&](std::span<const uint32_t> queries,
+                                      std::span<const uint32_t> rows, std::span<const float> sq) {
+    for (std::size_t r = 0; r < queries.size(); ++r) {
+      const uint32_t i = queries[r];
+      const std::span<const uint32_t> nb = rows.subspan(r * (k + 1) + 1, k);
+      const PcaNormal pca = neighborhood_pca(positions, nb);
+      if (pca.degenerate || is_thread(pca, positions, i, nb)) continue;  // no plane to leave
+      double c[3] = {0, 0, 0}, spacing = 0;
+      std::size_t m = 0;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (nb[j] == SpatialIndex::kNone) continue;
+        for (int a = 0; a < 3; ++a) c[a] += double(positions[nb[j]][a]) - positions[i][a];
+        spacing += std::sqrt(double(sq[r * (k + 1) + 1 + j]));
+        ++m;
+      }
+      if (m < 3) continue;
+      double h = 0;
+      for (int a = 0; a < 3; ++a) h -= double(pca.normal[a]) * c[a] / double(m);
+      const double residual = std::sqrt(std::max(0.0, pca.eigenvalues[0]) / double(m));
+      const double floor = kPlaneSpacingFloor * spacing / double(m);
+      out[i] = std::fabs(h) > std::max(o.sigma * residual, floor);
+    }
+  });
+  return out;
 }
 
 template <typename T>
@@ -53,6 +86,8 @@ nlohmann::json OutlierResult::to_json(const OutlierOptions& o) const {
   if (o.rule == OutlierRule::kStatistical)
     return {{"rule", "sor"}, {"k", o.k}, {"sigma", o.sigma}, {"mean_distance", mean},
             {"stddev", stddev}, {"threshold", threshold}, {"removed", removed}};
+  if (o.rule == OutlierRule::kPlane)
+    return {{"rule", "plane"}, {"k", o.k}, {"t", o.sigma}, {"removed", removed}};
   return {{"rule", "radius"}, {"radius", radius}, {"min_neighbors", o.min_neighbors},
           {"auto_radius", o.radius == 0}, {"removed", removed}};
 }
@@ -76,6 +111,9 @@ OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptio
     r.stddev = std::sqrt((sq_sum - sum * sum / count) / (count - 1));
     r.threshold = r.mean + o.sigma * r.stddev;
     for (std::size_t i = 0; i < n; ++i) r.outlier[i] = d[i] > r.threshold;
+  } else if (o.rule == OutlierRule::kPlane) {
+    if (n <= o.k) return r;
+    r.outlier = off_plane(positions, index, o);
   } else {
     r.radius = o.radius;
     if (r.radius == 0) {
@@ -96,6 +134,16 @@ OutlierResult find_outliers(std::span<const Vec3f> positions, const OutlierOptio
   }
   r.removed = static_cast<std::size_t>(std::count(r.outlier.begin(), r.outlier.end(), 1));
   return r;
+}
+
+std::vector<OutlierOptions> default_outlier_passes() {
+  std::vector<OutlierOptions> passes = default_statistical_passes();
+  OutlierOptions plane;
+  plane.rule = OutlierRule::kPlane;
+  plane.k = kDefaultPlaneK;
+  plane.sigma = kDefaultPlaneT;
+  passes.push_back(plane);
+  return passes;
 }
 
 std::vector<OutlierOptions> default_statistical_passes() {

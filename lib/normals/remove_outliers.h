@@ -30,7 +30,19 @@
 
 namespace splatkit {
 
-enum class OutlierRule { kStatistical, kRadius };
+enum class OutlierRule { kStatistical, kRadius, kPlane };
+
+// The plane rule (plane[:K,T]): point i is an outlier iff its distance to the least-squares plane
+// of its K nearest other points exceeds both T times that plane's RMS residual over them (the
+// noise band) and kPlaneSpacingFloor times their mean distance from i (the sampling: a noiseless
+// surface's residual is its curvature alone). Points whose neighbourhood has no plane (collinear,
+// or one scan line: is_thread in neighborhood_pca.h) are kept. It finds what the statistical rule
+// cannot: points a spacing or two off a surface, whose neighbour distances are those of the
+// surface's own sparser spots, but which lie off its plane. K = 16, T = 6 measured as below
+// (with the statistical passes first, default_outlier_passes()).
+inline constexpr double kPlaneSpacingFloor = 0.3;
+inline constexpr std::size_t kDefaultPlaneK = 16;
+inline constexpr double kDefaultPlaneT = 6.0;
 
 struct OutlierOptions {
   OutlierRule rule = OutlierRule::kStatistical;
@@ -48,8 +60,8 @@ struct OutlierOptions {
   // SIGMA multiplies a deviation that the outliers themselves inflate (1 % of the points, tens of s
   // away), so the threshold in units of s grows with the scan's density. But on a scan without
   // outliers the same sigma = 1 removes 15-17 % of the scan (the upper tail of its own distances).
-  std::size_t k = 12;       // statistical: neighbours averaged (>= 1)
-  double sigma = 1.0;       // statistical: standard deviations above the mean (finite)
+  std::size_t k = 12;       // statistical and plane: neighbours (>= 1)
+  double sigma = 1.0;       // statistical: standard deviations above the mean (finite); plane: T
   double radius = 0;        // radius rule: R in the cloud's units; 0 = automatic (see below)
   std::size_t min_neighbors = 6;  // radius rule: N
 };
@@ -68,6 +80,13 @@ struct OutlierOptions {
 inline constexpr std::size_t kDefaultStatisticalK[] = {12, 6};
 inline constexpr double kDefaultStatisticalSigma[] = {3.0, 3.5};
 std::vector<OutlierOptions> default_statistical_passes();
+// `--outliers sor`: the statistical passes, then plane:16,6 over what they kept. With 1 % of the
+// point count injected uniformly in the bounding box (i.i.d. samples of a 100 000-point torus:
+// 96.9 % of the injected points removed against 89.6 % by the statistical passes alone; 95-97 % on
+// a scan-line CAD part, a cube, the rainier terrain and the CAD LAZ sample, 91-94 % on a 30 000-
+// point sphere, a 40 000-point torus and the city, 86-90 % on a noisy torus and the kitten), the
+// plane pass took at most 0.02 % of a scan's own points more (0.21 % in all on the noisy torus).
+std::vector<OutlierOptions> default_outlier_passes();
 
 // The automatic R of the radius rule: kAutoRadiusScale times the median, over the cloud, of the
 // mean distance to the 8 nearest other points (about 1.5 sampling spacings). Measured as above:

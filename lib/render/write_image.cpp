@@ -21,12 +21,15 @@ std::string extension_of(const std::string& path) {
 
 bool is_exr(const std::string& path) { return extension_of(path) == "exr"; }
 
-// The extension, checked: one OpenImageIO writes into memory, or PNG (written without it).
+// The extension, checked: PNG (written without OpenImageIO) or EXR (through it). Other formats
+// are refused: their writers are not byte-identical from run to run (TIFF stamps the date) or
+// not checked to write valid files from memory (OpenImageIO's TIFF writer there drops the image
+// length).
 std::string checked_extension(const std::string& path) {
   const std::string ext = extension_of(path);
-  if (ext.empty())
-    throw_usage(display_name(path, true) +
-                ": no file extension; use .png, .exr or another image extension");
+  if (ext.empty()) throw_usage(display_name(path, true) + ": no file extension; use .png or .exr");
+  if (ext != "png" && ext != "exr")
+    throw_usage(display_name(path, true) + ": images are written as .png or .exr, not ." + ext);
   if (ext != "png") {
     const std::string why = oiio_images(path).check(ext);
     if (!why.empty()) throw_usage(display_name(path, true) + ": " + why);

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <memory>
 #include <new>
+#include <string>
 
 #include "splatkit/error.h"
 #include "splatkit/spill_arena.h"
@@ -20,6 +21,37 @@ namespace splatkit {
 
 namespace {
 constexpr uint64_t kMinMaxMemory = uint64_t{64} << 20;  // the tool's own code and libraries: ~30M
+
+// A size with an optional binary unit (K, M, G, T; KB, KiB ...; any case) and a fractional
+// number ("1.5G"), rewritten as whole bytes; an error message for anything else.
+std::string parse_size(std::string& text) {
+  std::size_t end = 0;
+  double number = 0;
+  try {
+    number = std::stod(text, &end);
+  } catch (const std::exception&) {
+    return "SIZE must be a number of bytes with an optional unit (e.g. 512M, 1.5G): " + text;
+  }
+  std::string unit;
+  for (std::size_t i = end; i < text.size(); ++i)
+    if (!std::isspace(static_cast<unsigned char>(text[i])))
+      unit += static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])));
+  if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();
+  if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();
+  const std::string units = "KMGT";
+  double scale = 1;
+  if (!unit.empty() && unit != "B") {
+    const std::size_t k = unit.size() == 1 ? units.find(unit[0]) : std::string::npos;
+    if (k == std::string::npos)
+      return "SIZE unit must be K, M, G or T (binary: 1K = 1024 bytes): " + text;
+    scale = std::ldexp(1.0, 10 * int(k + 1));
+  }
+  const double bytes = std::round(number * scale);
+  if (!(bytes >= 0) || !(bytes < 0x1p64))
+    return "SIZE must be a number of bytes from 0 to 2^64: " + text;
+  text = std::to_string(static_cast<uint64_t>(bytes));
+  return {};
+}
 
 bool knows_option(const CLI::App& app, const std::string& name) {
   if (app.get_option_no_throw(name)) return true;
@@ -72,12 +104,14 @@ void Tool::add_threads_option() {
 
 void Tool::add_memory_options(apps::MemoryLimit& limit, const std::string& work_help) {
   memory_ = &limit;
-  CLI::Option* max = app_.add_option("--max-memory", limit.max_bytes,
-                  "Keep the resident memory under SIZE (e.g. 2G, 512M; at least 64M): the large "
-                  "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
-                  "are paged in as the work reaches them. " +
-                      work_help)
-      ->transform(CLI::AsSizeValue(false));
+  CLI::Option* max =
+      app_.add_option(
+              "--max-memory", limit.max_bytes,
+              "Keep the resident memory under SIZE (e.g. 2G, 1.5G, 512M; at least 64M): the large "
+              "arrays live in a temporary file in --tmp-dir, deleted when the tool ends, and "
+              "are paged in as the work reaches them. " +
+                  work_help)
+          ->transform(CLI::Validator(parse_size, "SIZE"));
   app_.add_option("--tmp-dir", limit.tmp_dir,
                   "Directory of --max-memory's temporary file (default: $TMPDIR, else /tmp)")
       ->needs(max);

@@ -114,5 +114,15 @@ expect_exit 0 "$BIN/splat-view" -q "$WORK/n.splk" -o /dev/null --stats "$WORK/st
   --width 64 --height 48
 grep -q '"splats_drawn"\|"splats"' "$WORK/stats.json" && pass || fail "no stats with -o /dev/null"
 expect_exit 0 "$BIN/build-splat-graph" -q "$WORK/n.splk" /dev/null
+# --max-memory takes fractional sizes and binary units; the output is the in-memory one.
+expect_exit 0 "$BIN/estimate-normals" -q "$sample" "$WORK/m.splk" --max-memory 1.5G
+cmp -s "$WORK/n.splk" "$WORK/m.splk" && pass || fail "--max-memory 1.5G changed the output"
+expect_exit 0 "$BIN/build-spt" -q "$WORK/n.splk" "$WORK/m.spt" --max-memory 0.25GiB
+for bad in 1.5X -1G nan inf 1e30G; do
+  expect_exit 1 "$BIN/estimate-normals" -q "$sample" "$WORK/m2.splk" --max-memory "$bad"
+  head -1 "$WORK/stderr" | grep -q "^estimate-normals: --max-memory: SIZE" && pass ||
+    fail "--max-memory $bad: $(head -1 "$WORK/stderr")"
+done
+[ ! -e "$WORK/m2.splk" ] && pass || fail "a refused --max-memory wrote OUT"
 
 finish

@@ -74,3 +74,9 @@ finish() {
   [ "$FAILS" -eq 0 ]
   exit $?
 }
+
+# sweep_ply FILE N: N splats at the same place (0: an empty cloud), x y z nx ny nz radius.
+sweep_ply() {
+  printf 'ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float radius\nend_header\n' "$2" >"$1"
+  for ((i = 0; i < $2; i++)); do echo "1 2 3 0 0 1 0.1"; done >>"$1"
+}

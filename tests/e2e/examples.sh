@@ -11,7 +11,9 @@ export PATH=$BIN:$PATH
 cd "$EX" || exit 1
 
 # The files the examples name.
-cp "$S/torus.ply" scan.ply
+# A scan as scanners give it: points without normals or radii (the examples that draw or build
+# from splats must name the output of estimate-normals).
+splat-convert -q "$S/cad-scan.laz" scan.ply 2>/dev/null || fail "setup: scan.ply"
 cp "$S/cube.ply" big.ply
 cp "$S/torus-las12.las" scan.las
 cp "$S/torus-las12.laz" scan.laz

@@ -191,6 +191,17 @@ head -c 2000 /dev/zero >"$WORK/void.raw"
 expect_exit 2 "$BIN/build-ham" "$WORK/void.raw" "$WORK/x.exr" --raw 40,50,uint8 --nodata 0
 expect_stderr "void.raw: every sample is a void"
 [ ! -e "$WORK/x.exr" ] && pass || fail "a refused map left OUT behind"
+# The same as SRTM voids (int16 -32768, a map taller than the void filler's look-ahead, from a
+# file and from stdin, with --ham-full and a report): refused, nothing of any output left.
+python3 -c 'import struct, sys; open(sys.argv[1], "wb").write(struct.pack("<%dh" % (300 * 300), *([-32768] * (300 * 300))))' \
+  "$WORK/void16.raw"
+mkdir -p "$WORK/voidout"
+expect_exit 2 "$BIN/build-ham" "$WORK/void16.raw" "$WORK/voidout/x.exr" --raw 300,300,int16 \
+  --nodata -32768 --ham-full "$WORK/voidout/full.exr" --report "$WORK/voidout/r.json"
+expect_stderr "^build-ham: .*void16.raw: every sample is a void"
+expect_exit 2 bash -c "'$BIN/build-ham' - '$WORK/voidout/x.exr' --raw 300,300,int16 --nodata -32768 <'$WORK/void16.raw'"
+expect_stderr "^build-ham: <stdin>: every sample is a void"
+[ -z "$(ls -A "$WORK/voidout")" ] && pass || fail "an all-void map left: $(ls "$WORK/voidout")"
 # Heights near the float range overflow their slopes: the file's fault (exit 2), not an option's.
 python3 -c 'import struct, sys; open(sys.argv[1], "wb").write(struct.pack("<64f", *([3e38, -3e38] * 32)))' \
   "$WORK/huge.raw"
@@ -220,8 +231,35 @@ expect_eq "same triangles" "$(json "$WORK/w.json" 'd["triangles"]')" "$(json "$W
 expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/away.png" \
   --width 64 --height 48 --eye 0,1e6,1e4 --target 0,2e6,1e4 -q --stats "$WORK/away.json"
 expect_eq "looking away" "$(json "$WORK/away.json" '(d["visible_tiles"], d["triangles"])')" "(0, 0)"
+expect_stderr "^splat-view: warning: .*away.png: the frame draws no terrain \(0 triangles\).*EPSG:4326: x = longitude"
+[ -s "$WORK/away.png" ] && pass || fail "an empty frame is still an image"
+# --eye/--target in the DEM's own lon/lat (and heights): south of the centre, looking at it.
+read -r eye target <<<"$(json "$WORK/t.json" '(lambda g: "%.6f,%.6f,6000 %.6f,%.6f,2000" % (
+  g["tiepoint"][3] + 128 * g["pixel_scale"][0], g["tiepoint"][4] - 200 * g["pixel_scale"][1],
+  g["tiepoint"][3] + 128 * g["pixel_scale"][0], g["tiepoint"][4] - 128 * g["pixel_scale"][1]))(d["header"]["georef"])')"
+expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/lonlat.png" \
+  --width 64 --height 48 --eye "$eye" --target "$target" -q --stats "$WORK/lonlat.json"
+expect_eq "a lon/lat camera draws" "$(json "$WORK/lonlat.json" 'd["triangles"] > 1000')" "True"
+expect_eq "the frame of the options" "$(json "$WORK/lonlat.json" 'd["camera"]["options_frame"][:9]')" "EPSG:4326"
+grep -q warning "$WORK/stderr" && fail "a frame that draws warned: $(cat "$WORK/stderr")" || pass
 expect_exit 1 "$BIN/splat-view" --terrain "$DEM" -o "$WORK/x.png"
 expect_stderr "needs --ham"
+# Options at their extremes name themselves (--fov was blamed on --view's distance).
+for v in 0 -1 180 1e300 nan inf; do
+  expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" --fov "$v"
+  expect_stderr "^splat-view: --fov must be in \(0, 180\) degrees"
+done
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" --eye 1e300,0,0
+expect_stderr "^splat-view: --eye and --target must lie within float range"
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.png" \
+  --eye -121.7,46.8,3000 --target -121.7,46.8,3000
+expect_stderr "^splat-view: --eye and --target must differ"
+[ ! -e "$WORK/x.png" ] && pass || fail "a refused terrain view wrote OUT"
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/k-%04d.png"
+expect_stderr "k-%04d.png' has a frame number field"
+ls "$WORK" | grep -q '^k-' && fail "a literal k-%04d.png was written" || pass
+expect_exit 1 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/x.tif"
+expect_stderr "x.tif: images are written as .png or .exr, not .tif"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t100.exr.bad" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$WORK/N00E000.hgt" --ham "$WORK/t.exr" -o "$WORK/x.png"
 expect_exit 2 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/full.exr" -o "$WORK/x.png"
@@ -245,5 +283,41 @@ for opt in "--ham $WORK/t.exr" --wireframe "--tess-error 3"; do
   grep -q "^splat-view: ${opt%% *} requires --terrain" "$WORK/stderr" && pass ||
     fail "$opt without --terrain: $(cat "$WORK/stderr")"
 done
+
+# A careless user's build-ham: --tile and --z-scale at their extremes (1), a 1 x 1 and a flat map
+# (valid tiles), splats or a .qs as the heightmap (2), OUT and --ham-full in a missing directory
+# and OUT in a read-only one (4); nothing left behind.
+for v in 0 -1 1e12 nan inf; do
+  expect_exit 1 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --tile "$v"
+  grep -q "^build-ham: --tile" "$WORK/stderr" && pass || fail "--tile $v: $(head -1 "$WORK/stderr")"
+done
+for v in 0 -1 nan inf; do
+  expect_exit 1 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --z-scale "$v"
+  grep -q "^build-ham: --z-scale" "$WORK/stderr" && pass || fail "--z-scale $v: $(head -1 "$WORK/stderr")"
+done
+head -c 2 /dev/zero >"$WORK/one.raw"
+expect_exit 0 "$BIN/build-ham" -q "$WORK/one.raw" "$WORK/one.exr" --raw 1,1,int16
+head -c 2000 /dev/zero >"$WORK/flat.raw"
+expect_exit 0 "$BIN/build-ham" -q "$WORK/flat.raw" "$WORK/flat.exr" --raw 40,50,uint8
+"$BIN/estimate-normals" -q "$S/sphere.ply" "$WORK/s.splk" && "$BIN/build-qsplat" -q "$WORK/s.splk" "$WORK/s.qs"
+for f in "$WORK/s.splk" "$WORK/s.qs" "$S/sphere.ply"; do
+  expect_exit 3 "$BIN/build-ham" -q "$f" "$WORK/x.exr"
+  expect_stderr "^build-ham: .*${f##*/}: a .*, not a heightmap \\(GeoTIFF/TIFF"
+done
+rm -f "$WORK/x.png"
+expect_exit 3 "$BIN/splat-view" -q --terrain "$WORK/s.qs" --ham "$WORK/t.exr" -o "$WORK/x.png"
+expect_stderr "^splat-view: .*s.qs: a QSplat hierarchy \\(.qs\\), not a heightmap"
+[ ! -e "$WORK/x.png" ] && pass || fail "a refused terrain view wrote OUT"
+expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/no/such/x.exr"
+expect_stderr "no/such/x.exr: cannot create"
+expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/x.exr" --ham-full "$WORK/no/such/f.exr"
+expect_stderr "no/such/f.exr: cannot create"
+mkdir -p "$WORK/ro"
+if mount -t tmpfs -o ro,size=64k tmpfs "$WORK/ro" 2>/dev/null; then
+  expect_exit 4 "$BIN/build-ham" -q "$DEM" "$WORK/ro/x.exr"
+  expect_stderr "ro/x.exr: cannot create: Read-only file system"
+  umount "$WORK/ro"
+fi
+[ ! -e "$WORK/x.exr" ] && pass || fail "a refused run left x.exr"
 
 finish

@@ -162,6 +162,29 @@ b = bytearray(d); struct.pack_into("<H", b, vlr + 0, 1); w("pointwise.laz", b)
 b = bytearray(d); struct.pack_into("<H", b, vlr + 34 + 4, 1); w("item-v1.laz", b)
 b = bytearray(d); b[vlr - 54 + 2:vlr - 54 + 18] = b"something else\0\0"; w("no-vlr.laz", b)
 PY
+# Bytes after the chunk table are refused as after a LAS file's last record (LAS 1.2 and 1.4).
+for f in h.laz "$S/torus-las12.laz" "$S/two-spheres-las14.laz"; do
+  cp "$f" tail-in.laz && head -c 1000 /dev/urandom >>tail-in.laz
+  bounded 2 "tail-in.laz: 100[01] bytes of trailing data after the LAZ chunk table" tail-in.laz
+done
+# LAS 1.4 EVLRs after the chunk table are read over (the same cloud); bytes after the last EVLR,
+# or an EVLR that overlaps the chunk table, are refused.
+python3 - "$S/two-spheres-las14.laz" <<'PY'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+def evlr(payload):
+    return struct.pack("<H16sHQ32s", 0, b"splatkit test", 1, len(payload), b"an EVLR") + payload
+def w(name, b, start, count):
+    b = bytearray(b); struct.pack_into("<QI", b, 235, start, count); open(name, "wb").write(b)
+w("evlr.laz", d + evlr(b"x" * 100) + evlr(b""), len(d), 2)
+w("evlr-tail.laz", d + evlr(b"x" * 100) + b"garbage", len(d), 1)
+w("evlr-overlap.laz", d + evlr(b"x" * 100), len(d) - 20, 1)
+PY
+expect_exit 0 "$BIN/splat-convert" -q evlr.laz evlr.ply
+"$BIN/splat-convert" -q "$S/two-spheres-las14.laz" no-evlr.ply
+cmp -s evlr.ply no-evlr.ply && pass || fail "EVLRs after the chunk table changed the cloud"
+bounded 2 "evlr-tail.laz: 7 bytes of trailing data after the EVLR" evlr-tail.laz
+bounded 2 "evlr-overlap.laz: first EVLR at byte [0-9]+ does not lie between the end of the LAZ chunk table" evlr-overlap.laz
 bounded 2 "chunk table offset .* lies outside the point data" trunc.laz
 bounded 2 "chunk table offset .* lies outside the point data" table-offset.laz
 bounded 2 "chunk table lists 4294967295 chunks but the point data has room for at most" table-count.laz
@@ -218,5 +241,17 @@ bounded 3 "point data format 9 .*waveform.* is not supported" l-format9.laz
 bounded 3 "LASzip compressor 2 for point data format 7 is not supported \(3, layered chunked, is\)" l-pointwise.laz
 bounded 3 "LASzip item POINT14 version 4 is not supported \(3 is\)" l-item-v4.laz
 bounded 2 "LASzip item 1 is RGBNIR14 of 6 bytes; point data format 7 needs RGB14" l-item-nir.laz
+
+# A careless user's LAZ: an empty cloud, one point and 100 identical points out and back in; a
+# missing directory (4), nothing left.
+sweep_ply empty.ply 0; sweep_ply one.ply 1; sweep_ply dup.ply 100
+for f in empty one dup; do
+  expect_exit 0 "$BIN/splat-convert" -q "$f.ply" "$f.laz"
+  expect_exit 0 "$BIN/splat-info" "$f.laz"
+  grep -q "^Points: $(case $f in empty) echo 0 ;; one) echo 1 ;; dup) echo 100 ;; esac)\$" "$WORK/stdout" &&
+    pass || fail "$f.laz: $(grep Points "$WORK/stdout")"
+done
+expect_exit 4 "$BIN/splat-convert" -q dup.ply no/such/x.laz
+expect_stderr "no/such/x.laz: cannot create"
 
 finish

@@ -76,4 +76,28 @@ expect_exit 1 "$V" "$WORK/city.splk" -o "$WORK/x.png" --path "$WORK/walk.json"
 expect_exit 1 "$V" "$WORK/city.splk" -o "$WORK/x_%02d.png" --path "$WORK/walk.json" --view 10,10
 expect_exit 1 "$V" "$WORK/city.splk" -o "$WORK/x.png" --occlusion chc++ --blend zbuffer
 expect_exit 1 "$V" "$WORK/city.splk" -o "$WORK/x.png" --occlusion magic
+# A careless user's inputs: --bvh-leaf at its extremes (1), one splat and 100 identical splats
+# under chc++ (an image), an empty cloud (2), a camera path that is empty or looks nowhere (2),
+# frames into a missing directory (4); nothing left behind.
+sweep_ply "$WORK/empty.ply" 0; sweep_ply "$WORK/one.ply" 1; sweep_ply "$WORK/dup.ply" 100
+for v in 0 -1 1e12 nan inf; do
+  expect_exit 1 "$BIN/splat-view" -q "$WORK/dup.ply" -o "$WORK/x.png" --occlusion chc++ --bvh-leaf "$v"
+  grep -q "^splat-view: --bvh-leaf: " "$WORK/stderr" && pass || fail "--bvh-leaf $v: $(head -1 "$WORK/stderr")"
+done
+for f in one dup; do
+  expect_exit 0 "$BIN/splat-view" -q "$WORK/$f.ply" -o "$WORK/$f.png" --occlusion chc++ --width 32 --height 24
+done
+expect_exit 2 "$BIN/splat-view" -q "$WORK/empty.ply" -o "$WORK/x.png" --occlusion chc++
+expect_stderr "empty.ply: the cloud has no points"
+echo '[]' >"$WORK/empty-path.json"
+echo '[{"eye": [0, 0, 0], "target": [0, 0, 0]}]' >"$WORK/same-path.json"
+expect_exit 2 "$BIN/splat-view" -q "$WORK/dup.ply" -o "$WORK/p-%04d.png" --path "$WORK/empty-path.json"
+expect_stderr "empty-path.json: a camera path must be a non-empty JSON array"
+expect_exit 2 "$BIN/splat-view" -q "$WORK/dup.ply" -o "$WORK/p-%04d.png" --path "$WORK/same-path.json"
+expect_stderr "same-path.json: camera 0: eye and target are the same point"
+expect_exit 4 "$BIN/splat-view" -q "$WORK/dup.ply" -o "$WORK/no/such/p-%04d.png" --path "$WORK/walk.json" \
+  --width 32 --height 24
+expect_stderr "no/such/p-0000.png: cannot create"
+[ ! -e "$WORK/x.png" ] && [ ! -e "$WORK/p-0000.png" ] && pass || fail "a refused run left an image"
+
 finish

@@ -106,4 +106,22 @@ expect_exit 2 "$BIN/splat-info" "$WORK/cut.qs"
 expect_stderr "cut.qs: byte"
 expect_exit 2 "$BIN/splat-view" "$WORK/cut.qs" -o "$WORK/cut.png"
 expect_stderr "cut.qs: byte"
+# A careless user's inputs: an empty cloud (2), one splat (3: the original viewer needs 5
+# leaves), 100 identical splats (a valid tree), a heightmap or a .qs (3), a missing directory (4);
+# nothing left behind.
+sweep_ply "$WORK/empty.ply" 0; sweep_ply "$WORK/one.ply" 1; sweep_ply "$WORK/dup.ply" 100
+expect_exit 2 "$BIN/build-qsplat" -q "$WORK/empty.ply" "$WORK/x.qs"
+expect_stderr "empty.ply: the file has no points"
+expect_exit 3 "$BIN/build-qsplat" -q "$WORK/one.ply" "$WORK/x.qs"
+expect_stderr "one.ply: 1 usable points; a QSplat file needs at least 5"
+expect_exit 0 "$BIN/build-qsplat" -q "$WORK/dup.ply" "$WORK/dup.qs"
+expect_exit 0 "$BIN/splat-view" -q "$WORK/dup.qs" -o "$WORK/dup.png" --width 32 --height 24
+expect_exit 3 "$BIN/build-qsplat" -q "$S/rainier-srtm.tif" "$WORK/x.qs"
+expect_stderr "rainier-srtm.tif: unknown file format"
+expect_exit 3 "$BIN/build-qsplat" -q "$WORK/dup.qs" "$WORK/x.qs"
+expect_stderr "dup.qs: a QSplat hierarchy \\(.qs\\), not a point cloud"
+expect_exit 4 "$BIN/build-qsplat" -q "$WORK/dup.ply" "$WORK/no/such/x.qs"
+expect_stderr "no/such/x.qs: cannot create"
+[ ! -e "$WORK/x.qs" ] && pass || fail "a refused run left x.qs"
+
 finish

@@ -26,6 +26,25 @@ if command -v iinfo >/dev/null; then
   expect_eq "exr channels" "$(echo $channels)" "channel list: R, G, B, A, Z, N.X, N.Y, N.Z"
 fi
 
+# Only .png and .exr are written (both byte-identical from run to run); any other image format
+# (TIFF stamps the date, and was written without its image length) is refused before rendering,
+# naming the formats, and leaves nothing; the terrain view and a single frame name with a frame
+# number field likewise.
+for ext in tif tiff jpg bmp; do
+  expect_exit 1 "$V" -q "$S/torus.ply" -o "$WORK/x.$ext" --width 32 --height 24
+  expect_stderr "^splat-view: .*x.$ext: images are written as .png or .exr, not .$ext"
+  [ ! -e "$WORK/x.$ext" ] && pass || fail "a refused .$ext was written"
+done
+expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/torus2.png" --width 200 --height 150
+cmp -s "$WORK/torus.png" "$WORK/torus2.png" && pass || fail "two PNG runs differ"
+"$V" --help | grep -- "-o,--output" | grep -q "\.png .*\.exr .*no other format" && pass ||
+  fail "--help does not name .png and .exr for -o"
+expect_exit 1 "$V" -q "$S/torus.ply" -o "$WORK/k-%04d.png" --width 32 --height 24
+expect_stderr "k-%04d.png.*frame number field.*--turntable or --path"
+[ -z "$(ls "$WORK" | grep '^k-')" ] && pass || fail "a literal k-%04d.png was written"
+expect_exit 0 "$V" -q "$S/torus.ply" -o "$WORK/100%.png" --width 32 --height 24
+[ -s "$WORK/100%.png" ] && pass || fail "a name with a lone '%' is not written as it is"
+
 # Same bytes whatever the thread count; every shading mode and both blend methods run.
 expect_exit 0 "$V" -q "$S/two-spheres.ply" -o "$WORK/t1.png" --threads 1 --width 160 --height 120
 expect_exit 0 "$V" -q "$S/two-spheres.ply" -o "$WORK/t2.png" --threads 2 --width 160 --height 120

@@ -64,6 +64,28 @@ expect_stderr "run estimate-normals first"
 [ ! -e "$WORK/x.spt" ] && pass || fail "a failed run left $WORK/x.spt"
 expect_exit 1 "$BIN/build-spt" "$S/torus.ply" "$WORK/x.qs"
 expect_stderr "OUT must end in .spt"
+# Numeric options at their extremes are refused naming the option and the value (1e300 is inf
+# in float: the message says so, not "must be positive").
+for v in 0 -1 1e300 nan inf; do
+  expect_exit 1 "$BIN/build-spt" -q "$S/torus.ply" "$WORK/x.spt" --epsilon "$v"
+  expect_stderr "^build-spt: --epsilon must be a positive number of radians within float range, got"
+done
+for v in -1 1e300 nan inf; do
+  expect_exit 1 "$BIN/build-spt" -q "$S/torus.ply" "$WORK/x.spt" --color-weight "$v"
+  expect_stderr "^build-spt: --color-weight must be zero or positive and within float range, got"
+done
+# One splat, 100 identical splats: a valid tree; an empty cloud, a .spt or a heightmap: refused.
+printf 'ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float radius\nend_header\n' >"$WORK/dup.ply"
+for i in $(seq 100); do echo "1 2 3 0 0 1 0.1"; done >>"$WORK/dup.ply"
+expect_exit 0 "$BIN/build-spt" -q "$WORK/dup.ply" "$WORK/dup.spt"
+expect_exit 0 "$BIN/splat-info" "$WORK/dup.spt"
+expect_exit 3 "$BIN/build-spt" -q "$WORK/dup.spt" "$WORK/x.spt"
+expect_stderr "dup.spt: a Sequential Point Tree \(.spt\), not a point cloud"
+expect_exit 3 "$BIN/build-spt" -q "$SRC/data-samples/rainier-srtm.tif" "$WORK/x.spt"
+expect_stderr "rainier-srtm.tif: unknown file format"
+expect_exit 4 "$BIN/build-spt" -q "$WORK/dup.ply" "$WORK/no/such/x.spt"
+expect_stderr "^build-spt: .*no/such/x.spt: cannot create"
+[ ! -e "$WORK/x.spt" ] && pass || fail "a refused run left $WORK/x.spt"
 head -c 300 "$WORK/torus.spt" >"$WORK/cut.spt"
 expect_exit 2 "$BIN/splat-info" "$WORK/cut.spt"
 expect_stderr "cut.spt: byte 24: .*truncated"

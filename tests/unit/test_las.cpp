@@ -4,6 +4,7 @@
 
 #include "test_format_support.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -303,6 +304,34 @@ TEST(Las, WrittenWithReturnNumbersOnlyCountsAtLeastThatMany) {
             << name << i << counts;
       }
     }
+}
+
+// The creation date is never 0/0 and never today: $SOURCE_DATE_EPOCH's UTC date when set, else
+// day 1 of 2000, so that two runs write the same bytes (LAS and LAZ, 1.2 and 1.4).
+TEST(Las, WrittenWithADeterministicCreationDate) {
+  const char* saved = std::getenv("SOURCE_DATE_EPOCH");
+  const std::string keep = saved ? saved : "";
+  for (const char* epoch : {"", "1700000000", "not a number"})
+    for (const char* name : {"d.las", "d.laz", "d6.las"}) {
+      if (*epoch)
+        ::setenv("SOURCE_DATE_EPOCH", epoch, 1);
+      else
+        ::unsetenv("SOURCE_DATE_EPOCH");
+      LoadedCloud doc;
+      doc.cloud.positions = {{0, 0, 0}, {1, 2, 3}};
+      WriteOptions w;
+      w.las_format = name[1] == '6' ? 6 : -1;
+      const std::string path = test::temp_path("las", name);
+      write_cloud(doc, path, w);
+      const LoadedCloud back = read_cloud(path);
+      const bool set = std::string(epoch) == "1700000000";  // 2023-11-14, day 318
+      EXPECT_EQ(back.header["creation_date"]["year"], set ? 2023 : 2000) << name << epoch;
+      EXPECT_EQ(back.header["creation_date"]["day_of_year"], set ? 318 : 1) << name << epoch;
+    }
+  if (saved)
+    ::setenv("SOURCE_DATE_EPOCH", keep.c_str(), 1);
+  else
+    ::unsetenv("SOURCE_DATE_EPOCH");
 }
 
 TEST(Las, ScaleOffsetAndOrigin) {

@@ -83,16 +83,15 @@ TEST(Pcd, AsciiWithNormalsColourAndCurvature) {
   EXPECT_EQ(c.extras[0].values.doubles(), (std::vector<double>{0.5, 0}));
   EXPECT_FALSE(c.viewpoint.has_value());
   EXPECT_EQ(doc.header["data"], "ascii");
-  EXPECT_EQ(doc.header["dropped_nan"], 0);
+  EXPECT_FALSE(doc.header.contains("dropped_nan"));
   EXPECT_EQ(doc.header["fields"][6]["type"], "U");
   c.check_consistent();
 }
 
-TEST(Pcd, BinaryOrganisedWithNanAndViewpoint) {
+TEST(Pcd, BinaryOrganisedWithViewpoint) {
   std::string s = header("x y z rgb intensity", "4 4 4 4 2", "F F F F U", "1 1 1 1 1", 2, 2,
                          "binary", "10 20 30 1 0 0 0");
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const float pts[4][3] = {{1, 2, 3}, {nan, nan, nan}, {4, 5, 6}, {7, 8, 9}};
+  const float pts[4][3] = {{1, 2, 3}, {0, 0, 0}, {4, 5, 6}, {7, 8, 9}};
   for (int i = 0; i < 4; ++i) {
     for (float v : pts[i]) append(s, v);
     append(s, packed_rgb(static_cast<uint8_t>(i), 2, 3));
@@ -100,14 +99,26 @@ TEST(Pcd, BinaryOrganisedWithNanAndViewpoint) {
   }
   auto doc = read_bytes(s);
   const auto& c = doc.cloud;
-  ASSERT_EQ(c.size(), 3u);
-  EXPECT_EQ(c.positions[1], (Vec3f{4, 5, 6}));
-  EXPECT_EQ(c.colors[2], (std::array<uint16_t, 3>{3, 2, 3}));
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c.positions[2], (Vec3f{4, 5, 6}));
+  EXPECT_EQ(c.colors[3], (std::array<uint16_t, 3>{3, 2, 3}));
   EXPECT_EQ(c.find_extra("intensity")->type(), ScalarType::kUInt16);
-  EXPECT_EQ(c.find_extra("intensity")->values.doubles(), (std::vector<double>{100, 102, 103}));
-  EXPECT_EQ(doc.header["dropped_nan"], 1);
+  EXPECT_EQ(c.find_extra("intensity")->values.doubles(), (std::vector<double>{100, 101, 102, 103}));
   ASSERT_TRUE(c.viewpoint.has_value());
   EXPECT_EQ(*c.viewpoint, (std::array<double, 3>{10, 20, 30}));
+}
+
+// As every reader: a NaN or infinite coordinate is refused naming the point, never dropped.
+TEST(Pcd, NanOrInfiniteCoordinateIsRefused) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const float bad : {nan, inf}) {
+    std::string s = header("x y z", "4 4 4", "F F F", "1 1 1", 3, 1, "binary");
+    const float pts[3][3] = {{1, 2, 3}, {4, bad, 6}, {7, 8, 9}};
+    for (const auto& p : pts)
+      for (float v : p) append(s, v);
+    expect_error(s, ErrorKind::kBadInput, "point 1: NaN or infinite coordinate (y = ");
+  }
 }
 
 TEST(Pcd, BinaryCompressedFieldMajor) {
@@ -282,7 +293,7 @@ TEST(Pcd, BodyErrors) {
   expect_error(h2 + "1 2 3\n4 5 6\n7 8 9\n", bad,
                "line 14: trailing data after the last of 2 points");
   expect_error(h2 + "1 2 3\n   \n4 5 6\n", bad, "line of only spaces among the points");
-  expect_error(h2 + "1 2 3\n4 inf 6\n", bad, "point 1: infinite coordinate");
+  expect_error(h2 + "1 2 3\n4 inf 6\n", bad, "point 1: NaN or infinite coordinate (y = inf)");
   expect_error(header("x y z", "4 4 4", "F F F", "1 1 1", 100000, 1, "ascii") + "1 2 3\n", bad,
                "POINTS 100000 cannot fit in the");
 

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
       "sorted by r_max descending so that a renderer draws a prefix. IN is splats with normals "
       "and radii (run estimate-normals first otherwise). Entries are 16 bytes (quantised) by "
       "default, 40 with --precision full.",
-      "  $ build-spt scan.ply scan.spt\n"
+      "  $ build-spt scan.splk scan.spt  # splats: after estimate-normals\n"
       "  $ estimate-normals scan.las - | build-spt - scan.spt --report spt.json\n"
       "  $ splat-view scan.spt -o far.png --view 30,20,50 --spt-error 1\n");
   splatkit::apps::BuildSptOptions o;

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
       "Render a splat file (positions, normals, radii, optional colours) to an image; QSplat .qs "
       "and Sequential Point Tree .spt files are drawn by level of detail",
       "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
-      "$ splat-view scan.ply -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
+      "$ splat-view scan.splk -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
       "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
       "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
       "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
@@ -30,10 +30,13 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", o.output,
                  "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
                  "surface_id channel when the file has surface ids and --no-surface-ids is not "
-                 "given); '-' = PNG to stdout")
+                 "given); no other format. '-' = PNG to stdout. A frame number field such as "
+                 "%04d only with --turntable or --path")
       ->required();
   app.add_option("--eye", o.eye,
-                 "Camera position x,y,z, in the file's coordinates (georeferenced ones too)")
+                 "Camera position x,y,z, in the file's coordinates (georeferenced ones too; "
+                 "with --terrain the map's: longitude, latitude and height for a lon/lat DEM, "
+                 "projected x, y for a projected one, column, -row without georeferencing)")
       ->type_name("X,Y,Z");
   app.add_option("--target", o.target,
                  "Point looked at x,y,z, in the file's coordinates (default: model centre)")
