@@ -4,6 +4,7 @@
 #  2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/): the same tests
 #     again, plus a short libFuzzer run of every reader over its seed corpus. Line tables are all
 #     the debug information the sanitizers' reports need (file:line), and they build faster.
+# Each stage prints its time; the end, the 10 slowest tests of each stage.
 # SPLATKIT_TEST_SANITIZE=0 skips stage 2. Works from any directory.
 # SPLATKIT_SIMD=portable|sse2|avx2|avx512 caps the vector code of every kernel for the whole suite
 # (see the README); the tests that compare vector paths run at each level up to the cap that the
@@ -44,6 +45,13 @@ install_laz_perf() {
     echo "note: npm could not install laz-perf; the laz-perf comparisons will be skipped"
 }
 
+# slowest LOG LABEL: the 10 tests of a ctest log that took longest (where CI's time goes).
+slowest() {
+  echo "10 slowest tests ($2):"
+  grep -E 'Test +#[0-9]+: ' "$1" | sed -E 's/.*Test +#[0-9]+: ([^ ]+).* ([0-9.]+) sec$/\2 \1/' |
+    sort -rn | head -10 | awk '{ printf "  %8.2f s  %s\n", $1, $2 }' || true
+}
+
 # stage_time WHAT: how long WHAT took since the last call (CI's budget is the sum).
 stage_time() { echo "== $1: $((SECONDS - stage_start)) s"; stage_start=$SECONDS; }
 stage_start=0
@@ -54,7 +62,8 @@ echo "== Release build and tests =="
 stage_time "Release build"
 install_laz_perf "$top/build"
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+asan_log=$(mktemp)
+trap 'rm -f "$log" "$asan_log"' EXIT
 status=0
 (cd "$top/build" && ctest --output-on-failure -j "$jobs") | tee "$log" || status=$?
 simd_summary "$log"
@@ -74,8 +83,11 @@ if [ "${SPLATKIT_TEST_SANITIZE:-1}" = 1 ]; then
   # AMD EPYC machine; that test runs with the leak check off (ASan and UBSan still on).
   no_leak_check='TerrainTessFactors.SharedEdgesAgreeForRandomCamerasRealSrtm'
   (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-     ctest --output-on-failure -j "$jobs" -E "^($no_leak_check)\$")
+     ctest --output-on-failure -j "$jobs" -E "^($no_leak_check)\$") | tee "$asan_log"
   (cd "$top/build-asan" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-     ctest --output-on-failure -R "^($no_leak_check)\$")
+     ctest --output-on-failure -R "^($no_leak_check)\$") | tee -a "$asan_log"
   stage_time "ASan tests"
 fi
+slowest "$log" "Release"
+[ -s "$asan_log" ] && slowest "$asan_log" "ASan + UBSan"
+exit 0
