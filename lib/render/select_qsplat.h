@@ -5,11 +5,11 @@
 // `cull_backfaces` (as the original viewer always does; off, a scan's open surfaces stay visible
 // from both sides, as in a plain render), a node whose normal cone faces away from the eye is
 // culled (back faces: with v = eye − centre, n·v < −r and (n·v + r)² > (|v| + r)²·s², s the
-// cone's bound on its half-width's sine; cone code 3 never culls); otherwise a leaf, or a node whose projected size 2·r·focal/z is at most `threshold_px`,
-// is drawn as a disc (centre, decoded normal, radius = the node's decoded radius, 5-6-5 colour
-// made linear), and any other node recurses into its children. The culling is conservative for
-// the decoded hierarchy: the encoder's spheres contain their subtrees and its cones bound the
-// decoded normals below them. Deterministic: the DrawList order is the same for any thread count
+// cone's bound on its half-width's sine; cone code 3 never culls); otherwise a leaf, or a node
+// whose projected size 2·r·focal/z is at most `threshold_px`, is drawn as a disc (centre,
+// decoded normal, radius = the node's decoded radius, 5-6-5 colour made linear), and any other
+// node recurses into its children. The culling is conservative for the decoded hierarchy: the
+// encoder's spheres contain their subtrees and its cones bound the decoded normals below them. Deterministic: the DrawList order is the same for any thread count
 // (the nodes drawn above depth 5 first, then the subtrees at depth 5, each traversed depth first
 // in parallel and concatenated in order).
 #pragma once

@@ -55,8 +55,8 @@ struct LodStats {
 
 // Every splat of a plain scene; for a QSplat scene (RenderScene::qsplat) the nodes the QSplat
 // traversal selects at `lod_threshold_px`, its normal cones culling back faces with
-// `cull_backfaces` (select_qsplat.h); for an SPT scene (RenderScene::spt)
-// the entries of the list whose error is within `spt_error_px` pixels (select_spt.h).
+// `cull_backfaces` (select_qsplat.h); for an SPT scene (RenderScene::spt) the entries of the list
+// whose error is within `spt_error_px` pixels (select_spt.h).
 DrawList select_splats(const RenderScene& scene, const Projection& projection,
                        float lod_threshold_px = 1, LodStats* stats = nullptr,
                        float spt_error_px = 1, bool cull_backfaces = false);
