@@ -26,6 +26,7 @@
 #include "normals/robust_normals.h"
 #include "normals/splat_pieces.h"
 #include "normals/visibility_votes.h"
+#include "normals/widen_flat_normals.h"
 #include "splatkit/error.h"
 #include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
@@ -79,10 +80,12 @@ std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
 }
 
 // Phase 7. The graph methods join the kNN rows found before the radius bound (they take them);
-// `given` (#N or empty) marks the normals taken from the input, which vote for their own signs.
+// `given` (#N or empty) marks the normals taken from the input, which vote for their own signs;
+// `layered` (#N or empty) the normals taken from a wider row (widen_flat_normals.h).
 void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
             NormalOrientation method, const std::vector<uint32_t>& order,
-            const std::vector<uint8_t>& given, NormalReport& report) {
+            const std::vector<uint8_t>& given, const std::vector<uint8_t>& layered,
+            NormalReport& report) {
   nlohmann::json& j = report.orientation;
   if (uses_graph(method)) {
     std::vector<float> votes;
@@ -101,6 +104,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     OrientRegionsOptions regions;
     regions.split_gaps = method == NormalOrientation::kVisibility || !given.empty();
     regions.evidence = votes;
+    regions.layered = layered;
     const OrientStats stats =
         orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
     rows.reset();
@@ -222,6 +226,7 @@ nlohmann::json NormalReport::to_json() const {
           {"isolated_points", isolated_points},
           {"bounded_radii", bounded_radii},
           {"radii_over_bound", radii_over_bound},
+          {"widened_points", widened_points},
           {"refitted_points", refitted_points},
           {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
@@ -264,7 +269,8 @@ void gather_extra(ExtraValues& values, const std::vector<uint32_t>& order) {
 template <class Timed>
 void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& options,
                         const std::vector<uint32_t>& order, NormalReport& report, Timed& timed,
-                        const ProgressFn& progress, std::vector<Bridge>& bridges) {
+                        const ProgressFn& progress, std::vector<Bridge>& bridges,
+                        std::vector<uint8_t>& widened) {
   const std::size_t n = cloud.size();
   const bool robust = options.method == NormalMethod::kRobust;
   const bool cover = options.radius_rule == RadiusRule::kCover;
@@ -272,8 +278,10 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
   // Cover rule: points whose normal changed after phase 3 or whose cell stayed open.
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
-  timed("normals_radii",
-        [&] { pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress); });
+  std::vector<float> ratio(robust ? 0 : n);  // the PCA's λ0 / λ1 (widen_flat_normals.h)
+  timed("normals_radii", [&] {
+    pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, {}, ratio);
+  });
 
   progress(0.6, "degenerate");
   timed("degenerate", [&] {
@@ -292,6 +300,20 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
     report.unresolved_points = stats.unresolved;
     if (cover) refit.insert(refit.end(), points.begin(), points.end());
   });
+  if (!robust) {
+    progress(0.62, "widen");
+    timed("widen", [&] {
+      std::vector<uint32_t> points;
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(flags[i] & kDegenerateFlag) && ratio[i] > kWidenRatio)
+          points.push_back(static_cast<uint32_t>(i));
+      report.widened_points =
+          widen_flat_normals(index, cloud.positions, points, options.k, cloud.normals);
+      for (uint32_t i : points) widened[i] = 1;
+      if (cover) refit.insert(refit.end(), points.begin(), points.end());
+    });
+    std::vector<float>().swap(ratio);
+  }
   std::vector<uint8_t>().swap(flags);  // (`= {}` would keep the capacity)
 
   if (robust) {
@@ -379,6 +401,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // the edges from thread points to the next scan line that take the last place of their rows.
   std::optional<ShrinkableArray> rows;
   std::vector<Bridge> bridges;
+  std::vector<uint8_t> widened(options.method == NormalMethod::kPca ? n : 0);
   const bool mst = uses_graph(method) && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
     pieces.emplace(cloud.positions, options.piece_points);
@@ -390,11 +413,12 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("normals_radii", [&] {
       pieces->normals_and_splats(
           cloud, options, report, progress,
-          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(), bridges);
+          rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(), bridges,
+          widened);
     });
   } else {
     timed("index", [&] { index = SpatialIndex(cloud.positions); });
-    whole_cloud_splats(index, cloud, options, order, report, timed, progress, bridges);
+    whole_cloud_splats(index, cloud, options, order, report, timed, progress, bridges, widened);
   }
   // The given normals replace the estimated ones; the splats of those that turn by more than
   // 10° are fitted again in their plane (not in pieces: the index is gone there).
@@ -486,7 +510,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   index = SpatialIndex();
   if (method != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
-    timed("orient", [&] { orient(cloud, rows, options, method, order, is_given, report); });
+    timed("orient",
+          [&] { orient(cloud, rows, options, method, order, is_given, widened, report); });
     for (std::size_t i = 0; i < is_given.size(); ++i)  // kept as given, whatever their set says
       if (is_given[i]) cloud.normals[i] = given[i];
   }

@@ -18,9 +18,10 @@
 //      from a wider neighbourhood and an edge to the next scan line for the orientation's graph
 //      (resolve_degenerate_normals.h); isolated points (no neighbour at a
 //      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
-//   5. method robust: crease-preserving refinement (robust_normals.h); with the cover rule, the
-//      splats of the points whose normal phases 4 and 5 changed are fitted again in their new
-//      tangent plane (one kNN query each);
+//   5. method robust: crease-preserving refinement (robust_normals.h); method pca: the points
+//      whose row shows no plane take the normal of a row twice as long (widen_flat_normals.h);
+//      with the cover rule, the splats of the points whose normal phases 4 and 5 changed are
+//      fitted again in their new tangent plane (one kNN query each);
 //   6. with orient mst or visibility, each point's kOrientK - 1 nearest other points
 //      ("knn_rows": one kNN pass, or in pieces the heads of phase 3's rows), the last one
 //      replaced by phase 4's edge to the next scan line for a thread point; the radius bound
@@ -117,6 +118,7 @@ struct NormalReport {
   std::size_t isolated_points = 0;    // no neighbour at a finite distance: the median radius
   std::size_t bounded_radii = 0;      // radii lowered to max_radius_ratio × their neighbours'
   std::size_t radii_over_bound = 0;   // still above it after bound_radii's last pass (0 normally)
+  std::size_t widened_points = 0;     // method pca: normal taken from a 2k-row (widen_flat_normals.h)
   std::size_t refitted_points = 0;    // cover rule: splats fitted again from a wider row (open
                                       // cell) or after their normal changed
   double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by

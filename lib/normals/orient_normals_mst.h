@@ -98,6 +98,10 @@ struct OrientRegionsOptions {
   // points of n·(c − p)/|c − p|, c its centroid, as a vote of the whole set. Last, a point
   // whose signed agreements with its neighbours sum below −1/2 of their magnitudes turns.
   std::span<const float> evidence;
+  // #N or empty: the points whose neighbourhood may hold two close faces (e.g. the normals that
+  // widen_flat_normals.h took from a wider row). With split_gaps, a sheet edge at such a point
+  // that runs oblique to its normals joins only when points joined to both its ends confirm it.
+  std::span<const uint8_t> layered;
 };
 
 // index: built over positions (#N); taken by value and released once the kNN graph is built, so a

@@ -8,6 +8,7 @@
 #include "normals/neighborhood_pca.h"
 #include "normals/robust_normals.h"
 #include "normals/splat_radius.h"
+#include "normals/widen_flat_normals.h"
 
 namespace splatkit {
 
@@ -66,7 +67,7 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
                            std::span<float> sq_reach, const ProgressFn& progress,
-                           std::span<uint32_t> head_rows) {
+                           std::span<uint32_t> head_rows, std::span<float> eigen_ratio) {
   const std::size_t row_k = row_size(o);
   const std::size_t head = cloud.size() ? head_rows.size() / cloud.size() : 0;
   const std::span<const Vec3f> positions(cloud.positions);
@@ -88,6 +89,7 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           uint8_t f = thin ? kDegenerateFlag : 0;
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
+          if (!eigen_ratio.empty()) eigen_ratio[i] = pca.degenerate ? -1.0f : flatness_ratio(pca);
           if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),
                         sq_dists.subspan(r * row_k, row_k)))
             f |= kOpenCellFlag;

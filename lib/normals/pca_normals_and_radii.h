@@ -38,10 +38,12 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 // sq_reach (empty, or #N) receives the squared distance of each row's last entry (+inf when the
 // cloud has fewer points than a row). head_rows (empty, or #N by w, w < row_size(o)) receives each
 // row's first w entries after the point itself: its w nearest other points, as a kNN query of
-// w + 1 points gives them. Progress runs from 0.15 to 0.6.
+// w + 1 points gives them. eigen_ratio (empty, or #N) receives λ0 / λ1 of each row's PCA
+// (widen_flat_normals.h; -1: degenerate). Progress runs from 0.15 to 0.6.
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
                            std::span<float> sq_reach, const ProgressFn& progress,
-                           std::span<uint32_t> head_rows = {});
+                           std::span<uint32_t> head_rows = {},
+                           std::span<float> eigen_ratio = {});
 
 }  // namespace splatkit

@@ -10,6 +10,7 @@
 #include "normals/bound_radii.h"
 #include "normals/pca_normals_and_radii.h"
 #include "normals/refit_splats.h"
+#include "normals/widen_flat_normals.h"
 #include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
 #include "splatkit/spatial_index.h"
@@ -215,7 +216,7 @@ SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
 void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
                                      NormalReport& report, const ProgressFn& progress,
                                      std::span<uint32_t> head_rows,
-                                     std::vector<Bridge>& bridges) {
+                                     std::vector<Bridge>& bridges, std::span<uint8_t> widened) {
   const std::size_t n = positions_.size();
   const std::size_t head = n ? head_rows.size() / n : 0;
   const WholeCloud whole{n, whole_cloud_pca(positions_)};
@@ -226,7 +227,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
   SplatCloud local;
   std::vector<uint8_t> local_flags;
   std::vector<uint32_t> degenerate, local_rows, local_bridges;
-  std::vector<float> reach, wide;
+  std::vector<float> reach, wide, ratio;
+  std::vector<uint32_t> widen;
+  std::size_t replaced = 0;
   for (std::size_t p = 0; p < pieces(); ++p) {
     DegenerateStats degenerate_stats;
     const Local l = run(p, [&](Local& at) {
@@ -238,11 +241,12 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       local.minor_radii.assign(o.ellipses ? m : 0, 0.0f);
       local_flags.assign(m, 0);
       std::vector<float> variation;  // (the robust method's, which pieces do not run)
+      ratio.assign(m, 0.0f);
       reach.assign(m, 0.0f);
       wide.assign(m, 0.0f);
       local_rows.resize(m * head);
       pca_normals_and_radii(at.index, local, o, local_flags, variation, reach, no_progress(),
-                            local_rows);
+                            local_rows, ratio);
       degenerate.clear();
       for (std::size_t i = at.core_begin; i < at.core_end; ++i)
         if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
@@ -251,6 +255,13 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
           resolve_degenerate_normals(at.index, local.positions, degenerate, o.k, o.radius_k,
                                      local.normals, local.radii, &whole, wide, local_bridges);
       for (std::size_t i = 0; i < m; ++i) reach[i] = std::max(reach[i], wide[i]);
+      widen.clear();
+      for (std::size_t i = at.core_begin; i < at.core_end; ++i)
+        if (!(local_flags[i] & kDegenerateFlag) && ratio[i] > kWidenRatio) {
+          widen.push_back(static_cast<uint32_t>(i));
+          local_flags[i] |= kOpenCellFlag;  // its splat is refitted to the new normal
+        }
+      replaced = widen_flat_normals(at.index, local.positions, widen, o.k, local.normals, reach);
       return at.halo_needed(reach, everything);
     });
     l.put_back(local.normals, cloud.normals);
@@ -267,6 +278,8 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       if (local_bridges[d] != kNoBridge)
         bridges.push_back({l.ids[degenerate[d]], l.ids[local_bridges[d]]});
     report.degenerate_points += degenerate.size();
+    report.widened_points += replaced;
+    for (uint32_t i : widen) widened[l.ids[i]] = 1;
     report.unresolved_points += degenerate_stats.unresolved;
     progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");
   }

@@ -49,18 +49,19 @@ class SplatPieces {
   std::size_t pieces() const { return ranges_.size() - 1; }
   const Stats& stats() const { return stats_; }
 
-  // Phase 3, the degenerate neighbourhoods and the refit phase of estimate_normals for the whole
-  // cloud: cloud.normals, radii (and axes, minor radii with o.ellipses) #N, set as the
-  // whole-cloud run sets them before isolated points are filled. cloud.positions must be the span
-  // given to the constructor. Counts the degenerate, unresolved and refitted points into report.
+  // Phase 3, the degenerate neighbourhoods, the wider rows and the refit phase of
+  // estimate_normals for the whole cloud: cloud.normals, radii (and axes, minor radii with
+  // o.ellipses) #N, set as the whole-cloud run sets them before isolated points are filled.
+  // cloud.positions must be the span given to the constructor. Counts the degenerate, unresolved and refitted points into report.
   // Method pca only, without fit_centres (the caller checks).
   // head_rows (empty, or #N by w, w < row_size(o)): each point's w nearest other points, taken
   // from the rows the normals are computed from (pca_normals_and_radii), in whole-cloud numbers.
   // bridges receives the edges off the scan line of the degenerate points
   // (resolve_degenerate_normals.h), in whole-cloud numbers and in the whole-cloud run's order.
+  // widened (#N) marks the points whose normal came from a wider row (widen_flat_normals.h).
   void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
                           const ProgressFn& progress, std::span<uint32_t> head_rows,
-                          std::vector<Bridge>& bridges);
+                          std::vector<Bridge>& bridges, std::span<uint8_t> widened);
 
   // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
   std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);

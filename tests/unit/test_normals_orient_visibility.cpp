@@ -89,6 +89,26 @@ TEST(NormalsOrientVisibility, ThickWalledBuildingFacesOut) {
   }
 }
 
+// Walls and roof 1.6 spacings thick with noise of 0.3 spacing along the normals, as the scan
+// test set's noisy city: the k-rows take points of both faces (normals that tilt anywhere) and the
+// faces' noise tails come within a spacing of each other. The wider rows give the normals back
+// (the report counts them) and the confirmed sheet edges keep the faces apart. Measured: 99.0 %
+// out (87.1 % with k-rows alone, 18.7 % of the normals more than 30° off).
+TEST(NormalsOrientVisibility, NoisyThinWallsFaceOut) {
+  Scene s = building(0.16f, 3);
+  DeterministicRng rng(7);
+  for (std::size_t i = 0; i < s.truth.size(); ++i)
+    s.cloud.positions[i] += s.truth[i] * (0.03f * static_cast<float>(rng.normal()));
+  SplatCloud c = s.cloud;
+  const NormalReport r = estimate_normals(c, in_input_order());
+  std::size_t off = 0;  // normals more than 30° from the truth's line
+  for (std::size_t i = 0; i < s.truth.size(); ++i)
+    off += std::fabs(dot(c.normals[i], s.truth[i])) < 0.866f;
+  EXPECT_GT(r.widened_points, s.truth.size() / 10) << r.to_json();
+  EXPECT_LT(static_cast<double>(off) / static_cast<double>(s.truth.size()), 0.05) << r.to_json();
+  EXPECT_GE(agreement(c, s.truth), 0.98) << r.to_json();
+}
+
 TEST(NormalsOrientVisibility, VotesAreRightWhereTheySpeak) {
   Scene s = building(0.3f);
   SplatCloud c = s.cloud;
