@@ -1,0 +1,43 @@
+// split_planar_surfaces: a planar surface gives up the pieces of it that lie on another plane —
+// the faces that the segmentation joined to it across a blended crease (two slopes of a roof
+// that meet at a valley, whose estimated normals turn from one to the other over several
+// splats). Run in segment-surfaces after merge_small_surfaces (beyond [IvoMSc] §5.4,
+// docs/references.md).
+//
+// Each surface of at least min_size splats gets a robust plane (fit_robust_plane). When it is
+// planar, its splats that are off the plane — farther than offset_scales × its scale and with
+// a normal more than max_splat_degrees from the plane's (either sign; a NaN normal counts as
+// off) — are grouped into connected pieces over the graph's edges between them; a piece of at
+// least min_size splats becomes a surface of its own when it is planar itself and its plane
+// differs (normals more than max_splat_degrees apart). A piece that is not planar (both slopes
+// of a gable that stands on a roof) is halved by its normals, either side of their mean across
+// their direction of largest spread, and the connected parts of each half of at least min_size
+// splats are judged the same way. What is not split off stays. Deterministic; renumbered in the
+// order of each surface's lowest splat.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "graph/segment_surfaces.h"
+#include "splatkit/spatial_index.h"
+#include "splatkit/vec3.h"
+
+namespace splatkit::graph {
+
+struct SplitPlanesOptions {
+  double offset_scales = 3;        // off the plane beyond this many scales (0: no splitting)
+  double max_normal_degrees = 25;  // median angle of a planar surface's normals from its plane
+  double max_splat_degrees = 30;   // a splat's normal farther from the plane's is off it
+  uint32_t min_size = 50;          // smaller surfaces and pieces stay as they are
+};
+
+// graph: symmetric neighbour rows; positions, normals, radii: #N each; segmentation: #N ids <
+// count(). Throws std::invalid_argument on a size mismatch or an id out of range. `split`, when
+// given, receives the number of pieces that became surfaces. O(N + E) plus the fits.
+Segmentation split_planar_surfaces(const NeighborGraph& graph, std::span<const Vec3f> positions,
+                                   std::span<const Vec3f> normals, std::span<const float> radii,
+                                   Segmentation segmentation, const SplitPlanesOptions& options,
+                                   uint32_t* split = nullptr);
+
+}  // namespace splatkit::graph
