@@ -12,7 +12,7 @@ namespace splatkit::graph {
 namespace {
 
 constexpr std::size_t kMaxFitPoints = 4096;
-constexpr int kReweightings = 3;
+constexpr int kReweightings = 10;
 constexpr double kTukey = 4.685;
 
 bool finite(const Vec3f& v) { return std::isfinite(v.x + v.y + v.z); }
@@ -56,9 +56,11 @@ RobustPlane fit_robust_plane(std::span<const Vec3f> positions, std::span<const V
     plane.point = c;
     plane.normal = {n[0], n[1], n[2]};
     for (std::size_t k = 0; k < p.size(); ++k) r[k] = plane.distance(p[k]);
+    const double previous = plane.scale;
     plane.scale = 1.4826 * median(r);
     const double cut = kTukey * plane.scale;
-    if (!(cut > 0)) break;  // exactly planar
+    // Exactly planar, or settled (the weights would barely change).
+    if (!(cut > 0) || (pass > 0 && plane.scale > 0.99 * previous)) break;
     for (std::size_t k = 0; k < p.size(); ++k) {
       const double u = r[k] / cut;
       w[k] = u < 1 ? (1 - u * u) * (1 - u * u) : 0;

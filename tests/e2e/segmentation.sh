@@ -53,5 +53,6 @@ expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --method b
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --min-core 0
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --merge-below 0
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --refine-rounds -1
+expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --coplanar-scales -1
 expect_exit 1 "$BIN/build-splat-graph" "$WORK/n-0.ply" "$WORK/x.splk" --surfaces bfs
 finish
