@@ -129,17 +129,25 @@ Segmentation split_planar_surfaces(const NeighborGraph& graph, std::span<const V
       slot[root[i]] = uint32_t(pieces.size()), pieces.emplace_back();
     pieces[slot[root[i]]].push_back(uint32_t(i));
   }
+  // A surface that is not planar is a piece of itself (a wall and the ledge on it that the
+  // segmentation joined).
+  const std::size_t off_pieces = pieces.size();
+  for (uint32_t s = 0; s < count; ++s)
+    if (planes[s].fitted && !planes[s].planar)
+      pieces.emplace_back(groups.of(s).begin(), groups.of(s).end());
   // A piece that is not planar (two faces, as the two slopes of a gable) is halved by its
   // normals, across their direction of largest spread, and the halves' connected parts judged.
   std::vector<std::vector<std::vector<uint32_t>>> parts(pieces.size());
   tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t k) {
     const RobustPlane& whole = planes[seg.surface[pieces[k][0]]];
+    const bool off_a_plane = k < off_pieces;
     auto judge = [&](const std::vector<uint32_t>& piece) {
       const RobustPlane own =
-          fit_robust_plane(positions, normals, radii, piece, o.max_normal_degrees);
-      return own.planar && std::abs(dot(own.normal, whole.normal)) < cos_splat;
+          fit_robust_plane(positions, normals, radii, piece,
+                           off_a_plane ? o.max_normal_degrees : o.max_face_degrees);
+      return own.planar && (!off_a_plane || std::abs(dot(own.normal, whole.normal)) < cos_splat);
     };
-    if (judge(pieces[k])) {
+    if (off_a_plane && judge(pieces[k])) {
       parts[k].push_back(pieces[k]);
       return;
     }

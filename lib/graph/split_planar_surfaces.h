@@ -12,8 +12,12 @@
 // differs (normals more than max_splat_degrees apart). A piece that is not planar (both slopes
 // of a gable that stands on a roof) is halved by its normals, either side of their mean across
 // their direction of largest spread, and the connected parts of each half of at least min_size
-// splats are judged the same way. What is not split off stays. Deterministic; renumbered in the
-// order of each surface's lowest splat.
+// splats are judged the same way. A surface that is not planar itself (a wall and a ledge the
+// segmentation joined, in like shares) is halved the same way, and a connected part of a half
+// becomes a surface when it is a face: planar within max_face_degrees, stricter than the
+// planarity test, since the halves of a curved surface (a quarter cylinder each side of the
+// middle of a half cylinder) pass 25 degrees and the CAD part's boss and hole came apart. What is
+// not split off stays. Deterministic; renumbered in the order of each surface's lowest splat.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +33,8 @@ struct SplitPlanesOptions {
   double offset_scales = 3;        // off the plane beyond this many scales (0: no splitting)
   double max_normal_degrees = 25;  // median angle of a planar surface's normals from its plane
   double max_splat_degrees = 30;   // a splat's normal farther from the plane's is off it
+  double max_face_degrees = 10;    // median normal angle of a face split off a surface that is
+                                   // not planar (stricter: halves of a curved surface pass 25)
   uint32_t min_size = 50;          // smaller surfaces and pieces stay as they are
 };
 

@@ -1,6 +1,6 @@
 // split_planar_surfaces: a gable standing on a roof plane, joined to it as one surface (as over
-// a blended valley), comes off as its two slopes, each on its own plane; a plane with noise and
-// a surface with nothing off its plane stay whole.
+// a blended valley), comes off as its two slopes, each on its own plane; a wall and a ledge
+// joined in like shares come apart; a noisy plane and a half cylinder stay whole.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,6 +96,54 @@ TEST(GraphSplitPlanarSurfaces, ANoisyPlaneStaysWhole) {
       g, c.positions, c.normals, std::vector<float>(c.positions.size(), kRadius), one, {}, &split);
   EXPECT_EQ(split, 0u);
   EXPECT_EQ(out.surface, one.surface);
+}
+
+// One surface made of two faces in like shares: a wall x = 0 (z in [0.05, 1.5]) and a ledge
+// z = 0 (x in [0, 1.5]), 30 splats along y; or a half cylinder of radius 1 (axis y), 63 splats
+// round. Noise 0.002 across, exact normals.
+Cloud wall_and_ledge() {
+  Cloud c;
+  DeterministicRng rng(6);
+  for (int a = 0; a < 30; ++a)
+    for (int b = 0; b < 30; ++b) {
+      const float e = float(0.002 * rng.normal());
+      c.add({kSpacing * float(a), kSpacing * float(b), e}, {0, 0, 1}, 0);
+      c.add({e, kSpacing * float(b), kSpacing * float(a + 1)}, {1, 0, 0}, 1);
+    }
+  return c;
+}
+
+Cloud half_cylinder() {
+  Cloud c;
+  for (int k = 0; k < 63; ++k)
+    for (int b = 0; b < 30; ++b) {
+      const double t = kSpacing * k;  // 0 .. 3.1 rad
+      c.add({float(std::cos(t)), kSpacing * float(b), float(std::sin(t))},
+            {float(std::cos(t)), 0, float(std::sin(t))}, 0);
+    }
+  return c;
+}
+
+Segmentation split_whole(const Cloud& c, uint32_t* split) {
+  const std::vector<float> radii(c.positions.size(), kRadius);
+  const NeighborGraph g = sphere_overlap_graph(c.positions, radii);
+  Segmentation one;
+  one.surface.assign(c.positions.size(), 0);
+  one.sizes = {uint32_t(c.positions.size())};
+  return split_planar_surfaces(g, c.positions, c.normals, radii, one, {}, split);
+}
+
+TEST(GraphSplitPlanarSurfaces, AWallAndALedgeComeApartAHalfCylinderStaysWhole) {
+  const Cloud faces = wall_and_ledge();
+  uint32_t split = 0;
+  const Segmentation out = split_whole(faces, &split);
+  EXPECT_GE(split, 1u);
+  for (const PatchMatch& m : patch_iou(faces.truth, out.surface))
+    EXPECT_GE(m.iou, 0.95) << "patch " << m.patch;
+
+  const Cloud curved = half_cylinder();
+  EXPECT_EQ(split_whole(curved, &split).count(), 1u);
+  EXPECT_EQ(split, 0u);
 }
 
 }  // namespace
