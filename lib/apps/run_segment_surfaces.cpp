@@ -4,9 +4,11 @@
 
 #include "apps/robust_provenance.h"
 #include "graph/drop_small_surfaces.h"
+#include "graph/merge_coplanar_surfaces.h"
 #include "graph/merge_small_surfaces.h"
 #include "graph/refine_surface_borders.h"
 #include "graph/segment_surfaces.h"
+#include "graph/split_planar_surfaces.h"
 #include "graph_io/chunks_to_attributes.h"
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
@@ -63,6 +65,8 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
     throw_usage("--method must be robust or components, got '" + o.method + "'");
   if (o.min_size == 0) throw_usage("--min-size must be >= 1");
   if (o.merge_below == 0) throw_usage("--merge-below must be >= 1");
+  if (!(o.coplanar_scales >= 0 && o.coplanar_scales <= 1000))
+    throw_usage("--coplanar-scales must be in [0, 1000]");
   const std::optional<float>& core = o.robust.core_threshold;
   if (core && !(*core >= -1 && *core <= 1)) throw_usage("--core must be a number in [-1, 1]");
   if (o.robust.min_core_size == 0) throw_usage("--min-core must be >= 1");
@@ -96,16 +100,29 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
                                          std::move(seg), ro, &refined);
   });
   uint32_t segments_before = 0;
+  graph::CoplanarMergeInfo coplanar;
+  uint32_t split = 0;
   seg = stage.phase("merge", "merging the fragments", [&] {
     Segmentation merged = graph::merge_small_surfaces(g.graph, std::move(seg), o.merge_below,
                                                       {doc.cloud.positions, doc.cloud.radii});
+    graph::SplitPlanesOptions so;
+    so.offset_scales = o.coplanar_scales;
+    so.min_size = o.merge_below;
+    merged = graph::split_planar_surfaces(g.graph, doc.cloud.positions, doc.cloud.normals,
+                                          doc.cloud.radii, std::move(merged), so, &split);
+    graph::CoplanarMergeOptions co;
+    co.offset_scales = o.coplanar_scales;
+    co.min_size = o.merge_below;
+    merged = graph::merge_coplanar_surfaces(g.graph, doc.cloud.positions, doc.cloud.normals,
+                                            doc.cloud.radii, std::move(merged), co, &coplanar);
     segments_before = merged.count();
     return graph::drop_small_surfaces(std::move(merged), o.min_size);
   });
   nlohmann::json prov_options = {{"min_size", o.min_size},
                                  {"method", o.method},
                                  {"refine_rounds", o.refine_rounds},
-                                 {"merge_below", o.merge_below}};
+                                 {"merge_below", o.merge_below},
+                                 {"coplanar_scales", o.coplanar_scales}};
   if (robust) put_robust_options(prov_options, o.robust);
   stage.stamp(doc, prov_options, /*keep_chunks=*/true);
   const uint64_t n = doc.cloud.size();
@@ -133,6 +150,10 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
                         {"joined", refined.joined},       {"split", refined.split},
                         {"passes", refined.passes},       {"rounds", refined.rounds},
                         {"moved_splats", refined.moved}};
+    report["coplanar"] = {{"planar", coplanar.planar},
+                          {"joined", coplanar.joined},
+                          {"disjoint", coplanar.disjoint},
+                          {"split", split}};
     if (robust) {
       report["normal_noise_degrees"] = chosen.normal_noise_degrees;
       report["sharp_edges_within_surfaces"] = chosen.sharp_edges_within;

@@ -2,9 +2,10 @@
 // (GRPH, CLAS and CLIP chunks), split the splats into smooth surfaces (graph/segment_surfaces.h,
 // graph/segment_surfaces_robust.h), move the border splats to the surface whose fitted geometry
 // explains them (graph/refine_surface_borders.h), merge the fragments into their neighbours
-// (graph/merge_small_surfaces.h), drop the small surfaces (graph/drop_small_surfaces.h) and write
-// .splk with a SURF chunk, or a binary PLY with surface_id and class per vertex; optionally a
-// JSON report.
+// (graph/merge_small_surfaces.h), split off and join surfaces by their fitted planes
+// (graph/split_planar_surfaces.h, graph/merge_coplanar_surfaces.h), drop the small surfaces
+// (graph/drop_small_surfaces.h) and write .splk with a SURF chunk, or a binary PLY with surface_id
+// and class per vertex; optionally a JSON report.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +27,9 @@ struct SegmentSurfacesOptions {
   uint32_t refine_rounds = 8;          // refine_surface_borders' rounds (0: no refinement)
   uint32_t merge_below = 50;           // surfaces with fewer splats are fragments: refined splat
                                        // by splat, the rest merged by shared edges (1: none)
+  double coplanar_scales = 3;          // planar surfaces give up pieces off their plane beyond
+                                       // this many robust scales (split_planar_surfaces) and take
+                                       // surfaces within them (merge_coplanar_surfaces); 0: none
 };
 
 // Throws Error(kUsage) for bad options or paths (before reading), Error(kBadInput) for input that

@@ -5,10 +5,11 @@
 # build-splat-graph -> segment-surfaces, then per true patch the best-matching surface by IoU
 # (bench_segmentation_iou). Three ways of segmenting the same graph:
 #   refined     the defaults: robust surfaces, borders refined by fitted primitives, fragments
-#               merged (--refine-rounds 8 --merge-below 50)
-#   robust      the robust surfaces alone (--refine-rounds 0 --merge-below 1)
+#               merged, coplanar surfaces joined (--refine-rounds 8 --merge-below 50
+#               --coplanar-scales 3)
+#   robust      the robust surfaces alone (--refine-rounds 0 --merge-below 1 --coplanar-scales 0)
 #   components  the method of [IvoMSc] §5.4 (docs/references.md) alone (--method components
-#               --refine-rounds 0 --merge-below 1)
+#               --refine-rounds 0 --merge-below 1 --coplanar-scales 0)
 # Columns: segments, patches with IoU >= 0.95, the lowest IoU, segment-surfaces' phase times
 # (segment, refine, merge; from --report) and the normals' noise it measured.
 # Targets (refined, every size, sampling and noise): every patch with IoU >= 0.95 and at most
@@ -53,8 +54,9 @@ for n in $sizes; do
       for method in refined robust components; do
         case $method in
           refined) args=() ;;
-          robust) args=(--refine-rounds 0 --merge-below 1) ;;
-          components) args=(--method components --refine-rounds 0 --merge-below 1) ;;
+          robust) args=(--refine-rounds 0 --merge-below 1 --coplanar-scales 0) ;;
+          components) args=(--method components --refine-rounds 0 --merge-below 1
+            --coplanar-scales 0) ;;
         esac
         "$bin/segment-surfaces" -q "$work/g.splk" "$work/s.ply" --threads "$threads" \
           --report "$work/s.json" "${args[@]}"

@@ -3,8 +3,8 @@
 # --method robust -> build-splat-graph -> segment-surfaces .ply; IoU of every true patch
 # (patch_id) with its best surface. Robust surfaces with the refined borders (the defaults)
 # recover every patch with IoU >= 0.95 in at most 1.5 × 9 surfaces; the robust surfaces alone
-# (--refine-rounds 0 --merge-below 1) recover >= 80 % of the patches, the components of
-# [IvoMSc] §5.4 (--method components) fewer; on the same part without noise robust and
+# (--refine-rounds 0 --merge-below 1 --coplanar-scales 0) recover >= 80 % of the patches, the
+# components of [IvoMSc] §5.4 (--method components) fewer; on the same part without noise robust and
 # components give identical bytes. Also the options' errors.
 source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 
@@ -23,7 +23,8 @@ for noise in 0 0.00125; do
     expect_exit 0 "$BIN/segment-surfaces" -q "$WORK/g-$noise.splk" "$WORK/s-$noise-$method.ply" \
       --method "$method" --report "$WORK/s-$noise-$method.json"
     expect_exit 0 "$BIN/segment-surfaces" -q "$WORK/g-$noise.splk" \
-      "$WORK/u-$noise-$method.ply" --method "$method" --refine-rounds 0 --merge-below 1
+      "$WORK/u-$noise-$method.ply" --method "$method" --refine-rounds 0 --merge-below 1 \
+      --coplanar-scales 0
   done
 done
 clean=$(recovered "$WORK/s-0-robust.ply")
@@ -53,5 +54,6 @@ expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --method b
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --min-core 0
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --merge-below 0
 expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --refine-rounds -1
+expect_exit 1 "$BIN/segment-surfaces" "$WORK/g-0.splk" "$WORK/x.splk" --coplanar-scales -1
 expect_exit 1 "$BIN/build-splat-graph" "$WORK/n-0.ply" "$WORK/x.splk" --surfaces bfs
 finish

@@ -20,7 +20,9 @@ int main(int argc, char** argv) {
       "one it lies outside of, across a concave one the one it lies inside of) and whose "
       "normal is within 120 degrees of its own; a surface no primitive explains (free-form) "
       "keeps its border. Fragments left over join the neighbour they share the most graph "
-      "edges with. Ids are numbered in the order of each surface's lowest splat index and do "
+      "edges with. Then planar surfaces are split off and joined by their fitted planes "
+      "(--coplanar-scales). Ids are numbered in the order of each surface's lowest splat index and "
+      "do "
       "not depend on the thread count. OUT .splk ('-' = stdout) adds the SURF chunk; OUT .ply "
       "writes a binary PLY with the extra vertex properties surface_id (uint32) and class "
       "(uint8: 0 smooth, 1 edge, 2 intersection). --min-size N, applied last: surfaces with "
@@ -55,6 +57,19 @@ int main(int argc, char** argv) {
                  "(centres within twice the radii: a stray lifted off by noise) (1: none)")
       ->default_val(50)
       ->check(CLI::Range(uint32_t{1}, uint32_t{0xFFFFFFFEu}));
+  app.add_option("--coplanar-scales", o.coplanar_scales,
+                 "Last, by fitted planes (robust; planar: the normals' median angle from the "
+                 "plane within 25 degrees): a planar surface of at least --merge-below splats "
+                 "gives up the connected pieces of it that are off its plane (beyond S robust "
+                 "residual scales, normals over 30 degrees from its normal) and planar on a "
+                 "plane of their own (a roof face joined over a blended valley); then two "
+                 "surfaces join when the larger is planar, their planes are within 30 degrees "
+                 "and the smaller's splats lie on the larger's plane (median distance within S "
+                 "scales, its noise and relief, or one splat diameter) — and, with planes "
+                 "within 10 degrees, also when they share no edge (the wings of a facade). "
+                 "Faces at a step or a crease stay apart (0: none of this)")
+      ->default_val(3.0)
+      ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--report", o.paths.report, "Write the surfaces and their sizes as JSON here");
   tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {

@@ -1,0 +1,140 @@
+#include "graph/merge_coplanar_surfaces.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <tuple>
+#include <vector>
+
+#include "graph/fit_robust_plane.h"
+#include "graph/renumber_surfaces.h"
+#include "graph/surface_borders.h"
+#include "graph/surface_members.h"
+
+namespace splatkit::graph {
+namespace {
+
+constexpr std::size_t kMaxTestPoints = 4096;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  auto mid = v.begin() + std::ptrdiff_t(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// The distance within which a plane holds splats: its scales, or a splat diameter (a step lower
+// than the splats are wide is below what the sampling resolves).
+double reach(const RobustPlane& plane, double scales) {
+  return std::max(scales * plane.scale, plane.diameter);
+}
+
+// Whether the splats of `members` lie on `plane`: their median distance from it is within reach.
+bool held(const RobustPlane& plane, std::span<const Vec3f> positions,
+          std::span<const uint32_t> members, double scales) {
+  const std::size_t step =
+      std::max<std::size_t>(1, (members.size() + kMaxTestPoints - 1) / kMaxTestPoints);
+  std::vector<double> d;
+  for (std::size_t k = 0; k < members.size(); k += step)
+    d.push_back(plane.distance(to_vec3d(positions[members[k]])));
+  return median(std::move(d)) <= reach(plane, scales);
+}
+
+uint32_t root(std::vector<uint32_t>& parent, uint32_t s) {
+  while (parent[s] != s) s = parent[s] = parent[parent[s]];
+  return s;
+}
+
+}  // namespace
+
+Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const Vec3f> positions,
+                                     std::span<const Vec3f> normals, std::span<const float> radii,
+                                     Segmentation seg, const CoplanarMergeOptions& o,
+                                     CoplanarMergeInfo* info) {
+  const std::size_t n = graph.num_points();
+  if (positions.size() != n || normals.size() != n || radii.size() != n || seg.surface.size() != n)
+    throw std::invalid_argument(
+        "merge_coplanar_surfaces: one position, normal, radius and id per splat");
+  const uint32_t count = seg.count();
+  for (uint32_t s : seg.surface)
+    if (s >= count) throw std::invalid_argument("merge_coplanar_surfaces: surface id out of range");
+  CoplanarMergeInfo done;
+  if (!(o.offset_scales > 0) || count < 2) {
+    if (info) *info = done;
+    return seg;
+  }
+  const SurfaceMembers groups = surface_members(seg.surface, count);
+  std::vector<RobustPlane> planes(count);
+  tbb::parallel_for(uint32_t{0}, count, [&](uint32_t s) {
+    if (groups.of(s).size() >= std::max<uint32_t>(o.min_size, 3))
+      planes[s] = fit_robust_plane(positions, normals, radii, groups.of(s), o.max_normal_degrees);
+  });
+  for (const RobustPlane& p : planes) done.planar += p.planar;
+
+  // Adjacent pairs, larger first; each group is judged by its largest surface (its anchor).
+  std::vector<std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>> order;  // ~large, ~small, a, b
+  for (uint64_t pair : surface_borders(graph, seg.surface).pairs) {
+    const uint32_t a = uint32_t(pair >> 32), b = uint32_t(pair);
+    if (a > b) continue;
+    const uint32_t sa = seg.sizes[a], sb = seg.sizes[b];
+    order.emplace_back(~std::max(sa, sb), ~std::min(sa, sb), a, b);
+  }
+  std::sort(order.begin(), order.end());
+  const double cos_angle = std::cos(o.max_angle_degrees * std::numbers::pi / 180);
+  const double cos_disjoint = std::cos(o.max_disjoint_degrees * std::numbers::pi / 180);
+  std::vector<uint32_t> parent(count), anchor(count);
+  for (uint32_t s = 0; s < count; ++s) parent[s] = anchor[s] = s;
+  auto larger = [&](uint32_t a, uint32_t b) {
+    return seg.sizes[a] != seg.sizes[b] ? seg.sizes[a] > seg.sizes[b] : a < b;
+  };
+  auto join = [&](uint32_t ra, uint32_t rb, uint32_t big) {
+    const uint32_t keep = std::min(ra, rb), gone = std::max(ra, rb);
+    parent[gone] = keep;
+    anchor[keep] = big;
+    ++done.joined;
+  };
+  for (const auto& [neg_large, neg_small, a, b] : order) {
+    const uint32_t ra = root(parent, a), rb = root(parent, b);
+    if (ra == rb) continue;
+    uint32_t big = anchor[ra], small = anchor[rb];
+    if (!larger(big, small)) std::swap(big, small);
+    if (!planes[big].planar || !planes[small].fitted ||
+        std::abs(dot(planes[big].normal, planes[small].normal)) < cos_angle ||
+        !held(planes[big], positions, groups.of(small), o.offset_scales))
+      continue;
+    join(ra, rb, big);
+  }
+  if (o.join_disjoint) {
+    // Groups that share no edge but lie on one plane (the wings of a facade either side of a
+    // recessed middle): anchors largest first, each held by the other's plane.
+    std::vector<uint32_t> anchors;
+    for (uint32_t s = 0; s < count; ++s)
+      if (root(parent, s) == s && planes[anchor[s]].planar) anchors.push_back(s);
+    std::sort(anchors.begin(), anchors.end(),
+              [&](uint32_t a, uint32_t b) { return larger(anchor[a], anchor[b]); });
+    for (std::size_t x = 0; x < anchors.size(); ++x)
+      for (std::size_t y = x + 1; y < anchors.size(); ++y) {
+        const uint32_t rx = root(parent, anchors[x]), ry = root(parent, anchors[y]);
+        if (rx == ry) continue;
+        const uint32_t big = anchor[rx], small = anchor[ry];
+        const RobustPlane &pb = planes[big], &ps = planes[small];
+        // The centre test first: it is cheap and rejects nearly every pair.
+        if (std::abs(dot(pb.normal, ps.normal)) < cos_disjoint ||
+            pb.distance(ps.point) > 2 * reach(pb, o.offset_scales) ||
+            !held(pb, positions, groups.of(small), o.offset_scales) ||
+            !held(ps, positions, groups.of(big), o.offset_scales))
+          continue;
+        join(rx, ry, big);
+        ++done.disjoint;
+      }
+  }
+  std::vector<uint32_t> label(n);
+  for (std::size_t i = 0; i < n; ++i) label[i] = root(parent, seg.surface[i]);
+  if (info) *info = done;
+  return renumber_surfaces(label, count);
+}
+
+}  // namespace splatkit::graph
