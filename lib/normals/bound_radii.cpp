@@ -4,10 +4,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace splatkit {
 
 namespace {
+
+// Relative margin on a squared distance: far above the rounding of two computations of it.
+constexpr float kReachMargin = 1e-4f;
 
 // The 4th smallest of 8 values: they are sorted by Batcher's odd-even merge sort network (19
 // minima and maxima, no branches: which way a comparison of radii goes is a coin flip).
@@ -85,22 +89,51 @@ BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec
   std::vector<uint32_t> candidates;
   for (std::size_t i = 0; i < n; ++i)
     if (radii[i] > floor) candidates.push_back(static_cast<uint32_t>(i));
-  // The candidates' medians; 0 (no bound) for the others.
+  sorted = {};
+  // The candidates' medians (0, no bound, for the others), each candidate's k-th neighbour's
+  // squared distance, and the candidates' radii the medians were last found with.
+  std::vector<float> median(n, 0.0f), reach(candidates.size()), found_with(candidates.size());
+  std::vector<uint8_t> redo(candidates.size(), 1);
+  auto median_of = [&](std::size_t c, const std::vector<float>& r, std::vector<uint32_t>& row,
+                       std::vector<float>& d2, std::vector<float>& scratch) {
+    const uint32_t i = candidates[c];
+    const std::size_t found = index.knn(positions[i], k + 1, row.data(), d2.data());
+    // The point itself is among the k + 1 nearest (first, or tied at distance 0).
+    std::size_t m = 0;
+    for (std::size_t j = 0; j < found && m < k; ++j)
+      if (row[j] != i) row[m++] = row[j];
+    median[i] = m > 0 ? lower_median(row.data(), m, r, scratch) : 0.0f;
+    reach[c] = found == k + 1 ? d2[k] : std::numeric_limits<float>::infinity();
+  };
+  bool first = true;
   auto medians = [&](const std::vector<float>& r) {
-    std::vector<float> median(n, 0.0f);
+    // Only candidates change between passes (a median of 0 caps nothing), and a median changes
+    // only when one of its k points did: a candidate with no changed candidate within its k-th
+    // neighbour's distance keeps its median. (The distances are compared with a margin: a
+    // candidate found again needlessly gets the same median.)
+    if (!first) {
+      std::vector<Vec3f> changed;
+      for (std::size_t c = 0; c < candidates.size(); ++c)
+        if (r[candidates[c]] != found_with[c]) changed.push_back(positions[candidates[c]]);
+      if (changed.empty()) return median;
+      const SpatialIndex near(changed);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 1024), [&](auto& b) {
+        for (std::size_t c = b.begin(); c < b.end(); ++c) {
+          uint32_t id;
+          float d2;
+          redo[c] = near.knn(positions[candidates[c]], 1, &id, &d2) == 1 &&
+                    d2 <= reach[c] * (1 + kReachMargin);
+        }
+      });
+    }
+    first = false;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256), [&](auto& b) {
       std::vector<uint32_t> row(k + 1);
-      std::vector<float> scratch(k);
-      for (std::size_t c = b.begin(); c < b.end(); ++c) {
-        const uint32_t i = candidates[c];
-        const std::size_t found = index.knn(positions[i], k + 1, row.data(), nullptr);
-        // The point itself is among the k + 1 nearest (first, or tied at distance 0).
-        std::size_t m = 0;
-        for (std::size_t j = 0; j < found && m < k; ++j)
-          if (row[j] != i) row[m++] = row[j];
-        if (m > 0) median[i] = lower_median(row.data(), m, r, scratch);
-      }
+      std::vector<float> d2(k + 1), scratch(k);
+      for (std::size_t c = b.begin(); c < b.end(); ++c)
+        if (redo[c]) median_of(c, r, row, d2, scratch);
     });
+    for (std::size_t c = 0; c < candidates.size(); ++c) found_with[c] = r[candidates[c]];
     return median;
   };
   return bound_radii(medians, radii, minor_radii, ratio, max_passes);

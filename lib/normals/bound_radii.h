@@ -53,8 +53,11 @@ BoundRadiiResult bound_radii(
 // The bound of bound_radii over the k nearest other points of the points whose radius exceeds
 // ratio × the cloud's 2nd-percentile radius only (a smaller splat is no blob to speak of; on
 // even sampling that leaves a few per cent of the points to query, so the wider row costs
-// little), each pass reading the radii as the previous one left them. positions: #N, the
-// index's points. Counts as bound_radii does (`over`: among the candidates).
+// little; 4.7 % on an i.i.d. torus), each pass reading the radii as the previous one left them.
+// A later pass queries a candidate again only when a candidate's radius changed within its k-th
+// neighbour's distance (the others' medians cannot have changed): the passes after the first cost
+// little. positions: #N, the index's points. Counts as bound_radii does (`over`: among the
+// candidates).
 BoundRadiiResult bound_wide_radii(const SpatialIndex& index, std::span<const Vec3f> positions,
                                   std::vector<float>& radii, std::vector<float>& minor_radii,
                                   float ratio, std::size_t k, std::size_t max_passes);

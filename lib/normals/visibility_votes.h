@@ -26,7 +26,12 @@
 //
 // Cost: per view one pass drawing every disc (a few pixels each) and one testing every point;
 // views run in parallel, each on its own buffer. Votes are sums of integers (|n·d| in 1/1024),
-// so the result does not depend on the thread count.
+// so the result does not depend on the thread count. At simd_level() >= kSse2 (splatkit/
+// simd_level.h) both passes take four points at a time, and a disc whose pixels fit a 4 × 4 box
+// (nearly all: the median disc spans 2.5 pixels) is drawn as the whole box, four rows at once,
+// the pixels off the disc masked: the same depths and votes as the portable row-by-row code,
+// bit for bit. Measured on a 1M-point i.i.d. torus (AMD EPYC, 2 threads, 8 views): 0.68 s of
+// CPU portable, 0.26 s with SSE2.
 #pragma once
 
 #include <cstddef>

@@ -131,6 +131,58 @@ TEST(NormalsBoundRadii, MediansFromTheOrientationsRowsEqualTheirOwnKnnPass) {
   }
 }
 
+TEST(NormalsBoundRadii, WideBoundFindsAgainOnlyTheMediansThatCanChange) {
+  // bound_wide_radii finds a candidate's k nearest again in a later pass only when a radius
+  // changed within its k-th neighbour's distance: the same radii, minor radii and counts as
+  // every candidate's median found again in every pass. Random radii (many capped, over several
+  // passes), ties everywhere (a 1/64 grid snap), duplicates and strays.
+  DeterministicRng rng(11);
+  for (const std::size_t n : {std::size_t{40}, std::size_t{8000}}) {
+    SplatCloud c = gradient_plane(n, n / 200, 5);
+    for (Vec3f& q : c.positions)
+      for (int a = 0; a < 3; ++a) q[a] = std::round(q[a] * 64) / 64;
+    for (std::size_t i = 0; i < n / 40; ++i) c.positions.push_back(c.positions[i * 7]);
+    std::vector<float> radii(c.size()), minor(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      radii[i] = static_cast<float>(std::exp(rng.uniform(-3.0, 1.5)));
+      minor[i] = radii[i] / 2;
+    }
+    const SpatialIndex index(c.positions);
+    const float ratio = 1.5f;
+    const std::size_t k = kWideBoundK, passes = 4;
+    std::vector<float> wide_r = radii, wide_m = minor;
+    const BoundRadiiResult wide =
+        bound_wide_radii(index, c.positions, wide_r, wide_m, ratio, k, passes);
+    // The candidates as bound_wide_radii chooses them, their medians found in full each pass.
+    std::vector<float> sorted = radii;
+    std::sort(sorted.begin(), sorted.end());
+    const float floor = ratio * sorted[c.size() / 50];
+    auto medians = [&](const std::vector<float>& r) {
+      std::vector<float> m(r.size(), 0.0f);
+      std::vector<uint32_t> row(k + 1);
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        if (!(radii[i] > floor)) continue;
+        const std::size_t found = index.knn(c.positions[i], k + 1, row.data(), nullptr);
+        std::vector<float> others;
+        for (std::size_t j = 0; j < found && others.size() < k; ++j)
+          if (row[j] != i) others.push_back(r[row[j]]);
+        std::nth_element(others.begin(), others.begin() + (others.size() - 1) / 2, others.end());
+        m[i] = others[(others.size() - 1) / 2];
+      }
+      return m;
+    };
+    std::vector<float> full_r = radii, full_m = minor;
+    const BoundRadiiResult full = bound_radii(medians, full_r, full_m, ratio, passes);
+    EXPECT_GT(full.capped, c.size() / 20);
+    EXPECT_GT(full.passes, 1u);
+    EXPECT_EQ(wide.capped, full.capped);
+    EXPECT_EQ(wide.passes, full.passes);
+    EXPECT_EQ(wide.over, full.over);
+    EXPECT_EQ(wide_r, full_r);
+    EXPECT_EQ(wide_m, full_m);
+  }
+}
+
 TEST(NormalsBoundRadii, MedianOfEightIsTheFourthSmallestOfEveryOrderAndTie) {
   // Rows of 8 own neighbours: every tuple of {1, 2, 3}^8 (ties), then every permutation of 8
   // distinct values.

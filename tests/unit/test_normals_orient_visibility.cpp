@@ -12,6 +12,7 @@
 #include "normals/estimate_normals.h"
 #include "normals/visibility_votes.h"
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/simd_level.h"
 #include "splatkit/splat_cloud.h"
 
 namespace splatkit {
@@ -133,6 +134,42 @@ TEST(NormalsOrientVisibility, VotesAreRightWhereTheySpeak) {
   EXPECT_GT(stats.seen, votes.size() / 2);
   EXPECT_GE(static_cast<double>(right) / static_cast<double>(voted), 0.97);
   EXPECT_LT(inner_voted, votes.size() / 50);
+}
+
+TEST(NormalsOrientVisibility, VectorPathVotesAsThePortableOne) {
+  // The SSE2 path (discs four at a time, a whole box of pixels per small disc) against the
+  // portable one, bit for bit: the building's splats, a few of them 3-30x larger (drawn row by
+  // row on both paths), a count that is not a multiple of 4, coarse and fine buffers, and clouds
+  // of 1-5 points.
+  Scene s = building(0.3f);
+  SplatCloud c = s.cloud;
+  NormalOptions o = in_input_order();
+  o.orient = NormalOrientation::kNone;
+  estimate_normals(c, o);
+  DeterministicRng rng(5);
+  for (std::size_t i = 0; i < c.size(); i += 97)
+    c.radii[i] *= static_cast<float>(rng.uniform(3.0, 30.0));
+  c.positions.resize(c.size() - c.size() % 4 + 3);
+  c.normals.resize(c.positions.size());
+  c.radii.resize(c.positions.size());
+  std::vector<std::vector<Vec3f>> clouds = {c.positions};
+  for (std::size_t m = 1; m <= 5; ++m)
+    clouds.emplace_back(c.positions.begin(), c.positions.begin() + m);
+  for (const std::vector<Vec3f>& p : clouds)
+    for (const std::size_t pixels : {std::size_t{1} << 22, std::size_t{4096}}) {
+      VisibilityOptions vo;
+      vo.max_pixels = pixels;
+      vo.views = 12;
+      const std::span<const Vec3f> n(c.normals.data(), p.size());
+      const std::span<const float> r(c.radii.data(), p.size());
+      std::vector<float> portable;
+      {
+        ScopedSimdLevel cap(SimdLevel::kPortable);
+        portable = visibility_votes(p, n, r, vo);
+      }
+      const std::vector<float> best = visibility_votes(p, n, r, vo);
+      EXPECT_EQ(best, portable) << p.size() << " points, " << pixels << " pixels";
+    }
 }
 
 TEST(NormalsOrientVisibility, UpAndSensor) {
