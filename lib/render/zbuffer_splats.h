@@ -196,9 +196,12 @@ inline bool zbuffer_disc(DepthKeyBuffer& b, const Projection& p, const Vec3f& c,
   const uint64_t key = (uint64_t{bits} << 32) | index;
   // Along a row, U² + V² − r²L² is a quadratic in x, αx² + βx + γ: positive α (every disc in
   // front of the eye but one seen exactly edge-on), its roots bound the row's pixels, which are
-  // then tested one by one within a pixel of them (the roots' rounding decides nothing).
+  // then tested one by one, from a hundredth of a pixel beyond them (so that the roots' rounding
+  // decides nothing but pixel centres within float rounding of the edge).
+  // Boxes a few pixels wide are tested whole: cheaper than the roots.
   const float alpha = u.x * u.x + v.x * v.x - r2 * n.x * n.x;
-  const bool spans = alpha > 1e-12f * (u.x * u.x + v.x * v.x + r2 * n.x * n.x);
+  const bool spans =
+      x1 - x0 >= 4 && alpha > 1e-12f * (u.x * u.x + v.x * v.x + r2 * n.x * n.x);
   const float half_over_alpha = spans ? 0.5f / alpha : 0.0f;
   bool any = false;
   for (int y = y0; y <= y1; ++y) {
@@ -210,13 +213,12 @@ inline bool zbuffer_disc(DepthKeyBuffer& b, const Projection& p, const Vec3f& c,
       const float beta = 2 * (u.x * u_row + v.x * v_row - r2 * n.x * l_row);
       const float gamma = u_row * u_row + v_row * v_row - r2 * l_row * l_row;
       const float disc = beta * beta - 4 * alpha * gamma;
-      // dx = x + 0.5 − cx at the roots; a row the ellipse misses keeps the pixel nearest its
-      // tangent point, in case rounding made the discriminant negative.
-      const float root = std::sqrt(std::max(disc, 0.0f));
+      if (!(disc >= 0)) continue;  // the row misses the ellipse
+      // dx = x + 0.5 − cx at the roots.
+      const float root = std::sqrt(disc) * half_over_alpha;
       const float mid = p.cx - 0.5f - beta * half_over_alpha;
-      const float lo = mid - root * half_over_alpha, hi = mid + root * half_over_alpha;
-      from = std::max(from, ceil_in(lo, w + 2.0f) - 1);
-      to = std::min(to, floor_in(hi, w + 2.0f) + 1);
+      from = std::max(from, ceil_in(mid - root - 0.01f, w + 2.0f));
+      to = std::min(to, floor_in(mid + root + 0.01f, w + 2.0f));
     }
     for (int x = from; x <= to; ++x) {
       const float dx = static_cast<float>(x) + 0.5f - p.cx;
