@@ -6,6 +6,7 @@
 #include "qsplat/build_qsplat_tree.h"
 #include "qsplat/encode_qsplat.h"
 #include "qsplat/make_qsplat_leaves.h"
+#include "render/splat_bounds.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 
@@ -14,8 +15,9 @@ namespace splatkit::apps {
 namespace {
 
 // The comment fragment: the input's PLY comments, a line each without the keyword as the
-// original qsplat_make stores them, then this run's provenance.
-std::string comment_text(const LoadedCloud& doc) {
+// original qsplat_make stores them, then this run's provenance with the sphere a camera frames
+// the leaves by (describe_qsplat.h's qsplat_view_sphere).
+std::string comment_text(const LoadedCloud& doc, const render::BoundingSphere& view) {
   std::string text;
   const auto it = doc.header.find("comments");
   if (it != doc.header.end() && it->is_array())
@@ -25,6 +27,8 @@ std::string comment_text(const LoadedCloud& doc) {
   // The spheres are in the cloud's local frame (float32 holds georeferenced coordinates only to
   // metres): where that frame sits, for splat-view's cameras in file coordinates.
   if (doc.cloud.origin != std::array<double, 3>{0, 0, 0}) meta["origin"] = doc.cloud.origin;
+  meta["view_sphere"] = {{"centre", {view.center.x, view.center.y, view.center.z}},
+                         {"radius", view.radius}};
   text += "splatkit " + meta.dump() + "\n";
   return text;
 }
@@ -52,12 +56,21 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
     return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
   });
+  // Framed by the splats themselves: the decoded leaves are larger (quantisation is
+  // conservative), a few of them several times, which would frame the model smaller than the plain
+  // render of the same cloud.
+  const render::BoundingSphere view =
+      render::splat_bounds(leaves.size(), [&](std::size_t i, Vec3f& c, float& r) {
+        c = leaves.positions[i];
+        r = leaves.radii[i];
+        return true;
+      });
   // The input's arrays are done with: freed before the encoder's are made (the counts stay).
   const bool color = !leaves.colors.empty();
   { const qsplat::QSplatLeaves done = std::move(leaves); }
   qsplat::EncodedQSplat file = stage.phase("quantise", "quantising the QSplat tree", [&] {
     try {
-      return qsplat::encode_qsplat(tree, comment_text(doc));
+      return qsplat::encode_qsplat(tree, comment_text(doc, view));
     } catch (const Error& e) {  // input that the format cannot hold: named as such
       if (e.kind() == ErrorKind::kBadInput) throw_bad_input(stage.input_name(), e.what());
       throw;

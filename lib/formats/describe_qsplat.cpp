@@ -33,23 +33,53 @@ nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
   return j;
 }
 
-std::array<double, 3> qsplat_origin(const QSplatModel& m) {
-  // The run's provenance is the last line: the input's comments before it may hold anything.
+namespace {
+
+// The JSON of build-qsplat's "splatkit {...}" comment line, or null. The run's provenance is the
+// last line: the input's comments before it may hold anything.
+nlohmann::json provenance(const QSplatModel& m) {
   std::istringstream lines(m.comments);
   std::string line, last;
   while (std::getline(lines, line))
     if (!line.empty()) last = line;
-  if (!last.starts_with("splatkit {")) return {0, 0, 0};
-  const nlohmann::json j = nlohmann::json::parse(last.substr(9), nullptr, false);
-  if (j.is_discarded() || !j.is_object() || !j.contains("origin")) return {0, 0, 0};
-  const nlohmann::json& o = j["origin"];
-  if (!o.is_array() || o.size() != 3) return {0, 0, 0};
-  std::array<double, 3> origin{};
-  for (std::size_t k = 0; k < 3; ++k) {
-    if (!o[k].is_number() || !std::isfinite(o[k].get<double>())) return {0, 0, 0};
-    origin[k] = o[k].get<double>();
+  if (!last.starts_with("splatkit {")) return nullptr;
+  nlohmann::json j = nlohmann::json::parse(last.substr(9), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return nullptr;
+  return j;
+}
+
+// `count` finite numbers of the array j[key] into out, or false.
+bool finite_numbers(const nlohmann::json& j, const char* key, std::size_t count, double* out) {
+  if (!j.is_object() || !j.contains(key)) return false;
+  const nlohmann::json& a = j[key];
+  if (!a.is_array() || a.size() != count) return false;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!a[k].is_number() || !std::isfinite(a[k].get<double>())) return false;
+    out[k] = a[k].get<double>();
   }
+  return true;
+}
+
+}  // namespace
+
+std::array<double, 3> qsplat_origin(const QSplatModel& m) {
+  std::array<double, 3> origin{};
+  if (!finite_numbers(provenance(m), "origin", 3, origin.data())) return {0, 0, 0};
   return origin;
+}
+
+std::optional<std::array<float, 4>> qsplat_view_sphere(const QSplatModel& m) {
+  const nlohmann::json j = provenance(m);
+  if (!j.is_object() || !j.contains("view_sphere")) return std::nullopt;
+  const nlohmann::json& v = j["view_sphere"];
+  double centre[3];
+  if (!finite_numbers(v, "centre", 3, centre) || !v.contains("radius") ||
+      !v["radius"].is_number())
+    return std::nullopt;
+  const double radius = v["radius"].get<double>();
+  if (!(radius > 0 && radius < 3e38)) return std::nullopt;
+  return std::array<float, 4>{static_cast<float>(centre[0]), static_cast<float>(centre[1]),
+                              static_cast<float>(centre[2]), static_cast<float>(radius)};
 }
 
 std::string describe_qsplat_text(const nlohmann::json& j) {

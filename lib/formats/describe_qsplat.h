@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <optional>
 #include <string>
 
 #include "formats/read_qsplat.h"
@@ -21,6 +22,13 @@ nlohmann::json describe_qsplat(const QSplatModel& model, const std::string& path
 // (the v11 spheres are float32: a georeferenced cloud is written near zero). Zero when that line
 // gives no three finite numbers.
 std::array<double, 3> qsplat_origin(const QSplatModel& model);
+
+// The sphere build-qsplat records as "view_sphere": {"centre": [x, y, z], "radius": r} in the same
+// JSON: the sphere a camera frames the input splats by (render/splat_bounds.h), in the file's
+// local frame, computed on the splats before quantisation (the decoded leaves are larger than
+// the splats, by up to several times for a few). Returned as {x, y, z, r}; nullopt when the line
+// is missing, or gives no finite centre or no positive finite radius (older files).
+std::optional<std::array<float, 4>> qsplat_view_sphere(const QSplatModel& model);
 
 // The report of describe_qsplat as text, one fact per line.
 std::string describe_qsplat_text(const nlohmann::json& report);

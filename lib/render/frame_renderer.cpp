@@ -375,8 +375,10 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
         [&](const auto& r, uint64_t n) {
           for (std::size_t i = r.begin(); i < r.end(); ++i) {
             if (cull && dot(draws.normals[i], draws.positions[i] - projection.eye) > 0) continue;
-            n += zbuffer_splat(zb, projection, projection.to_camera(draws.positions[i]),
-                               draws.radii[i], static_cast<uint32_t>(i));
+            n += zbuffer_disc(
+                zb, projection, projection.to_camera(draws.positions[i]),
+                [&] { return camera_direction(projection, draws.normals[i]); }, draws.radii[i],
+                static_cast<uint32_t>(i));
           }
           return n;
         },

@@ -3,54 +3,35 @@
 #include <algorithm>
 
 #include "formats/describe_qsplat.h"
+#include "render/splat_bounds.h"
 #include "splatkit/error.h"
-#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::render {
 
 RenderScene make_qsplat_scene(QSplatModel&& model, const std::string& name) {
   if (model.leaves == 0) throw_bad_input(name, "the QSplat file has no leaves");
   RenderScene s;
-  // Bounds of the decoded leaves (not the root sphere, which is loose): frames a .qs model as the
-  // plain render frames its splats. In fixed chunks, combined in order: the same sums for any
-  // thread count.
-  constexpr std::size_t kChunk = std::size_t{1} << 16;
-  struct Part {
-    Vec3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
-    double sum = 0;
-    float max_radius = 0, reach = 0;
-  };
-  std::vector<Part> parts(chunk_count(model.size(), kChunk));
-  for_each_chunk(model.size(), kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
-    Part& p = parts[c];
-    for (std::size_t i = b; i < e; ++i)
-      if (model.child_count[i] == 0) {
-        const Vec3f& x = model.centres[i];
-        const float r = model.radii[i];
-        p.lo = {std::min(p.lo.x, x.x - r), std::min(p.lo.y, x.y - r), std::min(p.lo.z, x.z - r)};
-        p.hi = {std::max(p.hi.x, x.x + r), std::max(p.hi.y, x.y + r), std::max(p.hi.z, x.z + r)};
-        p.sum += r;
-        p.max_radius = std::max(p.max_radius, r);
-      }
-  });
-  Part all;
-  for (const Part& p : parts) {
-    all.lo = {std::min(all.lo.x, p.lo.x), std::min(all.lo.y, p.lo.y), std::min(all.lo.z, p.lo.z)};
-    all.hi = {std::max(all.hi.x, p.hi.x), std::max(all.hi.y, p.hi.y), std::max(all.hi.z, p.hi.z)};
-    all.sum += p.sum;
-    all.max_radius = std::max(all.max_radius, p.max_radius);
+  // Framed as the plain render frames the cloud the file was built from: by the sphere
+  // build-qsplat recorded from the splats, or in older files by the decoded leaves (not the root
+  // sphere, which is loose) with the same rule, which frames the model a little smaller (the
+  // decoded leaves are larger than the splats).
+  if (const auto view = qsplat_view_sphere(model)) {
+    s.bounds.center = {(*view)[0], (*view)[1], (*view)[2]};
+    s.bounds.radius = (*view)[3];
+  } else {
+    s.bounds = splat_bounds(model.size(), [&](std::size_t i, Vec3f& c, float& r) {
+      c = model.centres[i];
+      r = model.radii[i];
+      return model.child_count[i] == 0;
+    });
   }
-  s.bounds.center = (all.lo + all.hi) * 0.5f;
-  for_each_chunk(model.size(), kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
-    float reach = 0;
-    for (std::size_t i = b; i < e; ++i)
-      if (model.child_count[i] == 0)
-        reach = std::max(reach, norm(model.centres[i] - s.bounds.center) + model.radii[i]);
-    parts[c].reach = reach;
-  });
-  for (const Part& p : parts) s.bounds.radius = std::max(s.bounds.radius, p.reach);
-  s.max_radius = all.max_radius;
-  s.mean_radius = static_cast<float>(all.sum / static_cast<double>(model.leaves));
+  double sum = 0;
+  for (std::size_t i = 0; i < model.size(); ++i)
+    if (model.child_count[i] == 0) {
+      sum += model.radii[i];
+      s.max_radius = std::max(s.max_radius, model.radii[i]);
+    }
+  s.mean_radius = static_cast<float>(sum / static_cast<double>(model.leaves));
   s.origin = qsplat_origin(model);
   s.qsplat = std::make_shared<const QSplatModel>(std::move(model));
   return s;

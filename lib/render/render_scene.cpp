@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "graph/make_clip_planes.h"
+#include "render/splat_bounds.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/error.h"
 
@@ -43,24 +44,6 @@ std::vector<Vec3f> linear_colors(const SplatCloud& cloud) {
   return out;
 }
 
-BoundingSphere enclosing_sphere(const RenderScene& s) {
-  constexpr float kInf = 3.4e38f;
-  Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-  for (const Vec3f& p : s.positions) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  BoundingSphere b;
-  b.center = (lo + hi) * 0.5f;
-  float radius = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    float d = norm(s.positions[i] - b.center) + s.radii[i];
-    radius = std::max(radius, d);
-  }
-  b.radius = radius;
-  return b;
-}
-
 }  // namespace
 
 RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
@@ -93,7 +76,11 @@ RenderScene make_render_scene(SplatCloud&& cloud, const std::string& name) {
     }
   }
   s.mean_radius = static_cast<float>(sum / s.size());
-  s.bounds = enclosing_sphere(s);
+  s.bounds = splat_bounds(s.size(), [&](std::size_t i, Vec3f& c, float& r) {
+    c = s.positions[i];
+    r = s.radii[i];
+    return true;
+  });
   return s;
 }
 

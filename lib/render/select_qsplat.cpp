@@ -151,7 +151,10 @@ struct ZBufferSink {
   uint64_t selected = 0, drawn = 0;
   void draw(uint32_t i, const Vec3f& c) {
     ++selected;
-    drawn += zbuffer_splat(buffer, proj, c, m.radii[i], i);
+    drawn += zbuffer_disc(
+        buffer, proj, c,
+        [&] { return camera_direction(proj, qsplat::decode_normal(m.normal_codes[i])); },
+        m.radii[i], i);
   }
 };
 

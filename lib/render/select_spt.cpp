@@ -73,6 +73,7 @@ SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bound
   const float* r_min = m.r_min.data();
   const float* r_max = m.r_max.data();
   const float* diameters = m.diameters.data();
+  const Vec3f* normals = m.normals.data();
   const SptZBufferCounts c = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, prefix, kChunk), SptZBufferCounts{},
       [&](const auto& range, SptZBufferCounts acc) {
@@ -94,7 +95,9 @@ SptZBufferCounts draw_spt_zbuffer(const SptModel& m, const BoundingSphere& bound
                                   p.cy + p.focal_px * cam.y * inv, cam.z, static_cast<uint32_t>(i));
             acc.points += drawn;
           } else {
-            drawn = zbuffer_splat(buffer, p, cam, radius, static_cast<uint32_t>(i));
+            drawn = zbuffer_disc(
+                buffer, p, cam, [&] { return camera_direction(p, normals[i]); }, radius,
+                static_cast<uint32_t>(i));
           }
           acc.drawn += drawn;
           if (drawn) acc.diameter_px_sum += 2 * rp;

@@ -5,12 +5,16 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include <algorithm>
+#include <iterator>
+
 #include "formats/read_qsplat.h"
 #include "qsplat/build_qsplat_tree.h"
 #include "qsplat/encode_qsplat.h"
 #include "qsplat/make_qsplat_leaves.h"
 #include "render/qsplat_scene.h"
 #include "render/zbuffer_splats.h"
+#include "splatkit/deterministic_rng.h"
 #include "test_render_support.h"
 
 namespace splatkit::render {
@@ -87,6 +91,78 @@ TEST(ZBufferSplat, SplatsReachingPastTheNearPlaneOrOffTheImageAreNotDrawn) {
   // Partly off the image: the pixels inside are drawn.
   EXPECT_TRUE(zbuffer_splat(b, p, {-1.0f, 0, 1}, 0.1f, 4));
   EXPECT_FALSE(covered(b, 4).empty());
+}
+
+// The pixels whose centre rays meet the disc (c, n, r) in front of the eye, in double: the
+// reference for zbuffer_disc.
+std::vector<int> ray_cast_disc(const Projection& p, const Vec3f& c, const Vec3f& n, float r) {
+  std::vector<int> px;
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < p.width; ++x) {
+      const double d[3] = {(x + 0.5 - p.cx) / p.focal_px, (y + 0.5 - p.cy) / p.focal_px, 1};
+      const double l = n.x * d[0] + n.y * d[1] + n.z * d[2];
+      const double t = (double{n.x} * c.x + double{n.y} * c.y + double{n.z} * c.z) / l;
+      if (!(t > 0)) continue;
+      const double e[3] = {t * d[0] - c.x, t * d[1] - c.y, t * d[2] - c.z};
+      if (e[0] * e[0] + e[1] * e[1] + e[2] * e[2] <= double{r} * r) px.push_back(y * p.width + x);
+    }
+  return px;
+}
+
+TEST(ZBufferDisc, CoversThePixelsWhoseRaysMeetTheTiltedDisc) {
+  const Projection p = small_projection();
+  DeterministicRng rng(11);
+  int compared = 0, mismatched = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3f c{static_cast<float>(rng.uniform(-0.8, 0.8)),
+                  static_cast<float>(rng.uniform(-0.4, 0.4)),
+                  static_cast<float>(rng.uniform(1.0, 3.0))};
+    const Vec3f n = normalized(Vec3f{static_cast<float>(rng.uniform(-1, 1)),
+                                     static_cast<float>(rng.uniform(-1, 1)),
+                                     static_cast<float>(rng.uniform(-1, 1))});
+    const float r = static_cast<float>(rng.uniform(0.06, 0.4)) * c.z;  // 0.6 to 4 px
+    DepthKeyBuffer b;
+    b.reset(p.width, p.height);
+    const std::vector<int> want = ray_cast_disc(p, c, n, r);
+    const bool drawn = zbuffer_disc(b, p, c, [&] { return n; }, r, 1);
+    const std::vector<int> got = covered(b, 1);
+    if (want.empty()) {  // edge-on or between pixel centres: the pixel under the centre, if any
+      EXPECT_LE(got.size(), 1u);
+      continue;
+    }
+    EXPECT_TRUE(drawn);
+    ++compared;
+    // Float against double: a pixel centre on the ellipse's edge may go either way.
+    std::vector<int> diff;
+    std::set_symmetric_difference(want.begin(), want.end(), got.begin(), got.end(),
+                                  std::back_inserter(diff));
+    mismatched += diff.size() > 0;
+    EXPECT_LE(diff.size(), 1u) << "disc " << k;
+  }
+  EXPECT_GT(compared, 300);
+  EXPECT_LE(mismatched, 4);
+}
+
+TEST(ZBufferDisc, AnEdgeOnDiscDrawsOnlyThePixelUnderItsCentre) {
+  const Projection p = small_projection();
+  DepthKeyBuffer b;
+  b.reset(p.width, p.height);
+  // Centre on pixel (10, 5)'s centre ray, 3 px across, its plane through the eye: as a
+  // screen-aligned disc it would cover 29 pixels.
+  const float z = 2;
+  ASSERT_TRUE(zbuffer_disc(
+      b, p, {0.05f * z, 0.05f * z, z}, [] { return normalized(Vec3f{1, 0, -0.05f}); }, 0.3f * z, 7));
+  EXPECT_EQ(covered(b, 7), (std::vector<int>{5 * 20 + 10}));
+  // Facing the eye it covers about the screen-aligned disc's pixels (the exact projection of a
+  // disc facing the eye off the axis is a little smaller than r·focal/z).
+  DepthKeyBuffer round, facing;
+  round.reset(p.width, p.height);
+  facing.reset(p.width, p.height);
+  const Vec3f c{0.05f * z, 0.05f * z, z};
+  ASSERT_TRUE(zbuffer_splat(round, p, c, 0.3f * z, 2));
+  ASSERT_TRUE(zbuffer_disc(facing, p, c, [&] { return normalized(c) * -1.0f; }, 0.3f * z, 2));
+  EXPECT_NEAR(static_cast<double>(covered(facing, 2).size()),
+              static_cast<double>(covered(round, 2).size()), 4.0);
 }
 
 Camera render_camera() {

@@ -66,9 +66,9 @@ int main(int argc, char** argv) {
   app.add_option("--blend", o.blend,
                  "Surface reconstruction: zthreshold[=EPS] (EPS in scene units, default twice "
                  "the mean splat radius), zrange, or zbuffer: no blending, each pixel shows its "
-                 "nearest splat drawn as a screen-aligned disc (the fast path for splats of a "
-                 "few pixels, as QSplat draws; no clipping, aliased edges; .spt entries of at "
-                 "most 1.5 px are one pixel each)")
+                 "nearest splat drawn as its disc (the pixels whose rays hit it; the fast path "
+                 "for splats of a few pixels, as QSplat draws; no clipping, aliased edges; .spt "
+                 "entries of at most 1.5 px are one pixel each)")
       ->default_val("zthreshold");
   app.add_option("--shade", o.shade,
                  "phong, normals, depth, flat (unlit albedo), or false colours lit with phong: "
