@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "graph/lowest_root_union_find.h"
+#include "graph/plane_residual_scale.h"
 #include "graph/surface_borders.h"
 #include "graph/surface_members.h"
 #include "splatkit/pca_normal.h"
@@ -54,32 +55,15 @@ struct Input {
 // members; infinity when no member has 5 such neighbours.
 double local_scale(const Input& in, std::span<const uint32_t> label,
                    std::span<const uint32_t> members) {
-  std::vector<double> r;
+  PlaneResidualScale scale;
   for (uint32_t i : spread(members, kScaleSamples)) {
     const Vec3d p = to_vec3d(in.positions[i]);
-    double w = 0;
-    Vec3d s;
-    std::array<double, 6> ss{};
     in.row(i, [&](uint32_t j) {
-      if (label[j] != label[i]) return;
-      const Vec3d d = to_vec3d(in.positions[j]) - p;
-      w += 1;
-      s += d;
-      ss[0] += d.x * d.x, ss[1] += d.x * d.y, ss[2] += d.x * d.z;
-      ss[3] += d.y * d.y, ss[4] += d.y * d.z, ss[5] += d.z * d.z;
+      if (label[j] == label[i]) scale.add(to_vec3d(in.positions[j]) - p);
     });
-    if (w < 5) continue;
-    const Vec3d c = s / w;
-    const std::array<double, 3> n =
-        pca_normal({ss[0] / w - c.x * c.x, ss[1] / w - c.x * c.y, ss[2] / w - c.x * c.z,
-                    ss[3] / w - c.y * c.y, ss[4] / w - c.y * c.z, ss[5] / w - c.z * c.z})
-            .normal;
-    r.push_back(std::abs(c.x * n[0] + c.y * n[1] + c.z * n[2]));
+    scale.close();
   }
-  if (r.empty()) return std::numeric_limits<double>::infinity();
-  auto mid = r.begin() + r.size() / 2;
-  std::nth_element(r.begin(), mid, r.end());
-  return 1.4826 * *mid;
+  return scale.scale();
 }
 
 // The surface's model: kPrimitive when its primitive explains it; kUnexplained otherwise, with

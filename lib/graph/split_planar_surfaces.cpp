@@ -12,6 +12,7 @@
 
 #include "graph/fit_robust_plane.h"
 #include "graph/lowest_root_union_find.h"
+#include "graph/plane_residual_scale.h"
 #include "graph/renumber_surfaces.h"
 #include "graph/surface_members.h"
 #include "splatkit/pca_normal.h"
@@ -86,34 +87,17 @@ std::vector<std::vector<uint32_t>> connected(const NeighborGraph& graph,
 double local_scale(const NeighborGraph& graph, std::span<const Vec3f> positions,
                    const std::vector<uint32_t>& part) {
   const std::size_t step = std::max<std::size_t>(1, (part.size() + 511) / 512);
-  std::vector<double> r;
+  PlaneResidualScale scale;
   for (std::size_t k = 0; k < part.size(); k += step) {
     const uint32_t i = part[k];
     const Vec3d p = to_vec3d(positions[i]);
-    double w = 0;
-    Vec3d sum;
-    std::array<double, 6> ss{};
     for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
       const uint32_t j = graph.neighbors[e];
-      if (!std::binary_search(part.begin(), part.end(), j)) continue;
-      const Vec3d d = to_vec3d(positions[j]) - p;
-      w += 1;
-      sum += d;
-      ss[0] += d.x * d.x, ss[1] += d.x * d.y, ss[2] += d.x * d.z;
-      ss[3] += d.y * d.y, ss[4] += d.y * d.z, ss[5] += d.z * d.z;
+      if (std::binary_search(part.begin(), part.end(), j)) scale.add(to_vec3d(positions[j]) - p);
     }
-    if (w < 5) continue;
-    const Vec3d c = sum / w;
-    const std::array<double, 3> n =
-        pca_normal({ss[0] / w - c.x * c.x, ss[1] / w - c.x * c.y, ss[2] / w - c.x * c.z,
-                    ss[3] / w - c.y * c.y, ss[4] / w - c.y * c.z, ss[5] / w - c.z * c.z})
-            .normal;
-    r.push_back(std::abs(c.x * n[0] + c.y * n[1] + c.z * n[2]));
+    scale.close();
   }
-  if (r.empty()) return std::numeric_limits<double>::infinity();
-  auto mid = r.begin() + std::ptrdiff_t(r.size() / 2);
-  std::nth_element(r.begin(), mid, r.end());
-  return 1.4826 * *mid;
+  return scale.scale();
 }
 
 }  // namespace

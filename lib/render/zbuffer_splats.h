@@ -43,6 +43,20 @@ struct DepthKeyBuffer {
   }
 };
 
+// Floor and ceiling of v clamped to [-2, hi]: pixel bounds a little beyond the image, where the
+// integer conversions are exact (the x86-64 baseline has no rounding instruction: std::floor is
+// a call).
+inline int floor_in(float v, float hi) {
+  v = v < -2.0f ? -2.0f : (v > hi ? hi : v);
+  const int i = static_cast<int>(v);
+  return i - (static_cast<float>(i) > v);
+}
+inline int ceil_in(float v, float hi) {
+  v = v < -2.0f ? -2.0f : (v > hi ? hi : v);
+  const int i = static_cast<int>(v);
+  return i + (static_cast<float>(i) < v);
+}
+
 // Writes the key of splat `index` at depth z (> 0) into the pixel under (px, py), if that pixel
 // is in the image: a splat drawn as a point. Safe to call from several threads at once.
 inline bool zbuffer_point(DepthKeyBuffer& b, float px, float py, float z, uint32_t index) {
@@ -71,21 +85,8 @@ inline bool zbuffer_splat(DepthKeyBuffer& b, const Projection& p, const Vec3f& c
   const float inv = 1.0f / c.z;
   const float px = p.cx + p.focal_px * c.x * inv, py = p.cy + p.focal_px * c.y * inv;
   const float rp = p.focal_px * r * inv;
-  // Pixel centres (i + 0.5, j + 0.5) within rp of (px, py): the box first, in coordinates
-  // clamped to a little beyond the image so that the integer conversions below are exact
-  // floors (the x86-64 baseline has no rounding instruction: std::floor is a call).
+  // Pixel centres (i + 0.5, j + 0.5) within rp of (px, py): the box first.
   const float w = static_cast<float>(b.width), h = static_cast<float>(b.height);
-  auto clamp = [](float v, float hi) { return v < -2.0f ? -2.0f : (v > hi ? hi : v); };
-  auto floor_in = [&](float v, float hi) {
-    v = clamp(v, hi);
-    const int i = static_cast<int>(v);
-    return i - (static_cast<float>(i) > v);
-  };
-  auto ceil_in = [&](float v, float hi) {
-    v = clamp(v, hi);
-    const int i = static_cast<int>(v);
-    return i + (static_cast<float>(i) < v);
-  };
   int x0 = ceil_in(px - rp - 0.5f, w + 2.0f), x1 = floor_in(px + rp - 0.5f, w + 2.0f);
   int y0 = ceil_in(py - rp - 0.5f, h + 2.0f), y1 = floor_in(py + rp - 0.5f, h + 2.0f);
   if (x0 > x1 || y0 > y1) {  // no pixel centre in the box: the pixel under the centre
@@ -166,17 +167,6 @@ inline bool zbuffer_disc(DepthKeyBuffer& b, const Projection& p, const Vec3f& c,
   reach(c.x - r, c.x + r, p.cx, bx0, bx1);
   reach(c.y - r, c.y + r, p.cy, by0, by1);
   const float w = static_cast<float>(b.width), h = static_cast<float>(b.height);
-  auto clamp = [](float v, float hi) { return v < -2.0f ? -2.0f : (v > hi ? hi : v); };
-  auto floor_in = [&](float v, float hi) {
-    v = clamp(v, hi);
-    const int i = static_cast<int>(v);
-    return i - (static_cast<float>(i) > v);
-  };
-  auto ceil_in = [&](float v, float hi) {
-    v = clamp(v, hi);
-    const int i = static_cast<int>(v);
-    return i + (static_cast<float>(i) < v);
-  };
   int x0 = std::max(0, ceil_in(bx0 - 0.5f, w + 2.0f));
   int x1 = std::min(b.width - 1, floor_in(bx1 - 0.5f, w + 2.0f));
   int y0 = std::max(0, ceil_in(by0 - 0.5f, h + 2.0f));
