@@ -2,8 +2,11 @@
 # The whole test suite in one command: installs what is missing, builds, runs ctest.
 #  1. Release build (build/): unit tests, end-to-end tests on the real binaries.
 #  2. clang + AddressSanitizer + UndefinedBehaviorSanitizer build (build-asan/): the same tests
-#     again, plus a short libFuzzer run of every reader over its seed corpus. Line tables are all
-#     the debug information the sanitizers' reports need (file:line), and they build faster.
+#     again (e2e.max_memory on smaller clouds: the peak RSS is checked in stage 1 only), plus a
+#     short libFuzzer run of every reader over its seed corpus. Line tables are all the debug
+#     information the sanitizers' reports need (file:line), and they build faster.
+# ctest starts the slowest tests first (their COST in tests/CMakeLists.txt), so that a fresh
+# build directory does not end a stage with one core idle behind the last long test.
 # Each stage prints its time; the end, the 10 slowest tests of each stage.
 # SPLATKIT_TEST_SANITIZE=0 skips stage 2. Works from any directory.
 # SPLATKIT_SIMD=portable|sse2|avx2|avx512 caps the vector code of every kernel for the whole suite
