@@ -199,23 +199,6 @@ class SignedUnionFind {
   std::vector<uint8_t> rank_, flip_;
 };
 
-// The signed sets in three steps.
-// 1. Sheets: Kruskal over the edges whose normals are within 20° of parallel (smooth pieces of
-//    surface, where n_i·n_j is reliable), with the signed union-find.
-// 2. Every other edge between two sets adds its agreement, in the sets' frames, to the evidence
-//    between them.
-// 3. Pairs of sets join strongest evidence first, with the sign of the summed agreement, and only
-//    when it is a clear majority (|Σa| >= kConsensus Σ|a| and >= kMinEvidence).
-// Steps 2 and 3 repeat, the sets grown in one round pooling their evidence in the next, until a
-// round joins nothing. Sets whose evidence contradicts itself (a T-junction: a sheet that runs on
-// past the crease, like ground under a wall or a slab touching a wall, with comparable votes from
-// its two sides; noise at a crease) stay apart until then, and are joined last, by the sign of
-// their sum, so that each connected component is one set.
-// A single edge never decides the sign of a whole sheet: across a crease the mirrored agreement
-// of one pair can be ±1 by noise (a point whose robust normal is the other face's, or whose
-// offset from its neighbour is mostly noise), and a spanning tree takes exactly such an edge, the
-// cheapest, as the only link between two faces.
-// With evidence, the virtual point n (its set and parity too) stands for the votes' frame.
 // The sheet edges of the graph as symmetric adjacency lists (sorted), for counting the common
 // neighbours of an edge's two ends.
 struct SheetNeighbours {
@@ -263,6 +246,24 @@ SheetNeighbours sheet_neighbours(const KnnGraph<Id>& g, Passes&& passes) {
   return s;
 }
 
+// The signed sets in three steps.
+// 1. Sheets: Kruskal over the edges whose normals are within 20° of parallel (smooth pieces of
+//    surface, where n_i·n_j is reliable), with the signed union-find; at layered points an edge
+//    oblique to its normals only when confirmed (kOblique).
+// 2. Every other edge between two sets adds its agreement, in the sets' frames, to the evidence
+//    between them.
+// 3. Pairs of sets join strongest evidence first, with the sign of the summed agreement, and only
+//    when it is a clear majority (|Σa| >= kConsensus Σ|a| and >= kMinEvidence).
+// Steps 2 and 3 repeat, the sets grown in one round pooling their evidence in the next, until a
+// round joins nothing. Sets whose evidence contradicts itself (a T-junction: a sheet that runs on
+// past the crease, like ground under a wall or a slab touching a wall, with comparable votes from
+// its two sides; noise at a crease) stay apart until then, and are joined last, by the sign of
+// their sum, so that each connected component is one set.
+// A single edge never decides the sign of a whole sheet: across a crease the mirrored agreement
+// of one pair can be ±1 by noise (a point whose robust normal is the other face's, or whose
+// offset from its neighbour is mostly noise), and a spanning tree takes exactly such an edge, the
+// cheapest, as the only link between two faces.
+// With evidence, the virtual point n (its set and parity too) stands for the votes' frame.
 template <typename Id>
 SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                             std::span<const Vec3f> normals, const OrientRegionsOptions& options,
