@@ -93,7 +93,7 @@ struct OrientRegionsOptions {
   // #N or empty: an absolute vote per point in [-1, 1] for its current sign (positive: keep it),
   // e.g. visibility_votes.h. Each vote is an edge to a virtual point whose sign is fixed, summed
   // and joined like the edges between sheets, but in the majority rounds only when the sum is at
-  // least 20 % of the set's points; a set joined to it takes its sign from the votes, others from
+  // least 15 % of the set's points; a set joined to it takes its sign from the votes, others from
   // their top-most point. With votes the sheets grow only within 11.5° (not 20°), and a set the
   // majority rounds leave apart from the votes (an enclosed part that no view sees, such as the
   // rooms behind a building's walls) gets a prior that faces its own inside: the sum over its
