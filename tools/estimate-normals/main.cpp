@@ -26,7 +26,10 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   tool.add_in_out(o.paths, "Input point cloud, any format ('-' = stdin)",
                   "Output .ply or .splk ('-' = .splk on stdout)");
-  app.add_option("-k", o.normals.k, "Points per PCA neighbourhood, the point included")
+  app.add_option("-k", o.normals.k,
+                 "Points per PCA neighbourhood, the point included; with --method pca a point "
+                 "whose k nearest show no plane (lambda0/lambda1 > 0.3: both faces of a thin "
+                 "wall or slab) takes the normal of its 2k nearest (report: widened_points)")
       ->default_val(16)
       ->check(CLI::Range(std::size_t{3}, std::size_t{1024}));
   app.add_option("--radius", o.radius,
