@@ -81,7 +81,7 @@ std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
 
 // Phase 7. The graph methods join the kNN rows found before the radius bound (they take them);
 // `given` (#N or empty) marks the normals taken from the input, which vote for their own signs;
-// `layered` (#N or empty) the normals taken from a wider row (widen_flat_normals.h).
+// `layered` (#N or empty) the points whose k-row showed no plane (widen_flat_normals.h).
 void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
             NormalOrientation method, const std::vector<uint32_t>& order,
             const std::vector<uint8_t>& given, const std::vector<uint8_t>& layered,

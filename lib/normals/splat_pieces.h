@@ -58,7 +58,8 @@ class SplatPieces {
   // from the rows the normals are computed from (pca_normals_and_radii), in whole-cloud numbers.
   // bridges receives the edges off the scan line of the degenerate points
   // (resolve_degenerate_normals.h), in whole-cloud numbers and in the whole-cloud run's order.
-  // widened (#N) marks the points whose normal came from a wider row (widen_flat_normals.h).
+  // widened (#N) marks the points whose k-row showed no plane, which tried a wider row
+  // (widen_flat_normals.h).
   void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
                           const ProgressFn& progress, std::span<uint32_t> head_rows,
                           std::vector<Bridge>& bridges, std::span<uint8_t> widened);
