@@ -1,0 +1,350 @@
+#include "apps/run_splat_tile.h"
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <new>
+#include <numeric>
+#include <system_error>
+
+#include "apps/stage.h"
+#include "formats/write_cloud.h"
+#include "splatkit/append_points.h"
+#include "splatkit/error.h"
+#include "splatkit/input_stream.h"
+#include "splatkit/output_file.h"
+#include "splatkit/same_file.h"
+#include "splatkit/seconds_since.h"
+#include "splatkit/tile_grid.h"
+#include "splatkit/tile_halo.h"
+#include "splatkit/version.h"
+
+namespace splatkit::apps {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTool = "splat-tile";
+constexpr const char* kHaloAttribute = "halo";
+
+// The folder of the parts kept between the two passes, inside the output folder (same file
+// system: no copy across disks); removed with what it holds when the run ends, however it ends.
+class PartsDir {
+ public:
+  explicit PartsDir(const fs::path& parent) {
+    std::string tmpl = (parent / ".splat-tile-XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr)
+      throw Error(ErrorKind::kOutput,
+                  parent.string() + ": cannot create a temporary folder: " + std::strerror(errno));
+    path_ = tmpl;
+  }
+  ~PartsDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  PartsDir(const PartsDir&) = delete;
+  PartsDir& operator=(const PartsDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// A part file and the number of the input it came from.
+struct Part {
+  std::string path;
+  std::size_t input;
+};
+
+// One tile's parts: per input, the files of its own points and of its halo points.
+struct TileParts {
+  std::vector<Part> own, halo;
+  uint64_t own_points = 0, halo_points = 0;
+  double first_z = 0;  // the height of the tile's first own point (file coordinates)
+};
+
+// Writes `indices` of `cloud` (in its own frame) as a .splk part.
+void write_part(const SplatCloud& cloud, const std::vector<uint32_t>& indices,
+                const std::string& name, const fs::path& path) {
+  LoadedCloud part;
+  part.format = "splk";
+  part.cloud.origin = cloud.origin;
+  append_points(part.cloud, cloud, indices, name);
+  WriteOptions w;
+  w.format = FileFormat::kSplk;
+  write_cloud(part, path.string(), w);
+}
+
+// Reads the part files in order into `tile`; `names`: the inputs' names.
+void append_parts(SplatCloud& tile, const std::vector<Part>& parts,
+                  const std::vector<std::string>& names) {
+  for (const Part& p : parts) {
+    const LoadedCloud part = read_cloud(p.path);
+    std::vector<uint32_t> all(part.cloud.size());
+    std::iota(all.begin(), all.end(), 0u);
+    append_points(tile, part.cloud, all, names[p.input]);
+  }
+}
+
+std::string hex32(uint32_t v) {
+  char s[9];
+  std::snprintf(s, sizeof s, "%08x", v);
+  return s;
+}
+
+nlohmann::json square_json(const TileKey& key, double size) {
+  const double x0 = static_cast<double>(key.i) * size, y0 = static_cast<double>(key.j) * size;
+  return {{"min", {x0, y0}}, {"max", {x0 + size, y0 + size}}};
+}
+
+void check_options(const SplatTileOptions& o) {
+  if (o.inputs.empty()) throw Error(ErrorKind::kUsage, "no input files");
+  if (!(o.tile_size > 0) || !std::isfinite(o.tile_size))
+    throw Error(ErrorKind::kUsage, "--tile-size must be a positive number");
+  if (!std::isfinite(o.halo)) throw Error(ErrorKind::kUsage, "--halo must be a number");
+  if (std::count(o.inputs.begin(), o.inputs.end(), "-") > 1)
+    throw Error(ErrorKind::kUsage, "standard input ('-') given twice");
+  if (o.out_dir.empty() || o.out_dir == "-")
+    throw Error(ErrorKind::kUsage, "-o needs a folder (standard output cannot hold tiles)");
+}
+
+// Creates out_dir (its parent must exist) and out_dir/tiles.
+fs::path make_out_dir(const std::string& out_dir) {
+  const fs::path dir(out_dir);
+  std::error_code ec;
+  fs::create_directory(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw Error(ErrorKind::kOutput,
+                out_dir + ": cannot create the folder" + (ec ? ": " + ec.message() : ""));
+  fs::create_directory(dir / "tiles", ec);
+  if (ec || !fs::is_directory(dir / "tiles"))
+    throw Error(ErrorKind::kOutput, (dir / "tiles").string() + ": cannot create the folder" +
+                                        (ec ? ": " + ec.message() : ""));
+  return dir;
+}
+
+}  // namespace
+
+StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progress) {
+  const Clock::time_point start = Clock::now();
+  check_options(o);
+  for (const std::string& in : o.inputs)
+    if (in != "-" && !fs::exists(in)) throw Error(ErrorKind::kBadInput, in + ": no such file");
+  const fs::path dir = make_out_dir(o.out_dir);
+  const fs::path tiles_json = dir / "tiles.json";
+  if (!o.report.empty()) {
+    for (const std::string& in : o.inputs)
+      if (in != "-" && same_file(in, o.report))
+        throw Error(ErrorKind::kUsage, "--report names the input " + in);
+    if (o.report != "-" && fs::absolute(o.report).parent_path() == fs::absolute(dir / "tiles"))
+      throw Error(ErrorKind::kUsage, "--report must not go into the tiles folder");
+    if (o.report != "-" && same_file(o.report, tiles_json.string()))
+      throw Error(ErrorKind::kUsage, "--report names tiles.json");
+    check_can_create(o.report);
+  }
+  const PartsDir parts_dir(dir);
+  nlohmann::json timings = nlohmann::json::object();
+  double halo = o.halo;
+  std::string halo_rule = "given (--halo)";
+  std::map<TileKey, TileParts> tiles;
+  nlohmann::json inputs = nlohmann::json::array();
+  std::vector<std::string> input_names;
+  SplatCloud first_fields;  // one point of the first input: the fields every input must have
+  uint64_t total = 0, skipped_halo = 0, faces_dropped = 0;
+  std::vector<TileKey> around;
+  const double n_inputs = static_cast<double>(o.inputs.size());
+
+  // Pass 1: each input read whole, its points parted by tile.
+  for (std::size_t a = 0; a < o.inputs.size(); ++a) {
+    const std::string& path = o.inputs[a];
+    const Clock::time_point t0 = Clock::now();
+    InputStream in(path);
+    const std::string name = in.name();
+    LoadedCloud doc;
+    try {
+      doc = read_cloud(in, o.read, [&](double f, const char* phase) {
+        if (f >= 0) progress((static_cast<double>(a) + 0.5 * f) / n_inputs * 0.7, phase);
+      });
+    } catch (const std::bad_alloc&) {
+      throw Error(ErrorKind::kOutOfMemory, name + ": out of memory while reading");
+    }
+    SplatCloud& cloud = doc.cloud;
+    faces_dropped += cloud.face_count();
+    std::vector<uint32_t> keep;  // the points this input gives: all but another tile's halo
+    keep.reserve(cloud.size());
+    if (const ExtraAttribute* h = cloud.find_extra(kHaloAttribute)) {
+      for (std::size_t i = 0; i < cloud.size(); ++i)
+        if (h->values[i] == 0) keep.push_back(static_cast<uint32_t>(i));
+      skipped_halo += cloud.size() - keep.size();
+      std::erase_if(cloud.extras, [](const ExtraAttribute& e) { return e.name == kHaloAttribute; });
+    } else {
+      keep.resize(cloud.size());
+      std::iota(keep.begin(), keep.end(), 0u);
+    }
+    if (a == 0 || first_fields.size() == 0) {
+      first_fields = SplatCloud{};
+      first_fields.origin = cloud.origin;
+      if (cloud.size() > 0) append_points(first_fields, cloud, std::vector<uint32_t>{0}, name);
+    } else if (cloud.size() > 0) {
+      if (const std::string d = fields_difference(first_fields, cloud); !d.empty())
+        throw Error(ErrorKind::kBadInput, name + ": " + d + " (every input must hold the same fields)");
+    }
+    if (halo < 0) {
+      progress((static_cast<double>(a) + 0.5) / n_inputs * 0.7, "halo");
+      halo = tile_halo(cloud.positions);
+      halo_rule = "auto: twice the " + std::to_string(static_cast<int>(kTileHaloQuantile * 100)) +
+                  "th percentile, over the first input, of the distance from a point to its " +
+                  std::to_string(kTileHaloRow) + "th nearest";
+    }
+    // Each point's tile and the tiles whose halo holds it; a run of points in one tile costs one
+    // map lookup.
+    std::map<TileKey, std::pair<std::vector<uint32_t>, std::vector<uint32_t>>> parts;
+    for (uint32_t i : keep) {
+      const Vec3f& p = cloud.positions[i];
+      const double x = cloud.origin[0] + p.x, y = cloud.origin[1] + p.y;
+      parts[tile_of(x, y, o.tile_size)].first.push_back(i);
+      around.clear();
+      halo_tiles(x, y, o.tile_size, halo, around);
+      for (const TileKey& k : around) parts[k].second.push_back(i);
+    }
+    progress((static_cast<double>(a) + 0.75) / n_inputs * 0.7, "parting");
+    for (const auto& [key, lists] : parts) {
+      TileParts& t = tiles[key];
+      const std::string stem = tile_name(key) + "-" + std::to_string(a);
+      if (!lists.first.empty()) {
+        const fs::path f = parts_dir.path() / (stem + "-own.splk");
+        write_part(cloud, lists.first, name, f);
+        if (t.own.empty()) t.first_z = cloud.origin[2] + cloud.positions[lists.first[0]].z;
+        t.own.push_back({f.string(), a});
+        t.own_points += lists.first.size();
+      }
+      if (!lists.second.empty()) {
+        const fs::path f = parts_dir.path() / (stem + "-halo.splk");
+        write_part(cloud, lists.second, name, f);
+        t.halo.push_back({f.string(), a});
+        t.halo_points += lists.second.size();
+      }
+    }
+    total += keep.size();
+    input_names.push_back(name);
+    inputs.push_back({{"name", name},
+                      {"format", doc.format},
+                      {"bytes", in.offset()},
+                      {"crc32c", hex32(in.checksum())},
+                      {"points", keep.size()}});
+    timings["read_and_part"] = timings.value("read_and_part", 0.0) + seconds_since(t0);
+  }
+  if (halo < 0) halo = 0;
+
+  // Pass 2: each tile's parts gathered into its file, in the tile's own frame.
+  const Clock::time_point t1 = Clock::now();
+  nlohmann::json tile_list = nlohmann::json::array();
+  std::vector<std::string> written;
+  std::size_t done = 0;
+  for (const auto& [key, t] : tiles) {
+    progress(0.7 + 0.3 * static_cast<double>(done++) / static_cast<double>(tiles.size()),
+             "tiles");
+    if (t.own_points == 0) continue;  // a halo without a tile: its points belong elsewhere
+    const std::string name = tile_name(key);
+    LoadedCloud doc;
+    doc.format = "splk";
+    SplatCloud& tile = doc.cloud;
+    // The frame: the square's corner and the first point's height, as the readers choose one
+    // (splat_cloud.h): float32 keeps millimetres in georeferenced surveys.
+    tile.origin = choose_origin({static_cast<double>(key.i) * o.tile_size,
+                                 static_cast<double>(key.j) * o.tile_size, t.first_z});
+    append_parts(tile, t.own, input_names);
+    append_parts(tile, t.halo, input_names);
+    ExtraAttribute flag(kHaloAttribute, ScalarType::kUInt8);
+    flag.values.resize(tile.size());
+    for (std::size_t i = t.own_points; i < tile.size(); ++i) flag.values.set(i, 1);
+    tile.extras.push_back(std::move(flag));
+    const std::string file = "tiles/" + name + ".splk";
+    doc.metadata = {{"tool", kTool},
+                    {"version", kVersion},
+                    {"tile",
+                     {{"name", name},
+                      {"i", key.i},
+                      {"j", key.j},
+                      {"size", o.tile_size},
+                      {"halo", halo},
+                      {"square", square_json(key, o.tile_size)},
+                      {"own_points", t.own_points},
+                      {"halo_points", t.halo_points}}},
+                    {"inputs", input_names}};
+    WriteOptions w;
+    w.format = FileFormat::kSplk;
+    write_cloud(doc, (dir / file).string(), w);
+    written.push_back(name + ".splk");
+    tile_list.push_back({{"name", name},
+                         {"file", file},
+                         {"i", key.i},
+                         {"j", key.j},
+                         {"square", square_json(key, o.tile_size)},
+                         {"own_points", t.own_points},
+                         {"halo_points", t.halo_points}});
+  }
+  timings["tiles"] = seconds_since(t1);
+
+  // Tiles of an earlier run into this folder that this run did not write.
+  std::sort(written.begin(), written.end());
+  std::size_t removed = 0;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir / "tiles")) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind("tile_", 0) == 0 && e.path().extension() == ".splk" &&
+        !std::binary_search(written.begin(), written.end(), f)) {
+      std::error_code ec;
+      if (fs::remove(e.path(), ec)) ++removed;
+    }
+  }
+
+  nlohmann::json index = {{"tool", kTool},
+                          {"version", kVersion},
+                          {"tile_size", o.tile_size},
+                          {"halo", halo},
+                          {"halo_rule", halo_rule},
+                          {"grid", "tile (i, j) holds i*S <= x < (i+1)*S, j*S <= y < (j+1)*S"},
+                          {"points", total},
+                          {"tiles", tile_list},
+                          {"inputs", inputs}};
+  {
+    OutputFile out(tiles_json.string());
+    out.write(index.dump(2) + "\n");
+    out.commit();
+  }
+  if (!o.report.empty()) {
+    timings["command"] = seconds_since(start);
+    nlohmann::json report = {{"tool", kTool},
+                             {"output", o.out_dir},
+                             {"tile_size", o.tile_size},
+                             {"halo", halo},
+                             {"points", total},
+                             {"tiles", tile_list.size()},
+                             {"halo_points_skipped", skipped_halo},
+                             {"faces_dropped", faces_dropped},
+                             {"stale_tiles_removed", removed},
+                             {"inputs", inputs},
+                             {"timings_s", timings},
+                             {"peak_rss_bytes", peak_rss_bytes()}};
+    OutputFile out(o.report);
+    out.write(report.dump(2) + "\n");
+    out.commit();
+  }
+  progress(1.0, "done");
+  char extra[160];
+  std::snprintf(extra, sizeof extra, "%zu tiles of %g, halo %g", tile_list.size(), o.tile_size,
+                halo);
+  return {total, "points", extra};
+}
+
+}  // namespace splatkit::apps
