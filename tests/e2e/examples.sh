@@ -18,6 +18,7 @@ cp "$S/cube.ply" big.ply
 cp "$S/torus-las12.las" scan.las
 cp "$S/torus-las12.laz" scan.laz
 cp "$S/cad-scan.laz" survey.laz
+mkdir -p survey && cp "$S/cad-scan.laz" survey/
 cp "$S/sphere.ply" "$S/torus-big-endian.ply" scans/
 cp "$S/cad-noisy.xyz" part.xyz
 cp "$S/kitten.xyz" points.xyz  # x y z nx ny nz
@@ -68,7 +69,7 @@ run_example() {  # run_example SOURCE COMMAND
 
 count=0
 for tool in splat-info splat-convert splat-synth estimate-normals build-splat-graph \
-            segment-surfaces build-qsplat build-spt build-ham splat-view; do
+            segment-surfaces build-qsplat build-spt build-ham splat-tile splat-view; do
   # The examples: lines "$ command  # comment" in the help footer (commands span one line).
   while IFS= read -r cmd; do
     left_out "$cmd" && continue
@@ -93,7 +94,8 @@ for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply 
          surfaces.json bunny.png top.png part.exr turn_0000.png turn_0035.png stats.json \
          surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json part-top.png \
          inventory.json bunny.qs scan.qs qs.json far.png scan.spt spt.json s.json \
-         rainier-tiles.exr ham.json ham.exr dem-f32.exr dem.png; do
+         rainier-tiles.exr ham.json ham.exr dem-f32.exr dem.png tiled/tiles.json \
+         parts/tiles.json tile.json retiled/tiles.json; do
   [ -s "$f" ] && pass || fail "no $f after the examples"
 done
 expect_eq "inventory.json describes every scan" \

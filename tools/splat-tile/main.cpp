@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
       "across runs. Inputs with a halo attribute (tiles of an earlier run) give their own points "
       "only. One input is held in memory at a time, then one tile.",
       "  $ splat-tile survey/*.laz -o tiled --tile-size 250\n"
-      "  $ splat-tile city.ply -o tiled --tile-size 100 --halo 4 --report tile.json\n"
-      "  $ splat-tile tiled/tiles/*.splk -o retiled --tile-size 500   # cut again, larger\n");
+      "  $ splat-tile scan.ply -o parts --tile-size 0.5 --halo 0.05 --report tile.json\n"
+      "  $ splat-tile tiled/tiles/*.splk -o retiled --tile-size 500  # cut again, larger\n");
   splatkit::apps::SplatTileOptions o;
   auto& app = tool.app();
   app.add_option("IN", o.inputs, "Input files, any format ('-' = stdin, once)")->required();
