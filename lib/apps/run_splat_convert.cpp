@@ -1,8 +1,13 @@
 #include "apps/run_splat_convert.h"
 
+#include <cstdio>
+#include <numeric>
+
 #include "formats/write_cloud.h"
 #include "graph_io/chunks_to_attributes.h"
+#include "splatkit/append_points.h"
 #include "splatkit/error.h"
+#include "splatkit/same_file.h"
 
 namespace splatkit::apps {
 
@@ -19,6 +24,56 @@ FileFormat format_option(const std::string& format) {
   throw_usage("--format must be ply, xyz, off, splk, las or laz, got '" + format + "'");
 }
 
+constexpr const char* kHaloAttribute = "halo";  // splat-tile's (formats/tiles.md)
+
+// The points of `cloud` that are not another tile's halo, and the cloud without that attribute.
+std::vector<uint32_t> own_points(SplatCloud& cloud) {
+  std::vector<uint32_t> keep;
+  const ExtraAttribute* halo = cloud.find_extra(kHaloAttribute);
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (halo == nullptr || halo->values[i] == 0) keep.push_back(static_cast<uint32_t>(i));
+  std::erase_if(cloud.extras, [](const ExtraAttribute& e) { return e.name == kHaloAttribute; });
+  return keep;
+}
+
+nlohmann::json input_json(const InputStream& in, const std::string& format, std::size_t points) {
+  char crc[9];
+  std::snprintf(crc, sizeof crc, "%08x", in.checksum());
+  return {{"name", in.name()}, {"format", format}, {"bytes", in.offset()}, {"crc32c", crc},
+          {"points", points}};
+}
+
+// The inputs' own points concatenated into `doc` (the first input's, read by the stage), in the
+// first input's frame; returns the inputs' names, sizes and checksums.
+nlohmann::json concatenate(Stage& stage, LoadedCloud& doc, const SplatConvertOptions& o,
+                 const ProgressFn& progress) {
+  std::vector<uint32_t> keep = own_points(doc.cloud);
+  SplatCloud all;
+  all.origin = doc.cloud.origin;
+  append_points(all, doc.cloud, keep, stage.input_name());
+  nlohmann::json inputs = nlohmann::json::array();
+  inputs.push_back(input_json(stage.input(), doc.format, keep.size()));
+  const double count = static_cast<double>(o.more_inputs.size() + 1);
+  for (std::size_t a = 0; a < o.more_inputs.size(); ++a) {
+    InputStream in(o.more_inputs[a]);
+    LoadedCloud more = stage.phase("read", "reading " + in.name(), [&] {
+      return read_cloud(in, o.read, [&](double f, const char* phase) {
+        if (f >= 0) progress((static_cast<double>(a + 1) + f) / count, phase);
+      });
+    });
+    keep = own_points(more.cloud);
+    if (all.size() > 0 && more.cloud.size() > 0)
+      if (const std::string d = fields_difference(all, more.cloud); !d.empty())
+        throw Error(ErrorKind::kBadInput,
+                    in.name() + ": " + d + " (every input must hold the same fields)");
+    append_points(all, more.cloud, keep, in.name());
+    inputs.push_back(input_json(in, more.format, keep.size()));
+  }
+  doc.cloud = std::move(all);
+  doc.chunks.clear();
+  return inputs;
+}
+
 }  // namespace
 
 StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& progress) {
@@ -27,8 +82,19 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   Stage stage("splat-convert", o.paths);
   const FileFormat f = stage.check_output_format(write);
   progress(0.0, "reading");
+  for (const std::string& in : o.more_inputs) {
+    if (in == "-" && o.paths.input == "-") throw_usage("standard input ('-') given twice");
+    if (same_file(in, o.paths.output, 0, 1))
+      throw_usage("OUT is the input file " + in + " (an input is never overwritten)");
+    if (!o.paths.report.empty() && same_file(in, o.paths.report, 0, 1))
+      throw_usage("--report must not be the input file " + in);
+  }
   LoadedCloud doc = stage.read(o.read, progress);
-  stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/true);
+  const bool many = !o.more_inputs.empty();
+  nlohmann::json inputs;
+  if (many) inputs = concatenate(stage, doc, o, progress);
+  stage.stamp(doc, {{"columns", o.read.columns}, {"format", o.format}}, /*keep_chunks=*/!many);
+  if (many) doc.metadata["inputs"] = inputs;
   write.format = f;
   // Surface ids and splat classes become attributes where the format keeps attributes but not
   // chunks (LAS and OFF keep neither: there the chunks are only reported dropped).

@@ -1,9 +1,13 @@
 // splat-convert's work, callable without the command line: read a point cloud (PLY, XYZ/CSV,
 // OFF, LAS, PCD, .splk) and write it as PLY, XYZ, OFF or .splk, keeping every attribute and the
-// chunks; .splk gets the provenance.
+// chunks; .splk gets the provenance. With more inputs, their points are concatenated (points
+// only: faces and chunks are dropped; every input must hold the same fields), and inputs that
+// carry splat-tile's `halo` attribute give their own points only, without the attribute: the
+// tiles of a survey become one cloud again.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "apps/stage.h"
 #include "apps/stage_types.h"
@@ -13,6 +17,7 @@ namespace splatkit::apps {
 
 struct SplatConvertOptions {
   StagePaths paths;    // OUT's extension picks the format ("-": .splk) unless `format` says
+  std::vector<std::string> more_inputs;  // read after paths.input, in order
   ReadOptions read;    // read.columns: text input's column layout
   WriteOptions write;  // ascii, big_endian (PLY)
   std::string format;  // ply | xyz | off | splk, or empty: OUT's extension

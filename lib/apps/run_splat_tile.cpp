@@ -36,6 +36,8 @@ namespace {
 
 constexpr const char* kTool = "splat-tile";
 constexpr const char* kHaloAttribute = "halo";
+// How far from its origin a float32 position keeps half a millimetre (2^-11 m steps below 2^14 m).
+constexpr double kFrameReach = 16384;
 
 // The folder of the parts kept between the two passes, inside the output folder (same file
 // system: no copy across disks); removed with what it holds when the run ends, however it ends.
@@ -259,10 +261,17 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     LoadedCloud doc;
     doc.format = "splk";
     SplatCloud& tile = doc.cloud;
-    // The frame: the square's corner and the first point's height, as the readers choose one
-    // (splat_cloud.h): float32 keeps millimetres in georeferenced surveys.
-    tile.origin = choose_origin({static_cast<double>(key.i) * o.tile_size,
-                                 static_cast<double>(key.j) * o.tile_size, t.first_z});
+    // The frame: the first input's (so that a tile's positions are the same float32 values as
+    // in a run over the whole survey read from the same files), unless the tile lies farther
+    // from it than float32 keeps millimetres; then one chosen at the square's corner as the
+    // readers choose one (splat_cloud.h).
+    const double corner[3] = {static_cast<double>(key.i) * o.tile_size,
+                              static_cast<double>(key.j) * o.tile_size, t.first_z};
+    tile.origin = first_fields.origin;
+    for (int a = 0; a < 3; ++a)
+      if (!(std::fabs(corner[a] - first_fields.origin[a]) + (a < 2 ? o.tile_size + halo : 0) <
+            kFrameReach))
+        tile.origin = choose_origin({corner[0], corner[1], corner[2]});
     append_parts(tile, t.own, input_names);
     append_parts(tile, t.halo, input_names);
     ExtraAttribute flag(kHaloAttribute, ScalarType::kUInt8);

@@ -68,8 +68,8 @@ run_example() {  # run_example SOURCE COMMAND
 }
 
 count=0
-for tool in splat-info splat-convert splat-synth estimate-normals build-splat-graph \
-            segment-surfaces build-qsplat build-spt build-ham splat-tile splat-view; do
+for tool in splat-info splat-tile splat-convert splat-synth estimate-normals build-splat-graph \
+            segment-surfaces build-qsplat build-spt build-ham splat-view; do
   # The examples: lines "$ command  # comment" in the help footer (commands span one line).
   while IFS= read -r cmd; do
     left_out "$cmd" && continue
@@ -95,7 +95,7 @@ for f in model.ply out/sphere.splk out/torus-big-endian.splk out.ply sphere.ply 
          surf.png soft.png scan.png part-surfaces.ply frames/part-0035.png part.json part-top.png \
          inventory.json bunny.qs scan.qs qs.json far.png scan.spt spt.json s.json \
          rainier-tiles.exr ham.json ham.exr dem-f32.exr dem.png tiled/tiles.json \
-         parts/tiles.json tile.json retiled/tiles.json; do
+         parts/tiles.json tile.json retiled/tiles.json survey.splk; do
   [ -s "$f" ] && pass || fail "no $f after the examples"
 done
 expect_eq "inventory.json describes every scan" \

@@ -82,6 +82,22 @@ if own_all != Counter(allp):
 sys.exit(0 if ok else 1)
 PY
 
+# No seam: estimate-normals on each tile (its halo as neighbours), the tiles' own points merged by
+# splat-convert: the same points, normals (unoriented: PCA's canonical sign) and radii as one run
+# over the whole survey.
+mkdir -p normals
+for t in out/tiles/*.splk; do
+  "$BIN/estimate-normals" -q --orient none "$t" "normals/$(basename "$t")" || fail "normals of $t"
+done
+expect_exit 0 "$BIN/splat-convert" -q normals/*.splk merged.xyz
+expect_exit 0 "$BIN/splat-convert" -q part0.laz part1.laz part2.laz whole.splk
+expect_exit 0 "$BIN/estimate-normals" -q --orient none whole.splk whole-n.splk
+expect_exit 0 "$BIN/splat-convert" -q whole-n.splk whole.xyz
+expect_eq "merged columns" "$(head -1 merged.xyz)" "$(head -1 whole.xyz)"
+expect_eq "merged points" "$(grep -vc '^#' merged.xyz)" "$total"
+cmp <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) >/dev/null && pass ||
+  fail "tiles' normals or radii differ from the whole run's: $(diff <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) | grep -c '^<') lines"
+
 # The same bytes for another thread count and another run.
 expect_exit 0 "$BIN/splat-tile" -q part0.laz part1.laz part2.laz -o again --tile-size 70 --threads 1
 diff -r out again >/dev/null && pass || fail "a second run (1 thread) differs"

@@ -2,6 +2,9 @@
 #include "apps/run_splat_convert.h"
 #include "splatkit/tool.h"
 
+#include <string>
+#include <vector>
+
 int main(int argc, char** argv) {
   splatkit::Tool tool("splat-convert",
                       "Convert a point cloud between formats, keeping the normals, radii, "
@@ -14,6 +17,8 @@ int main(int argc, char** argv) {
                       "extension (.ply .xyz .txt .pts .csv .off .las .laz .splk, any case; another "
                       "is refused unless --format is given; '-' writes .splk to stdout).",
                       "  $ splat-convert scan.las scan.splk\n"
+                      "  $ splat-convert tiled/tiles/*.splk survey.splk  # tiles' own points, "
+                      "one cloud\n"
                       "  $ splat-convert scan.laz scan.las\n"
                       "  $ splat-convert --las-format 7 scan.ply scan.laz\n"
                       "  $ splat-convert --ascii model.splk model.ply\n"
@@ -22,8 +27,19 @@ int main(int argc, char** argv) {
                       "\"$f\" .ply).splk\"; done\n");
   splatkit::apps::SplatConvertOptions o;
   auto& app = tool.app();
-  tool.add_in_out(o.paths, "Input file ('-' = stdin)",
-                  "Output file ('-' = stdout, .splk unless --format)");
+  std::vector<std::string> files;  // IN... OUT
+  app.add_option("IN... OUT", files,
+                 "Input files ('-' = stdin), then the output file ('-' = stdout, .splk unless "
+                 "--format). With several inputs their points are concatenated (points only; "
+                 "the inputs must hold the same fields) and splat-tile's tiles give their own "
+                 "points only (halo attribute 0), without the attribute")
+      ->required()
+      ->expected(2, -1);
+  app.callback([&] {
+    o.paths.input = files.front();
+    o.paths.output = files.back();
+    o.more_inputs.assign(files.begin() + 1, files.end() - 1);
+  });
   tool.add_columns_option(o.read.columns);
   app.add_option("--format", o.format, "Output format, overriding the extension")
       ->check(CLI::IsMember({"ply", "xyz", "off", "splk", "las", "laz"}));
