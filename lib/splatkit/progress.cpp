@@ -14,6 +14,18 @@ const ProgressFn& no_progress() {
 }
 
 uint64_t peak_rss_bytes() {
+  // The kernel's high-water mark of this process image (VmHWM): getrusage's ru_maxrss carries
+  // over exec, so a tool started by a large process (a Python workflow engine forks itself
+  // first) would report its parent's size.
+  if (std::FILE* f = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    unsigned long long kib = 0;
+    bool found = false;
+    while (!found && std::fgets(line, sizeof line, f))
+      found = std::sscanf(line, "VmHWM: %llu kB", &kib) == 1;
+    std::fclose(f);
+    if (found) return static_cast<uint64_t>(kib) * 1024;
+  }
   struct rusage ru {};
   ::getrusage(RUSAGE_SELF, &ru);
   return static_cast<uint64_t>(ru.ru_maxrss) * 1024;  // Linux reports KiB

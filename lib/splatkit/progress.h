@@ -29,7 +29,8 @@ class Cancelled : public std::runtime_error {
 // A callback that does nothing (the default argument of library functions).
 const ProgressFn& no_progress();
 
-// Peak resident set size of this process in bytes.
+// Peak resident set size of this process in bytes: the high-water mark of its image since its
+// exec (/proc/self/status VmHWM; getrusage where that is missing).
 uint64_t peak_rss_bytes();
 
 class Progress {
