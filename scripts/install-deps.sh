@@ -9,7 +9,9 @@ packages=(
   libpcl-dev libcgal-dev libeigen3-dev libtbb-dev libnanoflann-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev zlib1g-dev
+  snakemake
 )
+# snakemake: the workflow engine of workflows/Snakefile (tiled surveys; e2e.workflow runs it).
 # pcl-tools: PCL's own command-line tools, the peers of some benchmarks.
 [ "${SPLATKIT_BENCH_DEPS:-0}" = 1 ] && packages+=(pcl-tools)
 

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "apps/parse_triple.h"
+#include "apps/tile_walls.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 #include "splatkit/spill_arena.h"
@@ -234,6 +235,8 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
                                               " removed every one of its " +
                                               std::to_string(points_read) + " points");
   }
+  // A tile of splat-tile: its views do not look through the borders where the survey goes on.
+  options.walls = tile_walls(doc.metadata, doc.cloud);
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
     return estimate_normals(doc.cloud, options, progress);
   });

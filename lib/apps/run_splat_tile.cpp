@@ -5,12 +5,14 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <new>
 #include <numeric>
@@ -36,6 +38,55 @@ namespace {
 
 constexpr const char* kTool = "splat-tile";
 constexpr const char* kHaloAttribute = "halo";
+// The skyline beyond each side of a tile (formats/tiles.md): over a band of half a tile beyond
+// the halo's edge, cut into kSkylineSegments along the side, the height of the highest point in
+// each segment.
+constexpr int kSkylineSegments = 32;
+using Skyline = std::array<std::array<double, kSkylineSegments>, 4>;  // -x, +x, -y, +y
+
+// Raises the skylines of the tiles whose band beyond a side holds (x, y, z).
+void raise_skylines(double x, double y, double z, double size, double halo,
+                    std::map<TileKey, Skyline>& skylines) {
+  const double band = size / 2, reach = halo + band;
+  const TileKey lo = tile_of(x - reach, y - reach, size), hi = tile_of(x + reach, y + reach, size);
+  const double span = size + 2 * halo, step = span / kSkylineSegments;
+  for (int64_t i = lo.i; i <= hi.i; ++i)
+    for (int64_t j = lo.j; j <= hi.j; ++j) {
+      const double x0 = static_cast<double>(i) * size - halo, x1 = x0 + span;
+      const double y0 = static_cast<double>(j) * size - halo, y1 = y0 + span;
+      const bool in_x = x >= x0 && x < x1, in_y = y >= y0 && y < y1;
+      // (side, position along it) when the point lies in the band beyond that side
+      int side = -1;
+      double along = 0;
+      if (in_y && x < x0 && x >= x0 - band) side = 0, along = y - y0;
+      if (in_y && x >= x1 && x < x1 + band) side = 1, along = y - y0;
+      if (in_x && y < y0 && y >= y0 - band) side = 2, along = x - x0;
+      if (in_x && y >= y1 && y < y1 + band) side = 3, along = x - x0;
+      if (side < 0) continue;
+      auto it = skylines.find({i, j});
+      if (it == skylines.end()) {
+        Skyline empty;
+        for (auto& a : empty) a.fill(-std::numeric_limits<double>::infinity());
+        it = skylines.emplace(TileKey{i, j}, empty).first;
+      }
+      const int k = std::clamp(static_cast<int>(along / step), 0, kSkylineSegments - 1);
+      double& top = it->second[static_cast<std::size_t>(side)][static_cast<std::size_t>(k)];
+      top = std::max(top, z);
+    }
+}
+
+nlohmann::json skyline_json(const Skyline& s, double band) {
+  static const char* const kSides[4] = {"-x", "+x", "-y", "+y"};
+  nlohmann::json out = {{"band", band}};
+  for (int side = 0; side < 4; ++side) {
+    nlohmann::json tops = nlohmann::json::array();
+    for (double z : s[static_cast<std::size_t>(side)])
+      tops.push_back(std::isfinite(z) ? nlohmann::json(z) : nlohmann::json());
+    out[kSides[side]] = tops;
+  }
+  return out;
+}
+
 // How far from its origin a float32 position keeps half a millimetre (2^-11 m steps below 2^14 m).
 constexpr double kFrameReach = 16384;
 
@@ -159,6 +210,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   double halo = o.halo;
   std::string halo_rule = "given (--halo)";
   std::map<TileKey, TileParts> tiles;
+  std::map<TileKey, Skyline> skylines;
   nlohmann::json inputs = nlohmann::json::array();
   std::vector<std::string> input_names;
   SplatCloud first_fields;  // one point of the first input: the fields every input must have
@@ -218,6 +270,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
       around.clear();
       halo_tiles(x, y, o.tile_size, halo, around);
       for (const TileKey& k : around) parts[k].second.push_back(i);
+      raise_skylines(x, y, cloud.origin[2] + p.z, o.tile_size, halo, skylines);
     }
     progress((static_cast<double>(a) + 0.75) / n_inputs * 0.7, "parting");
     for (const auto& [key, lists] : parts) {
@@ -278,6 +331,9 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     flag.values.resize(tile.size());
     for (std::size_t i = t.own_points; i < tile.size(); ++i) flag.values.set(i, 1);
     tile.extras.push_back(std::move(flag));
+    // How high the survey reaches just beyond each side: estimate-normals' views do not look
+    // through a border where the survey goes on.
+    const auto sky = skylines.find(key);
     const std::string file = "tiles/" + name + ".splk";
     doc.metadata = {{"tool", kTool},
                     {"version", kVersion},
@@ -289,7 +345,9 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
                       {"halo", halo},
                       {"square", square_json(key, o.tile_size)},
                       {"own_points", t.own_points},
-                      {"halo_points", t.halo_points}}},
+                      {"halo_points", t.halo_points},
+                      {"skyline", sky != skylines.end() ? skyline_json(sky->second, o.tile_size / 2)
+                                                        : nlohmann::json::object()}}},
                     {"inputs", input_names}};
     WriteOptions w;
     w.format = FileFormat::kSplk;

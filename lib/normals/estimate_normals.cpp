@@ -92,9 +92,11 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     if (method == NormalOrientation::kVisibility) {
       VisibilityOptions vo;
       vo.up = o.up;
+      vo.walls = o.walls;
       VisibilityStats vs;
       votes = visibility_votes(cloud.positions, cloud.normals, cloud.radii, vo, &vs);
       j["seen"] = vs.seen;
+      if (!o.walls.empty()) j["walls"] = o.walls.size();
     }
     if (!given.empty()) {
       votes.resize(cloud.size(), 0.0f);

@@ -48,9 +48,11 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "normals/visibility_votes.h"
 #include "splatkit/progress.h"
 #include "splatkit/splat_cloud.h"
 
@@ -93,6 +95,9 @@ struct NormalOptions {
   // Scanner position in FILE coordinates (the cloud's origin is subtracted). With kViewpoint and
   // no value here, the cloud's own viewpoint is used; neither present is an Error(kUsage).
   std::optional<std::array<double, 3>> viewpoint;
+  // kVisibility: walls that hide what lies behind them from the views (the borders of a tile
+  // where the survey goes on; visibility_votes.h), in the cloud's local frame.
+  std::vector<VisibilityWall> walls;
   bool keep_duplicates = false;
   // Output the points in the spatial order the estimation runs in (Morton order, ties in the
   // input's order: thread-independent), not the input's: neighbours end up near each other in the

@@ -76,18 +76,20 @@ struct ViewBuffer {
 
 class ViewDrawer {
  public:
+  // Draws all of p, n, r; tests (votes for) the first `tested` only (the rest: occluders).
   ViewDrawer(std::span<const Vec3f> p, std::span<const Vec3f> n, std::span<const float> r,
-             std::size_t max_pixels, bool sse2)
-      : p_(p), n_(n), r_(r), max_pixels_(std::max<std::size_t>(max_pixels, 1)), sse2_(sse2) {
+             std::size_t tested, std::size_t max_pixels, bool sse2)
+      : p_(p), n_(n), r_(r), tested_(tested), max_pixels_(std::max<std::size_t>(max_pixels, 1)),
+        sse2_(sse2) {
     lo_ = hi_ = p[0];
     for (const Vec3f& q : p) {
       lo_ = {std::min(lo_.x, q.x), std::min(lo_.y, q.y), std::min(lo_.z, q.z)};
       hi_ = {std::max(hi_.x, q.x), std::max(hi_.y, q.y), std::max(hi_.z, q.z)};
     }
-    std::vector<float> sorted(r.begin(), r.end());
+    std::vector<float> sorted(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(tested));
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     median_ = std::max(sorted[sorted.size() / 2], 1e-30f);
-    max_radius_ = *std::max_element(sorted.begin(), sorted.end());
+    max_radius_ = *std::max_element(r.begin(), r.end());
   }
 
   void operator()(const View& v, ViewBuffer& out) {
@@ -99,11 +101,11 @@ class ViewDrawer {
     if (box_) {
       const ViewSse2 s(v, *this);
       for (; drawn + 4 <= p_.size(); drawn += 4) draw4_sse2(v, s, drawn, out.depth.data());
-      for (; tested + 4 <= p_.size(); tested += 4) test4_sse2(s, tested, out);
+      for (; tested + 4 <= tested_; tested += 4) test4_sse2(s, tested, out);
     }
 #endif
     for (std::size_t i = drawn; i < p_.size(); ++i) draw(v, i, out.depth.data());
-    for (std::size_t i = tested; i < p_.size(); ++i) test(v, i, out);
+    for (std::size_t i = tested; i < tested_; ++i) test(v, i, out);
   }
 
   float pixel() const { return h_; }
@@ -419,6 +421,7 @@ class ViewDrawer {
 
   std::span<const Vec3f> p_, n_;
   std::span<const float> r_;
+  std::size_t tested_;
   std::size_t max_pixels_;
   bool sse2_;
   Vec3f lo_, hi_;
@@ -429,6 +432,31 @@ class ViewDrawer {
   std::size_t width_ = 0, height_ = 0, stride_ = 0;
 };
 
+// The discs that stand for the walls: per wall a grid of discs whose radius is the grid's step
+// (neighbouring discs overlap: no gap between them), by default at most kWallDiscs on a side.
+constexpr int kWallDiscs = 64;
+
+void add_wall_discs(const std::vector<VisibilityWall>& walls, std::vector<Vec3f>& p,
+                    std::vector<Vec3f>& n, std::vector<float>& r) {
+  for (const VisibilityWall& w : walls) {
+    const float length = norm(w.along);
+    const float height = w.top - w.base.z;
+    if (!(length > 0) || !(height > 0)) continue;
+    const float step = w.step > 0 ? w.step : std::max(length, height) / kWallDiscs;
+    const int across = static_cast<int>(std::ceil(length / step)),
+              up = static_cast<int>(std::ceil(height / step));
+    const Vec3f u = w.along * (1.0f / length);
+    const Vec3f normal{-u.y, u.x, 0};
+    for (int a = 0; a <= across; ++a)
+      for (int b = 0; b <= up; ++b) {
+        p.push_back(w.base + u * std::min(length, a * step) +
+                    Vec3f{0, 0, std::min(height, b * step)});
+        n.push_back(normal);
+        r.push_back(step);
+      }
+  }
+}
+
 }  // namespace
 
 std::vector<float> visibility_votes(std::span<const Vec3f> positions,
@@ -437,7 +465,17 @@ std::vector<float> visibility_votes(std::span<const Vec3f> positions,
   const std::size_t n = positions.size();
   if (n == 0 || options.views == 0) return std::vector<float>(n, 0.0f);
   const std::vector<View> views = view_directions(options);
-  const ViewDrawer prototype(positions, normals, radii, options.max_pixels,
+  // With walls, the splats and the walls' discs drawn together (only the splats vote).
+  std::vector<Vec3f> all_p, all_n;
+  std::vector<float> all_r;
+  if (!options.walls.empty()) {
+    all_p.assign(positions.begin(), positions.end());
+    all_n.assign(normals.begin(), normals.end());
+    all_r.assign(radii.begin(), radii.end());
+    add_wall_discs(options.walls, all_p, all_n, all_r);
+    positions = all_p, normals = all_n, radii = all_r;
+  }
+  const ViewDrawer prototype(positions, normals, radii, n, options.max_pixels,
                              simd_level() >= SimdLevel::kSse2);
   tbb::enumerable_thread_specific<ViewBuffer> buffers([&] {
     ViewBuffer b;

@@ -18,7 +18,8 @@
 // the sums of |n·d| over the views that see it from the side its normal points to and from the
 // other side; 0 when no view sees it (a view whose image extent overflows float, from a stray
 // point near its limit, sees nothing). Occlusion is what makes the votes: a wall's inner face is
-// hidden by the outer one, the ground under a roof by the roof.
+// hidden by the outer one, the ground under a roof by the roof. `walls` are occluders drawn with
+// the splats that vote for nothing: the borders of a tile where the survey goes on.
 //
 // The idea is the visibility test of the hidden-point-removal literature (Katz, Tal, Basri 2007:
 // [Katz07] in docs/references.md) done by depth buffers over the splats, as surface splatting
@@ -42,6 +43,17 @@
 
 namespace splatkit {
 
+// A vertical rectangle that hides from the views what lies behind it: where a tile of a survey
+// was cut from its neighbours (splat-tile), the survey goes on behind its border, and a view
+// through that border would see what the neighbours hide (the inside of a building cut in two).
+// Drawn into the depth buffers as a grid of discs; it votes for nothing. +z is up.
+struct VisibilityWall {
+  Vec3f base;   // one bottom corner (positions' frame)
+  Vec3f along;  // to the other bottom corner: horizontal (z = 0)
+  float top;    // the height of its top edge (> base.z)
+  float step = 0;  // the discs' spacing and radius; 0: the larger of its sides / 64
+};
+
 struct VisibilityOptions {
   Vec3f up{0, 0, 1};  // unit
   // 8: measured against 12 and 24 on the scan set, the same orientations to ±0.3 % (the real
@@ -50,6 +62,7 @@ struct VisibilityOptions {
   std::size_t views = 8;          // >= 1
   float min_elevation_deg = -10;  // the lowest view, degrees above the horizon (-90..90)
   std::size_t max_pixels = std::size_t{1} << 22;  // per view's buffer
+  std::vector<VisibilityWall> walls;  // with up = +z only
 };
 
 struct VisibilityStats {

@@ -136,6 +136,42 @@ TEST(NormalsOrientVisibility, VotesAreRightWhereTheySpeak) {
   EXPECT_LT(inner_voted, votes.size() / 50);
 }
 
+// A box of 2 m open on its +x side (a closed part cut by a tile's border): the views that look
+// in through the opening see the inner side of its faces and vote their outward normals wrong;
+// a wall across the opening (where the rest of the part would be) hides them, and the wall's
+// own discs vote for nothing. (Counted away from the box's edges, where a disc that reaches past
+// the edge shows on the silhouette from either side.)
+TEST(NormalsOrientVisibility, WallsHideWhatACutWouldShow) {
+  Scene s;
+  DeterministicRng rng(3);
+  const float h = 0.05f;
+  const Vec3f X{1, 0, 0}, Y{0, 1, 0}, Z{0, 0, 1};
+  add_rect(s, {-1, -1, -1}, Y * 2, Z * 2, -X, h, rng);  // the back
+  add_rect(s, {-1, -1, -1}, X * 2, Z * 2, -Y, h, rng);
+  add_rect(s, {-1, 1, -1}, X * 2, Z * 2, Y, h, rng);
+  add_rect(s, {-1, -1, -1}, X * 2, Y * 2, -Z, h, rng);
+  add_rect(s, {-1, -1, 1}, X * 2, Y * 2, Z, h, rng);
+  const std::size_t n = s.truth.size();
+  const std::vector<float> radii(n, 0.06f);
+  auto wrong_votes = [&](const VisibilityOptions& o) {
+    const std::vector<float> votes = visibility_votes(s.cloud.positions, s.truth, radii, o);
+    EXPECT_EQ(votes.size(), n);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3f& p = s.cloud.positions[i];
+      const int inner = (std::fabs(p.x) < 0.8f) + (std::fabs(p.y) < 0.8f) + (std::fabs(p.z) < 0.8f);
+      wrong += inner == 2 && votes[i] < 0;
+    }
+    return wrong;
+  };
+  VisibilityOptions open;
+  open.views = 24;
+  EXPECT_GT(wrong_votes(open), n / 10);
+  VisibilityOptions walled = open;
+  walled.walls.push_back({{1.1f, 1.1f, -1.2f}, {0, -2.2f, 0}, 1.2f});
+  EXPECT_LE(wrong_votes(walled), n / 1000);  // 4 of 7 900 measured, against over a tenth open
+}
+
 TEST(NormalsOrientVisibility, VectorPathVotesAsThePortableOne) {
   // The SSE2 path (discs four at a time, a whole box of pixels per small disc) against the
   // portable one, bit for bit: the building's splats, a few of them 3-30x larger (drawn row by

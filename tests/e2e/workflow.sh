@@ -1,0 +1,79 @@
+# workflows/Snakefile run by Snakemake on one machine: a survey of four LAZ files cut along
+# arbitrary lines through the objects goes tile -> normals -> graph -> surfaces -> merge -> LOD.
+# OUT/splats.splk holds exactly the input points, with the positions, radii and normals of one
+# estimate-normals run over the whole survey (signs decided per tile: at most 0.1 % differ); the
+# models and the report are there; a second run has nothing to do.
+source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
+cd "$WORK"
+command -v snakemake >/dev/null || { fail "snakemake is not installed (scripts/install-deps.sh)"; finish; }
+# i.i.d. samples (a regular grid's equidistant neighbours are ranked by point order, which tiles
+# change) of a CAD part and a torus side by side, in metres.
+"$BIN/splat-synth" -q cad cad.xyz -n 24000 --random --seed 3 --no-color
+"$BIN/splat-synth" -q torus torus.xyz -n 16000 --random --seed 4 --no-color
+python3 - cad.xyz torus.xyz <<'PY'
+import sys
+files = [open("scan%d.xyz" % k, "w") for k in range(4)]
+for name, dx in ((sys.argv[1], 0.0), (sys.argv[2], 3.2)):
+    for l in open(name):
+        if not l.strip() or l[0] == "#": continue
+        x, y, z = (10 * float(v) for v in l.split()[:3])
+        x += 10 * dx
+        u, v = x + 0.3 * y, y - 0.2 * x
+        files[(u > 17) * 2 + (v > -3)].write("%.4f %.4f %.4f\n" % (x, y, z))
+PY
+mkdir -p scans
+for k in 0 1 2 3; do "$BIN/splat-convert" -q --columns x,y,z "scan$k.xyz" "scans/scan$k.laz"; done
+total=$(cat scan?.xyz | wc -l)
+expect_exit 0 snakemake -s "$SRC/workflows/Snakefile" --cores 2 -q \
+  --config input="$WORK/scans/*.laz" outdir="$WORK/OUT" tile_size=12 bin="$BIN"
+for f in splats.splk model.spt model.qs report.json tiled/tiles.json; do
+  [ -s "OUT/$f" ] && pass || fail "no OUT/$f"
+done
+tiles=$(jq '.tiles | length' OUT/tiled/tiles.json)
+[ "$tiles" -ge 4 ] && pass || fail "only $tiles tiles"
+expect_eq "report: tiles" "$(jq .tiles OUT/report.json)" "$tiles"
+expect_eq "report: jobs" "$(jq '.jobs | length' OUT/report.json)" "$((3 * tiles + 4))"
+jq -e '[.jobs[] | select(.job != "merge") | .peak_rss_bytes > 0 and .peak_rss_bytes < 2e9] | all' \
+  OUT/report.json >/dev/null && pass || fail "report: peak RSS missing or absurd"
+expect_eq "surfaces per tile" "$(ls OUT/surfaces | wc -l)" "$tiles"
+# The whole survey in one process.
+"$BIN/splat-convert" -q scans/scan0.laz scans/scan1.laz scans/scan2.laz scans/scan3.laz whole-in.splk
+"$BIN/estimate-normals" -q whole-in.splk whole.splk
+"$BIN/splat-convert" -q whole.splk whole.xyz
+"$BIN/splat-convert" -q OUT/splats.splk tiled.xyz
+expect_eq "points" "$(grep -vc '^#' tiled.xyz)" "$total"
+python3 - whole.xyz tiled.xyz <<'PY' && pass || fail "the tiled run's splats differ from the whole run's"
+import sys
+def rows(name):
+    out = {}
+    for l in open(name):
+        if l[0] == "#": continue
+        v = l.split()
+        out.setdefault(tuple(v[:3]), []).append(v[3:])
+    return out
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+ok = a.keys() == b.keys()
+flipped = 0
+bad = 0
+for k in a:
+    if not ok: break
+    for p, q in zip(sorted(a[k]), sorted(b[k])):
+        # the radius (last column) equal; the normal equal up to its sign
+        n, m = [float(c) for c in p[:3]], [float(c) for c in q[:3]]
+        if p[3] != q[3] or (m != n and m != [-c for c in n]):
+            bad += 1
+            if bad < 4: print("differs:", k, p, q, file=sys.stderr)
+        flipped += m != n
+ok = ok and bad == 0
+print("points", len(a), "normals flipped against the whole run", flipped, file=sys.stderr)
+# The signs are decided per tile, the views not looking through the borders where the survey
+# goes on (a view through the cut of a closed part sees its inside: 20 % of the signs differed
+# without that); measured: 0 of 40 000 differ.
+ok = ok and flipped <= len(a) // 1000
+sys.exit(0 if ok else 1)
+PY
+# Nothing left to do on a second run.
+snakemake -s "$SRC/workflows/Snakefile" --cores 2 -n --config input="$WORK/scans/*.laz" \
+  outdir="$WORK/OUT" tile_size=12 bin="$BIN" >dry.txt 2>&1
+grep -q "Nothing to be done" dry.txt && pass || fail "a second run would redo: $(tail -3 dry.txt)"
+finish
