@@ -367,6 +367,65 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
   return without;
 }
 
+int SphereEncoder::nearest_disc(const double centre[3], double radius, const Vec3f& n,
+                                Sphere* decoded) const {
+  const SphereTables& t = sphere_tables();
+  double grid[3];  // the leaf's centre in units of the cell grid's half step, (rel + 1) * 13
+  for (int k = 0; k < 3; ++k) grid[k] = ((centre[k] - pc_[k]) / pr_ + 1) * kN;
+  int best = -1;
+  double best_e = std::numeric_limits<double>::infinity();
+  auto consider = [&](int size, int x, int y, int z) {
+    const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
+    if (s < 0 || t.inside[s] < -unsure_) return;
+    const Sphere d = decode_sphere(t.cells[s], parent_);
+    if (t.inside[s] <= unsure_ && distance(d.centre, pc_) + d.radius > pr_) return;
+    const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+                 dz = d.centre.z - centre[2];
+    const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+    const double along = std::sqrt(std::max(0.0, dx * dx + dy * dy + dz * dz - across * across));
+    const double dr = d.radius - radius;
+    const double e = (dr >= 0 ? dr : -kShrinkWeight * dr) + along + kDiscSlope * across;
+    if (e < best_e) {
+      best_e = e;
+      best = s;
+      if (decoded) *decoded = d;
+    }
+  };
+  // Per axis, the indices of the cell centres of one size nearest the leaf's: `wide` takes the
+  // two around it, else the nearest alone.
+  auto around = [&](int size, int k, bool wide, int& lo, int& hi) {
+    const double steps = (grid[k] - size) / 2;
+    const int below = floor_int(steps);
+    if (wide) {
+      lo = std::max(0, below);
+      hi = std::min(kN - size, below + 1);
+      if (lo > hi) lo = hi = std::clamp(below, 0, kN - size);
+    } else {
+      lo = hi = std::clamp(below + (steps - below < 0.5 ? 0 : 1), 0, kN - size);
+    }
+  };
+  const int below = std::clamp(floor_int(radius / pr_ * kN), 1, kN - 1);
+  for (int pass = 0; pass < 3 && best < 0; ++pass) {
+    const int s0 = pass == 0 ? below : pass == 1 ? std::max(1, below - 1) : 1;
+    const int s1 = pass == 0 ? below + 1 : pass == 1 ? std::min(kN, below + 2) : kN;
+    for (int size = s0; size <= s1; ++size) {
+      int lo[3], hi[3];
+      for (int k = 0; k < 3; ++k) {
+        if (pass < 2) {
+          around(size, k, pass == 1, lo[k], hi[k]);
+        } else {
+          lo[k] = 0;
+          hi[k] = kN - size;
+        }
+      }
+      for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int z = lo[2]; z <= hi[2]; ++z) consider(size, x, y, z);
+    }
+  }
+  return best;
+}
+
 int encode_normal(const Vec3f& n) {
   const float ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
   if (!(ax + ay + az > 0))

@@ -63,6 +63,8 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
 
 // The disc rule's slope: views up to atan(1.25) = 51° from a leaf's normal (SphereEncoder).
 inline constexpr double kDiscSlope = 1.25;
+// SphereEncoder::nearest_disc: what a unit of shrinking costs against a unit of growing.
+inline constexpr double kShrinkWeight = 2.0;
 
 // encode_sphere for the children of one parent: what depends on the parent alone is computed
 // once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).
@@ -84,6 +86,22 @@ class SphereEncoder {
   int operator()(const double centre[3], double radius,
                  SphereSearch search = SphereSearch::kNearestFirst,
                  const Vec3f* disc_normal = nullptr, Sphere* decoded = nullptr) const;
+
+  // The leaf rule (not conservative): the cell whose decoded disc (c', n, r') is nearest the
+  // leaf's disc (centre, n, radius), n the leaf's decoded unit normal, among the cells that lie
+  // inside the parent; nearest by
+  //   max(r' − r, 0) + kShrinkWeight · max(r − r', 0) + along + kDiscSlope · across,
+  // along and across the lengths of c' − c in and across the plane normal to n (the first two
+  // terms plus `along` are the Hausdorff distance of two coplanar discs; `across` moves the disc
+  // against the splat's at oblique views; shrinking weighs more because it opens holes where
+  // growing only thickens edges). Candidates: for the two sizes around 13 · radius / R (R the
+  // parent's radius; one even, one odd: the two offset grids of cell centres), the cell nearest
+  // the centre on every axis; when neither lies inside the parent (a leaf on its parent's edge),
+  // every cell of sizes one beyond them with the two nearest indices per axis, then, when none
+  // of those does either, every cell. Ties keep the earlier candidate. Returns the code (never -1
+  // for a parent of positive radius: the parent's own cell lies inside it).
+  int nearest_disc(const double centre[3], double radius, const Vec3f& normal,
+                   Sphere* decoded = nullptr) const;
 
  private:
   Sphere parent_;

@@ -30,6 +30,10 @@ struct EncodedQSplat {
 // sphere grown by this fraction of its radius (the root too), so that children touching the true
 // sphere (tight spheres always have two) still find small cells inside the decoded parent.
 inline constexpr double kInteriorMargin = 0.25;
+// The same for a node whose children are all leaves: none, since leaves take the cell nearest
+// their disc inside the decoded parent (SphereEncoder::nearest_disc) and need no room around
+// them; a tighter parent is a finer grid for its leaves.
+inline constexpr double kLeafParentMargin = 0.0;
 
 // `comments`: text of the comment fragment (none when empty). Throws Error(kUnsupported) when the
 // tree fragment would exceed 2^31 − 1 bytes (the format's int32 length; several fragments are
