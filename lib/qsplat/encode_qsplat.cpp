@@ -171,8 +171,7 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           Sphere decoded;
           if (t.child_count[j]) {
             const double margin = grand[j] ? kInteriorMargin : kLeafParentMargin;
-            code = encode(centre, s.radius * (1 + margin), SphereSearch::kNearestFirst, nullptr,
-                          &decoded);
+            code = encode(centre, s.radius * (1 + margin), SphereSearch::kNearestFirst, &decoded);
           } else {  // a leaf: drawn as a disc
             code = encode.nearest_disc(centre, s.radius, decode_normal(t.normal_codes[j]),
                                        &decoded);
