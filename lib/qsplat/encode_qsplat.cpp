@@ -173,8 +173,8 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
             const double margin = grand[j] ? kInteriorMargin : kLeafParentMargin;
             code = encode(centre, s.radius * (1 + margin), SphereSearch::kNearestFirst, &decoded);
           } else {  // a leaf: drawn as a disc
-            code = encode.nearest_disc(centre, s.radius, decode_normal(t.normal_codes[j]),
-                                       &decoded);
+            code =
+                encode.nearest_disc(centre, s.radius, decode_normal(t.normal_codes[j]), &decoded);
           }
           if (code < 0) fail_outside_parent(t, j);
           t.spheres[j] = decoded;

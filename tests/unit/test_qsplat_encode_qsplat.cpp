@@ -129,8 +129,7 @@ void walk_group(const unsigned char* here, int count, const Sphere& parent, bool
     if (std::sqrt(dx * dx + dy * dy + dz * dz) + s.radius > parent.radius) ++w.bad_parent;
     const int kids = w0 & 3;
     if (kids == 0) {
-      w.leaves.push_back(
-          {s, parent, static_cast<int>(((unsigned{here[2]} << 8) | here[3]) >> 2)});
+      w.leaves.push_back({s, parent, static_cast<int>(((unsigned{here[2]} << 8) | here[3]) >> 2)});
       continue;
     }
     const bool grand = w0 & 4;
@@ -184,8 +183,8 @@ void check_structure(const QSplatLeaves& leaves, bool centroid_rule) {
                  dz = double{s.centre.z} - c.z;
     // A leaf takes the cell nearest its disc (not one that contains it): its centre and radius
     // stay within a few grid steps (2/13 of its decoded parent's radius) of the splat's.
-    const double shift = std::sqrt(dx * dx + dy * dy + dz * dz) +
-                         std::fabs(double{s.radius} - leaves.radii[p]);
+    const double shift =
+        std::sqrt(dx * dx + dy * dy + dz * dz) + std::fabs(double{s.radius} - leaves.radii[p]);
     worst_shift = std::max(worst_shift, shift / w.leaves[k].parent.radius);
     const Vec3f& n = decode_normal(w.leaves[k].normal_code);
     worst_normal =

@@ -100,10 +100,11 @@ TEST(RenderLodMasks, QSplatAndSptSilhouettesMatchThePlainRenderOfAScan) {
     const Masks qs = compare_masks(plain, render_view(m.qs, az, BlendMode::kZThreshold));
     const Masks qs_z = compare_masks(render_view(m.plain, az, BlendMode::kZBuffer),
                                      render_view(m.qs, az, BlendMode::kZBuffer));
-    std::printf("view %3.0f: mask %d px; .spt IoU %.4f (lost %d, grown %d), zbuffer %.4f; "
-                ".qs IoU %.4f (lost %d, grown %d), zbuffer %.4f\n",
-                double(az), spt.reference, spt.iou, spt.lost, spt.grown, spt_z.iou, qs.iou,
-                qs.lost, qs.grown, qs_z.iou);
+    std::printf(
+        "view %3.0f: mask %d px; .spt IoU %.4f (lost %d, grown %d), zbuffer %.4f; "
+        ".qs IoU %.4f (lost %d, grown %d), zbuffer %.4f\n",
+        double(az), spt.reference, spt.iou, spt.lost, spt.grown, spt_z.iou, qs.iou, qs.lost,
+        qs.grown, qs_z.iou);
     EXPECT_GT(spt.reference, 10000);
     EXPECT_GE(spt.iou, 0.99) << "view " << az;
     EXPECT_GE(spt_z.iou, 0.99) << "view " << az;
