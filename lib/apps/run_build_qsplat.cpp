@@ -56,8 +56,8 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
   qsplat::QSplatTree tree = stage.phase("tree", "building the QSplat tree", [&] {
     return qsplat::build_qsplat_tree(leaves, o.centroid_rule, !o.paths.report.empty());
   });
-  // Framed by the splats themselves: the decoded leaves are larger (quantisation is
-  // conservative), a few of them several times, which would frame the model smaller than the plain
+  // Framed by the splats themselves: the decoded leaves differ from them (the cell nearest each
+  // splat's disc, a few several times larger), which would frame the model unlike the plain
   // render of the same cloud.
   const render::BoundingSphere view =
       render::splat_bounds(leaves.size(), [&](std::size_t i, Vec3f& c, float& r) {

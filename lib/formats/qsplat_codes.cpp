@@ -205,9 +205,8 @@ constexpr std::array<double, kN + 1> kCellRadius = [] {
 }();
 
 // What one cell offers a child: the cell is not (or cannot be proved) inside the parent, it is
-// too small or too far to contain the child, it contains the child but the disc rule refuses it,
-// or it fits at distance `dist` between the centres.
-enum class Offer { kNotInParent, kTooSmall, kOffTheDisc, kFits };
+// too small or too far to contain the child, or it fits at distance `dist` between the centres.
+enum class Offer { kNotInParent, kTooSmall, kFits };
 
 }  // namespace
 
@@ -229,7 +228,7 @@ int encode_sphere(const Sphere& parent, const double centre[3], double radius,
 }
 
 int SphereEncoder::operator()(const double centre[3], double radius, SphereSearch search,
-                              const Vec3f* disc_normal, Sphere* decoded) const {
+                              Sphere* decoded) const {
   const SphereTables& t = sphere_tables();
   const Sphere& parent = parent_;
   const double pr = pr_, unsure = unsure_, unsure_steps = unsure_steps_;
@@ -238,8 +237,6 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
   for (int k = 0; k < 3; ++k) rel[k] = (centre[k] - pc[k]) / pr;
   const double rel_radius = radius / pr;
   const int first = std::clamp(static_cast<int>(std::floor(rel_radius * kN)), 1, kN);
-  int without = -1;  // the disc rule's first refusal: the code without the rule
-  Sphere without_sphere{};
   auto offer = [&](int s, double& dist, Sphere& d) {
     if (s < 0 || t.inside[s] < -unsure) return Offer::kNotInParent;  // clearly outside
     d = decode_sphere(t.cells[s], parent);
@@ -252,12 +249,6 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     if (dist + radius > d.radius) return Offer::kTooSmall;  // must contain the true sphere
     // ... and lie inside the parent
     if (t.inside[s] <= unsure && distance(d.centre, pc) + d.radius > pr) return Offer::kNotInParent;
-    if (disc_normal) {  // the disc rule (header)
-      const Vec3f& n = *disc_normal;
-      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
-      const double along = std::sqrt(std::max(0.0, dist2 - across * across));
-      if (radius + along + kDiscSlope * across > d.radius) return Offer::kOffTheDisc;
-    }
     return Offer::kFits;
   };
   auto cell = [&](int size, int x, int y, int z) {
@@ -291,9 +282,7 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
     // when the two are too close to tell apart after float rounding. If any of them is not
     // proved inside the parent (a farther cell might then be the answer), or lies farther than
     // R − radius from the child on an axis (outside the box below), or rounding is too coarse
-    // for the grid, every cell in the box is tried, as the exhaustive search does. With the disc
-    // rule, the nearest cell that contains the child must also meet it, or the search goes on
-    // to the next size.
+    // for the grid, every cell in the box is tried, as the exhaustive search does.
     bool decided = search == SphereSearch::kNearestFirst && unsure_steps < 0.05;
     int near[3][2], count[3] = {0, 0, 0};
     const double slack_steps = slack * kN / 2;  // R − radius in grid steps
@@ -311,20 +300,18 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
         near[k][count[k]++] = other;
       if (count[k] == 2 && near[k][0] > near[k][1]) std::swap(near[k][0], near[k][1]);
     }
-    // The nearest cell of this size that contains the child, and whether it meets the rule.
+    // The nearest cell of this size that contains the child.
     int best = -1;
     double best_d = std::numeric_limits<double>::infinity();
     Sphere best_sphere{};
-    bool best_meets_rule = false;
     auto consider = [&](int s) {
       double dist = 0;
       Sphere d;
       const Offer o = offer(s, dist, d);
-      if ((o == Offer::kFits || o == Offer::kOffTheDisc) && dist < best_d) {
+      if (o == Offer::kFits && dist < best_d) {
         best_d = dist;
         best = s;
         best_sphere = d;
-        best_meets_rule = o == Offer::kFits;
       }
       return o;
     };
@@ -351,20 +338,74 @@ int SphereEncoder::operator()(const double centre[3], double radius, SphereSearc
         for (int y = lo[1]; y <= hi[1]; ++y)
           for (int z = lo[2]; z <= hi[2]; ++z) consider(cell(size, x, y, z));
     }
-    // No cell of this size contains the child (when the nearest does not, none does), or the
-    // disc rule refuses the nearest that does.
+    // No cell of this size contains the child (when the nearest does not, none does).
     if (best < 0) continue;
-    if (best_meets_rule) {
-      if (decoded) *decoded = best_sphere;
-      return best;
+    if (decoded) *decoded = best_sphere;
+    return best;
+  }
+  return -1;
+}
+
+int SphereEncoder::nearest_disc(const double centre[3], double radius, const Vec3f& n,
+                                Sphere* decoded) const {
+  const SphereTables& t = sphere_tables();
+  double grid[3];  // the leaf's centre in units of the cell grid's half step, (rel + 1) * 13
+  for (int k = 0; k < 3; ++k) grid[k] = ((centre[k] - pc_[k]) / pr_ + 1) * kN;
+  int best = -1;
+  double best_e = std::numeric_limits<double>::infinity();
+  auto consider = [&](int size, int x, int y, int z) {
+    const int s = t.index[size - 1 + kN * (x + kN * (y + kN * z))];
+    if (s < 0 || t.inside[s] < -unsure_) return;
+    const Sphere d = decode_sphere(t.cells[s], parent_);
+    if (t.inside[s] <= unsure_ && distance(d.centre, pc_) + d.radius > pr_) return;
+    const double dx = d.centre.x - centre[0], dy = d.centre.y - centre[1],
+                 dz = d.centre.z - centre[2];
+    const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+    const double along = std::sqrt(std::max(0.0, dx * dx + dy * dy + dz * dz - across * across));
+    // The band the drawn disc adds around the splat's (its edge at most r' + along from c), and
+    // the band of the splat it leaves bare seen at up to atan(kDiscSlope) from the normal.
+    const double grown = std::max(0.0, d.radius + along - radius);
+    const double bare = std::max(0.0, radius + along + kDiscSlope * across - d.radius);
+    const double e = grown + kBareWeight * bare;
+    if (e < best_e) {
+      best_e = e;
+      best = s;
+      if (decoded) *decoded = d;
     }
-    if (without < 0) {
-      without = best;
-      without_sphere = best_sphere;
+  };
+  // Per axis, the indices of the cell centres of one size nearest the leaf's: `wide` takes the
+  // two around it, else the nearest alone.
+  auto around = [&](int size, int k, bool wide, int& lo, int& hi) {
+    const double steps = (grid[k] - size) / 2;
+    const int below = floor_int(steps);
+    if (wide) {
+      lo = std::max(0, below);
+      hi = std::min(kN - size, below + 1);
+      if (lo > hi) lo = hi = std::clamp(below, 0, kN - size);
+    } else {
+      lo = hi = std::clamp(below + (steps - below < 0.5 ? 0 : 1), 0, kN - size);
+    }
+  };
+  const int below = std::clamp(floor_int(radius / pr_ * kN), 1, kN - 1);
+  for (int pass = 0; pass < 3 && best < 0; ++pass) {
+    const int s0 = pass == 0 ? below : pass == 1 ? std::max(1, below - 1) : 1;
+    const int s1 = pass == 0 ? below + 1 : pass == 1 ? std::min(kN, below + 2) : kN;
+    for (int size = s0; size <= s1; ++size) {
+      int lo[3], hi[3];
+      for (int k = 0; k < 3; ++k) {
+        if (pass < 2) {
+          around(size, k, pass == 1, lo[k], hi[k]);
+        } else {
+          lo[k] = 0;
+          hi[k] = kN - size;
+        }
+      }
+      for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int z = lo[2]; z <= hi[2]; ++z) consider(size, x, y, z);
     }
   }
-  if (decoded) *decoded = without_sphere;
-  return without;
+  return best;
 }
 
 int encode_normal(const Vec3f& n) {

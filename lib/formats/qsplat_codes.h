@@ -4,8 +4,10 @@
 // - Sphere (13 bits): an index S into a table of 7621 cells (X, Y, Z, R) relative to the parent's
 //   decoded sphere: centre = parent centre + parent radius · (X, Y, Z), radius = parent radius · R,
 //   evaluated in float exactly as the original viewer does (decode_sphere).
-//   encode_sphere is conservative: the decoded sphere contains the child's true sphere and lies
-//   inside the decoded parent (both checked on the float values the reader computes).
+//   encode_sphere is conservative (interior nodes): the decoded sphere contains the child's true
+//   sphere and lies inside the decoded parent (both checked on the float values the reader
+//   computes); SphereEncoder::nearest_disc (leaves) only keeps the latter and takes the cell
+//   whose disc best matches the splat's.
 // - Normal (14 bits): dominant axis A (0:+X 1:−X 2:+Y 3:−Y 4:+Z 5:−Z) and the two other components
 //   warped by atan and quantised to 52 steps each. Angular error ≤ kNormalMaxError.
 // - Cone (2 bits): c = int(4·√(sin θ)) of the half-width θ; decoded as the bound (1 + c)²/16 on
@@ -61,21 +63,15 @@ enum class SphereSearch { kNearestFirst, kExhaustive };
 int encode_sphere(const Sphere& parent, const double centre[3], double radius,
                   SphereSearch search = SphereSearch::kNearestFirst);
 
-// The disc rule's slope: views up to atan(1.25) = 51° from a leaf's normal (SphereEncoder).
+// The slope of the views nearest_disc keeps a leaf's splat covered for: up to atan(1.25) = 51°
+// from its normal.
 inline constexpr double kDiscSlope = 1.25;
+// SphereEncoder::nearest_disc: what a unit of bare band costs against a unit of grown band.
+inline constexpr double kBareWeight = 3.0;
 
-// encode_sphere for the children of one parent: what depends on the parent alone is computed
-// once. encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s).
-//
-// With `disc_normal` (a leaf's decoded normal n), the disc rule besides: size by size from the
-// smallest, the cell the search takes without the rule (the nearest that contains the child and
-// lies inside the parent), until one whose decoded centre c' and radius r' also satisfy
-// r + along + kDiscSlope · across <= r', where along and across are the lengths of c' − c in
-// and across the plane normal to n. A renderer draws the leaf as the disc (c', n, r'): a shift
-// `across` off the splat's plane moves that disc against the splat's own by across · tan θ at a
-// view θ from the normal, which the rule covers up to atan(kDiscSlope); without it, a leaf the
-// grid moves off its plane leaves single-pixel holes where one splat alone covers a surface seen
-// obliquely. When no cell up to the parent's own meets the rule, the cell without it.
+// encode_sphere for the children of one parent (what depends on the parent alone is computed
+// once; encode_sphere(p, c, r, s) is SphereEncoder(p)(c, r, s)), and nearest_disc, the leaves'
+// rule.
 class SphereEncoder {
  public:
   explicit SphereEncoder(const Sphere& parent);
@@ -83,7 +79,25 @@ class SphereEncoder {
   // sphere, decode_sphere's.
   int operator()(const double centre[3], double radius,
                  SphereSearch search = SphereSearch::kNearestFirst,
-                 const Vec3f* disc_normal = nullptr, Sphere* decoded = nullptr) const;
+                 Sphere* decoded = nullptr) const;
+
+  // The leaf rule (not conservative): the cell whose decoded disc (c', n, r') best matches the
+  // leaf's disc (centre c, n, radius r), n the leaf's decoded unit normal, among the cells that
+  // lie inside the parent: least  grown + kBareWeight · bare, with
+  //   grown = max(0, r' + along − r)                      (the band the drawn disc adds),
+  //   bare  = max(0, r + along + kDiscSlope · across − r') (the band of the splat it leaves
+  //                                                        bare, at views up to 51° oblique),
+  // along and across the lengths of c' − c in and across the plane normal to n. A grown band
+  // rings every silhouette; a bare one is covered by the neighbours' overlap nearly everywhere
+  // (single pixels open where one splat alone covers the surface), hence its larger weight.
+  // Candidates: for the two sizes around 13 · r / R (R the parent's radius; one even, one odd:
+  // the two offset grids of cell centres), the cell nearest c on every axis; when neither lies
+  // inside the parent (a leaf on its parent's edge), the cells of sizes one beyond them with the
+  // two nearest indices per axis, then, when none of those does either, every cell. Ties keep
+  // the earlier candidate (sizes ascending, then x, y, z). Returns the code: never -1 for a
+  // parent of positive radius (the parent's own cell lies inside it).
+  int nearest_disc(const double centre[3], double radius, const Vec3f& normal,
+                   Sphere* decoded = nullptr) const;
 
  private:
   Sphere parent_;

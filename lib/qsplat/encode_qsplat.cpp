@@ -170,11 +170,11 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           int code;
           Sphere decoded;
           if (t.child_count[j]) {
-            code = encode(centre, s.radius * (1 + kInteriorMargin), SphereSearch::kNearestFirst,
-                          nullptr, &decoded);
+            const double margin = grand[j] ? kInteriorMargin : kLeafParentMargin;
+            code = encode(centre, s.radius * (1 + margin), SphereSearch::kNearestFirst, &decoded);
           } else {  // a leaf: drawn as a disc
-            const Vec3f n = decode_normal(t.normal_codes[j]);
-            code = encode(centre, s.radius, SphereSearch::kNearestFirst, &n, &decoded);
+            code =
+                encode.nearest_disc(centre, s.radius, decode_normal(t.normal_codes[j]), &decoded);
           }
           if (code < 0) fail_outside_parent(t, j);
           t.spheres[j] = decoded;

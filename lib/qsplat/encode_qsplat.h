@@ -1,13 +1,13 @@
 // The bytes of a QSplat .qs v11 file (formats/qsplat.md) for a tree: an optional comment fragment,
 // then one tree fragment, big-endian, readable by the original QSplat viewer.
 //
-// Every child sphere is quantised against its parent's decoded sphere with the conservative
-// encode_sphere (qsplat_codes.h): the decoded sphere of every node contains the node's true
-// sphere (hence every splat below it; for interior nodes, the true sphere grown by
-// kInteriorMargin) and lies inside its decoded parent; a leaf's also keeps its splat's disc
-// covered when drawn as a disc seen obliquely, where a cell up to the parent's own allows it (the
-// disc rule, SphereEncoder). Deterministic for any thread count (groups are placed by a prefix
-// sum, then filled in parallel).
+// Every child sphere is quantised against its parent's decoded sphere, and lies inside it: an
+// interior node's with the conservative encode_sphere (qsplat_codes.h), whose decoded sphere
+// contains the node's true sphere grown by kInteriorMargin (kLeafParentMargin over leaves), hence
+// every splat below it; a leaf's with SphereEncoder::nearest_disc, the cell whose disc best
+// matches the splat's (not conservative: a leaf is drawn as its disc, and a sphere grown to
+// contain the splat rings every silhouette). Deterministic for any thread count (groups are
+// placed by a prefix sum, then filled in parallel).
 #pragma once
 
 #include <string>
@@ -21,8 +21,8 @@ struct EncodedQSplat {
   std::vector<unsigned char> bytes;  // the whole file
   uint64_t tree_bytes = 0;           // the tree fragment's node groups and offsets
   uint64_t leaves = 0;
-  // Decoded leaf radius over the leaf's true radius: mean and largest (what quantisation costs
-  // the splats drawn at leaf level).
+  // Decoded leaf radius over the leaf's true radius: mean and largest (what quantisation does to
+  // the splats drawn at leaf level; below 1 where a leaf shrinks).
   double leaf_growth_mean = 0, leaf_growth_max = 0;
 };
 
@@ -30,6 +30,10 @@ struct EncodedQSplat {
 // sphere grown by this fraction of its radius (the root too), so that children touching the true
 // sphere (tight spheres always have two) still find small cells inside the decoded parent.
 inline constexpr double kInteriorMargin = 0.25;
+// The same for a node whose children are all leaves: none, since leaves take the cell nearest
+// their disc inside the decoded parent (SphereEncoder::nearest_disc) and need no room around
+// them; a tighter parent is a finer grid for its leaves.
+inline constexpr double kLeafParentMargin = 0.0;
 
 // `comments`: text of the comment fragment (none when empty). Throws Error(kUnsupported) when the
 // tree fragment would exceed 2^31 − 1 bytes (the format's int32 length; several fragments are

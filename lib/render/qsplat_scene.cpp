@@ -13,8 +13,8 @@ RenderScene make_qsplat_scene(QSplatModel&& model, const std::string& name) {
   RenderScene s;
   // Framed as the plain render frames the cloud the file was built from: by the sphere
   // build-qsplat recorded from the splats, or in older files by the decoded leaves (not the root
-  // sphere, which is loose) with the same rule, which frames the model a little smaller (the
-  // decoded leaves are larger than the splats).
+  // sphere, which is loose) with the same rule, which frames the model a little smaller (those
+  // files' decoded leaves contain their splats, hence are larger).
   if (const auto view = qsplat_view_sphere(model)) {
     s.bounds.center = {(*view)[0], (*view)[1], (*view)[2]};
     s.bounds.radius = (*view)[3];

@@ -4,8 +4,9 @@
 # when the input already is a .splk), build-qsplat and build-spt, then renders the plain .splk,
 # the .qs and the .spt at WIDTHxHEIGHT from four orbit views (azimuth 0, 90, 180, 270 at
 # elevation EL) over a magenta background the models never show, and prints per view and model
-# the mask IoU against the plain render, the pixels lost and grown, and the PSNR (8-bit RGB) over
-# the pixels both cover (scripts/bench/mask_iou.py).
+# the mask IoU against the plain render, the pixels lost and grown, the PSNR (8-bit RGB) over
+# the pixels both cover, and the regions of 20 or more of those pixels differing by more than 40
+# levels (scripts/bench/mask_iou.py).
 # usage: scripts/bench/lod-masks.sh POINTS [OUT_DIR]
 #   env: BUILD_DIR (default build), EL (20), WIDTH (1280), HEIGHT (720), THREADS (2),
 #        VIEW_ARGS (extra splat-view options for all three renders, e.g. "--blend zbuffer"),
@@ -36,7 +37,7 @@ view() {
   "$bin/splat-view" -q "$1" -o "$2" --width "$width" --height "$height" --view "$3,$el" \
     --background 1,0,1 --threads "$threads" ${VIEW_ARGS:-} "${@:4}"
 }
-printf "%-5s %-4s %7s %8s %8s %9s %7s\n" view lod iou lost grown ref_px psnr_db
+printf "%-5s %-4s %7s %8s %8s %9s %7s %7s\n" view lod iou lost grown ref_px psnr_db regions
 for az in 0 90 180 270; do
   view "$work/model.splk" "$work/plain-$az.png" "$az"
   # shellcheck disable=SC2086
@@ -47,5 +48,5 @@ for az in 0 90 180 270; do
     "$work/qs-$az.png" "$work/spt-$az.png" |
     awk -v az="$az" '{
       lod = $1; sub(/.*\//, "", lod); sub(/-.*/, "", lod)
-      printf "%-5s %-4s %7.4f %8d %8d %9d %7.2f\n", az, lod, $3, $5, $7, $9, $11 }'
+      printf "%-5s %-4s %7.4f %8d %8d %9d %7.2f %7d\n", az, lod, $3, $5, $7, $9, $11, $13 }'
 done

@@ -6,9 +6,12 @@ usage: mask_iou.py BACKGROUND_R,G,B REFERENCE.png OTHER.png...
 The images are splat-view's PNGs (8-bit RGB) rendered over a background colour that the model
 never shows (BACKGROUND as 0..255 integers): a pixel is in a render's mask when it differs from
 that colour. Prints one line per OTHER: the mask IoU against REFERENCE's mask, the pixels only
-REFERENCE covers (lost) and only OTHER covers (grown), and the PSNR (dB, 8-bit RGB) over the
-pixels both cover. Reads any 8-bit RGB or RGBA PNG without interlacing (every filter type).
+REFERENCE covers (lost) and only OTHER covers (grown), the PSNR (dB, 8-bit RGB) over the
+pixels both cover, and the regions of at least 20 of those pixels (4-connected) where a channel
+differs by more than 40 levels. Reads any 8-bit RGB or RGBA PNG without interlacing (every filter
+type).
 """
+import collections
 import struct
 import sys
 import zlib
@@ -63,6 +66,27 @@ def read_png(path):
     return out.reshape(height, width, bpp)[:, :, :3]
 
 
+def large_regions(bad, least=20):
+    """The 4-connected regions of at least `least` pixels in the boolean image `bad`."""
+    height, width = bad.shape
+    seen = np.zeros_like(bad)
+    count = 0
+    for y0, x0 in zip(*np.nonzero(bad)):
+        if seen[y0, x0]:
+            continue
+        seen[y0, x0] = True
+        queue, size = collections.deque([(y0, x0)]), 0
+        while queue:
+            y, x = queue.popleft()
+            size += 1
+            for yy, xx in ((y + 1, x), (y - 1, x), (y, x + 1), (y, x - 1)):
+                if 0 <= yy < height and 0 <= xx < width and bad[yy, xx] and not seen[yy, xx]:
+                    seen[yy, xx] = True
+                    queue.append((yy, xx))
+        count += size >= least
+    return count
+
+
 def main():
     if len(sys.argv) < 4:
         sys.exit(__doc__)
@@ -82,8 +106,10 @@ def main():
         psnr = 10 * np.log10(255.0 ** 2 / mse) if mse > 0 else 99.0
         lost = np.count_nonzero(ref_mask & ~mask)
         grown = np.count_nonzero(mask & ~ref_mask)
+        levels = np.abs(ref.astype(np.int16) - img.astype(np.int16)).max(axis=2)
+        regions = large_regions(both & (levels > 40))
         print(f"{path}: iou {iou:.4f} lost {lost} grown {grown} ref {np.count_nonzero(ref_mask)} "
-              f"psnr {psnr:.2f}")
+              f"psnr {psnr:.2f} regions {regions}")
 
 
 main()

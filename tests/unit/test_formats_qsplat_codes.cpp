@@ -104,76 +104,86 @@ TEST(QSplatCodes, NearestFirstSearchFindsTheExhaustiveSearchsCell) {
   EXPECT_EQ(not_found, 0);  // every child inside its parent finds a cell
 }
 
-// The disc rule (SphereEncoder with a normal), against every cell of the table: size by size,
-// the nearest cell that contains the child and lies inside the parent; the first of those that
-// meets the rule is the code, and when none does, the code without the rule (the first of them).
-TEST(QSplatCodes, DiscRuleTakesTheFirstSizeWhoseNearestCellMeetsIt) {
+// The leaf rule (SphereEncoder::nearest_disc), against every cell of the table: of the two sizes
+// around 13 r / R, the cell nearest the leaf's centre on every axis, the one of least
+// grown + kBareWeight · bare that lies inside the parent; when neither does, the answer must still
+// lie inside the parent. A leaf equal to a cell's decoded sphere takes that cell (both bands 0).
+double disc_cost(const Sphere& q, const double c[3], double radius, const Vec3f& n) {
+  const double dx = double{q.centre.x} - c[0], dy = double{q.centre.y} - c[1],
+               dz = double{q.centre.z} - c[2];
+  const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
+  const double along = std::sqrt(std::max(0.0, dx * dx + dy * dy + dz * dz - across * across));
+  return std::max(0.0, q.radius + along - radius) +
+         kBareWeight * std::max(0.0, radius + along + kDiscSlope * across - q.radius);
+}
+
+bool inside(const Sphere& q, const Sphere& parent) {
+  const double px = double{q.centre.x} - parent.centre.x, py = double{q.centre.y} - parent.centre.y,
+               pz = double{q.centre.z} - parent.centre.z;
+  return std::sqrt(px * px + py * py + pz * pz) + q.radius <= parent.radius;
+}
+
+TEST(QSplatCodes, NearestDiscTakesTheBestOfTheNearestCellsOfTwoSizes) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1), f(0, 1);
   const Sphere parent{{-1.5f, 0.25f, 4.0f}, 0.75f};
   const SphereEncoder encode(parent);
-  int met = 0, unmet = 0, moved = 0;
+  int compared = 0, edge = 0;
   for (int i = 0; i < 3000; ++i) {
     double d[3] = {u(rng), u(rng), u(rng)};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len > 1) continue;
-    const double radius = (1 - len) * (0.1 + 0.5 * f(rng)) * parent.radius;
+    const double radius = (1 - len) * (0.05 + 0.6 * f(rng)) * parent.radius;
     const double c[3] = {parent.centre.x + parent.radius * d[0],
                          parent.centre.y + parent.radius * d[1],
                          parent.centre.z + parent.radius * d[2]};
     const Vec3f n = normalized(Vec3f{float(u(rng)), float(u(rng)), float(u(rng))});
-    // Per size (1..13): the nearest cell that contains the sphere and lies inside the parent
-    // (on the decoded floats; the first in table order among equally near ones), and whether it
-    // meets the rule.
-    int nearest[14];
-    double nearest_dist[14];
-    bool rule[14];
-    std::fill(std::begin(nearest), std::end(nearest), -1);
+    const int below = std::clamp(static_cast<int>(std::floor(radius / parent.radius * 13)), 1, 12);
+    int want = -1;
+    double want_cost = 0;
     for (int s = 0; s < kSphereCells; ++s) {
-      const int size = static_cast<int>(std::lround(sphere_cells()[s].r * 13));
-      const Sphere q = decode_sphere(sphere_cells()[s], parent);
-      const double dx = double{q.centre.x} - c[0], dy = double{q.centre.y} - c[1],
-                   dz = double{q.centre.z} - c[2];
-      const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-      const double px = double{q.centre.x} - parent.centre.x,
-                   py = double{q.centre.y} - parent.centre.y,
-                   pz = double{q.centre.z} - parent.centre.z;
-      if (dist + radius > q.radius ||
-          std::sqrt(px * px + py * py + pz * pz) + q.radius > parent.radius)
-        continue;
-      if (nearest[size] >= 0 && dist >= nearest_dist[size]) continue;
-      const double across = std::fabs(dx * n.x + dy * n.y + dz * n.z);
-      const double along = std::sqrt(std::max(0.0, dist * dist - across * across));
-      nearest[size] = s;
-      nearest_dist[size] = dist;
-      rule[size] = radius + along + kDiscSlope * across <= q.radius;
-    }
-    int want = -1, without = -1;
-    for (int size = 1; size <= 13 && want < 0; ++size) {
-      if (nearest[size] < 0) continue;
-      if (without < 0) without = nearest[size];
-      if (rule[size]) want = nearest[size];
+      const SphereCell& cell = sphere_cells()[s];
+      const int size = static_cast<int>(std::lround(cell.r * 13));
+      if (size != below && size != below + 1) continue;
+      // Nearest on every axis: the cell centre within half a grid step (1/13) of the leaf's, or
+      // the first or last index when the leaf lies beyond them.
+      bool nearest = true;
+      for (int k = 0; k < 3; ++k) {
+        const double x = (k == 0 ? cell.x : k == 1 ? cell.y : cell.z);
+        const double at = d[k], lo = size / 13.0 - 1, hi = 1 - size / 13.0;
+        const double clamped = std::clamp(at, lo, hi);
+        if (std::fabs(x - clamped) > 1.0 / 13 + 1e-6) nearest = false;
+      }
+      const Sphere q = decode_sphere(cell, parent);
+      if (!nearest || !inside(q, parent)) continue;
+      const double cost = disc_cost(q, c, radius, n);
+      if (want < 0 || cost < want_cost) {
+        want = s;
+        want_cost = cost;
+      }
     }
     Sphere decoded;
-    const int got = encode(c, radius, SphereSearch::kNearestFirst, &n, &decoded);
-    ASSERT_EQ(without, encode(c, radius)) << i;
-    EXPECT_EQ(encode(c, radius, SphereSearch::kExhaustive, &n), got) << i;
-    if (got >= 0) {
-      const Sphere q = decode_sphere(sphere_cells()[got], parent);
-      EXPECT_EQ(std::memcmp(&q, &decoded, sizeof q), 0) << i;
-    }
+    const int got = encode.nearest_disc(c, radius, n, &decoded);
+    ASSERT_GE(got, 0) << i;
+    const Sphere q = decode_sphere(sphere_cells()[got], parent);
+    EXPECT_EQ(std::memcmp(&q, &decoded, sizeof q), 0) << i;
+    EXPECT_TRUE(inside(q, parent)) << i;
     if (want < 0) {
-      ++unmet;
-      EXPECT_EQ(got, without) << i;
-    } else {
-      ++met;
-      moved += want != without;
-      EXPECT_EQ(got, want) << i;
+      ++edge;
+      continue;
     }
+    ++compared;
+    EXPECT_NEAR(disc_cost(q, c, radius, n), want_cost, 1e-9 * parent.radius) << i;
   }
-  EXPECT_GT(met, 500);
-  EXPECT_GT(moved, 200);  // the rule moves a third of the children that can meet it
-  EXPECT_GT(unmet, 0);    // children near the parent's surface
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(edge, 0);  // leaves on the parent's edge take the wider searches
+  // A leaf that is a cell's decoded sphere takes that cell.
+  for (int s = 0; s < kSphereCells; s += 7) {
+    const Sphere q = decode_sphere(sphere_cells()[s], parent);
+    if (!inside(q, parent)) continue;
+    const double c[3] = {q.centre.x, q.centre.y, q.centre.z};
+    EXPECT_EQ(encode.nearest_disc(c, q.radius, Vec3f{0, 0, 1}), s) << s;
+  }
 }
 
 TEST(QSplatCodes, NormalsRoundTripWithinTheStatedError) {

@@ -5,8 +5,10 @@
 // - .spt at its default 1 px error: IoU >= 0.99, blended and with --blend zbuffer (its discs were
 //   screen-aligned, which grew every silhouette: IoU 0.925 to 0.930 here);
 // - .qs at its default 1 px threshold: every leaf is drawn at these views, as the disc of its
-//   decoded sphere, which the v11 cells make larger than the splat (conservatively: no pixel of
-//   the plain mask may be lost); the silhouette grows by that alone (measured IoU 0.972–0.977).
+//   decoded sphere, the v11 cell nearest the splat's disc (qsplat_codes.h: nearest_disc):
+//   IoU >= 0.985, blended and with --blend zbuffer, and at most 0.3 % of the plain mask lost
+//   (measured 0.987–0.988, 0.20–0.23 % lost; 0.972–0.977 and nothing lost when leaves took
+//   cells that contain the splat, which ringed every silhouette).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -96,15 +98,19 @@ TEST(RenderLodMasks, QSplatAndSptSilhouettesMatchThePlainRenderOfAScan) {
     const Masks spt = compare_masks(plain, render_view(m.spt, az, BlendMode::kZThreshold));
     const Masks spt_z = compare_masks(plain, render_view(m.spt, az, BlendMode::kZBuffer));
     const Masks qs = compare_masks(plain, render_view(m.qs, az, BlendMode::kZThreshold));
-    std::printf("view %3.0f: mask %d px; .spt IoU %.4f (lost %d, grown %d), zbuffer %.4f; "
-                ".qs IoU %.4f (lost %d, grown %d)\n",
-                double(az), spt.reference, spt.iou, spt.lost, spt.grown, spt_z.iou, qs.iou,
-                qs.lost, qs.grown);
+    const Masks qs_z = compare_masks(render_view(m.plain, az, BlendMode::kZBuffer),
+                                     render_view(m.qs, az, BlendMode::kZBuffer));
+    std::printf(
+        "view %3.0f: mask %d px; .spt IoU %.4f (lost %d, grown %d), zbuffer %.4f; "
+        ".qs IoU %.4f (lost %d, grown %d), zbuffer %.4f\n",
+        double(az), spt.reference, spt.iou, spt.lost, spt.grown, spt_z.iou, qs.iou, qs.lost,
+        qs.grown, qs_z.iou);
     EXPECT_GT(spt.reference, 10000);
     EXPECT_GE(spt.iou, 0.99) << "view " << az;
     EXPECT_GE(spt_z.iou, 0.99) << "view " << az;
-    EXPECT_LE(qs.lost, qs.reference / 1000) << "view " << az;
-    EXPECT_GE(qs.iou, 0.96) << "view " << az;
+    EXPECT_LE(qs.lost, qs.reference * 3 / 1000) << "view " << az;
+    EXPECT_GE(qs.iou, 0.985) << "view " << az;
+    EXPECT_GE(qs_z.iou, 0.985) << "view " << az;
   }
 }
 

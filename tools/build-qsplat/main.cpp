@@ -9,8 +9,9 @@ int main(int argc, char** argv) {
       "(version 11, big-endian, readable by the original QSplat viewer). IN is splats with "
       "normals and radii (run estimate-normals first otherwise) or a triangle mesh (PLY/OFF with "
       "faces: normals and radii come from the adjacent triangles; unused vertices are dropped). "
-      "Quantisation is conservative: every decoded sphere contains its node and lies inside its "
-      "decoded parent. At least 5 points.",
+      "Every decoded sphere lies inside its decoded parent; an interior node's contains its "
+      "splats, a leaf's is the cell nearest the splat's disc (formats/qsplat.md). At least 5 "
+      "points.",
       "  $ build-qsplat bunny.ply bunny.qs\n"
       "  $ estimate-normals scan.las - | build-qsplat - scan.qs --no-color --report qs.json\n");
   splatkit::apps::BuildQSplatOptions o;
