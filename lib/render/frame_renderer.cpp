@@ -212,7 +212,8 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   local.gbuffer.resize(pixels);
   local.counters.covered +=
       reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.get(), f.blend,
-                         f.options.default_albedo, local.gbuffer.data(), local.counters.overflowed);
+                         f.options.default_albedo, {&pr, rect.x0, rect.y0, rect.width()},
+                         local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
   // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
   // that keeps the loops free of branches.

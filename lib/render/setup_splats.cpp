@@ -64,7 +64,7 @@ inline float ceil_small(float v) {
 struct Block {
   float px[kBlock], py[kBlock], pz[kBlock], nx[kBlock], ny[kBlock], nz[kBlock], r[kBlock];
   float ux[kBlock], uy[kBlock], uz[kBlock], rv[kBlock];  // elliptic splats: axis u, minor radius
-  float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock];
+  float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock], cx[kBlock], cy[kBlock];
   float x0[kBlock], x1[kBlock], y0[kBlock], y1[kBlock];
   float l[3][kBlock], u[3][kBlock], v[3][kBlock];
 };
@@ -200,6 +200,8 @@ template <bool kEllipse, bool kRoundInsn>
     b.v[1][i] = wv.y * k.inv_f;
     b.v[2][i] = wv.x * dx + wv.y * dy + wv.z;
     b.nc[i] = nc;
+    b.cx[i] = c.x;
+    b.cy[i] = c.y;
     b.zmin[i] = c.z - half_depth;
     b.zmax[i] = c.z + half_depth;
     b.x0[i] = x0;
@@ -265,6 +267,9 @@ std::size_t setup_splats(const DrawList& draws, const Projection& projection,
       s.zmin = b.zmin[i];
       s.zmax = b.zmax[i];
       s.normal = draws.normals[first + i];
+      s.cx = b.cx[i];
+      s.cy = b.cy[i];
+      s.radius = b.r[i];
       s.x0 = static_cast<int16_t>(b.x0[i]);
       s.x1 = static_cast<int16_t>(b.x1[i]);
       s.y0 = static_cast<int16_t>(b.y0[i]);

@@ -29,6 +29,9 @@ struct SplatRaster {
   // The splat's unit normal (scene frame): reconstruction reads it from here, still in cache
   // from rasterising the tile, rather than from the DrawList.
   Vec3f normal;
+  // Its centre's camera-space x (right) and y (down), relative to the eye, and its radius (the
+  // major semi-axis of an ellipse), scene units: for reconstruction's normal fit.
+  float cx, cy, radius;
   int16_t x0, y0, x1, y1;  // inclusive pixel box clipped to the image; x0 > x1 when not drawn
 
   bool drawn() const { return x0 <= x1; }

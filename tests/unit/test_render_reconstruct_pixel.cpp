@@ -11,6 +11,25 @@
 namespace splatkit::render {
 namespace {
 
+// Fragments on one ray; the fixtures' splats all sit at the origin unless a test says otherwise,
+// so the normal fit has no slope to find and gives the weighted mean.
+const PixelRay kRay{{0, 0, -1}, {0, 0, 1}};
+
+// The ray of pixel p of a tile of `width` pixels at the image's corner.
+PixelRay tile_ray(const Projection& pr, int width, int p) {
+  return {pr.eye, pr.ray(float(p % width) + 0.5f, float(p / width) + 0.5f)};
+}
+
+Projection test_projection() {
+  Camera cam;
+  cam.width = 4;
+  cam.height = 1;
+  cam.eye = {0, 0, -3};
+  cam.target = {0, 0, 0};
+  cam.up = {0, 1, 0};
+  return make_projection(cam);
+}
+
 // Four splats: normals along x, y, z, -x; colours red, green, blue, white; depth ranges given.
 struct Fixture {
   std::vector<Vec3f> pos{4}, normals{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}};
@@ -36,7 +55,7 @@ TEST(RenderReconstructPixel, ZThresholdChainsConsecutiveFragments) {
   const uint32_t splat[] = {0, 3, 1, 2};
   BlendOptions o{BlendMode::kZThreshold, 0.1f};
   PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o,
-                                     {0.5f, 0.5f, 0.5f});
+                                     {0.5f, 0.5f, 0.5f}, kRay);
   // 1.0 -> 1.08 -> 1.15 chain (steps < 0.1); 3.0 is another surface.
   EXPECT_FLOAT_EQ(s.alpha, 1);
   EXPECT_NEAR(s.normal.x, 1.0 / 5, 1e-6);
@@ -46,7 +65,7 @@ TEST(RenderReconstructPixel, ZThresholdChainsConsecutiveFragments) {
   EXPECT_NEAR(s.depth, (1.08 + 3 * 1.0 + 1.15) / 5, 1e-6);
   // A smaller threshold stops the chain after the first fragment.
   o.epsilon = 0.05f;
-  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {}, kRay);
   EXPECT_NEAR(s.normal.y, 1.0, 1e-6);
   EXPECT_NEAR(s.depth, 1.0, 1e-6);
 }
@@ -61,12 +80,12 @@ TEST(RenderReconstructPixel, ZRangeJoinsOverlappingDepthRanges) {
   const float weight[] = {1, 1, 1, 1};
   const uint32_t splat[] = {0, 1, 2, 3};
   BlendOptions o{BlendMode::kZRange, 0};
-  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {}, kRay);
   EXPECT_NEAR(s.normal.x, 1.0 / 3, 1e-6);
   EXPECT_NEAR(s.normal.y, 1.0 / 3, 1e-6);
   EXPECT_NEAR(s.normal.z, 1.0 / 3, 1e-6);
   fx.range(1, 1.15f, 1.3f);  // now a gap after splat 0
-  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {}, kRay);
   EXPECT_NEAR(s.normal.x, 1.0, 1e-6);
 }
 
@@ -77,14 +96,14 @@ TEST(RenderReconstructPixel, OtherSurfaceIdsAreSetAsideNotBlended) {
   const float weight[] = {1, 1, 1, 1};
   const uint32_t splat[] = {0, 1, 2, 3};
   BlendOptions o{BlendMode::kZThreshold, 0.12f};
-  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  PixelSurface s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {}, kRay);
   EXPECT_EQ(s.surface_id, 7u);
   EXPECT_NEAR(s.normal.x, 0.5, 1e-6);  // splats 0 and 2 only
   EXPECT_NEAR(s.normal.y, 0.0, 1e-6);
   EXPECT_NEAR(s.normal.z, 0.5, 1e-6);
   // Classic Z-threshold (one surface id) would blend all three.
   fx.ids = {0, 0, 0, 0};
-  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {});
+  s = reconstruct_pixel(depth, weight, splat, 4, fx.draws(), fx.rasters.data(), o, {}, kRay);
   EXPECT_NEAR(s.normal.y, 1.0 / 3, 1e-6);
 }
 
@@ -97,13 +116,13 @@ TEST(RenderReconstructPixel, DefaultAlbedoWithoutColoursAndDepthWindow) {
   const uint32_t splat[] = {0, 1};
   BlendOptions o{BlendMode::kZThreshold, 0.1f};
   PixelSurface s =
-      reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {0.25f, 0.5f, 0.75f});
+      reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {0.25f, 0.5f, 0.75f}, kRay);
   EXPECT_NEAR(s.albedo.x, 0.25, 1e-6);
   EXPECT_NEAR(s.albedo.z, 0.75, 1e-6);
   o.window = 0.005f;  // the second fragment is beyond the window: ignored
-  s = reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {});
+  s = reconstruct_pixel(depth, weight, splat, 2, d, fx.rasters.data(), o, {}, kRay);
   EXPECT_NEAR(s.normal.x, 1.0, 1e-6);
-  EXPECT_EQ(reconstruct_pixel(depth, weight, splat, 0, d, fx.rasters.data(), o, {}).alpha, 0);
+  EXPECT_EQ(reconstruct_pixel(depth, weight, splat, 0, d, fx.rasters.data(), o, {}, kRay).alpha, 0);
   EXPECT_EQ(depth_window(BlendMode::kZThreshold, 0.1f, 1, 8), 0.8f);
   EXPECT_EQ(depth_window(BlendMode::kZRange, 0.1f, 0.5f, 8), 9.0f);
 }
@@ -139,7 +158,7 @@ TEST(RenderReconstructPixel, AnyArrivalOrderGivesTheSameBits) {
         depth[k] = depth_of[order[k]];
         weight[k] = weight_of[order[k]];
       }
-      const PixelSurface s = reconstruct_pixel(depth, weight, order, 6, d, rasters.data(), o, {});
+      const PixelSurface s = reconstruct_pixel(depth, weight, order, 6, d, rasters.data(), o, {}, kRay);
       if (permutations++ == 0) first = s;
       ASSERT_EQ(std::memcmp(&s, &first, sizeof s), 0) << "permutation " << permutations;
     } while (std::next_permutation(order, order + 6));
@@ -162,12 +181,15 @@ TEST(RenderReconstructPixel, TileFormIsThePixelFormPerPixel) {
   for (int k = 0; k < 4; ++k) store.add(3, 1.0f + 0.01f * k, 0.1f * (k + 1), k);  // overflows
   std::vector<PixelSurface> g(4);
   uint64_t overflowed = 0;
-  EXPECT_EQ(reconstruct_pixels(store, 4, d, fx.rasters.data(), o, {}, g.data(), overflowed), 3);
+  const Projection pr = test_projection();
+  EXPECT_EQ(reconstruct_pixels(store, 4, d, fx.rasters.data(), o, {}, {&pr, 0, 0, 4}, g.data(),
+                               overflowed),
+            3);
   EXPECT_EQ(overflowed, 1u);
   EXPECT_EQ(g[1].alpha, 0);
   for (int p : {0, 2, 3}) {
     const PixelSurface want = reconstruct_pixel(store.depths(p), store.weights(p), store.splats(p),
-                                                store.count(p), d, fx.rasters.data(), o, {});
+                                                store.count(p), d, fx.rasters.data(), o, {}, tile_ray(pr, 4, p));
     EXPECT_EQ(std::memcmp(&g[p], &want, sizeof want), 0) << "pixel " << p;
   }
 }
