@@ -1,6 +1,7 @@
 #include "render/reconstruct_pixel.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace splatkit::render {
@@ -39,48 +40,34 @@ inline void sort_front_to_back(const float* depths, const float* weights, const 
   }
 }
 
-// Marks in `joined` the fragments of the surface that starts at f[first] (same surface id,
-// chained by the blend rule); returns how many joined.
-int first_surface(const Fragment* f, int n, int first, const DrawList& draws,
-                  const SplatRaster* rasters, const BlendOptions& options, bool* joined) {
-  const uint32_t id = draws.surface_ids ? draws.surface_ids[f[first].splat] : 0;
-  joined[first] = true;
-  int count = 1;
-  float last = f[first].depth;
-  float range_end = rasters[f[first].splat].zmax;
-  for (int k = first + 1; k < n; ++k) {
-    if (joined[k]) continue;
-    if (draws.surface_ids && draws.surface_ids[f[k].splat] != id) continue;
-    if (options.mode == BlendMode::kZThreshold) {
-      if (!(f[k].depth - last < options.epsilon)) break;
-      last = f[k].depth;
-    } else {
-      const SplatRaster& r = rasters[f[k].splat];
-      if (r.zmin > range_end) break;
-      range_end = std::max(range_end, r.zmax);
-    }
-    joined[k] = true;
-    ++count;
-  }
-  return count;
-}
+// The surface that holds fragment f[c] (a disc fragment): the run of sorted fragments around it
+// that the blend rule chains, forward and backward from it (ring fragments in front of the disc
+// join when the rule reaches them). Returns [lo, hi).
+struct Run {
+  int lo, hi;
+};
 
-// Without surface ids the first surface is the run of sorted fragments from f[0] that the blend
-// rule chains, so first_surface's marks (every id equal) are a prefix; returns its length. Saves
-// the marks and the blend loop's test of each, a branch that mispredicts often.
-int first_run(const Fragment* f, int n, const SplatRaster* rasters, const BlendOptions& options) {
-  int k = 1;
+Run surface_run(const Fragment* f, int n, int c, const SplatRaster* rasters,
+                const BlendOptions& options) {
+  int lo = c, hi = c + 1;
   if (options.mode == BlendMode::kZThreshold) {
-    while (k < n && f[k].depth - f[k - 1].depth < options.epsilon) ++k;
+    while (hi < n && f[hi].depth - f[hi - 1].depth < options.epsilon) ++hi;
+    while (lo > 0 && f[lo].depth - f[lo - 1].depth < options.epsilon) --lo;
   } else {
-    float range_end = rasters[f[0].splat].zmax;
-    for (; k < n; ++k) {
-      const SplatRaster& r = rasters[f[k].splat];
+    const SplatRaster& first = rasters[f[c].splat];
+    float range_end = first.zmax, range_begin = first.zmin;
+    for (; hi < n; ++hi) {
+      const SplatRaster& r = rasters[f[hi].splat];
       if (r.zmin > range_end) break;
       range_end = std::max(range_end, r.zmax);
     }
+    for (; lo > 0; --lo) {
+      const SplatRaster& r = rasters[f[lo - 1].splat];
+      if (r.zmax < range_begin) break;
+      range_begin = std::min(range_begin, r.zmin);
+    }
   }
-  return k;
+  return {lo, hi};
 }
 
 }  // namespace
@@ -91,70 +78,108 @@ PixelRay pixel_ray(const Projection& projection, int x, int y) {
 }
 
 float depth_window(BlendMode mode, float epsilon, float max_radius, int capacity) {
-  return mode == BlendMode::kZThreshold ? capacity * epsilon : (capacity + 1) * 2.0f * max_radius;
+  return mode == BlendMode::kZThreshold ? capacity * epsilon
+                                        : (capacity + 1) * 2.0f * kRingScale * max_radius;
 }
 
 namespace {
 
-// Keeps in `f` (front to back) only the fragments that face the eye when at least one does:
+// Keeps in `f` (front to back) only the fragments that face the eye when a disc fragment does:
 // a back face within the blend's reach of a front face (the far side of a thin part, the other
-// wall of a crevice) would turn the blended normal away from the viewer. Returns the count kept.
+// wall of a crevice) would turn the blended normal away from the viewer. Keeps at least one disc
+// fragment. Returns the count kept.
 inline int keep_front_faces(Fragment* f, int n, const SplatRaster* rasters) {
-  int front = 0;
-  for (int k = 0; k < n; ++k) front += rasters[f[k].splat].nc <= 0;
-  if (front == 0 || front == n) return n;
+  int front = 0, front_discs = 0;
+  for (int k = 0; k < n; ++k) {
+    const bool facing = rasters[f[k].splat].nc <= 0;
+    front += facing;
+    front_discs += facing & (f[k].weight > 0);
+  }
+  if (front_discs == 0 || front == n) return n;
   int kept = 0;
   for (int k = 0; k < n; ++k)
     if (rasters[f[k].splat].nc <= 0) f[kept++] = f[k];
   return kept;
 }
 
-// The fit's ridge term, relative to the weighted mean squared radius (reconstruct_pixel.h): small
-// enough that a sphere sampled at random keeps a fraction of a degree of error, large enough that
-// two or three nearly collinear centres fall back to the weighted mean.
-inline constexpr float kRidge = 0.01f;
+// Whether the centres of the splats of f[0..n) (ring fragments of one surface, n <= 8 or so)
+// surround the pixel's ray, seen along it: their directions from the ray's point at f[0]'s depth
+// (camera-space x, y) leave no gap of half a turn or more. Then the pixel lies in a hole among
+// those splats (where a cover of discs leaves a gap between three), not beyond the edge of their
+// surface, where the centres lie all on one side.
+bool surrounded(const Fragment* f, int n, const SplatRaster* rasters, const PixelRay& ray) {
+  if (n < 3) return false;
+  const float x0 = f[0].depth * ray.x, y0 = f[0].depth * ray.y;
+  float angle[kMaxFragmentsPerPixel] = {};
+  for (int k = 0; k < n; ++k) {
+    const SplatRaster& r = rasters[f[k].splat];
+    float a = std::atan2(r.cy - y0, r.cx - x0);
+    int j = k;
+    for (; j > 0 && angle[j - 1] > a; --j) angle[j] = angle[j - 1];
+    angle[j] = a;
+  }
+  constexpr float kPi = 3.14159265f;
+  float gap = angle[0] + 2 * kPi - angle[n - 1];
+  for (int k = 1; k < n; ++k) gap = std::max(gap, angle[k] - angle[k - 1]);
+  return gap < kPi;
+}
 
-// Blends the fragments f[0..n) into `out` (n >= 1): colour and depth by their weighted means, the
-// normal by the weighted least-squares fit of reconstruct_pixel.h, all in one pass over the
-// fragments. The centres' offsets (a, b) are camera-space x and y measured from the ray's point at
-// the nearest fragment's depth z0; the fit is evaluated at the ray's point at the blended depth z̄,
-// which lies (z̄ − z0)·ray off that origin. With the centred moments (covariance C of the offsets
-// plus the ridge, cross-covariance N of normals and offsets), the slopes are G = N C⁻¹ and the
-// normal n̄ + G (p − m̄), p the evaluation point and m̄ the weighted mean offset.
+// The fit's ridge term, relative to the trace of the offsets' covariance (reconstruct_pixel.h):
+// small enough that a sphere sampled at random keeps a tenth of a degree of error, large enough
+// that nearly collinear centres give no slope across their line.
+inline constexpr float kRidge = 0.02f;
+
 // Four float lanes (GCC and Clang vector extension: SSE on x86-64, plain code elsewhere): each
 // sum below stays in one register. Lane by lane the same operations as scalar code.
 typedef float Lanes4 __attribute__((vector_size(16)));
 
+// Blends the fragments f[0..n) (at least one disc fragment unless `rings_cover`) into `out`:
+// colour and depth by the disc fragments' weighted means (every fragment's with `rings_cover`), the normal by the weighted least-squares fit of
+// reconstruct_pixel.h over disc and ring fragments, in one pass. The centres' offsets (a, b) are
+// camera-space x and y measured from the ray's point at the first fragment's depth z0; the fit is
+// evaluated at the ray's point at the blended depth z̄, (z̄ − z0)·ray off that origin. With the
+// centred moments (covariance C of the offsets plus the ridge, cross-covariance N of normals and
+// offsets) the slopes are G = N C⁻¹, and the normal is n̄ + G (p − m̄), p the evaluation point
+// and m̄ the weighted mean offset.
+template <bool kFit>
 inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRaster* rasters,
-                  const Vec3f& default_albedo, const PixelRay& ray, PixelSurface& out) {
+                  const Vec3f& default_albedo, const PixelRay& ray, bool rings_cover,
+                  PixelSurface& out) {
   const float z0 = f[0].depth, x0 = z0 * ray.x, y0 = z0 * ray.y;
-  // Sums of w·(n, 1), w·(n, 1)·a, w·(n, 1)·b, w·(a², ab, b², z), w·(albedo, r²).
+  // Over every fragment, weight |w|: sums of w·(n, 1), w·(n, 1)·a, w·(n, 1)·b, w·(a², ab, b², 0).
+  // Over the disc fragments: w·(albedo, 1) and w·z.
   Lanes4 s1 = {}, sa = {}, sb = {}, sq = {}, sc = {};
+  float sz = 0;
   for (int k = 0; k < n; ++k) {
     const SplatRaster& r = rasters[f[k].splat];
-    const float w = f[k].weight, a = r.cx - x0, b = r.cy - y0;
+    const float w = std::fabs(f[k].weight), wd = (f[k].weight > 0) | rings_cover ? w : 0.0f;
+    const float a = r.cx - x0, b = r.cy - y0;
     const Vec3f c = draws.colors ? draws.colors[f[k].splat] : default_albedo;
     const Lanes4 wn = Lanes4{r.normal.x, r.normal.y, r.normal.z, 1.0f} * w;
     s1 += wn;
-    sa += wn * a;
-    sb += wn * b;
-    sq += Lanes4{a * a, a * b, b * b, f[k].depth} * w;
-    sc += Lanes4{c.x, c.y, c.z, r.radius * r.radius} * w;
+    if constexpr (kFit) {
+      sa += wn * a;
+      sb += wn * b;
+      sq += Lanes4{a * a, a * b, b * b, 0.0f} * w;
+    }
+    sc += Lanes4{c.x, c.y, c.z, 1.0f} * wd;
+    sz += f[k].depth * wd;
   }
   // Opaque splats: the first surface covers the pixel fully, so compositing (eq. 5.1) stops here.
-  const float inv = 1.0f / s1[3];
-  out.albedo = Vec3f{sc[0], sc[1], sc[2]} * inv;
-  out.depth = sq[3] * inv;
+  const float inv_d = 1.0f / sc[3];
+  out.albedo = Vec3f{sc[0], sc[1], sc[2]} * inv_d;
+  out.depth = sz * inv_d;
   out.alpha = 1.0f;
+  const float inv = 1.0f / s1[3];
   const Vec3f mean = Vec3f{s1[0], s1[1], s1[2]} * inv;
   out.normal = mean;
-  if (n < 2) return;
-  const float ma = sa[3] * inv, mb = sb[3] * inv, ridge = kRidge * sc[3];
-  const float caa = sq[0] - sa[3] * ma + ridge, cbb = sq[2] - sb[3] * mb + ridge;
-  const float cab = sq[1] - sa[3] * mb;
+  if (!kFit || n < 2) return;
+  const float ma = sa[3] * inv, mb = sb[3] * inv;
+  const float vaa = sq[0] - sa[3] * ma, vbb = sq[2] - sb[3] * mb, ridge = kRidge * (vaa + vbb);
+  const float caa = vaa + ridge, cbb = vbb + ridge, cab = sq[1] - sa[3] * mb;
   const float det = caa * cbb - cab * cab;
   if (!(det > 0)) return;
-  // G e = N C⁻¹ e with e the evaluation point's offset from the mean offset.
+  // G (p − m̄) = N C⁻¹ e, e the evaluation point's offset from the mean offset.
   const float dz = out.depth - z0;
   const float ea = dz * ray.x - ma, eb = dz * ray.y - mb;
   const float inv_det = 1.0f / det;
@@ -175,20 +200,43 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
   if (count <= 0) return out;
   Fragment f[kMaxFragmentsPerPixel];
   sort_front_to_back(depths, weights, splats, count, f);
-  const float limit = f[0].depth + options.window;
-  while (count > 1 && f[count - 1].depth > limit) --count;
-  out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
-  int joined;
-  if (draws.surface_ids == nullptr) {
-    joined = first_run(f, count, rasters, options);
-  } else {
-    bool marks[kMaxFragmentsPerPixel] = {};
-    first_surface(f, count, 0, draws, rasters, options, marks);
-    joined = 0;
-    for (int k = 0; k < count; ++k)
-      if (marks[k]) f[joined++] = f[k];
+  // The nearest disc fragment starts the front surface, unless ring fragments in front of it that
+  // do not chain to it close a hole in their surface (fill_hole).
+  int c = 0;
+  while (c < count && !(f[c].weight > 0)) ++c;
+  if (c > 0) {
+    const Run front = surface_run(f, count, 0, rasters, options);
+    if (front.hi <= c && surrounded(f, front.hi, rasters, ray)) {
+      blend<true>(f, front.hi, draws, rasters, default_albedo, ray, true, out);
+      out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
+      return out;
+    }
   }
-  blend(f, keep_front_faces(f, joined, rasters), draws, rasters, default_albedo, ray, out);
+  if (c == count) return out;
+  // Pixels whose front surface starts with a splat under kRingMinPx in radius take the weighted
+  // mean normal: its facets are a few pixels across, and the fit would cost a third of the
+  // reconstruction again on scenes of such splats.
+  const bool fit = rasters[f[c].splat].ring2 > 1.0f;
+  const float limit = f[c].depth + options.window;
+  while (f[count - 1].depth > limit) --count;
+  if (draws.surface_ids != nullptr) {
+    // Only the fragments of f[c]'s surface id chain and blend ([IvoMSc] §5.5).
+    const uint32_t id = draws.surface_ids[f[c].splat];
+    int kept = 0, first = 0;
+    for (int k = 0; k < count; ++k) {
+      if (k == c) first = kept;
+      if (draws.surface_ids[f[k].splat] == id) f[kept++] = f[k];
+    }
+    count = kept;
+    c = first;
+    out.surface_id = id;
+  }
+  const Run run = surface_run(f, count, c, rasters, options);
+  const int n = keep_front_faces(f + run.lo, run.hi - run.lo, rasters);
+  if (fit)
+    blend<true>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
+  else
+    blend<false>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
   return out;
 }
 
@@ -216,8 +264,9 @@ int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& d
         pixel_ray(*tile.projection, tile.x0 + p % tile.width, tile.y0 + p / tile.width);
     out[p] = reconstruct(store.depths(p), store.weights(p), store.splats(p), n, draws, rasters,
                          options, default_albedo, ray);
-    ++covered;
-    overflowed += store.overflowed(p);
+    const bool hit = out[p].alpha > 0;  // not when only ring fragments reach the pixel
+    covered += hit;
+    overflowed += hit & store.overflowed(p);
   }
   return covered;
 }
