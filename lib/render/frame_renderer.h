@@ -12,7 +12,7 @@
 // per-tile scratch, so the image is byte-identical for any thread count (threads come from the
 // TBB arena the caller runs in). Memory beyond the scene and the framebuffer: one 84-byte
 // SplatRaster per splat, a 4-byte index per (splat, tile) overlap, and per thread one tile
-// A-buffer (32×32 pixels × max_fragments × 12 bytes).
+// A-buffer (32×32 pixels × (max_fragments + kRingSlots) × 12 bytes).
 #pragma once
 
 #include <cstdint>

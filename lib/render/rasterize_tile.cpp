@@ -78,8 +78,7 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
           clipped += keep & discarded;
           keep = keep & !discarded;
         }
-        if (keep)
-          fragments += store.add(pixel, depth, w, index);
+        if (keep) fragments += store.add(pixel, depth, w, index);
       }
       l += s.l[0];
       u += s.u[0];

@@ -31,7 +31,7 @@ inline uint64_t sort_key(float depth, uint32_t splat) {
 // so the keys are unique and the ranks a permutation.
 inline void sort_front_to_back(const float* depths, const float* weights, const uint32_t* splats,
                                int n, Fragment* f) {
-  uint64_t key[kMaxFragmentsPerPixel];
+  uint64_t key[kMaxFragmentsPerPixel + kRingSlots];
   for (int i = 0; i < n; ++i) key[i] = sort_key(depths[i], splats[i]);
   for (int i = 0; i < n; ++i) {
     int rank = 0;
@@ -110,7 +110,7 @@ inline int keep_front_faces(Fragment* f, int n, const SplatRaster* rasters) {
 bool surrounded(const Fragment* f, int n, const SplatRaster* rasters, const PixelRay& ray) {
   if (n < 3) return false;
   const float x0 = f[0].depth * ray.x, y0 = f[0].depth * ray.y;
-  float angle[kMaxFragmentsPerPixel] = {};
+  float angle[kMaxFragmentsPerPixel + kRingSlots] = {};
   for (int k = 0; k < n; ++k) {
     const SplatRaster& r = rasters[f[k].splat];
     float a = std::atan2(r.cy - y0, r.cx - x0);
@@ -134,13 +134,13 @@ inline constexpr float kRidge = 0.02f;
 typedef float Lanes4 __attribute__((vector_size(16)));
 
 // Blends the fragments f[0..n) (at least one disc fragment unless `rings_cover`) into `out`:
-// colour and depth by the disc fragments' weighted means (every fragment's with `rings_cover`), the normal by the weighted least-squares fit of
-// reconstruct_pixel.h over disc and ring fragments, in one pass. The centres' offsets (a, b) are
-// camera-space x and y measured from the ray's point at the first fragment's depth z0; the fit is
-// evaluated at the ray's point at the blended depth z̄, (z̄ − z0)·ray off that origin. With the
-// centred moments (covariance C of the offsets plus the ridge, cross-covariance N of normals and
-// offsets) the slopes are G = N C⁻¹, and the normal is n̄ + G (p − m̄), p the evaluation point
-// and m̄ the weighted mean offset.
+// colour and depth by the disc fragments' weighted means (every fragment's with `rings_cover`), the
+// normal by the weighted least-squares fit of reconstruct_pixel.h over disc and ring fragments, in
+// one pass. The centres' offsets (a, b) are camera-space x and y measured from the ray's point at
+// the first fragment's depth z0; the fit is evaluated at the ray's point at the blended depth z̄, (z̄
+// − z0)·ray off that origin. With the centred moments (covariance C of the offsets plus the ridge,
+// cross-covariance N of normals and offsets) the slopes are G = N C⁻¹, and the normal is n̄ + G (p −
+// m̄), p the evaluation point and m̄ the weighted mean offset.
 template <bool kFit>
 inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRaster* rasters,
                   const Vec3f& default_albedo, const PixelRay& ray, bool rings_cover,
@@ -189,16 +189,13 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
   out.normal = mean + na * p + nb * q;
 }
 
-[[gnu::always_inline]] inline PixelSurface reconstruct(const float* depths, const float* weights,
-                                                       const uint32_t* splats, int count,
-                                                       const DrawList& draws,
-                                                       const SplatRaster* rasters,
-                                                       const BlendOptions& options,
-                                                       const Vec3f& default_albedo,
-                                                       const PixelRay& ray) {
+[[gnu::always_inline]] inline PixelSurface reconstruct(
+    const float* depths, const float* weights, const uint32_t* splats, int count,
+    const DrawList& draws, const SplatRaster* rasters, const BlendOptions& options,
+    const Vec3f& default_albedo, const PixelRay& ray) {
   PixelSurface out;
   if (count <= 0) return out;
-  Fragment f[kMaxFragmentsPerPixel];
+  Fragment f[kMaxFragmentsPerPixel + kRingSlots];
   sort_front_to_back(depths, weights, splats, count, f);
   // The nearest disc fragment starts the front surface, unless ring fragments in front of it that
   // do not chain to it close a hole in their surface (fill_hole).
@@ -256,14 +253,30 @@ int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& d
   int covered = 0;
   for (int p = 0; p < pixels; ++p) {
     const int n = store.count(p);
-    if (n == 0) {
+    if (n + store.ring_count(p) == 0) {
       out[p].alpha = 0;
       continue;
     }
     const PixelRay ray =
         pixel_ray(*tile.projection, tile.x0 + p % tile.width, tile.y0 + p / tile.width);
-    out[p] = reconstruct(store.depths(p), store.weights(p), store.splats(p), n, draws, rasters,
-                         options, default_albedo, ray);
+    const int rings = store.ring_count(p);
+    if (rings == 0) {
+      out[p] = reconstruct(store.depths(p), store.weights(p), store.splats(p), n, draws, rasters,
+                           options, default_albedo, ray);
+    } else {
+      // Disc and ring fragments in one list.
+      float depth[kMaxFragmentsPerPixel + kRingSlots], weight[kMaxFragmentsPerPixel + kRingSlots];
+      uint32_t splat[kMaxFragmentsPerPixel + kRingSlots];
+      const int r0 = store.ring_offset();
+      std::copy_n(store.depths(p), n, depth);
+      std::copy_n(store.depths(p) + r0, rings, depth + n);
+      std::copy_n(store.weights(p), n, weight);
+      std::copy_n(store.weights(p) + r0, rings, weight + n);
+      std::copy_n(store.splats(p), n, splat);
+      std::copy_n(store.splats(p) + r0, rings, splat + n);
+      out[p] = reconstruct(depth, weight, splat, n + rings, draws, rasters, options, default_albedo,
+                           ray);
+    }
     const bool hit = out[p].alpha > 0;  // not when only ring fragments reach the pixel
     covered += hit;
     overflowed += hit & store.overflowed(p);

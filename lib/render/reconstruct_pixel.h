@@ -66,7 +66,9 @@ struct PixelRay {
 // The ray through the centre of image pixel (x, y).
 PixelRay pixel_ray(const Projection& projection, int x, int y);
 
-// `depths`, `weights`, `splats`: #count fragments in any order (count <= kMaxFragmentsPerPixel).
+// `depths`, `weights`, `splats`: #count fragments in any order (count <= kMaxFragmentsPerPixel +
+// kRingSlots), disc fragments with positive weights, ring fragments with negative ones
+// (rasterize_tile.h).
 // `default_albedo` is used when the DrawList has no colours. Reads the splats' normals, facing
 // (nc), camera-space centres and radii from `rasters`, their colours and surface ids from `draws`.
 PixelSurface reconstruct_pixel(const float* depths, const float* weights, const uint32_t* splats,

@@ -41,7 +41,7 @@ struct alignas(16) SplatRaster {
   // Coefficients of L, U, V as f[0]·(i − x0) + f[1]·(j − y0) + f[2]: value at the box corner.
   float l[3], u[3], v[3];
   float zmin, zmax;  // camera-depth range of the disc with its ring (Z-range reconstruction)
-  float ring2;  // squared outer radius of the ring, in radii: kRingScale² or 1 (no ring)
+  float ring2;       // squared outer radius of the ring, in radii: kRingScale² or 1 (no ring)
   int16_t x0, y0, x1, y1;  // inclusive pixel box clipped to the image; x0 > x1 when not drawn
 
   bool drawn() const { return x0 <= x1; }
