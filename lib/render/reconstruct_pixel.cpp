@@ -88,13 +88,15 @@ namespace {
 // a back face within the blend's reach of a front face (the far side of a thin part, the other
 // wall of a crevice) would turn the blended normal away from the viewer. Keeps at least one disc
 // fragment. Returns the count kept.
+template <bool kRings>
 inline int keep_front_faces(Fragment* f, int n, const SplatRaster* rasters) {
   int front = 0, front_discs = 0;
   for (int k = 0; k < n; ++k) {
     const bool facing = rasters[f[k].splat].nc <= 0;
     front += facing;
-    front_discs += facing & (f[k].weight > 0);
+    if constexpr (kRings) front_discs += facing & (f[k].weight > 0);
   }
+  if constexpr (!kRings) front_discs = front;
   if (front_discs == 0 || front == n) return n;
   int kept = 0;
   for (int k = 0; k < n; ++k)
@@ -141,7 +143,7 @@ typedef float Lanes4 __attribute__((vector_size(16)));
 // − z0)·ray off that origin. With the centred moments (covariance C of the offsets plus the ridge,
 // cross-covariance N of normals and offsets) the slopes are G = N C⁻¹, and the normal is n̄ + G (p −
 // m̄), p the evaluation point and m̄ the weighted mean offset.
-template <bool kFit>
+template <bool kFit, bool kRings>
 inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRaster* rasters,
                   const Vec3f& default_albedo, const PixelRay& ray, bool rings_cover,
                   PixelSurface& out) {
@@ -152,7 +154,8 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
   float sz = 0;
   for (int k = 0; k < n; ++k) {
     const SplatRaster& r = rasters[f[k].splat];
-    const float w = std::fabs(f[k].weight), wd = (f[k].weight > 0) | rings_cover ? w : 0.0f;
+    const float w = kRings ? std::fabs(f[k].weight) : f[k].weight;
+    const float wd = !kRings || (f[k].weight > 0) | rings_cover ? w : 0.0f;
     const float a = r.cx - x0, b = r.cy - y0;
     const Vec3f c = draws.colors ? draws.colors[f[k].splat] : default_albedo;
     const Lanes4 wn = Lanes4{r.normal.x, r.normal.y, r.normal.z, 1.0f} * w;
@@ -166,11 +169,11 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
     sz += f[k].depth * wd;
   }
   // Opaque splats: the first surface covers the pixel fully, so compositing (eq. 5.1) stops here.
-  const float inv_d = 1.0f / sc[3];
+  const float inv = 1.0f / s1[3];
+  const float inv_d = kRings ? 1.0f / sc[3] : inv;
   out.albedo = Vec3f{sc[0], sc[1], sc[2]} * inv_d;
   out.depth = sz * inv_d;
   out.alpha = 1.0f;
-  const float inv = 1.0f / s1[3];
   const Vec3f mean = Vec3f{s1[0], s1[1], s1[2]} * inv;
   out.normal = mean;
   if (!kFit || n < 2) return;
@@ -189,6 +192,8 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
   out.normal = mean + na * p + nb * q;
 }
 
+// kRings: the list may hold ring fragments (without, the same result in fewer steps).
+template <bool kRings>
 [[gnu::always_inline]] inline PixelSurface reconstruct(
     const float* depths, const float* weights, const uint32_t* splats, int count,
     const DrawList& draws, const SplatRaster* rasters, const BlendOptions& options,
@@ -198,18 +203,20 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
   Fragment f[kMaxFragmentsPerPixel + kRingSlots];
   sort_front_to_back(depths, weights, splats, count, f);
   // The nearest disc fragment starts the front surface, unless ring fragments in front of it that
-  // do not chain to it close a hole in their surface (fill_hole).
+  // do not chain to it close a hole in their surface (surrounded).
   int c = 0;
-  while (c < count && !(f[c].weight > 0)) ++c;
-  if (c > 0) {
-    const Run front = surface_run(f, count, 0, rasters, options);
-    if (front.hi <= c && surrounded(f, front.hi, rasters, ray)) {
-      blend<true>(f, front.hi, draws, rasters, default_albedo, ray, true, out);
-      out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
-      return out;
+  if constexpr (kRings) {
+    while (c < count && !(f[c].weight > 0)) ++c;
+    if (c > 0) {
+      const Run front = surface_run(f, count, 0, rasters, options);
+      if (front.hi <= c && surrounded(f, front.hi, rasters, ray)) {
+        blend<true, true>(f, front.hi, draws, rasters, default_albedo, ray, true, out);
+        out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
+        return out;
+      }
     }
+    if (c == count) return out;
   }
-  if (c == count) return out;
   // Pixels whose front surface starts with a splat under kRingMinPx in radius take the weighted
   // mean normal: its facets are a few pixels across, and the fit would cost a third of the
   // reconstruction again on scenes of such splats.
@@ -229,11 +236,11 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
     out.surface_id = id;
   }
   const Run run = surface_run(f, count, c, rasters, options);
-  const int n = keep_front_faces(f + run.lo, run.hi - run.lo, rasters);
+  const int n = keep_front_faces<kRings>(f + run.lo, run.hi - run.lo, rasters);
   if (fit)
-    blend<true>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
+    blend<true, kRings>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
   else
-    blend<false>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
+    blend<false, kRings>(f + run.lo, n, draws, rasters, default_albedo, ray, false, out);
   return out;
 }
 
@@ -243,7 +250,12 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
                                int count, const DrawList& draws, const SplatRaster* rasters,
                                const BlendOptions& options, const Vec3f& default_albedo,
                                const PixelRay& ray) {
-  return reconstruct(depths, weights, splats, count, draws, rasters, options, default_albedo, ray);
+  for (int k = 0; k < count; ++k)
+    if (!(weights[k] > 0))
+      return reconstruct<true>(depths, weights, splats, count, draws, rasters, options,
+                               default_albedo, ray);
+  return reconstruct<false>(depths, weights, splats, count, draws, rasters, options, default_albedo,
+                            ray);
 }
 
 int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& draws,
@@ -261,8 +273,8 @@ int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& d
         pixel_ray(*tile.projection, tile.x0 + p % tile.width, tile.y0 + p / tile.width);
     const int rings = store.ring_count(p);
     if (rings == 0) {
-      out[p] = reconstruct(store.depths(p), store.weights(p), store.splats(p), n, draws, rasters,
-                           options, default_albedo, ray);
+      out[p] = reconstruct<false>(store.depths(p), store.weights(p), store.splats(p), n, draws,
+                                  rasters, options, default_albedo, ray);
     } else {
       // Disc and ring fragments in one list.
       float depth[kMaxFragmentsPerPixel + kRingSlots], weight[kMaxFragmentsPerPixel + kRingSlots];
@@ -274,8 +286,8 @@ int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& d
       std::copy_n(store.weights(p) + r0, rings, weight + n);
       std::copy_n(store.splats(p), n, splat);
       std::copy_n(store.splats(p) + r0, rings, splat + n);
-      out[p] = reconstruct(depth, weight, splat, n + rings, draws, rasters, options, default_albedo,
-                           ray);
+      out[p] = reconstruct<true>(depth, weight, splat, n + rings, draws, rasters, options,
+                                 default_albedo, ray);
     }
     const bool hit = out[p].alpha > 0;  // not when only ring fragments reach the pixel
     covered += hit;
