@@ -126,6 +126,15 @@ bool surrounded(const Fragment* f, int n, const SplatRaster* rasters, const Pixe
   return gap < kPi;
 }
 
+// Whether the ring fragments f[0..n) all face the eye and the disc fragment f[c] (c < count, or
+// none) faces away.
+bool behind_away(const Fragment* f, int n, int c, int count, const SplatRaster* rasters) {
+  if (c < count && !(rasters[f[c].splat].nc > 0)) return false;
+  for (int k = 0; k < n; ++k)
+    if (rasters[f[k].splat].nc > 0) return false;
+  return c < count;
+}
+
 // The fit's ridge term, relative to the trace of the offsets' covariance (reconstruct_pixel.h):
 // small enough that a sphere sampled at random keeps a tenth of a degree of error, large enough
 // that nearly collinear centres give no slope across their line.
@@ -203,13 +212,17 @@ template <bool kRings>
   Fragment f[kMaxFragmentsPerPixel + kRingSlots];
   sort_front_to_back(depths, weights, splats, count, f);
   // The nearest disc fragment starts the front surface, unless ring fragments in front of it that
-  // do not chain to it close a hole in their surface (surrounded).
+  // do not chain to it close a hole in their surface: where their splats surround the pixel, or
+  // where they face the eye and that disc faces away (a back face seen through a front surface
+  // can only be seen through a gap in it; at an open surface's edge, the ring widens the edge
+  // by at most its width).
   int c = 0;
   if constexpr (kRings) {
     while (c < count && !(f[c].weight > 0)) ++c;
     if (c > 0) {
       const Run front = surface_run(f, count, 0, rasters, options);
-      if (front.hi <= c && surrounded(f, front.hi, rasters, ray)) {
+      if (front.hi <= c &&
+          (behind_away(f, front.hi, c, count, rasters) || surrounded(f, front.hi, rasters, ray))) {
         blend<true, true>(f, front.hi, draws, rasters, default_albedo, ray, true, out);
         out.surface_id = draws.surface_ids ? draws.surface_ids[f[0].splat] : 0;
         return out;

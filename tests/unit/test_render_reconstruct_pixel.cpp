@@ -267,8 +267,9 @@ TEST(RenderReconstructPixel, BackFacesBehindAFrontFaceAreSetAside) {
   EXPECT_NEAR(s.normal.y, 0.6, 1e-6);
 }
 
-// Ring fragments cover nothing unless their splats' centres surround the pixel: then the pixel is
-// a pinhole among them, and they cover it, even in front of a deeper surface.
+// Ring fragments cover nothing unless their splats' centres surround the pixel, or they face the
+// eye in front of a surface that faces away: then the pixel is a pinhole among them, and they
+// cover it, even in front of a deeper surface.
 TEST(RenderReconstructPixel, RingFragmentsCoverOnlyPinholes) {
   std::vector<SplatRaster> rasters{
       big_splat(0.1f, 0, {0, 0, -1}), big_splat(-0.05f, 0.09f, {0, 0, -1}),
@@ -289,6 +290,13 @@ TEST(RenderReconstructPixel, RingFragmentsCoverOnlyPinholes) {
   EXPECT_EQ(
       reconstruct_pixel(depth + 1, weight + 1, splat + 1, 2, d, rasters.data(), o, {}, kRay).alpha,
       0);
+  // The same two in front of a surface facing away: a back face seen through a gap, covered.
+  rasters[3].nc = 0.5f;
+  s = reconstruct_pixel(depth + 1, weight + 1, splat + 1, 3, d, rasters.data(), o, {}, kRay);
+  EXPECT_EQ(s.alpha, 1);
+  EXPECT_NEAR(s.depth, 1.015, 1e-6);
+  EXPECT_EQ(s.albedo.x, 1);
+  rasters[3].nc = -1;
   // Three around the pixel: a hole, covered by them, alone or in front of another surface.
   EXPECT_EQ(reconstruct_pixel(depth, weight, splat, 3, d, rasters.data(), o, {}, kRay).alpha, 1);
   s = reconstruct_pixel(depth, weight, splat, 4, d, rasters.data(), o, {}, kRay);
