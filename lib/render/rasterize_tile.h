@@ -8,7 +8,8 @@
 // index order. On closed models the front faces then set every pixel's nearest depth before the
 // hidden back faces arrive, so the store's depth window drops those at once, and a back-facing
 // splat whose whole depth range lies beyond the tile's farthest nearest depth + window is
-// skipped without ray casting. What the store keeps (the K nearest fragments within the window)
+// skipped without ray casting. What the store keeps (the K nearest disc and kRingSlots nearest
+// ring fragments within the window)
 // does not depend on the order, so neither does the image.
 //
 // Clipping ([IvoMSc] §4.4, docs/references.md): a fragment of a splat with clip partners is
