@@ -9,8 +9,7 @@
 // hidden back faces arrive, so the store's depth window drops those at once, and a back-facing
 // splat whose whole depth range lies beyond the tile's farthest nearest depth + window is
 // skipped without ray casting. What the store keeps (the K nearest disc and kRingSlots nearest
-// ring fragments within the window)
-// does not depend on the order, so neither does the image.
+// ring fragments within the window) does not depend on the order, so neither does the image.
 //
 // Clipping ([IvoMSc] §4.4, docs/references.md): a fragment of a splat with clip partners is
 // discarded before it reaches the store when graph::fragment_discarded holds for its 3D point P =
