@@ -29,14 +29,27 @@ inline uint64_t sort_key(float depth, uint32_t splat) {
 // about depth; counting the n² comparisons of one integer key takes a compare and an add with
 // carry each and no branch but the loops over n. A splat adds at most one fragment to a pixel,
 // so the keys are unique and the ranks a permutation.
-inline void sort_front_to_back(const float* depths, const float* weights, const uint32_t* splats,
-                               int n, Fragment* f) {
+// A list of fragments as the FragmentStore keeps them.
+struct FragmentList {
+  const float* depths;
+  const float* weights;
+  const uint32_t* splats;
+  int count;
+};
+
+// The fragments of `a` and `b` (the disc and the ring slots of a pixel; a splat is in at most
+// one), sorted as one list.
+inline void sort_front_to_back(const FragmentList& a, const FragmentList& b, Fragment* f) {
+  const int n = a.count + b.count;
   uint64_t key[kMaxFragmentsPerPixel + kRingSlots];
-  for (int i = 0; i < n; ++i) key[i] = sort_key(depths[i], splats[i]);
+  for (int i = 0; i < a.count; ++i) key[i] = sort_key(a.depths[i], a.splats[i]);
+  for (int i = 0; i < b.count; ++i) key[a.count + i] = sort_key(b.depths[i], b.splats[i]);
   for (int i = 0; i < n; ++i) {
     int rank = 0;
     for (int j = 0; j < n; ++j) rank += key[j] < key[i];
-    f[rank] = {depths[i], weights[i], splats[i]};
+    const FragmentList& l = i < a.count ? a : b;
+    const int k = i < a.count ? i : i - a.count;
+    f[rank] = {l.depths[k], l.weights[k], l.splats[k]};
   }
 }
 
@@ -204,13 +217,14 @@ inline void blend(const Fragment* f, int n, const DrawList& draws, const SplatRa
 // kRings: the list may hold ring fragments (without, the same result in fewer steps).
 template <bool kRings>
 [[gnu::always_inline]] inline PixelSurface reconstruct(
-    const float* depths, const float* weights, const uint32_t* splats, int count,
-    const DrawList& draws, const SplatRaster* rasters, const BlendOptions& options,
-    const Vec3f& default_albedo, const PixelRay& ray) {
+    const FragmentList& discs, const FragmentList& rings, const DrawList& draws,
+    const SplatRaster* rasters, const BlendOptions& options, const Vec3f& default_albedo,
+    const PixelRay& ray) {
   PixelSurface out;
+  int count = discs.count + rings.count;
   if (count <= 0) return out;
   Fragment f[kMaxFragmentsPerPixel + kRingSlots];
-  sort_front_to_back(depths, weights, splats, count, f);
+  sort_front_to_back(discs, rings, f);
   // The nearest disc fragment starts the front surface, unless ring fragments in front of it that
   // do not chain to it close a hole in their surface: where their splats surround the pixel, or
   // where they face the eye and that disc faces away (a back face seen through a front surface
@@ -263,12 +277,11 @@ PixelSurface reconstruct_pixel(const float* depths, const float* weights, const 
                                int count, const DrawList& draws, const SplatRaster* rasters,
                                const BlendOptions& options, const Vec3f& default_albedo,
                                const PixelRay& ray) {
+  const FragmentList all{depths, weights, splats, count}, none{nullptr, nullptr, nullptr, 0};
   for (int k = 0; k < count; ++k)
     if (!(weights[k] > 0))
-      return reconstruct<true>(depths, weights, splats, count, draws, rasters, options,
-                               default_albedo, ray);
-  return reconstruct<false>(depths, weights, splats, count, draws, rasters, options, default_albedo,
-                            ray);
+      return reconstruct<true>(all, none, draws, rasters, options, default_albedo, ray);
+  return reconstruct<false>(all, none, draws, rasters, options, default_albedo, ray);
 }
 
 int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& draws,
@@ -284,24 +297,13 @@ int reconstruct_pixels(const FragmentStore& store, int pixels, const DrawList& d
     }
     const PixelRay ray =
         pixel_ray(*tile.projection, tile.x0 + p % tile.width, tile.y0 + p / tile.width);
-    const int rings = store.ring_count(p);
-    if (rings == 0) {
-      out[p] = reconstruct<false>(store.depths(p), store.weights(p), store.splats(p), n, draws,
-                                  rasters, options, default_albedo, ray);
-    } else {
-      // Disc and ring fragments in one list.
-      float depth[kMaxFragmentsPerPixel + kRingSlots], weight[kMaxFragmentsPerPixel + kRingSlots];
-      uint32_t splat[kMaxFragmentsPerPixel + kRingSlots];
-      const int r0 = store.ring_offset();
-      std::copy_n(store.depths(p), n, depth);
-      std::copy_n(store.depths(p) + r0, rings, depth + n);
-      std::copy_n(store.weights(p), n, weight);
-      std::copy_n(store.weights(p) + r0, rings, weight + n);
-      std::copy_n(store.splats(p), n, splat);
-      std::copy_n(store.splats(p) + r0, rings, splat + n);
-      out[p] = reconstruct<true>(depth, weight, splat, n + rings, draws, rasters, options,
-                                 default_albedo, ray);
-    }
+    const FragmentList discs{store.depths(p), store.weights(p), store.splats(p), n};
+    const int r0 = store.ring_offset();
+    const FragmentList rings{discs.depths + r0, discs.weights + r0, discs.splats + r0,
+                             store.ring_count(p)};
+    out[p] = rings.count == 0
+                 ? reconstruct<false>(discs, rings, draws, rasters, options, default_albedo, ray)
+                 : reconstruct<true>(discs, rings, draws, rasters, options, default_albedo, ray);
     const bool hit = out[p].alpha > 0;  // not when only ring fragments reach the pixel
     covered += hit;
     overflowed += hit & store.overflowed(p);
