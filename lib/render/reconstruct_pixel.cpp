@@ -23,12 +23,6 @@ inline uint64_t sort_key(float depth, uint32_t splat) {
   return uint64_t{b} << 32 | splat;
 }
 
-// Copies the fragments into `f`, sorted front to back (depth, ties by splat index), by rank:
-// fragment i goes to the slot counting the fragments nearer than it. An insertion sort
-// mispredicted about once per fragment, since the arrival order (splat order) says nothing
-// about depth; counting the n² comparisons of one integer key takes a compare and an add with
-// carry each and no branch but the loops over n. A splat adds at most one fragment to a pixel,
-// so the keys are unique and the ranks a permutation.
 // A list of fragments as the FragmentStore keeps them.
 struct FragmentList {
   const float* depths;
@@ -37,8 +31,13 @@ struct FragmentList {
   int count;
 };
 
-// The fragments of `a` and `b` (the disc and the ring slots of a pixel; a splat is in at most
-// one), sorted as one list.
+// Copies the fragments of `a` and `b` (the disc and the ring slots of a pixel) into `f` as one
+// list, sorted front to back (depth, ties by splat index), by rank: fragment i goes to the slot
+// counting the fragments nearer than it. An insertion sort mispredicted about once per fragment,
+// since the arrival order (splat order) says nothing about depth; counting the n² comparisons of
+// one integer key takes a compare and an add with carry each and no branch but the loops over n.
+// A splat adds at most one fragment to a pixel (disc or ring), so the keys are unique and the
+// ranks a permutation.
 inline void sort_front_to_back(const FragmentList& a, const FragmentList& b, Fragment* f) {
   const int n = a.count + b.count;
   uint64_t key[kMaxFragmentsPerPixel + kRingSlots];
