@@ -19,13 +19,8 @@
 
 namespace {
 
-splatkit::Vec3f parse_vec(const char* s) {
-  splatkit::Vec3f v{};
-  if (std::sscanf(s, "%f,%f,%f", &v.x, &v.y, &v.z) != 3) {
-    std::fprintf(stderr, "bench_render_quality: bad vector '%s'\n", s);
-    std::exit(1);
-  }
-  return v;
+bool parse_vec(const char* s, splatkit::Vec3f& v) {
+  return std::sscanf(s, "%f,%f,%f", &v.x, &v.y, &v.z) == 3;
 }
 
 }  // namespace
@@ -61,7 +56,10 @@ int main(int argc, char** argv) {
   splatkit::render::Camera cam;
   cam.width = w;
   cam.height = h;
-  cam.eye = parse_vec(argv[2]);
+  if (!parse_vec(argv[2], cam.eye)) {
+    std::fprintf(stderr, "bench_render_quality: bad eye '%s'\n", argv[2]);
+    return 1;
+  }
   cam.target = {0, 0, 0};
   cam.up = {0, 0, 1};
   cam.fov_y_deg = argc > 3 ? std::atof(argv[3]) : 40.0;
