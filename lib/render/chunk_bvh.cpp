@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "render/setup_splats.h"
 #include "splatkit/error.h"
 #include "splatkit/seconds_since.h"
 #include "splatkit/select_rank.h"
@@ -38,7 +39,8 @@ inline float axis(const Vec3f& v, int a) { return a == 0 ? v.x : a == 1 ? v.y : 
 
 Box3 splat_box(const RenderScene& s, std::size_t i) {
   const Vec3f c = s.positions[i], n = s.normals[i];
-  const float r = s.radii[i];
+  // With the ring the renderer may draw around a splat (setup_splats.h).
+  const float r = s.radii[i] * kRingScale;
   Vec3f h{r, r, r};
   if (s.axes.empty()) {
     auto ext = [&](float ni) { return r * std::sqrt(std::max(0.0f, 1.0f - ni * ni)); };

@@ -210,9 +210,9 @@ void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
   local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
-  local.counters.covered +=
-      reconstruct_pixels(local.store, pixels, f.draws, f.bins.rasters.get(), f.blend,
-                         f.options.default_albedo, local.gbuffer.data(), local.counters.overflowed);
+  local.counters.covered += reconstruct_pixels(
+      local.store, pixels, f.draws, f.bins.rasters.get(), f.blend, f.options.default_albedo,
+      {&pr, rect.x0, rect.y0, rect.width()}, local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
   // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
   // that keeps the loops free of branches.
@@ -347,9 +347,8 @@ FrameStats FrameRenderer::render_zbuffer(const RenderScene& scene, const Project
   stats.setup_s = seconds(start, cleared);  // clearing the buffer
   DrawList draws;
   if (scene.qsplat) {
-    const QSplatZBufferCounts c =
-        draw_qsplat_zbuffer(*scene.qsplat, projection, options.qsplat_threshold_px,
-                            options.cull_backfaces, zb);
+    const QSplatZBufferCounts c = draw_qsplat_zbuffer(
+        *scene.qsplat, projection, options.qsplat_threshold_px, options.cull_backfaces, zb);
     stats.lod = c.lod;
     stats.splats_in = c.selected;
     stats.splats_drawn = c.drawn;

@@ -10,9 +10,9 @@
 //
 // Deterministic: every tile is computed from its own splat list in splat index order with
 // per-tile scratch, so the image is byte-identical for any thread count (threads come from the
-// TBB arena the caller runs in). Memory beyond the scene and the framebuffer: one 68-byte
+// TBB arena the caller runs in). Memory beyond the scene and the framebuffer: one 84-byte
 // SplatRaster per splat, a 4-byte index per (splat, tile) overlap, and per thread one tile
-// A-buffer (32×32 pixels × max_fragments × 12 bytes).
+// A-buffer (32×32 pixels × (max_fragments + kRingSlots) × 12 bytes).
 #pragma once
 
 #include <cstdint>

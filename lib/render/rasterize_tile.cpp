@@ -12,12 +12,17 @@ namespace {
 
 constexpr int kWeightTableSize = 1024;
 
-// Sampled at the centres of kWeightTableSize equal steps of rho2.
+constexpr float kRing2 = kRingScale * kRingScale;
+
+// Sampled at the centres of kWeightTableSize equal steps of rho2 over [0, kRing2].
 const std::array<float, kWeightTableSize + 1>& weight_table() {
   static const auto table = [] {
     std::array<float, kWeightTableSize + 1> t{};
-    for (int i = 0; i <= kWeightTableSize; ++i)
-      t[i] = std::exp(-kGaussianSharpness * std::min(1.0f, (i + 0.5f) / kWeightTableSize));
+    const float rim = std::exp(-kGaussianSharpness * kRing2);
+    for (int i = 0; i <= kWeightTableSize; ++i) {
+      const float rho2 = std::min(kRing2, (i + 0.5f) * kRing2 / kWeightTableSize);
+      t[i] = std::exp(-kGaussianSharpness * rho2) - rim;
+    }
     return t;
   }();
   return table;
@@ -26,7 +31,8 @@ const std::array<float, kWeightTableSize + 1>& weight_table() {
 }  // namespace
 
 float gaussian_weight(float rho2) {
-  return weight_table()[static_cast<int>(std::clamp(rho2, 0.0f, 1.0f) * kWeightTableSize)];
+  return weight_table()[static_cast<int>(std::clamp(rho2, 0.0f, kRing2) *
+                                         (kWeightTableSize / kRing2))];
 }
 
 namespace {
@@ -35,7 +41,7 @@ namespace {
 // the splat has clip partners; each hit's scene point goes through the fragment test first and
 // the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
 // changes nothing but the discarded fragments.
-template <bool kClip>
+template <bool kClip, bool kRing>
 inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const TileRect& tile,
                                 const float* table, FragmentStore& store, const ClipContext* clip,
                                 uint64_t& clipped) {
@@ -55,20 +61,24 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
     int pixel = (y - tile.y0) * stride + (xs - tile.x0);
     for (int x = xs; x <= xe; ++x, ++pixel) {
       const float q = u * u + v * v, l2 = l * l;
-      if (q <= l2 && l2 > 0) {
+      if (q <= (kRing ? kRing2 : 1.0f) * l2 && l2 > 0) {
         const float inv = 1.0f / l;
         const float rho2 = q * inv * inv;
         const float depth = s.nc * inv;
-        bool keep = true;
+        // Ring fragments carry their weight negated.
+        float w = table[static_cast<int>(rho2 * (kWeightTableSize / kRing2))];
+        if constexpr (kRing) w = rho2 <= 1.0f ? w : -w;
+        // depth > 0: a ring that reaches the eye's plane meets some rays behind the eye (a disc
+        // never does: setup_splats draws only discs beyond the near plane).
+        bool keep = !kRing || depth > 0;
         if constexpr (kClip) {
           const Projection& pr = clip->projection;
           const Vec3f p = pr.eye + pr.ray(float(x) + 0.5f, float(y) + 0.5f) * depth;
-          keep = !graph::fragment_discarded(view, p);
-          clipped += !keep;
+          const bool discarded = graph::fragment_discarded(view, p);
+          clipped += keep & discarded;
+          keep = keep & !discarded;
         }
-        if (keep)
-          fragments +=
-              store.add(pixel, depth, table[static_cast<int>(rho2 * kWeightTableSize)], index);
+        if (keep) fragments += store.add(pixel, depth, w, index);
       }
       l += s.l[0];
       u += s.u[0];
@@ -84,9 +94,12 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
 inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, const TileRect& tile,
                               const float* table, FragmentStore& store, const ClipContext* clip,
                               uint64_t& clipped) {
+  const bool ring = s.ring2 > 1.0f;
   if (clip && clip->table->has_partners(index))
-    return rasterize_splat<true>(s, index, tile, table, store, clip, clipped);
-  return rasterize_splat<false>(s, index, tile, table, store, nullptr, clipped);
+    return ring ? rasterize_splat<true, true>(s, index, tile, table, store, clip, clipped)
+                : rasterize_splat<true, false>(s, index, tile, table, store, clip, clipped);
+  return ring ? rasterize_splat<false, true>(s, index, tile, table, store, nullptr, clipped)
+              : rasterize_splat<false, false>(s, index, tile, table, store, nullptr, clipped);
 }
 
 }  // namespace

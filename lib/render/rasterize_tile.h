@@ -1,13 +1,15 @@
 // Rasterisation of one tile: every splat binned to the tile is ray cast over its pixel box
 // clipped to the tile (setup_splats.h); pixels whose ray hits the disc add a fragment (depth,
-// Gaussian weight, splat index) to the tile's FragmentStore.
+// Gaussian weight, splat index) to the tile's FragmentStore. Pixels whose ray meets the splat's
+// plane in the ring around the disc, out to kRingScale × its radius, add a ring fragment: its
+// weight negated, for the normal's reconstruction only (reconstruct_pixel.h).
 //
 // Order: the splats facing the eye first, then those facing away, each group in ascending splat
 // index order. On closed models the front faces then set every pixel's nearest depth before the
 // hidden back faces arrive, so the store's depth window drops those at once, and a back-facing
 // splat whose whole depth range lies beyond the tile's farthest nearest depth + window is
-// skipped without ray casting. What the store keeps (the K nearest fragments within the window)
-// does not depend on the order, so neither does the image.
+// skipped without ray casting. What the store keeps (the K nearest disc and kRingSlots nearest
+// ring fragments within the window) does not depend on the order, so neither does the image.
 //
 // Clipping ([IvoMSc] §4.4, docs/references.md): a fragment of a splat with clip partners is
 // discarded before it reaches the store when graph::fragment_discarded holds for its 3D point P =
@@ -31,8 +33,9 @@ struct TileRect {
   int height() const { return y1 - y0 + 1; }
 };
 
-// Weight of a fragment at squared disc radius rho2 in [0, 1]: exp(-kGaussianSharpness · rho2),
-// a Gaussian cut off at the disc's rim.
+// Weight of a fragment at squared disc radius rho2 in [0, kRingScale²] (1 at the disc's rim):
+// exp(-kGaussianSharpness · rho2) less its value at the ring's rim, a Gaussian that falls to 0
+// there ([Botsch05]).
 inline constexpr float kGaussianSharpness = 2.0f;
 float gaussian_weight(float rho2);
 

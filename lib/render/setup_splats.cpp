@@ -64,7 +64,8 @@ inline float ceil_small(float v) {
 struct Block {
   float px[kBlock], py[kBlock], pz[kBlock], nx[kBlock], ny[kBlock], nz[kBlock], r[kBlock];
   float ux[kBlock], uy[kBlock], uz[kBlock], rv[kBlock];  // elliptic splats: axis u, minor radius
-  float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock];
+  float nc[kBlock], zmin[kBlock], zmax[kBlock], ok[kBlock], cx[kBlock], cy[kBlock];
+  float ring2[kBlock];
   float x0[kBlock], x1[kBlock], y0[kBlock], y1[kBlock];
   float l[3][kBlock], u[3][kBlock], v[3][kBlock];
 };
@@ -164,16 +165,21 @@ template <bool kEllipse, bool kRoundInsn>
     const bool front = (c.z - half_depth > k.near) & !(cull_backfaces & (nc > 0));
     const float cz = front ? c.z : 1.0f;
     const float inv_r = 1.0f / r, inv_z = 1.0f / cz;
+    // The ring out to kRingScale × the radii (rasterize_tile.h) for splats over kRingMinPx in
+    // radius whose ring lies wholly beyond the near plane (the box formula needs the whole figure
+    // in front of the eye); the box takes it in.
+    const bool ring = (r * k.f * inv_z > kRingMinPx) & (c.z - kRingScale * half_depth > k.near);
+    const float box_scale = ring ? kRingScale : 1.0f;
     float x0, x1, y0, y1;
     if constexpr (kEllipse) {
-      const float ra2 = r * r, rb2 = rv * rv;
+      const float ra2 = r * r * (box_scale * box_scale), rb2 = rv * rv * (box_scale * box_scale);
       const float a = min_f(ra2 * ax.z * ax.z + rb2 * ay.z * ay.z - cz * cz, -1e-12f * ra2);
       ellipse_axis_range<kRoundInsn>(c.x * inv_z, ax.x, ax.z, ay.x, ay.z, ra2, rb2, a, k.f, k.cx,
                                      x0, x1);
       ellipse_axis_range<kRoundInsn>(c.y * inv_z, ax.y, ax.z, ay.y, ay.z, ra2, rb2, a, k.f, k.cy,
                                      y0, y1);
     } else {
-      const float depth_ratio = cz * inv_r;
+      const float depth_ratio = cz * inv_r / box_scale;
       const float a = min_f(one_minus_nz2 - depth_ratio * depth_ratio, -1e-12f);
       const float inv_a = 1.0f / a;
       axis_range<kRoundInsn>(k.f * c.x * inv_z, n.x, n.z, one_minus_nz2, inv_a, a, k.f, k.cx, x0,
@@ -200,8 +206,11 @@ template <bool kEllipse, bool kRoundInsn>
     b.v[1][i] = wv.y * k.inv_f;
     b.v[2][i] = wv.x * dx + wv.y * dy + wv.z;
     b.nc[i] = nc;
-    b.zmin[i] = c.z - half_depth;
-    b.zmax[i] = c.z + half_depth;
+    b.cx[i] = c.x;
+    b.cy[i] = c.y;
+    b.zmin[i] = c.z - box_scale * half_depth;
+    b.zmax[i] = c.z + box_scale * half_depth;
+    b.ring2[i] = box_scale * box_scale;
     b.x0[i] = x0;
     b.x1[i] = x1;
     b.y0[i] = y0;
@@ -265,6 +274,9 @@ std::size_t setup_splats(const DrawList& draws, const Projection& projection,
       s.zmin = b.zmin[i];
       s.zmax = b.zmax[i];
       s.normal = draws.normals[first + i];
+      s.cx = b.cx[i];
+      s.cy = b.cy[i];
+      s.ring2 = b.ring2[i];
       s.x0 = static_cast<int16_t>(b.x0[i]);
       s.x1 = static_cast<int16_t>(b.x1[i]);
       s.y0 = static_cast<int16_t>(b.y0[i]);

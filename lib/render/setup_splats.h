@@ -21,14 +21,27 @@
 
 namespace splatkit::render {
 
-struct SplatRaster {
+// Splats more than kRingMinPx in radius on screen are drawn with a ring around them out to
+// kRingScale × their radii: the ring's pixels add fragments that only the normal's reconstruction
+// uses (rasterize_tile.h), so that normals blend over wider kernels where splats barely overlap
+// ([Botsch05]) and a cover's pinholes close (reconstruct_pixel.h). Smaller splats, whose facets
+// would be a pixel or two, go without: the ring would cost half as many fragments again.
+inline constexpr float kRingScale = 1.25f;
+inline constexpr float kRingMinPx = 3.0f;
+
+struct alignas(16) SplatRaster {
+  // What reconstruction reads, first, so that it mostly lies in one cache line (the rest is for
+  // rasterising). nc = n·c: the fragment's depth is nc / L, and nc <= 0 when the splat faces the
+  // eye. The splat's unit normal (scene frame), read from here, still in cache from rasterising
+  // the tile, rather than from the DrawList. Its centre's camera-space x (right) and y (down)
+  // relative to the eye, scene units: for reconstruction's normal fit.
+  float nc;
+  Vec3f normal;
+  float cx, cy;
   // Coefficients of L, U, V as f[0]·(i − x0) + f[1]·(j − y0) + f[2]: value at the box corner.
   float l[3], u[3], v[3];
-  float nc;          // n·c: depth = nc / L
-  float zmin, zmax;  // camera-depth range of the disc (Z-range reconstruction)
-  // The splat's unit normal (scene frame): reconstruction reads it from here, still in cache
-  // from rasterising the tile, rather than from the DrawList.
-  Vec3f normal;
+  float zmin, zmax;  // camera-depth range of the disc with its ring (Z-range reconstruction)
+  float ring2;       // squared outer radius of the ring, in radii: kRingScale² or 1 (no ring)
   int16_t x0, y0, x1, y1;  // inclusive pixel box clipped to the image; x0 > x1 when not drawn
 
   bool drawn() const { return x0 <= x1; }

@@ -87,7 +87,9 @@ if command -v oiiotool >/dev/null; then
   expect_exit 0 "$V" -q "$WORK/cube-s.splk" -o "$WORK/cube.exr" --shade normals --view 30,28 \
     --width 240 --height 180 --no-clip --no-surface-ids
   n=$(blended "$WORK/cube.exr")
-  [ "$n" -gt 300 ] && pass || fail "cube without clipping and ids: only $n blended pixels"
+  # Without clipping the visible creases blend (about 200 pixels here; the back faces that also
+  # blended into the silhouettes are set aside since the reconstruction keeps front faces).
+  [ "$n" -gt 100 ] && pass || fail "cube without clipping and ids: only $n blended pixels"
 fi
 
 # Errors: a mode whose data the file lacks names the tool to run first; nothing is written.

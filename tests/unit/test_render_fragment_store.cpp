@@ -69,5 +69,40 @@ TEST(RenderFragmentStore, OverflowKeepsTheLeastDepthAndIndexInAnyOrder) {
   }
 }
 
+// Ring fragments (negative weights) have kRingSlots slots of their own: they never push out a
+// disc fragment nor a disc fragment them, losing one does not flag the pixel, and they do not set
+// the nearest depth the window counts from. Whatever the arrival order.
+TEST(RenderFragmentStore, RingFragmentsHaveSlotsOfTheirOwn) {
+  std::vector<Frag> frags{{2.0f, 0.5f, 3}, {2.5f, 0.4f, 4}, {3.0f, 0.3f, 5}};
+  for (uint32_t k = 0; k < kRingSlots + 2; ++k) frags.push_back({1.0f + 0.1f * k, -0.1f, 10 + k});
+  std::vector<Frag> order(frags);
+  std::mt19937 rng(7);
+  for (int round = 0; round < 20; ++round) {
+    std::shuffle(order.begin(), order.end(), rng);
+    FragmentStore store;
+    store.reset(1, 3, 10.0f);
+    for (const Frag& f : order) store.add(0, f.depth, f.weight, f.splat);
+    EXPECT_EQ(store.nearest(0), 2.0f);
+    EXPECT_FALSE(store.overflowed(0));
+    ASSERT_EQ(store.count(0), 3);
+    ASSERT_EQ(store.ring_count(0), kRingSlots);
+    std::vector<uint32_t> discs(store.splats(0), store.splats(0) + 3);
+    std::vector<uint32_t> rings(store.splats(0) + store.ring_offset(),
+                                store.splats(0) + store.ring_offset() + kRingSlots);
+    std::sort(discs.begin(), discs.end());
+    std::sort(rings.begin(), rings.end());
+    EXPECT_EQ(discs, (std::vector<uint32_t>{3, 4, 5}));
+    std::vector<uint32_t> nearest_rings;
+    for (uint32_t k = 0; k < kRingSlots; ++k) nearest_rings.push_back(10 + k);
+    EXPECT_EQ(rings, nearest_rings);
+  }
+  // A fourth disc fragment overflows the disc slots: flagged.
+  FragmentStore store;
+  store.reset(1, 3, 10.0f);
+  for (const Frag& f : frags) store.add(0, f.depth, f.weight, f.splat);
+  store.add(0, 2.2f, 0.6f, 6);
+  EXPECT_TRUE(store.overflowed(0));
+}
+
 }  // namespace
 }  // namespace splatkit::render

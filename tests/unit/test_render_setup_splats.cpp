@@ -86,7 +86,9 @@ TEST(RenderSetupSplats, BoxIsExactAndDepthMatchesRayCast) {
     Vec3f b = cross(d.n, a);
     for (int k = 0; k < 4096; ++k) {
       const float t = 2 * 3.14159265f * k / 4096;
-      const Vec3f q = proj.to_camera(d.c + (a * std::cos(t) + b * std::sin(t)) * d.r);
+      // The box takes in the ring (setup_splats.h) when the splat has one.
+      const Vec3f q = proj.to_camera(d.c + (a * std::cos(t) + b * std::sin(t)) *
+                                               (d.r * std::sqrt(std::max(1.0f, s.ring2))));
       const float x = proj.cx + proj.focal_px * q.x / q.z, y = proj.cy + proj.focal_px * q.y / q.z;
       min_x = std::min(min_x, x), max_x = std::max(max_x, x);
       min_y = std::min(min_y, y), max_y = std::max(max_y, y);
