@@ -9,9 +9,10 @@ packages=(
   libpcl-dev libcgal-dev libeigen3-dev libtbb-dev libnanoflann-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev zlib1g-dev
-  snakemake
+  snakemake help2man man-db
 )
 # snakemake: the workflow engine of workflows/Snakefile (tiled surveys; e2e.workflow runs it).
+# help2man, man-db: the tools' man pages, made at build time and rendered by a test.
 # pcl-tools: PCL's own command-line tools, the peers of some benchmarks.
 [ "${SPLATKIT_BENCH_DEPS:-0}" = 1 ] && packages+=(pcl-tools)
 
