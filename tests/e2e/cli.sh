@@ -125,4 +125,14 @@ for bad in 1.5X -1G nan inf 1e30G; do
 done
 [ ! -e "$WORK/m2.splk" ] && pass || fail "a refused --max-memory wrote OUT"
 
+# One name for the JSON report everywhere: --report, with --stats accepted as the same option.
+for t in "${tools[@]}"; do
+  "$BIN/$t" --help | grep -q -- "--report" || continue
+  "$BIN/$t" --help | grep -q -- "--report,--stats" && pass || fail "$t: --report without --stats"
+done
+expect_exit 0 "$BIN/estimate-normals" -q "$S/cube.ply" "$WORK/st.splk" --stats "$WORK/st.json"
+expect_eq "estimate-normals --stats" "$(jq -r .tool "$WORK/st.json")" estimate-normals
+expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" -o "$WORK/st.png" --report "$WORK/sv.json"
+jq -e .timings_s "$WORK/sv.json" >/dev/null && pass || fail "splat-view --report wrote no report"
+
 finish

@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
                  "IN is headerless RAW: width, height, sample type (int8 uint8 int16 uint16 "
                  "int32 uint32 float32 float64), byte order (little, default, or big)")
       ->type_name("W,H,TYPE[,ENDIAN]");
-  app.add_option("--report", o.paths.report,
+  app.add_option("--report,--stats", o.paths.report,
                  "Write the sizes, voids, height range, largest HAM, band rows and timings as "
                  "JSON");
   tool.add_threads_option();

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
   app.add_flag("--centroid-spheres", o.centroid_rule,
                "Node spheres by the original rule (centroid of the children + farthest) instead "
                "of the tighter sphere around the children");
-  app.add_option("--report", o.paths.report,
+  app.add_option("--report,--stats", o.paths.report,
                  "Write the counts (leaves, dropped points, nodes, levels, bytes per leaf, mean "
                  "node radius against the centroid rule) and timings as JSON");
   tool.add_columns_option(o.read.columns);

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
       ->default_val("robust")
       ->check(CLI::IsMember({"robust", "components"}));
   splatkit::tools::add_robust_options(app, o.graph.robust);
-  app.add_option("--report", o.paths.report,
+  app.add_option("--report,--stats", o.paths.report,
                  "Write the graph's counts (splats, edges, sharp edges, classes, clip partners) "
                  "and timings as JSON");
   tool.add_threads_option();

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
                  "compact: 16-byte quantised entries; full: 40-byte float entries")
       ->check(CLI::IsMember({"compact", "full"}))
       ->capture_default_str();
-  app.add_option("--report", o.paths.report,
+  app.add_option("--report,--stats", o.paths.report,
                  "Write the counts (entries, entries per point, depth, dropped empty intervals), "
                  "time per phase, points/s and peak RSS as JSON");
   tool.add_columns_option(o.read.columns);

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
                  "rows of up to 32)")
       ->check(splatkit::finite_range(0, 1e300));
   tool.add_columns_option(o.read.columns);
-  app.add_option("--report", o.report, "Write counts, timings and peak RSS as JSON here");
+  app.add_option("--report,--stats", o.report, "Write counts, timings and peak RSS as JSON here");
   tool.add_threads_option();
   return tool.run_stage(argc, argv, o.out_dir, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_tile(o, progress);

@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
                "z-buffer pass) into the --stats report as occlusion.splats_visible, and the time "
                "to render those splats alone as occlusion.floor_ms (the least any culling could "
                "leave)");
-  app.add_option("--stats", o.stats_path,
+  app.add_option("--report,--stats", o.stats_path,
                  "Write a JSON report (counts, time per stage). With several frames, \"frames\" "
                  "holds each frame's counts and times, \"mean_frame_ms\" and the occlusion "
                  "totals all of them, and the top-level counts are the last frame's");
