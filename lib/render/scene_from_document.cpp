@@ -3,20 +3,18 @@
 #include <optional>
 
 #include "graph_io/graph_chunks.h"
-#include "splatkit/error.h"
 
 namespace splatkit::render {
 
 namespace {
 
-std::vector<graph::SplatClass> classes_from_attribute(const ExtraAttribute& a,
-                                                      const std::string& name) {
+// The splat classes of a `class` attribute, or empty when a value is not one (0 smooth, 1 edge,
+// 2 intersection): then the attribute is another tool's.
+std::vector<graph::SplatClass> classes_from_attribute(const ExtraAttribute& a) {
   std::vector<graph::SplatClass> out(a.values.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
     const double v = a.values[i];
-    if (!(v == 0 || v == 1 || v == 2))
-      throw_bad_input(name, "splat " + std::to_string(i) + " has class " + std::to_string(v) +
-                                "; classes are 0 (smooth), 1 (edge), 2 (intersection)");
+    if (!(v == 0 || v == 1 || v == 2)) return {};
     out[i] = static_cast<graph::SplatClass>(static_cast<int>(v));
   }
   return out;
@@ -37,8 +35,8 @@ DocumentScene scene_from_document(LoadedCloud&& doc, const std::string& name) {
     out.classes = graph::decode_class_chunk(*c, n, name);
     out.class_source = "CLAS";
   } else if (const ExtraAttribute* a = doc.cloud.find_extra("class")) {
-    out.classes = classes_from_attribute(*a, name);
-    out.class_source = "class";
+    out.classes = classes_from_attribute(*a);
+    if (!out.classes.empty()) out.class_source = "class";
   }
   const bool id_attribute = doc.cloud.find_extra("surface_id") != nullptr;
   out.scene = make_render_scene(std::move(doc.cloud), name);

@@ -7,7 +7,10 @@
 //                                      count and its ids against its own surface count, while an
 //                                      attribute is only a number per splat;
 //   CLAS chunk (build-splat-graph)  -> classes (for --shade sharp); without CLAS the `class`
-//                                      attribute (segment-surfaces' PLY output).
+//                                      attribute (segment-surfaces' PLY output) when every value
+//                                      is 0, 1 or 2; an attribute of that name with other values
+//                                      is another tool's (scene labels, a classification) and is
+//                                      left alone.
 // Chunks are decoded as hostile input (graph_chunks.h): a malformed one throws Error(kBadInput)
 // naming `name`, the chunk and the byte.
 #pragma once
@@ -28,8 +31,7 @@ struct DocumentScene {
   std::string class_source;                // "CLAS", "class" or ""
 };
 
-// Takes the cloud out of `doc`. Errors of make_render_scene, plus the chunk errors above and
-// Error(kBadInput) for a `class` attribute value other than 0, 1, 2.
+// Takes the cloud out of `doc`. Errors of make_render_scene, plus the chunk errors above.
 DocumentScene scene_from_document(LoadedCloud&& doc, const std::string& name);
 
 }  // namespace splatkit::render

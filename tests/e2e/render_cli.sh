@@ -152,4 +152,10 @@ expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 1,2,3 --view 10,20
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.png" --eye 0,0,0 --target 0,0,0
 expect_exit 1 "$V" "$S/sphere.ply" -o "$WORK/x.nosuchformat"
 expect_exit 2 "$V" "$WORK/missing.ply" -o "$WORK/x.png"
+# A `class` attribute that is not build-splat-graph's (scene labels 3..7 here) is left alone.
+"$BIN/splat-synth" -q sphere "$WORK/labelled.xyz" -n 2000
+awk '!/^#/ { print $0, 3 + NR % 5 }' "$WORK/labelled.xyz" >"$WORK/labelled-class.xyz"
+"$BIN/splat-convert" -q --columns x,y,z,nx,ny,nz,r,g,b,radius,patch_id,class \
+  "$WORK/labelled-class.xyz" "$WORK/labelled.ply"
+expect_exit 0 "$V" "$WORK/labelled.ply" -o "$WORK/labelled.png"
 finish
