@@ -87,21 +87,7 @@ echo "test-cluster.sh: Slurm up: $(sinfo -h -o '%P %D nodes %c CPUs %T')"
 
 # The survey: a CAD part and a torus (i.i.d. samples) in four LAZ files cut along slanted lines.
 cd "$work"
-"$bin/splat-synth" -q cad cad.xyz -n 60000 --random --seed 3 --no-color
-"$bin/splat-synth" -q torus torus.xyz -n 40000 --random --seed 4 --no-color
-python3 - cad.xyz torus.xyz <<'PY'
-import sys
-files = [open("scan%d.xyz" % k, "w") for k in range(4)]
-for name, dx in ((sys.argv[1], 0.0), (sys.argv[2], 3.2)):
-    for l in open(name):
-        if not l.strip() or l[0] == "#": continue
-        x, y, z = (10 * float(v) for v in l.split()[:3])
-        x += 10 * dx
-        u, v = x + 0.3 * y, y - 0.2 * x
-        files[(u > 17) * 2 + (v > -3)].write("%.4f %.4f %.4f\n" % (x, y, z))
-PY
-mkdir -p scans
-for k in 0 1 2 3; do "$bin/splat-convert" -q --columns x,y,z "scan$k.xyz" "scans/scan$k.laz"; done
+"$root/scripts/make-test-survey.sh" "$work" "$bin" 100000
 config=(input="$work/scans/*.laz" tile_size=12 bin="$bin" threads=1)
 t0=$(date +%s.%N)
 snakemake -s "$root/workflows/Snakefile" --profile "$root/workflows/profiles/slurm" -q \

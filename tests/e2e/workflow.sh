@@ -7,23 +7,9 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 cd "$WORK"
 command -v snakemake >/dev/null || { fail "snakemake is not installed (scripts/install-deps.sh)"; finish; }
 # i.i.d. samples (a regular grid's equidistant neighbours are ranked by point order, which tiles
-# change) of a CAD part and a torus side by side, in metres.
-"$BIN/splat-synth" -q cad cad.xyz -n 24000 --random --seed 3 --no-color
-"$BIN/splat-synth" -q torus torus.xyz -n 16000 --random --seed 4 --no-color
-python3 - cad.xyz torus.xyz <<'PY'
-import sys
-files = [open("scan%d.xyz" % k, "w") for k in range(4)]
-for name, dx in ((sys.argv[1], 0.0), (sys.argv[2], 3.2)):
-    for l in open(name):
-        if not l.strip() or l[0] == "#": continue
-        x, y, z = (10 * float(v) for v in l.split()[:3])
-        x += 10 * dx
-        u, v = x + 0.3 * y, y - 0.2 * x
-        files[(u > 17) * 2 + (v > -3)].write("%.4f %.4f %.4f\n" % (x, y, z))
-PY
-mkdir -p scans
-for k in 0 1 2 3; do "$BIN/splat-convert" -q --columns x,y,z "scan$k.xyz" "scans/scan$k.laz"; done
-total=$(cat scan?.xyz | wc -l)
+# change) of a CAD part and a torus, in four LAZ files.
+bash "$SRC/scripts/make-test-survey.sh" "$WORK" "$BIN" 40000
+total=40000
 expect_exit 0 snakemake -s "$SRC/workflows/Snakefile" --cores 2 -q \
   --config input="$WORK/scans/*.laz" outdir="$WORK/OUT" tile_size=12 bin="$BIN"
 for f in splats.splk model.spt model.qs report.json tiled/tiles.json; do
