@@ -1,13 +1,13 @@
 #include "apps/run_splat_convert.h"
 
 #include <cstdio>
-#include <numeric>
 
 #include "formats/write_cloud.h"
 #include "graph_io/chunks_to_attributes.h"
 #include "splatkit/append_points.h"
 #include "splatkit/error.h"
 #include "splatkit/same_file.h"
+#include "splatkit/take_own_points.h"
 
 namespace splatkit::apps {
 
@@ -24,30 +24,21 @@ FileFormat format_option(const std::string& format) {
   throw_usage("--format must be ply, xyz, off, splk, las or laz, got '" + format + "'");
 }
 
-constexpr const char* kHaloAttribute = "halo";  // splat-tile's (formats/tiles.md)
-
-// The points of `cloud` that are not another tile's halo, and the cloud without that attribute.
-std::vector<uint32_t> own_points(SplatCloud& cloud) {
-  std::vector<uint32_t> keep;
-  const ExtraAttribute* halo = cloud.find_extra(kHaloAttribute);
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    if (halo == nullptr || halo->values[i] == 0) keep.push_back(static_cast<uint32_t>(i));
-  std::erase_if(cloud.extras, [](const ExtraAttribute& e) { return e.name == kHaloAttribute; });
-  return keep;
-}
-
 nlohmann::json input_json(const InputStream& in, const std::string& format, std::size_t points) {
   char crc[9];
   std::snprintf(crc, sizeof crc, "%08x", in.checksum());
-  return {{"name", in.name()}, {"format", format}, {"bytes", in.offset()}, {"crc32c", crc},
+  return {{"name", in.name()},
+          {"format", format},
+          {"bytes", in.offset()},
+          {"crc32c", crc},
           {"points", points}};
 }
 
 // The inputs' own points concatenated into `doc` (the first input's, read by the stage), in the
 // first input's frame; returns the inputs' names, sizes and checksums.
 nlohmann::json concatenate(Stage& stage, LoadedCloud& doc, const SplatConvertOptions& o,
-                 const ProgressFn& progress) {
-  std::vector<uint32_t> keep = own_points(doc.cloud);
+                           const ProgressFn& progress) {
+  std::vector<uint32_t> keep = take_own_points(doc.cloud);
   SplatCloud all;
   all.origin = doc.cloud.origin;
   append_points(all, doc.cloud, keep, stage.input_name());
@@ -61,7 +52,7 @@ nlohmann::json concatenate(Stage& stage, LoadedCloud& doc, const SplatConvertOpt
         if (f >= 0) progress((static_cast<double>(a + 1) + f) / count, phase);
       });
     });
-    keep = own_points(more.cloud);
+    keep = take_own_points(more.cloud);
     if (all.size() > 0 && more.cloud.size() > 0)
       if (const std::string d = fields_difference(all, more.cloud); !d.empty())
         throw Error(ErrorKind::kBadInput,

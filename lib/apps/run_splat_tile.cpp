@@ -8,9 +8,9 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -26,6 +26,7 @@
 #include "splatkit/output_file.h"
 #include "splatkit/same_file.h"
 #include "splatkit/seconds_since.h"
+#include "splatkit/take_own_points.h"
 #include "splatkit/tile_grid.h"
 #include "splatkit/tile_halo.h"
 #include "splatkit/version.h"
@@ -37,7 +38,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kTool = "splat-tile";
-constexpr const char* kHaloAttribute = "halo";
 // The skyline beyond each side of a tile (formats/tiles.md): over a band of half a tile beyond
 // the halo's edge, cut into kSkylineSegments along the side, the height of the highest point in
 // each segment.
@@ -186,6 +186,70 @@ fs::path make_out_dir(const std::string& out_dir) {
   return dir;
 }
 
+// What pass 2 needs of the whole run.
+struct TileRun {
+  double tile_size, halo;
+  std::array<double, 3> origin;  // the first input's
+  const std::vector<std::string>& input_names;
+  const std::map<TileKey, Skyline>& skylines;
+};
+
+// Pass 2 for one tile that owns points: its parts gathered into dir/tiles/<name>.splk, in the
+// tile's own frame, with the halo attribute and the metadata; returns its entry of tiles.json.
+nlohmann::json write_tile(const fs::path& dir, const TileKey& key, const TileParts& t,
+                          const TileRun& run) {
+  const std::string name = tile_name(key);
+  LoadedCloud doc;
+  doc.format = "splk";
+  SplatCloud& tile = doc.cloud;
+  // The frame: the first input's (so that a tile's positions are the same float32 values as
+  // in a run over the whole survey read from the same files), unless the tile lies farther
+  // from it than float32 keeps millimetres; then one chosen at the square's corner as the
+  // readers choose one (splat_cloud.h).
+  const double corner[3] = {static_cast<double>(key.i) * run.tile_size,
+                            static_cast<double>(key.j) * run.tile_size, t.first_z};
+  tile.origin = run.origin;
+  for (int a = 0; a < 3; ++a)
+    if (!(std::fabs(corner[a] - run.origin[a]) + (a < 2 ? run.tile_size + run.halo : 0) <
+          kFrameReach))
+      tile.origin = choose_origin({corner[0], corner[1], corner[2]});
+  append_parts(tile, t.own, run.input_names);
+  append_parts(tile, t.halo, run.input_names);
+  ExtraAttribute flag(kHaloAttribute, ScalarType::kUInt8);
+  flag.values.resize(tile.size());
+  for (std::size_t i = t.own_points; i < tile.size(); ++i) flag.values.set(i, 1);
+  tile.extras.push_back(std::move(flag));
+  // How high the survey reaches just beyond each side: estimate-normals' views do not look
+  // through a border where the survey goes on.
+  const auto sky = run.skylines.find(key);
+  const std::string file = "tiles/" + name + ".splk";
+  doc.metadata = {
+      {"tool", kTool},
+      {"version", kVersion},
+      {"tile",
+       {{"name", name},
+        {"i", key.i},
+        {"j", key.j},
+        {"size", run.tile_size},
+        {"halo", run.halo},
+        {"square", square_json(key, run.tile_size)},
+        {"own_points", t.own_points},
+        {"halo_points", t.halo_points},
+        {"skyline", sky != run.skylines.end() ? skyline_json(sky->second, run.tile_size / 2)
+                                              : nlohmann::json::object()}}},
+      {"inputs", run.input_names}};
+  WriteOptions w;
+  w.format = FileFormat::kSplk;
+  write_cloud(doc, (dir / file).string(), w);
+  return {{"name", name},
+          {"file", file},
+          {"i", key.i},
+          {"j", key.j},
+          {"square", square_json(key, run.tile_size)},
+          {"own_points", t.own_points},
+          {"halo_points", t.halo_points}};
+}
+
 }  // namespace
 
 StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progress) {
@@ -234,30 +298,23 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     }
     SplatCloud& cloud = doc.cloud;
     faces_dropped += cloud.face_count();
-    std::vector<uint32_t> keep;  // the points this input gives: all but another tile's halo
-    keep.reserve(cloud.size());
-    if (const ExtraAttribute* h = cloud.find_extra(kHaloAttribute)) {
-      for (std::size_t i = 0; i < cloud.size(); ++i)
-        if (h->values[i] == 0) keep.push_back(static_cast<uint32_t>(i));
-      skipped_halo += cloud.size() - keep.size();
-      std::erase_if(cloud.extras, [](const ExtraAttribute& e) { return e.name == kHaloAttribute; });
-    } else {
-      keep.resize(cloud.size());
-      std::iota(keep.begin(), keep.end(), 0u);
-    }
+    // The points this input gives: all but another tile's halo.
+    const std::vector<uint32_t> keep = take_own_points(cloud);
+    skipped_halo += cloud.size() - keep.size();
     if (a == 0 || first_fields.size() == 0) {
       first_fields = SplatCloud{};
       first_fields.origin = cloud.origin;
       if (cloud.size() > 0) append_points(first_fields, cloud, std::vector<uint32_t>{0}, name);
     } else if (cloud.size() > 0) {
       if (const std::string d = fields_difference(first_fields, cloud); !d.empty())
-        throw Error(ErrorKind::kBadInput, name + ": " + d + " (every input must hold the same fields)");
+        throw Error(ErrorKind::kBadInput,
+                    name + ": " + d + " (every input must hold the same fields)");
     }
-    if (halo < 0) {
+    if (halo < 0 && keep.size() >= kTileHaloRow) {  // from the first input that can tell
       progress((static_cast<double>(a) + 0.5) / n_inputs * 0.7, "halo");
       halo = tile_halo(cloud.positions);
       halo_rule = "auto: twice the " + std::to_string(static_cast<int>(kTileHaloQuantile * 100)) +
-                  "th percentile, over the first input, of the distance from a point to its " +
+                  "th percentile, over " + name + ", of the distance from a point to its " +
                   std::to_string(kTileHaloRow) + "th nearest";
     }
     // Each point's tile and the tiles whose halo holds it; a run of points in one tile costs one
@@ -306,60 +363,13 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   nlohmann::json tile_list = nlohmann::json::array();
   std::vector<std::string> written;
   std::size_t done = 0;
+  const TileRun run{o.tile_size, halo, first_fields.origin, input_names, skylines};
   for (const auto& [key, t] : tiles) {
-    progress(0.7 + 0.3 * static_cast<double>(done++) / static_cast<double>(tiles.size()),
-             "tiles");
+    progress(0.7 + 0.3 * static_cast<double>(done++) / static_cast<double>(tiles.size()), "tiles");
     if (t.own_points == 0) continue;  // a halo without a tile: its points belong elsewhere
-    const std::string name = tile_name(key);
-    LoadedCloud doc;
-    doc.format = "splk";
-    SplatCloud& tile = doc.cloud;
-    // The frame: the first input's (so that a tile's positions are the same float32 values as
-    // in a run over the whole survey read from the same files), unless the tile lies farther
-    // from it than float32 keeps millimetres; then one chosen at the square's corner as the
-    // readers choose one (splat_cloud.h).
-    const double corner[3] = {static_cast<double>(key.i) * o.tile_size,
-                              static_cast<double>(key.j) * o.tile_size, t.first_z};
-    tile.origin = first_fields.origin;
-    for (int a = 0; a < 3; ++a)
-      if (!(std::fabs(corner[a] - first_fields.origin[a]) + (a < 2 ? o.tile_size + halo : 0) <
-            kFrameReach))
-        tile.origin = choose_origin({corner[0], corner[1], corner[2]});
-    append_parts(tile, t.own, input_names);
-    append_parts(tile, t.halo, input_names);
-    ExtraAttribute flag(kHaloAttribute, ScalarType::kUInt8);
-    flag.values.resize(tile.size());
-    for (std::size_t i = t.own_points; i < tile.size(); ++i) flag.values.set(i, 1);
-    tile.extras.push_back(std::move(flag));
-    // How high the survey reaches just beyond each side: estimate-normals' views do not look
-    // through a border where the survey goes on.
-    const auto sky = skylines.find(key);
-    const std::string file = "tiles/" + name + ".splk";
-    doc.metadata = {{"tool", kTool},
-                    {"version", kVersion},
-                    {"tile",
-                     {{"name", name},
-                      {"i", key.i},
-                      {"j", key.j},
-                      {"size", o.tile_size},
-                      {"halo", halo},
-                      {"square", square_json(key, o.tile_size)},
-                      {"own_points", t.own_points},
-                      {"halo_points", t.halo_points},
-                      {"skyline", sky != skylines.end() ? skyline_json(sky->second, o.tile_size / 2)
-                                                        : nlohmann::json::object()}}},
-                    {"inputs", input_names}};
-    WriteOptions w;
-    w.format = FileFormat::kSplk;
-    write_cloud(doc, (dir / file).string(), w);
-    written.push_back(name + ".splk");
-    tile_list.push_back({{"name", name},
-                         {"file", file},
-                         {"i", key.i},
-                         {"j", key.j},
-                         {"square", square_json(key, o.tile_size)},
-                         {"own_points", t.own_points},
-                         {"halo_points", t.halo_points}});
+    const nlohmann::json entry = write_tile(dir, key, t, run);
+    written.push_back(entry["name"].get<std::string>() + ".splk");
+    tile_list.push_back(entry);
   }
   timings["tiles"] = seconds_since(t1);
 

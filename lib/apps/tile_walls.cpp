@@ -16,15 +16,17 @@ std::vector<VisibilityWall> tile_walls(const nlohmann::json& metadata, const Spl
     const double hi[2] = {tile.at("square").at("max").at(0).get<double>(),
                           tile.at("square").at("max").at(1).get<double>()};
     const double halo = tile.at("halo").get<double>();
-    if (!std::isfinite(lo[0] + lo[1] + hi[0] + hi[1] + halo) || !(halo >= 0) ||
-        !(lo[0] < hi[0]) || !(lo[1] < hi[1]))
+    if (!std::isfinite(lo[0] + lo[1] + hi[0] + hi[1] + halo) || !(halo >= 0) || !(lo[0] < hi[0]) ||
+        !(lo[1] < hi[1]))
       return walls;
     float bottom = cloud.positions[0].z;
     for (const Vec3f& p : cloud.positions) bottom = std::min(bottom, p.z);
     // The halo's outer edge, in the local frame.
     const double ox = cloud.origin[0], oy = cloud.origin[1], oz = cloud.origin[2];
-    const float x0 = static_cast<float>(lo[0] - halo - ox), x1 = static_cast<float>(hi[0] + halo - ox);
-    const float y0 = static_cast<float>(lo[1] - halo - oy), y1 = static_cast<float>(hi[1] + halo - oy);
+    const float x0 = static_cast<float>(lo[0] - halo - ox),
+                x1 = static_cast<float>(hi[0] + halo - ox);
+    const float y0 = static_cast<float>(lo[1] - halo - oy),
+                y1 = static_cast<float>(hi[1] + halo - oy);
     // Per side: where its segments start and the direction along it (the order of the skyline's
     // segments: increasing y on the x sides, increasing x on the y sides).
     const char* const names[4] = {"-x", "+x", "-y", "+y"};

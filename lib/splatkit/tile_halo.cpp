@@ -23,8 +23,9 @@ double tile_halo(std::span<const Vec3f> positions) {
     const std::size_t got = index.knn(positions[i], kTileHaloRow, row.data(), sq.data());
     reach[s] = got == kTileHaloRow ? std::sqrt(sq[kTileHaloRow - 1]) : 0.0f;
   });
-  const auto q = reach.begin() + static_cast<std::ptrdiff_t>(
-                                     std::floor(kTileHaloQuantile * static_cast<double>(samples - 1)));
+  const auto q =
+      reach.begin() +
+      static_cast<std::ptrdiff_t>(std::floor(kTileHaloQuantile * static_cast<double>(samples - 1)));
   std::nth_element(reach.begin(), q, reach.end());
   return 2.0 * static_cast<double>(*q);
 }

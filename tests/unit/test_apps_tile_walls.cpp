@@ -31,9 +31,13 @@ TEST(TileWalls, NoneWithoutATile) {
   EXPECT_TRUE(tile_walls(nlohmann::json::object(), cloud).empty());
   EXPECT_TRUE(tile_walls(nlohmann::json::parse(R"({"tile": {"square": 3}})"), cloud).empty());
   EXPECT_TRUE(tile_walls(nlohmann::json::parse(R"({"tile": {"i": 0, "j": 0, "halo": -1,
-      "square": {"min": [0, 0], "max": [1, 1]}, "skyline": {"-x": [5]}}})"), cloud).empty());
+      "square": {"min": [0, 0], "max": [1, 1]}, "skyline": {"-x": [5]}}})"),
+                         cloud)
+                  .empty());
   EXPECT_TRUE(tile_walls(nlohmann::json::parse(R"({"tile": {"i": 0, "j": 0, "halo": 1,
-      "square": {"min": [0, 0], "max": [1, 1]}, "skyline": {"-x": "high"}}})"), cloud).empty());
+      "square": {"min": [0, 0], "max": [1, 1]}, "skyline": {"-x": "high"}}})"),
+                         cloud)
+                  .empty());
 }
 
 }  // namespace
