@@ -32,7 +32,7 @@ struct SplatTileOptions {
   std::vector<std::string> inputs;  // any format read_cloud reads; at most one "-"
   std::string out_dir;
   double tile_size = 0;  // > 0, in the inputs' units
-  double halo = -1;      // >= 0; negative: tile_halo() of the first input (tile_halo.h)
+  double halo = -1;      // >= 0; negative: tile_halo() of the first input of 64 points or more
   ReadOptions read;      // read.columns: text inputs' column layout
   std::string report;    // JSON report; empty = none; "-" = standard output
 };

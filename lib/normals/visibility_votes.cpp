@@ -79,7 +79,11 @@ class ViewDrawer {
   // Draws all of p, n, r; tests (votes for) the first `tested` only (the rest: occluders).
   ViewDrawer(std::span<const Vec3f> p, std::span<const Vec3f> n, std::span<const float> r,
              std::size_t tested, std::size_t max_pixels, bool sse2)
-      : p_(p), n_(n), r_(r), tested_(tested), max_pixels_(std::max<std::size_t>(max_pixels, 1)),
+      : p_(p),
+        n_(n),
+        r_(r),
+        tested_(tested),
+        max_pixels_(std::max<std::size_t>(max_pixels, 1)),
         sse2_(sse2) {
     lo_ = hi_ = p[0];
     for (const Vec3f& q : p) {

@@ -48,9 +48,9 @@ namespace splatkit {
 // through that border would see what the neighbours hide (the inside of a building cut in two).
 // Drawn into the depth buffers as a grid of discs; it votes for nothing. +z is up.
 struct VisibilityWall {
-  Vec3f base;   // one bottom corner (positions' frame)
-  Vec3f along;  // to the other bottom corner: horizontal (z = 0)
-  float top;    // the height of its top edge (> base.z)
+  Vec3f base;      // one bottom corner (positions' frame)
+  Vec3f along;     // to the other bottom corner: horizontal (z = 0)
+  float top;       // the height of its top edge (> base.z)
   float step = 0;  // the discs' spacing and radius; 0: the larger of its sides / 64
 };
 
@@ -62,7 +62,7 @@ struct VisibilityOptions {
   std::size_t views = 8;          // >= 1
   float min_elevation_deg = -10;  // the lowest view, degrees above the horizon (-90..90)
   std::size_t max_pixels = std::size_t{1} << 22;  // per view's buffer
-  std::vector<VisibilityWall> walls;  // with up = +z only
+  std::vector<VisibilityWall> walls;              // with up = +z only
 };
 
 struct VisibilityStats {

@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
   app.add_option("--format", o.format, "Output format, overriding OUT's extension")
       ->check(CLI::IsMember({"ply", "splk"}));
   tool.add_columns_option(o.read.columns);
-  app.add_option("--report,--stats", o.paths.report, "Write counts, timings and peak RSS as JSON here");
+  app.add_option("--report,--stats", o.paths.report,
+                 "Write counts, timings and peak RSS as JSON here");
   tool.add_threads_option();
   tool.add_memory_options(o.memory,
                           "The cloud is then processed piece by piece (pieces of about "

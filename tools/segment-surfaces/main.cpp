@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
                  "Faces at a step or a crease stay apart (0: none of this)")
       ->default_val(3.0)
       ->check(CLI::Range(0.0, 1000.0));
-  app.add_option("--report,--stats", o.paths.report, "Write the surfaces and their sizes as JSON here");
+  app.add_option("--report,--stats", o.paths.report,
+                 "Write the surfaces and their sizes as JSON here");
   tool.add_threads_option();
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_segment_surfaces(o, progress);

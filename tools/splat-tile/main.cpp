@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
       ->check(splatkit::positive_finite());
   app.add_option("--halo", o.halo,
                  "Halo H: the other tiles' points within H of a tile's square (in plan) that it "
-                 "also holds. Default: twice the 99th percentile, over the first input, of the "
+                 "also holds. Default: twice the 99th percentile, over the first input of 64 "
+                 "points or more, of the "
                  "distance from a point to its 64th nearest (the widest neighbourhood "
                  "estimate-normals reads with its defaults reaches a row of 64 and each of their "
                  "rows of up to 32)")
