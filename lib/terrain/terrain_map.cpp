@@ -24,6 +24,17 @@ double TerrainMap::sample(double x, double y) const {
   return top + (bottom - top) * fy;
 }
 
+Vec3f TerrainMap::normal(double x, double y, double sx, double sy) const {
+  x = std::clamp(x, 0.0, double(width - 1));
+  y = std::clamp(y, 0.0, double(height - 1));
+  // Near the border the step shrinks to what the map holds (a plane stays exact there).
+  const double xa = std::max(0.0, x - 1), xb = std::min(double(width - 1), x + 1);
+  const double ya = std::max(0.0, y - 1), yb = std::min(double(height - 1), y + 1);
+  const double dhdx = xb > xa ? (sample(xb, y) - sample(xa, y)) / (xb - xa) : 0.0;
+  const double dhdy = yb > ya ? (sample(x, yb) - sample(x, ya)) / (yb - ya) : 0.0;
+  return normalized(Vec3f{float(-dhdx / sx), float(dhdy / sy), 1.0f});
+}
+
 std::unique_ptr<HeightmapSource> open_heightmap(const std::string& path, const std::string& raw) {
   if (!raw.empty()) return open_raw_heightmap(path, parse_raw_layout(raw));
   if (path == "-") throw_usage("a heightmap may be '-' only with --raw (other formats need a file)");
