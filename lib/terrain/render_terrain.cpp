@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include "terrain/tessellate_tile.h"
 
 namespace splatkit::terrain {
@@ -139,8 +141,8 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
       }
     }
 
-  const std::size_t n = std::size_t(W) * H;
-  for (std::size_t k = 0; k < n; ++k) {
+  // Every pixel on its own: the same bytes whatever the threads.
+  auto shade = [&](std::size_t k) {
     const bool hit = zbuf[k] > 0;
     Vec3f c = o.background, nk{0, 0, 0};
     if (hit) {
@@ -169,7 +171,11 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
       for (int j = 0; j < 3; ++j) out.normal[3 * k + std::size_t(j)] = hit ? nk[j] : 0.0f;
     }
     if (out.planes.surface_ids) out.surface_id[k] = render::kNoSurfaceId;
-  }
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int py = rows.begin(); py < rows.end(); ++py)
+      for (int px = 0; px < W; ++px) shade(std::size_t(py) * std::size_t(W) + std::size_t(px));
+  });
   return stats;
 }
 

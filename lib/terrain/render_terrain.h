@@ -6,7 +6,8 @@
 // that texel, not from the triangle's vertices: Lambert on TerrainMap::normal, the colour of the
 // bilinear height (a hypsometric ramp from the map's lowest to its highest height). The image's
 // detail is the map's whatever the tessellation; the tessellation moves silhouettes, occlusion
-// and depth. Single-threaded: the same bytes on every run.
+// and depth. The triangles are drawn on one thread, the pixels shaded in parallel, each on its
+// own: the same bytes whatever the thread count.
 #pragma once
 
 #include <array>

@@ -4,13 +4,16 @@
 // tile (4 triangles over several of its periods) every pixel's normal is within a small angle of
 // the analytic one at the point the pixel shows (recovered from its depth). A tiny --tess-error
 // draws every visible tile at full resolution (2·n² triangles for n texels a side); the default
-// error draws fewer.
+// error draws fewer. The map's normal inside (from its 4 × 4 texels) equals the differences of
+// its bilinear samples; one thread and two give the same image.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <random>
+
+#include <oneapi/tbb/global_control.h>
 
 #include "terrain/compute_ham.h"
 #include "terrain/render_terrain.h"
@@ -76,6 +79,7 @@ render::Framebuffer render(const Terrain& t, const render::Camera& c, const Tess
                            TerrainRenderStats* stats = nullptr) {
   render::FramebufferPlanes planes;
   planes.aovs = true;
+  planes.float_color = true;
   render::Framebuffer fb;
   fb.allocate(c.width, c.height, planes);
   TerrainRenderOptions o;
@@ -187,6 +191,37 @@ TEST(TerrainRenderTerrain, FactorStopsAtOneTexelPerSegment) {
   EXPECT_EQ(tess_factor(1, 1e-3, {1000, 0, 0}, p, 100, s, 0.5, 16), 3);
   EXPECT_EQ(tess_factor(1, 1e-3, {1000, 0, 0}, p, 100, s, 0.0, 16), 1);  // flat: T(d) alone
   EXPECT_EQ(tile_curvature(64), 1.0);
+}
+
+TEST(TerrainRenderTerrain, MapNormalIsTheDifferenceOfBilinearSamples) {
+  const Terrain t = make_terrain(
+      [](double x, double y) { return 50 * std::sin(x / 3) + 20 * std::cos(x * y / 40); }, 23, 17,
+      8, 7.0);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> ux(-0.5, 22.5), uy(-0.5, 16.5);
+  for (int i = 0; i < 5000; ++i) {
+    const double x = i < 4 ? double(i % 2) * 22 : ux(rng), y = i < 4 ? double(i / 2) * 16 : uy(rng);
+    const double cx = std::clamp(x, 0.0, 22.0), cy = std::clamp(y, 0.0, 16.0);
+    const double xa = std::max(0.0, cx - 1), xb = std::min(22.0, cx + 1);
+    const double ya = std::max(0.0, cy - 1), yb = std::min(16.0, cy + 1);
+    const double dx = (t.map.sample(xb, cy) - t.map.sample(xa, cy)) / (xb - xa);
+    const double dy = (t.map.sample(cx, yb) - t.map.sample(cx, ya)) / (yb - ya);
+    const Vec3f expected = normalized(Vec3f{float(-dx / 7), float(dy / 7), 1.0f});
+    EXPECT_LT(norm(t.map.normal(x, y, 7, 7) - expected), 1e-6f) << x << "," << y;
+  }
+}
+
+TEST(TerrainRenderTerrain, SameBytesOnOneThreadAndTwo) {
+  const Terrain t = make_terrain(
+      [](double x, double y) { return 300 + 80 * std::sin(x / 7) * std::cos(y / 11); }, 97, 81,
+      16, 30.0);
+  const render::Camera c = camera_over(t, {-1500, -2500, 2200}, 320, 200);
+  std::vector<uint8_t> images[2];
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    images[threads - 1] = render(t, c, TessSettings{}).rgb8;
+  }
+  EXPECT_EQ(images[0], images[1]);
 }
 
 }  // namespace
