@@ -56,8 +56,11 @@ int tess_factor(float t_max, double peak, const Vec3f& point, const render::Proj
   }
   // Past n (at most 64) the segments would be shorter than a texel: nothing more to show.
   const double full = double(std::clamp<int64_t>(texels, 1, 64));
+  // A height error is vertical: seen at angle θ from the vertical it spans sin θ of its length.
+  const double sin_view = std::sqrt(std::max(0.0, 1.0 - double(d3.z) * double(d3.z) / (d * d)));
   if (curvature > 0)
-    t = std::max(t, full * std::sqrt(double(camera.focal_px) * curvature / (8.0 * d * s.error_px)));
+    t = std::max(t, full * std::sqrt(double(camera.focal_px) * curvature * sin_view /
+                                     (8.0 * d * s.error_px)));
   return std::clamp(int(std::ceil(std::min(t, full) - 1e-6)), 1, 64);
 }
 

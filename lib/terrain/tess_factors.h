@@ -11,14 +11,17 @@
 // ε reaches the map's full resolution where the screen asks for it:
 //   κ     = HAM_max / 64                             (the Sobel operator's gain is 8 per pass: a
 //                                                     curvature estimate, heights per texel²)
-//   T_err = n·sqrt(f·κ / (8·d·ε))                    (n: the edge's texels, f: focal length in
+//   T_err = n·sqrt(f·κ·sin θ / (8·d·ε))              (n: the edge's texels, f: focal length in
 //                                                     pixels; a segment of L texels departs from
-//                                                     a curve of curvature κ by at most κL²/8,
-//                                                     which projects to f·κL²/(8d) pixels)
+//                                                     a curve of curvature κ by at most κL²/8, a
+//                                                     vertical error that projects to
+//                                                     f·κL²·sin θ/(8d) pixels, θ: the angle of
+//                                                     the line of sight from the vertical)
 //   T     = min(max(T(d), T_err), n, 64)             (n segments: one texel per triangle edge,
 //                                                     the map's full resolution; no finer)
 // So ε → 0 gives every tile with any curvature n segments (tiles of more than 64 texels stop at
-// 64, as a GPU's tessellator does); a flat tile (HAM 0) keeps T(d). An edge shared by two tiles
+// 64, as a GPU's tessellator does), except where the line of sight is exactly vertical; a flat
+// tile (HAM 0) keeps T(d). An edge shared by two tiles
 // takes the larger T_max, κ and peak of the two, and its midpoint as reference point, so that
 // both tiles compute the same factor from the same inputs and the tessellated mesh has no cracks.
 // The interior uses the tile's own T_max and κ, its longer side as n, and its centre raised to

@@ -186,7 +186,8 @@ TEST(TerrainRenderTerrain, FactorStopsAtOneTexelPerSegment) {
   EXPECT_EQ(tess_factor(64, 100, {50, 0, 0}, p, 100, s, 0, 100), 64);  // a GPU's limit
   s.error_px = 1e-6f;  // T_err ≫ n: n
   EXPECT_EQ(tess_factor(1, 100, {1e4, 0, 0}, p, 100, s, 0.5, 16), 16);
-  // T_err = 16·sqrt(f·0.5 / (8·1000·2)), f = 360 / tan(20°) = 989.1 (720 rows, 40°): 2.81.
+  // T_err = 16·sqrt(f·0.5·1 / (8·1000·2)), f = 360 / tan(20°) = 989.1 (720 rows, 40°), seen
+  // horizontally: 2.81.
   s.error_px = 2;
   EXPECT_EQ(tess_factor(1, 1e-3, {1000, 0, 0}, p, 100, s, 0.5, 16), 3);
   EXPECT_EQ(tess_factor(1, 1e-3, {1000, 0, 0}, p, 100, s, 0.0, 16), 1);  // flat: T(d) alone
