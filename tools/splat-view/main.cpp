@@ -146,10 +146,11 @@ int main(int argc, char** argv) {
       ->type_name("TILES.exr")
       ->needs(terrain_option);
   app.add_option("--tess-error", terrain.tess_error_px,
-                 "With --terrain: allowed screen-space error of the triangles, pixels (> 0): "
-                 "smaller draws more; small enough (about 0.01 for a whole-map view) every tile "
-                 "with any curvature reaches the map's full resolution, one texel per triangle "
-                 "edge (tiles of up to 64 texels); flat tiles stay coarse")
+                 "With --terrain: allowed screen-space error of the triangles' heights, pixels "
+                 "(> 0): smaller draws more; small enough (0.01 to 0.001 for a whole-map view) "
+                 "every tile with any curvature reaches the map's full resolution, one texel per "
+                 "triangle edge (tiles of up to 64 texels), flat tiles stay coarse; the shading "
+                 "is per pixel whatever the error")
       ->default_val(2.0f)
       ->check(splatkit::positive_finite())
       ->needs(terrain_option);
