@@ -95,8 +95,8 @@ double angle_deg(const Vec3f& a, const Vec3f& b) {
 
 TEST(TerrainRenderTerrain, PlaneNormalIsExactAtEveryPixel) {
   // h = 3x - 2y + 100 (metres, texels of 10 m): east slope 0.3, north slope +0.2 (rows run south).
-  const Terrain t = make_terrain([](double x, double y) { return 3 * x - 2 * y + 100; }, 97, 81,
-                                 16, 10.0);
+  const Terrain t =
+      make_terrain([](double x, double y) { return 3 * x - 2 * y + 100; }, 97, 81, 16, 10.0);
   const Vec3f expected = normalized(Vec3f{-0.3f, -0.2f, 1.0f});
   for (const Vec3f offset : {Vec3f{0, 0, 2500}, Vec3f{-700, -900, 600}}) {
     const render::Camera c = camera_over(t, offset, 160, 120);
@@ -182,9 +182,9 @@ TEST(TerrainRenderTerrain, FactorStopsAtOneTexelPerSegment) {
   c.target = {1, 0, 0};
   const render::Projection p = render::make_projection(c);
   TessSettings s;
-  EXPECT_EQ(tess_factor(64, 100, {50, 0, 0}, p, 100, s, 0, 32), 32);  // T_max 64, 32 texels
+  EXPECT_EQ(tess_factor(64, 100, {50, 0, 0}, p, 100, s, 0, 32), 32);   // T_max 64, 32 texels
   EXPECT_EQ(tess_factor(64, 100, {50, 0, 0}, p, 100, s, 0, 100), 64);  // a GPU's limit
-  s.error_px = 1e-6f;  // T_err ≫ n: n
+  s.error_px = 1e-6f;                                                  // T_err ≫ n: n
   EXPECT_EQ(tess_factor(1, 100, {1e4, 0, 0}, p, 100, s, 0.5, 16), 16);
   // T_err = 16·sqrt(f·0.5·1 / (8·1000·2)), f = 360 / tan(20°) = 989.1 (720 rows, 40°), seen
   // horizontally: 2.81.
@@ -213,9 +213,9 @@ TEST(TerrainRenderTerrain, MapNormalIsTheDifferenceOfBilinearSamples) {
 }
 
 TEST(TerrainRenderTerrain, SameBytesOnOneThreadAndTwo) {
-  const Terrain t = make_terrain(
-      [](double x, double y) { return 300 + 80 * std::sin(x / 7) * std::cos(y / 11); }, 97, 81,
-      16, 30.0);
+  const Terrain t =
+      make_terrain([](double x, double y) { return 300 + 80 * std::sin(x / 7) * std::cos(y / 11); },
+                   97, 81, 16, 30.0);
   const render::Camera c = camera_over(t, {-1500, -2500, 2200}, 320, 200);
   std::vector<uint8_t> images[2];
   for (int threads : {1, 2}) {
