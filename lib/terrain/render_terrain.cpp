@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include "terrain/tessellate_tile.h"
 
 namespace splatkit::terrain {
@@ -28,8 +30,7 @@ Vec3f hypsometric(float t) {
 
 struct ScreenVertex {
   float x, y, inv_z;  // pixel coordinates, 1 / camera depth
-  float depth;
-  Vec3f color, normal;
+  float u, v;         // texel coordinates
   bool behind;
 };
 
@@ -55,8 +56,10 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
   const render::Projection p = render::make_projection(camera);
   const int W = out.width, H = out.height;
   std::vector<float> zbuf(std::size_t(W) * H, 0.0f);  // 1/depth, 0 = nothing
-  std::vector<Vec3f> color(std::size_t(W) * H, o.background);
-  std::vector<Vec3f> normal(std::size_t(W) * H, Vec3f{0, 0, 0});
+  // The texel each pixel shows (perspective-correct on its triangle), shaded after all tiles
+  // are drawn: once per pixel, from the map itself rather than the coarse triangles' vertices.
+  std::vector<float> tex_u(std::size_t(W) * H, 0.0f), tex_v(std::size_t(W) * H, 0.0f);
+  std::vector<uint8_t> on_edge(o.wireframe ? std::size_t(W) * H : 0, 0);
   TerrainRenderStats stats;
   const std::vector<TileFactors> factors =
       tess_factors(tiles, frame, p, o.tess, height_at, &map);
@@ -89,15 +92,11 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
         const Vec3f c = p.to_camera(world);
         ScreenVertex& s = sv[v];
         s.behind = c.z <= p.near;
-        s.depth = c.z;
         s.inv_z = s.behind ? 0.0f : 1.0f / c.z;
         s.x = p.cx + p.focal_px * c.x * s.inv_z;
         s.y = p.cy + p.focal_px * c.y * s.inv_z;
-        const double dhdx = (map.sample(x + 1, y) - map.sample(x - 1, y)) * 0.5;
-        const double dhdy = (map.sample(x, y + 1) - map.sample(x, y - 1)) * 0.5;
-        s.normal = normalized(Vec3f{float(-dhdx / frame.sx), float(dhdy / frame.sy), 1.0f});
-        const float lambert = std::max(0.0f, dot(s.normal, light));
-        s.color = hypsometric((float(h) - map.h_min) / range) * (0.45f + 0.65f * lambert);
+        s.u = float(x);
+        s.v = float(y);
       }
       for (const auto& t : mesh.triangles) {
         const ScreenVertex &a = sv[t[0]], &b = sv[t[1]], &c = sv[t[2]];
@@ -127,31 +126,38 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
             const std::size_t at = std::size_t(py) * W + px;
             if (iz <= zbuf[at]) continue;
             zbuf[at] = iz;
-            // Perspective-correct weights for colour and normal.
+            // Perspective-correct weights: the texel under the pixel on the triangle's plane.
             const float pa = wa * a.inv_z / iz, pb = wb * b.inv_z / iz, pc = 1.0f - pa - pb;
-            Vec3f col = a.color * pa + b.color * pb + c.color * pc;
+            tex_u[at] = a.u * pa + b.u * pb + c.u * pc;
+            tex_v[at] = a.v * pa + b.v * pb + c.v * pc;
             if (o.wireframe) {
               const float two_area = std::abs(area);
               const float d = std::min({wa * two_area / std::max(la, 1e-6f),
                                         wb * two_area / std::max(lb, 1e-6f),
                                         wc * two_area / std::max(lc, 1e-6f)});
-              if (d < 0.6f) col = col * 0.25f + Vec3f{0.05f, 0.05f, 0.08f} * 0.75f;
+              on_edge[at] = d < 0.6f;
             }
-            color[at] = col;
-            normal[at] = normalized(a.normal * pa + b.normal * pb + c.normal * pc);
           }
       }
     }
 
-  const std::size_t n = std::size_t(W) * H;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3f c = color[k];
+  // Every pixel on its own: the same bytes whatever the threads.
+  auto shade = [&](std::size_t k) {
+    const bool hit = zbuf[k] > 0;
+    Vec3f c = o.background, nk{0, 0, 0};
+    if (hit) {
+      // Lambert on the map's own normal, the colour of the map's own height, at the pixel's texel.
+      const double u = tex_u[k], v = tex_v[k];
+      nk = map.normal(u, v, frame.sx, frame.sy);
+      const float lambert = std::max(0.0f, dot(nk, light));
+      c = hypsometric((float(map.sample(u, v)) - map.h_min) / range) * (0.45f + 0.65f * lambert);
+      if (o.wireframe && on_edge[k]) c = c * 0.25f + Vec3f{0.05f, 0.05f, 0.08f} * 0.75f;
+    }
     if (out.planes.rgb8) {
       out.rgb8[3 * k] = to8(c.x);
       out.rgb8[3 * k + 1] = to8(c.y);
       out.rgb8[3 * k + 2] = to8(c.z);
     }
-    const bool hit = zbuf[k] > 0;
     if (out.planes.float_color) {
       const float a = hit ? 1.0f : 0.0f;
       out.rgba[4 * k] = a * srgb_to_linear(c.x);
@@ -162,10 +168,14 @@ TerrainRenderStats render_terrain(const TerrainMap& map, const HamTiles& tiles,
     if (out.planes.aovs) {
       out.depth[k] = hit ? 1.0f / zbuf[k] : std::numeric_limits<float>::infinity();
       out.alpha[k] = hit ? 1.0f : 0.0f;
-      for (int j = 0; j < 3; ++j) out.normal[3 * k + std::size_t(j)] = hit ? (&normal[k].x)[j] : 0.0f;
+      for (int j = 0; j < 3; ++j) out.normal[3 * k + std::size_t(j)] = hit ? nk[j] : 0.0f;
     }
     if (out.planes.surface_ids) out.surface_id[k] = render::kNoSurfaceId;
-  }
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int py = rows.begin(); py < rows.end(); ++py)
+      for (int px = 0; px < W; ++px) shade(std::size_t(py) * std::size_t(W) + std::size_t(px));
+  });
   return stats;
 }
 

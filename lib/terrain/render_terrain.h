@@ -1,8 +1,13 @@
 // The terrain renderer behind splat-view --terrain: per frame, the tessellation factors of every
 // tile (tess_factors.h), the tessellated tiles displaced by the heightmap (tessellate_tile.h),
-// rasterised with a depth buffer and shaded (Lambert on the heightmap's normals, colours by
-// height), with an optional wireframe overlay. Triangles reaching behind the near plane are not
-// drawn.
+// rasterised with a depth buffer, with an optional wireframe overlay. Triangles reaching behind
+// the near plane are not drawn. The triangles give each pixel its depth and the texel it shows
+// (perspective-correct on the triangle's plane); the pixel is then shaded from the heightmap at
+// that texel, not from the triangle's vertices: Lambert on TerrainMap::normal, the colour of the
+// bilinear height (a hypsometric ramp from the map's lowest to its highest height). The image's
+// detail is the map's whatever the tessellation; the tessellation moves silhouettes, occlusion
+// and depth. The triangles are drawn on one thread, the pixels shaded in parallel, each on its
+// own: the same bytes whatever the thread count.
 #pragma once
 
 #include <array>

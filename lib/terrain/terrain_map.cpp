@@ -24,6 +24,32 @@ double TerrainMap::sample(double x, double y) const {
   return top + (bottom - top) * fy;
 }
 
+Vec3f TerrainMap::normal(double x, double y, double sx, double sy) const {
+  x = std::clamp(x, 0.0, double(width - 1));
+  y = std::clamp(y, 0.0, double(height - 1));
+  const auto x0 = int64_t(x), y0 = int64_t(y);
+  if (x0 >= 1 && x0 + 2 < width && y0 >= 1 && y0 + 2 < height) {
+    // Inside: the same differences of bilinear samples, from the 4 × 4 texels around (x, y)
+    // directly (the blend of the four texels' central differences), without the clamps.
+    const float* r0 = heights.data() + std::size_t(y0 * width + x0);
+    const float *rm = r0 - width, *r1 = r0 + width, *r2 = r1 + width;
+    const double fx = x - double(x0), fy = y - double(y0);
+    const double gx0 = (1 - fx) * (r0[1] - r0[-1]) + fx * (r0[2] - r0[0]);
+    const double gx1 = (1 - fx) * (r1[1] - r1[-1]) + fx * (r1[2] - r1[0]);
+    const double gy0 = (1 - fx) * (r1[0] - rm[0]) + fx * (r1[1] - rm[1]);
+    const double gy1 = (1 - fx) * (r2[0] - r0[0]) + fx * (r2[1] - r0[1]);
+    const double dhdx = ((1 - fy) * gx0 + fy * gx1) * 0.5;
+    const double dhdy = ((1 - fy) * gy0 + fy * gy1) * 0.5;
+    return normalized(Vec3f{float(-dhdx / sx), float(dhdy / sy), 1.0f});
+  }
+  // Near the border the step shrinks to what the map holds (a plane stays exact there).
+  const double xa = std::max(0.0, x - 1), xb = std::min(double(width - 1), x + 1);
+  const double ya = std::max(0.0, y - 1), yb = std::min(double(height - 1), y + 1);
+  const double dhdx = xb > xa ? (sample(xb, y) - sample(xa, y)) / (xb - xa) : 0.0;
+  const double dhdy = yb > ya ? (sample(x, yb) - sample(x, ya)) / (yb - ya) : 0.0;
+  return normalized(Vec3f{float(-dhdx / sx), float(dhdy / sy), 1.0f});
+}
+
 std::unique_ptr<HeightmapSource> open_heightmap(const std::string& path, const std::string& raw) {
   if (!raw.empty()) return open_raw_heightmap(path, parse_raw_layout(raw));
   if (path == "-") throw_usage("a heightmap may be '-' only with --raw (other formats need a file)");

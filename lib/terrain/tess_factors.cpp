@@ -40,8 +40,10 @@ float tile_t_max(float ham_max, double ham_ref) {
   return float(std::clamp(1.0 + 63.0 * std::sqrt(double(ham_max) / ham_ref), 1.0, 64.0));
 }
 
+double tile_curvature(float ham_max) { return ham_max > 0 ? double(ham_max) / 64.0 : 0.0; }
+
 int tess_factor(float t_max, double peak, const Vec3f& point, const render::Projection& camera,
-                double d_max, const TessSettings& s) {
+                double d_max, const TessSettings& s, double curvature, int64_t texels) {
   const Vec3f d3 = point - camera.eye;
   const double d = std::max(1e-9, double(std::sqrt(dot(d3, d3))));
   const double projected = double(camera.focal_px) * std::max(0.0, peak) / d;
@@ -52,7 +54,14 @@ int tess_factor(float t_max, double peak, const Vec3f& point, const render::Proj
     const double d_min = std::sqrt(double(t_max) / t_min) * d_max;
     t = d <= d_min ? double(t_max) * d_max * d_max / (d * d) : t_min;
   }
-  return std::clamp(int(std::ceil(t - 1e-6)), 1, 64);
+  // Past n (at most 64) the segments would be shorter than a texel: nothing more to show.
+  const double full = double(std::clamp<int64_t>(texels, 1, 64));
+  // A height error is vertical: seen at angle θ from the vertical it spans sin θ of its length.
+  const double sin_view = std::sqrt(std::max(0.0, 1.0 - double(d3.z) * double(d3.z) / (d * d)));
+  if (curvature > 0)
+    t = std::max(t, full * std::sqrt(double(camera.focal_px) * curvature * sin_view /
+                                     (8.0 * d * s.error_px)));
+  return std::clamp(int(std::ceil(std::min(t, full) - 1e-6)), 1, 64);
 }
 
 TileExtent tile_extent(const HamTiles& t, int64_t tx, int64_t ty) {
@@ -73,9 +82,10 @@ std::vector<TileFactors> tess_factors(const HamTiles& t, const TerrainFrame& f,
     const float t_max = std::max(tile_t_max(t.ham_max[i], f.ham_ref),
                                  tile_t_max(t.ham_max[j], f.ham_ref));
     const double peak = std::max(double(t.h_max[i]), double(t.h_max[j])) - f.h_min;
+    const double kappa = std::max(tile_curvature(t.ham_max[i]), tile_curvature(t.ham_max[j]));
     const double mx = 0.5 * double(ax + bx), my = 0.5 * double(ay + by);
     const Vec3f mid = scene_point(f, mx, my, height(context, mx, my));
-    return tess_factor(t_max, peak, mid, camera, d_max, s);
+    return tess_factor(t_max, peak, mid, camera, d_max, s, kappa, (bx - ax) + (by - ay));
   };
   for (int64_t ty = 0; ty < t.tiles_y; ++ty)
     for (int64_t tx = 0; tx < t.tiles_x; ++tx) {
@@ -99,7 +109,8 @@ std::vector<TileFactors> tess_factors(const HamTiles& t, const TerrainFrame& f,
       tf.edge[3] = edge(i, real(west, tx - 1, ty), e.x0, e.y0, e.x0, e.y1);
       const double cx = 0.5 * double(e.x0 + e.x1), cy = 0.5 * double(e.y0 + e.y1);
       tf.inner = tess_factor(tile_t_max(t.ham_max[i], f.ham_ref), double(t.h_max[i]) - f.h_min,
-                             scene_point(f, cx, cy, t.h_max[i]), camera, d_max, s);
+                             scene_point(f, cx, cy, t.h_max[i]), camera, d_max, s,
+                             tile_curvature(t.ham_max[i]), std::max(e.x1 - e.x0, e.y1 - e.y0));
     }
   return out;
 }

@@ -7,10 +7,25 @@
 //                                                     ε: the allowed error in pixels)
 //   T(d)  = T_max for d < d_max, T_max·d_max²/d² up to d_min = sqrt(T_max/T_min)·d_max, then
 //           T_min                                     (d: eye to the reference point)
-// and rounded up. An edge shared by two tiles takes the larger T_max and the higher peak of the
-// two, and its midpoint as reference point, so that both tiles compute the same factor from the
-// same inputs and the tessellated mesh has no cracks. The interior uses the tile's own T_max and
-// its centre raised to its peak height h_max.
+// and rounded up. To that splatkit adds a bound of the screen-space error itself, so that a small
+// ε reaches the map's full resolution where the screen asks for it:
+//   κ     = HAM_max / 64                             (the Sobel operator's gain is 8 per pass: a
+//                                                     curvature estimate, heights per texel²)
+//   T_err = n·sqrt(f·κ·sin θ / (8·d·ε))              (n: the edge's texels, f: focal length in
+//                                                     pixels; a segment of L texels departs from
+//                                                     a curve of curvature κ by at most κL²/8, a
+//                                                     vertical error that projects to
+//                                                     f·κL²·sin θ/(8d) pixels, θ: the angle of
+//                                                     the line of sight from the vertical)
+//   T     = min(max(T(d), T_err), n, 64)             (n segments: one texel per triangle edge,
+//                                                     the map's full resolution; no finer)
+// So ε → 0 gives every tile with any curvature n segments (tiles of more than 64 texels stop at
+// 64, as a GPU's tessellator does), except where the line of sight is exactly vertical; a flat
+// tile (HAM 0) keeps T(d). An edge shared by two tiles
+// takes the larger T_max, κ and peak of the two, and its midpoint as reference point, so that
+// both tiles compute the same factor from the same inputs and the tessellated mesh has no cracks.
+// The interior uses the tile's own T_max and κ, its longer side as n, and its centre raised to
+// its peak height h_max.
 #pragma once
 
 #include <array>
@@ -31,7 +46,7 @@ struct TerrainFrame {
 };
 
 struct TessSettings {
-  float error_px = 2;       // ε, pixels
+  float error_px = 2;       // ε, pixels (> 0)
   float d_max_tiles = 3;    // d_max in tile diagonals
 };
 
@@ -43,9 +58,14 @@ struct TileFactors {
 };
 
 // The factor of a reference point: T_max, the peak height over the map's base, the point, the
-// camera. Exposed for the tests.
+// camera; `curvature` κ (heights per texel², 0: the paper's factor alone) and `texels` n (the
+// segments of full resolution, ≥ 1). Exposed for the tests.
 int tess_factor(float t_max, double peak, const Vec3f& point, const render::Projection& camera,
-                double d_max, const TessSettings& settings);
+                double d_max, const TessSettings& settings, double curvature = 0,
+                int64_t texels = 64);
+
+// κ of a tile from its HAM_max.
+double tile_curvature(float ham_max);
 
 float tile_t_max(float ham_max, double ham_ref);
 

@@ -228,6 +228,11 @@ expect_eq "triangles" "$(json "$WORK/v.json" '(d["tiles"], d["triangles"] > 0, d
   "(16, True, 131072)"
 expect_eq "histogram" "$(json "$WORK/v.json" 'sum(d["factor_histogram"].values()) == 5 * d["visible_tiles"]')" "True"
 expect_eq "same triangles" "$(json "$WORK/w.json" 'd["triangles"]')" "$(json "$WORK/v.json" 'd["triangles"]')"
+# A tiny --tess-error: every tile at full resolution, one texel per triangle edge (2 · 256²).
+expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/full.png" "${view[@]}" \
+  -q --tess-error 0.001 --stats "$WORK/full.json"
+expect_eq "full resolution" "$(json "$WORK/full.json" '(d["triangles"], d["factor_histogram"])')" \
+  "(131072, {'64': 80})"
 expect_exit 0 "$BIN/splat-view" --terrain "$DEM" --ham "$WORK/t.exr" -o "$WORK/away.png" \
   --width 64 --height 48 --eye 0,1e6,1e4 --target 0,2e6,1e4 -q --stats "$WORK/away.json"
 expect_eq "looking away" "$(json "$WORK/away.json" '(d["visible_tiles"], d["triangles"])')" "(0, 0)"

@@ -139,13 +139,18 @@ int main(int argc, char** argv) {
       app.add_option(
              "--terrain", terrain.heightmap,
              "Render this heightmap (any build-ham input) instead of splats, tessellated per "
-             "tile by --ham")
+             "tile by --ham; every pixel is shaded from the map at the texel it shows (the "
+             "triangles place silhouettes and depth)")
           ->type_name("HEIGHTMAP");
   app.add_option("--ham", terrain.ham, "With --terrain: build-ham's per-tile HAM EXR")
       ->type_name("TILES.exr")
       ->needs(terrain_option);
   app.add_option("--tess-error", terrain.tess_error_px,
-                 "With --terrain: allowed screen-space error of a tile's peak, pixels")
+                 "With --terrain: allowed screen-space error of the triangles' heights, pixels "
+                 "(> 0): smaller draws more; small enough (0.01 to 0.001 for a whole-map view) "
+                 "every tile with any curvature reaches the map's full resolution, one texel per "
+                 "triangle edge (tiles of up to 64 texels), flat tiles stay coarse; the shading "
+                 "is per pixel whatever the error")
       ->default_val(2.0f)
       ->check(splatkit::positive_finite())
       ->needs(terrain_option);
