@@ -16,31 +16,12 @@
 #include "terrain/compute_ham.h"
 #include "terrain/fill_voids.h"
 #include "terrain/terrain_images.h"
+#include "test_terrain_support.h"
 
 namespace splatkit::terrain {
 namespace {
 
-class MemorySource final : public HeightmapSource {
- public:
-  MemorySource(std::vector<float> data, int64_t w, int64_t h, int64_t band_rows = 64)
-      : data_(std::move(data)) {
-    info_.width = w;
-    info_.height = h;
-    info_.band_rows = band_rows;
-  }
-  void read_rows(int64_t rows, float* out) override {
-    std::memcpy(out, data_.data() + next_ * info_.width, std::size_t(rows * info_.width) * 4);
-    next_ += rows;
-  }
-  void set_nodata(float v) {
-    info_.has_nodata = true;
-    info_.nodata = v;
-  }
-
- private:
-  std::vector<float> data_;
-  int64_t next_ = 0;
-};
+using test::MemorySource;
 
 // The reference: Sobel magnitude twice with clamp-to-edge, in double.
 std::vector<double> sobel_ref(const std::vector<double>& a, int64_t w, int64_t h) {
@@ -173,8 +154,8 @@ struct HamRun {
   std::vector<float> ham;
 };
 
-HamRun run_ham(const std::vector<float>& data, int64_t w, int64_t h, HamOptions o, int64_t band_rows = 64,
-        bool nodata = false, float nodata_value = 0) {
+HamRun run_ham(const std::vector<float>& data, int64_t w, int64_t h, HamOptions o,
+               int64_t band_rows = 64, bool nodata = false, float nodata_value = 0) {
   MemorySource src(data, w, h, band_rows);
   if (nodata) src.set_nodata(nodata_value);
   HamRun r;
@@ -217,7 +198,8 @@ std::vector<float> noisy_hills(int64_t w, int64_t h, uint32_t seed, double base)
     for (int64_t x = 0; x < w; ++x)
       v[std::size_t(y * w + x)] =
           float(base + 800 * std::sin(double(x) * 0.05) * std::cos(double(y) * 0.031) +
-                300 * std::exp(-(std::pow(double(x) - 40, 2) + std::pow(double(y) - 30, 2)) / 200)) +
+                300 *
+                    std::exp(-(std::pow(double(x) - 40, 2) + std::pow(double(y) - 30, 2)) / 200)) +
           noise(rng);
   return v;
 }
@@ -306,8 +288,8 @@ TEST(TerrainFillVoids, AnIslandInAVoidSeaFillsWithinItsHeights) {
   for (int64_t y = 85; y < 115; ++y)
     for (int64_t x = 85; x < 115; ++x) {
       const float z =
-          500.0f + 100.0f * float(std::exp(-double((x - 100) * (x - 100) + (y - 100) * (y - 100)) /
-                                           200.0));
+          500.0f +
+          100.0f * float(std::exp(-double((x - 100) * (x - 100) + (y - 100) * (y - 100)) / 200.0));
       v[std::size_t(y * w + x)] = z;
       lo = std::min(lo, z);
       hi = std::max(hi, z);

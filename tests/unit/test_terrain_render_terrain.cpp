@@ -18,31 +18,14 @@
 #include "terrain/compute_ham.h"
 #include "terrain/render_terrain.h"
 #include "terrain/terrain_map.h"
+#include "test_terrain_support.h"
 
 namespace splatkit::terrain {
 namespace {
 
-class MemorySource final : public HeightmapSource {
- public:
-  MemorySource(std::vector<float> data, int64_t w, int64_t h) : data_(std::move(data)) {
-    info_.width = w;
-    info_.height = h;
-  }
-  void read_rows(int64_t rows, float* out) override {
-    std::memcpy(out, data_.data() + next_ * info_.width, std::size_t(rows * info_.width) * 4);
-    next_ += rows;
-  }
+using test::MemorySource;
 
- private:
-  std::vector<float> data_;
-  int64_t next_ = 0;
-};
-
-struct Terrain {
-  TerrainMap map;
-  HamTiles tiles;
-  TerrainFrame frame;
-};
+using test::Terrain;
 
 // Heights h(x, y) at texel (x, y), texels of `s` metres.
 Terrain make_terrain(const std::function<double(double, double)>& h, int64_t w, int64_t ht,

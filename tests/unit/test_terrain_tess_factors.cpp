@@ -12,35 +12,18 @@
 #include <set>
 
 #include "terrain/compute_ham.h"
-#include "terrain/tess_factors.h"
-#include "terrain/tessellate_tile.h"
 #include "terrain/terrain_images.h"
 #include "terrain/terrain_map.h"
+#include "terrain/tess_factors.h"
+#include "terrain/tessellate_tile.h"
+#include "test_terrain_support.h"
 
 namespace splatkit::terrain {
 namespace {
 
-class MemorySource final : public HeightmapSource {
- public:
-  MemorySource(std::vector<float> data, int64_t w, int64_t h) : data_(std::move(data)) {
-    info_.width = w;
-    info_.height = h;
-  }
-  void read_rows(int64_t rows, float* out) override {
-    std::memcpy(out, data_.data() + next_ * info_.width, std::size_t(rows * info_.width) * 4);
-    next_ += rows;
-  }
+using test::MemorySource;
 
- private:
-  std::vector<float> data_;
-  int64_t next_ = 0;
-};
-
-struct Terrain {
-  TerrainMap map;
-  HamTiles tiles;
-  TerrainFrame frame;
-};
+using test::Terrain;
 
 Terrain make_terrain(std::vector<float> heights, int64_t w, int64_t h, int64_t tile, double sx) {
   Terrain t;
@@ -111,9 +94,10 @@ std::vector<float> hills(int64_t w, int64_t h) {
   std::normal_distribution<float> noise(0, 2);
   for (int64_t y = 0; y < h; ++y)
     for (int64_t x = 0; x < w; ++x)
-      v[std::size_t(y * w + x)] = float(500 + 300 * std::sin(double(x) / 9) * std::cos(double(y) / 13) +
-                                        200 * std::exp(-std::pow(double(x - 60), 2) / 300)) +
-                                  noise(rng);
+      v[std::size_t(y * w + x)] =
+          float(500 + 300 * std::sin(double(x) / 9) * std::cos(double(y) / 13) +
+                200 * std::exp(-std::pow(double(x - 60), 2) / 300)) +
+          noise(rng);
   return v;
 }
 
@@ -136,8 +120,10 @@ TEST(TerrainTessFactors, SharedEdgesAgreeForRandomCamerasSyntheticMap) {
 
 TEST(TerrainTessFactors, SharedEdgesAgreeForRandomCamerasRealSrtm) {
   const std::string path = "/work/shared/data/dem/mt_fuji_90m.tif";
-  if (FILE* f = std::fopen(path.c_str(), "rb")) std::fclose(f);
-  else GTEST_SKIP() << path << " not present";
+  if (FILE* f = std::fopen(path.c_str(), "rb"))
+    std::fclose(f);
+  else
+    GTEST_SKIP() << path << " not present";
   auto src = open_image_heightmap(path);
   std::vector<float> v(std::size_t(src->info().width * src->info().height));
   src->read_rows(src->info().height, v.data());
@@ -174,8 +160,8 @@ TEST(TerrainTessFactors, TilesOutsideTheFrustumGetZero) {
   c.target = {640, 5000, 2000};
   c.width = 320;
   c.height = 200;
-  for (const TileFactors& x :
-       tess_factors(t.tiles, t.frame, render::make_projection(c), TessSettings{}, height_at, &t.map)) {
+  for (const TileFactors& x : tess_factors(t.tiles, t.frame, render::make_projection(c),
+                                           TessSettings{}, height_at, &t.map)) {
     EXPECT_EQ(x.inner, 0);
     for (int k : x.edge) EXPECT_EQ(k, 0);
   }
