@@ -104,6 +104,16 @@ bool looks_like_text_columns(std::string_view head, bool complete) {
   return false;
 }
 
+// The magic bytes of TIFF (both byte orders, BigTIFF too), OpenEXR and PNG, or the extension of
+// an SRTM tile (.hgt, which has no magic): the heightmaps build-ham reads.
+bool looks_like_heightmap(std::string_view head, const std::string& path) {
+  using namespace std::string_view_literals;
+  for (std::string_view magic :
+       {"II*\0"sv, "MM\0*"sv, "II+\0"sv, "MM\0+"sv, "\x76\x2f\x31\x01"sv, "\x89PNG\r\n\x1a\n"sv})
+    if (head.substr(0, magic.size()) == magic) return true;
+  return lower_extension(path) == "hgt";
+}
+
 FileFormat detect_format(InputStream& in, const std::string& path) {
   std::string_view head = in.peek(512);
   const std::string ext = lower_extension(path);
@@ -165,11 +175,17 @@ LoadedCloud read_cloud(InputStream& in, const ReadOptions& options, const Progre
 #endif
     case FileFormat::kUnknown:
       if (looks_like_qsplat(head) || spt::looks_like_spt(head))
-        throw_unsupported(in.path(), std::string("a ") +
-                                         (looks_like_qsplat(head) ? "QSplat hierarchy (.qs)"
-                                                                  : "Sequential Point Tree (.spt)") +
-                                         ", not a point cloud: splat-view renders it and "
-                                         "splat-info describes it");
+        throw_unsupported(in.path(),
+                          std::string("a ") +
+                              (looks_like_qsplat(head) ? "QSplat hierarchy (.qs)"
+                                                       : "Sequential Point Tree (.spt)") +
+                              ", not a point cloud: splat-view renders it and "
+                              "splat-info describes it");
+      if (looks_like_heightmap(head, in.path()))
+        throw_unsupported(in.path(),
+                          "a heightmap (TIFF, EXR, PNG or SRTM .hgt), not a point cloud: "
+                          "splat-view --terrain renders it, build-ham builds its tiles, "
+                          "splat-info describes it");
       throw_unsupported(in.path(),
                         "unknown file format (not PLY, PCD, LAS, OFF, .splk or text columns by "
                         "content; name it .xyz/.pts/.txt/.csv or give --columns for text)");

@@ -146,7 +146,8 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     const std::string unknown = dynamic_cast<const CLI::RequiredError*>(&e)
                                     ? unknown_option(app_, argc, argv)
                                     : std::string();
-    std::fprintf(stderr, "%s: %s\nRun '%s --help' for usage.\n", name_.c_str(),
+    // One line, as every error (a script that keeps the first line of stderr keeps it all).
+    std::fprintf(stderr, "%s: %s (see %s --help)\n", name_.c_str(),
                  unknown.empty() ? e.what() : ("unknown option " + unknown).c_str(),
                  name_.c_str());
     return static_cast<int>(ErrorKind::kUsage);

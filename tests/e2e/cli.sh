@@ -135,4 +135,15 @@ expect_eq "estimate-normals --stats" "$(jq -r .tool "$WORK/st.json")" estimate-n
 expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" -o "$WORK/st.png" --report "$WORK/sv.json"
 jq -e .timings_s "$WORK/sv.json" >/dev/null && pass || fail "splat-view --report wrote no report"
 
+# Usage errors take one line, with where to look; a heightmap given as a cloud is named as one.
+for t in "${tools[@]}"; do
+  expect_exit 1 "$BIN/$t" --no-such-option
+  expect_stderr "^$t: unknown option --no-such-option \(see $t --help\)$"
+done
+expect_exit 1 "$BIN/splat-convert" only-one.ply
+expect_stderr "^splat-convert: .*\(see splat-convert --help\)$"
+printf '\x89PNG\r\n\x1a\n' >"$WORK/map.png"
+expect_exit 3 "$BIN/estimate-normals" -q "$WORK/map.png" "$WORK/map.splk"
+expect_stderr "map.png: a heightmap .*splat-view --terrain renders it"
+
 finish

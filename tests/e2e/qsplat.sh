@@ -117,7 +117,7 @@ expect_stderr "one.ply: 1 usable points; a QSplat file needs at least 5"
 expect_exit 0 "$BIN/build-qsplat" -q "$WORK/dup.ply" "$WORK/dup.qs"
 expect_exit 0 "$BIN/splat-view" -q "$WORK/dup.qs" -o "$WORK/dup.png" --width 32 --height 24
 expect_exit 3 "$BIN/build-qsplat" -q "$S/rainier-srtm.tif" "$WORK/x.qs"
-expect_stderr "rainier-srtm.tif: unknown file format"
+expect_stderr "rainier-srtm.tif: a heightmap .* splat-view --terrain renders it"
 expect_exit 3 "$BIN/build-qsplat" -q "$WORK/dup.qs" "$WORK/x.qs"
 expect_stderr "dup.qs: a QSplat hierarchy \\(.qs\\), not a point cloud"
 expect_exit 4 "$BIN/build-qsplat" -q "$WORK/dup.ply" "$WORK/no/such/x.qs"
