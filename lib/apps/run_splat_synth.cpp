@@ -50,7 +50,7 @@ StageSummary run_city(const SplatSynthOptions& o) {
     throw_usage("--walk-frames must be in 2..100000");
   if (o.sample.points == 0) throw_usage("--points must be at least 1");
   if (o.sample.texture) throw_usage("--texture applies to the shapes, not the city");
-  Stage stage("splat-synth", {"", o.output, ""});
+  Stage stage("splat-synth", {"", o.output, o.report});
   stage.check_output_format(o.write);
   stage.check_side_output("--walkthrough", o.walkthrough);
   CityOptions city;
@@ -79,7 +79,7 @@ StageSummary run_city(const SplatSynthOptions& o) {
     walk->write(walkthrough_json(city_walkthrough(city)).dump(1) + "\n");
   }
   OutputFile* also[] = {walk.get()};
-  stage.write(doc, o.write, {}, also);
+  stage.write(doc, o.write, {{"shape", "city"}, {"points", doc.cloud.size()}}, also);
   return {doc.cloud.size(), "points", ""};
 }
 
@@ -97,7 +97,7 @@ StageSummary run_splat_synth(const SplatSynthOptions& o, const ProgressFn& progr
     throw_usage("--keep-inside applies to two-spheres only");
   if (!(sample.noise >= 0 && sample.noise <= 1)) throw_usage("--noise must be a number in [0, 1]");
   if (sample.points == 0) throw_usage("--points must be at least 1");
-  Stage stage("splat-synth", {"", o.output, ""});
+  Stage stage("splat-synth", {"", o.output, o.report});
   stage.check_output_format(o.write);
   progress(0.0, "sampling");
   LoadedCloud doc;
@@ -105,7 +105,7 @@ StageSummary run_splat_synth(const SplatSynthOptions& o, const ProgressFn& progr
   if (o.no_color) doc.cloud.colors.clear();
   doc.format = "synthetic";
   doc.metadata = describe(sample, doc.cloud, !o.no_color);
-  stage.write(doc, o.write);
+  stage.write(doc, o.write, {{"shape", o.shape}, {"points", doc.cloud.size()}});
   return {doc.cloud.size(), "points", ""};
 }
 

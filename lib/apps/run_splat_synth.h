@@ -23,6 +23,7 @@ struct SplatSynthOptions {
   int city_blocks = 8;
   int walk_frames = 60;
   std::string walkthrough;
+  std::string report;  // JSON report (counts, timings, peak RSS); empty = none; "-" = stdout
 };
 
 // Throws Error(kUsage) for bad options or an unusable OUT (before any work), Error(kOutput).

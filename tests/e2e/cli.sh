@@ -146,4 +146,8 @@ printf '\x89PNG\r\n\x1a\n' >"$WORK/map.png"
 expect_exit 3 "$BIN/estimate-normals" -q "$WORK/map.png" "$WORK/map.splk"
 expect_stderr "map.png: a heightmap .*splat-view --terrain renders it"
 
+expect_exit 0 "$BIN/splat-synth" -q torus "$WORK/synth.splk" -n 1000 --report "$WORK/synth.json"
+expect_eq "splat-synth --report" "$(jq -c '[.tool, .shape, .points]' "$WORK/synth.json")" \
+  '["splat-synth","torus",1002]'
+
 finish

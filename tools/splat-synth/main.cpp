@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
   app.add_option("--walk-frames", o.walk_frames, "city: cameras on the walkthrough (2..100000)")
       ->default_val(60);
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
+  app.add_option("--report,--stats", o.report,
+                 "Write the counts, timings and peak RSS as JSON here");
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_synth(o, progress);
   });
