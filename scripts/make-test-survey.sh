@@ -11,8 +11,8 @@ points=${3:-40000}
 mkdir -p "$out/scans"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-"$bin/splat-synth" -q cad "$tmp/cad.xyz" -n $((points * 3 / 5)) --random --seed 3 --no-color
-"$bin/splat-synth" -q torus "$tmp/torus.xyz" -n $((points * 2 / 5)) --random --seed 4 --no-color
+"$bin/splat-synth" -q cad "$tmp/cad.xyz" -n $((points * 3 / 5)) --random --no-color
+"$bin/splat-synth" -q torus "$tmp/torus.xyz" -n $((points * 2 / 5)) --random --no-color
 python3 - "$tmp" <<'PY'
 import sys
 tmp = sys.argv[1]

@@ -54,7 +54,7 @@ ok = ok and bad == 0
 print("points", len(a), "normals flipped against the whole run", flipped, file=sys.stderr)
 # The signs are decided per tile, the views not looking through the borders where the survey
 # goes on (a view through the cut of a closed part sees its inside: 20 % of the signs differed
-# without that); measured: 0 of 40 000 differ.
+# without that); measured: 0 and 3 of 40 000 differ on two samplings.
 ok = ok and flipped <= len(a) // 1000
 sys.exit(0 if ok else 1)
 PY
