@@ -1,7 +1,6 @@
 #include "apps/run_splat_convert.h"
 
-#include <cstdio>
-
+#include "formats/provenance.h"
 #include "formats/write_cloud.h"
 #include "graph_io/chunks_to_attributes.h"
 #include "splatkit/append_points.h"
@@ -24,14 +23,11 @@ FileFormat format_option(const std::string& format) {
   throw_usage("--format must be ply, xyz, off, splk, las or laz, got '" + format + "'");
 }
 
+// An input's record in the metadata's list of inputs, with the points it gave.
 nlohmann::json input_json(const InputStream& in, const std::string& format, std::size_t points) {
-  char crc[9];
-  std::snprintf(crc, sizeof crc, "%08x", in.checksum());
-  return {{"name", in.name()},
-          {"format", format},
-          {"bytes", in.offset()},
-          {"crc32c", crc},
-          {"points", points}};
+  nlohmann::json r = input_record(in, format);
+  r["points"] = points;
+  return r;
 }
 
 // The inputs' own points concatenated into `doc` (the first input's, read by the stage), in the
@@ -53,11 +49,7 @@ nlohmann::json concatenate(Stage& stage, LoadedCloud& doc, const SplatConvertOpt
       });
     });
     keep = take_own_points(more.cloud);
-    if (all.size() > 0 && more.cloud.size() > 0)
-      if (const std::string d = fields_difference(all, more.cloud); !d.empty())
-        throw Error(ErrorKind::kBadInput,
-                    in.name() + ": " + d + " (every input must hold the same fields)");
-    append_points(all, more.cloud, keep, in.name());
+    append_points(all, more.cloud, keep, in.name());  // refuses other fields, naming the input
     inputs.push_back(input_json(in, more.format, keep.size()));
   }
   doc.cloud = std::move(all);

@@ -19,6 +19,7 @@
 #include <system_error>
 
 #include "apps/stage.h"
+#include "formats/provenance.h"
 #include "formats/write_cloud.h"
 #include "splatkit/append_points.h"
 #include "splatkit/error.h"
@@ -147,12 +148,6 @@ void append_parts(SplatCloud& tile, const std::vector<Part>& parts,
     std::iota(all.begin(), all.end(), 0u);
     append_points(tile, part.cloud, all, names[p.input]);
   }
-}
-
-std::string hex32(uint32_t v) {
-  char s[9];
-  std::snprintf(s, sizeof s, "%08x", v);
-  return s;
 }
 
 nlohmann::json square_json(const TileKey& key, double size) {
@@ -319,11 +314,16 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     }
     // Each point's tile and the tiles whose halo holds it; a run of points in one tile costs one
     // map lookup.
-    std::map<TileKey, std::pair<std::vector<uint32_t>, std::vector<uint32_t>>> parts;
+    using Lists = std::pair<std::vector<uint32_t>, std::vector<uint32_t>>;  // own, halo
+    std::map<TileKey, Lists> parts;
+    TileKey last{};
+    Lists* own = nullptr;  // the entry of `last` (map entries stay where they are)
     for (uint32_t i : keep) {
       const Vec3f& p = cloud.positions[i];
       const double x = cloud.origin[0] + p.x, y = cloud.origin[1] + p.y;
-      parts[tile_of(x, y, o.tile_size)].first.push_back(i);
+      const TileKey key = tile_of(x, y, o.tile_size);
+      if (own == nullptr || !(key == last)) own = &parts[last = key];
+      own->first.push_back(i);
       around.clear();
       halo_tiles(x, y, o.tile_size, halo, around);
       for (const TileKey& k : around) parts[k].second.push_back(i);
@@ -349,11 +349,9 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     }
     total += keep.size();
     input_names.push_back(name);
-    inputs.push_back({{"name", name},
-                      {"format", doc.format},
-                      {"bytes", in.offset()},
-                      {"crc32c", hex32(in.checksum())},
-                      {"points", keep.size()}});
+    nlohmann::json record = input_record(in, doc.format);
+    record["points"] = keep.size();
+    inputs.push_back(record);
     timings["read_and_part"] = timings.value("read_and_part", 0.0) + seconds_since(t0);
   }
   if (halo < 0) halo = 0;

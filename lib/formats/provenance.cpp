@@ -7,19 +7,23 @@
 
 namespace splatkit {
 
+nlohmann::json input_record(const InputStream& input, const std::string& format) {
+  char crc[9];
+  std::snprintf(crc, sizeof crc, "%08x", input.checksum());
+  return {{"name", display_name(input.path())},
+          {"format", format},
+          {"bytes", input.offset()},
+          {"crc32c", crc}};
+}
+
 nlohmann::json make_provenance(const std::string& tool, const nlohmann::json& options,
                                const InputStream& input, const LoadedCloud& input_doc,
                                const SplatCloud& output) {
-  char crc[9];
-  std::snprintf(crc, sizeof crc, "%08x", input.checksum());
   nlohmann::json m;
   m["tool"] = tool;
   m["version"] = kVersion;
   m["options"] = options;
-  m["input"] = {{"name", display_name(input.path())},
-                {"format", input_doc.format},
-                {"bytes", input.offset()},
-                {"crc32c", crc}};
+  m["input"] = input_record(input, input_doc.format);
   m["counts"] = {{"points", output.size()}, {"faces", output.face_count()}};
   Bounds b = compute_bounds(output);
   if (!b.empty()) {

@@ -14,6 +14,11 @@ namespace splatkit {
 //  "history": [...]} — `history` holds the metadata of the input's own producers (oldest first),
 // so a file tells its whole pipeline. Call after the input was read to its end (the checksum
 // covers the bytes consumed). Deterministic: no timings, no dates.
+// {"name", "format", "bytes", "crc32c"} of an input read to its end (the checksum covers the bytes
+// consumed): the "input" of the provenance, and of the lists of inputs that splat-tile and
+// splat-convert record.
+nlohmann::json input_record(const InputStream& input, const std::string& format);
+
 nlohmann::json make_provenance(const std::string& tool, const nlohmann::json& options,
                                const InputStream& input, const LoadedCloud& input_doc,
                                const SplatCloud& output);
