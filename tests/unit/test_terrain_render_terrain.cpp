@@ -33,17 +33,7 @@ Terrain make_terrain(const std::function<double(double, double)>& h, int64_t w, 
   std::vector<float> v(std::size_t(w * ht));
   for (int64_t y = 0; y < ht; ++y)
     for (int64_t x = 0; x < w; ++x) v[std::size_t(y * w + x)] = float(h(double(x), double(y)));
-  Terrain t;
-  MemorySource a(v, w, ht), b(v, w, ht);
-  HamOptions o;
-  o.tile = tile;
-  HamStats stats;
-  t.tiles = compute_ham(a, o, stats);
-  t.map = load_terrain_map(b, std::nullopt, 1.0);
-  t.frame.sx = t.frame.sy = s;
-  t.frame.h_min = t.map.h_min;
-  t.frame.ham_ref = stats.ham_max;
-  return t;
+  return test::make_terrain(v, w, ht, tile, s);
 }
 
 render::Camera camera_over(const Terrain& t, Vec3f eye_offset, int w, int h) {

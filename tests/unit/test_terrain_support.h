@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -41,5 +42,22 @@ struct Terrain {
   HamTiles tiles;
   TerrainFrame frame;
 };
+
+// The map of `heights` (w x h, row-major), its HAM tiles of `tile` texels and a frame of square
+// texels `sx` metres wide.
+inline Terrain make_terrain(const std::vector<float>& heights, int64_t w, int64_t h, int64_t tile,
+                            double sx) {
+  Terrain t;
+  MemorySource a(heights, w, h), b(heights, w, h);
+  HamOptions o;
+  o.tile = tile;
+  HamStats stats;
+  t.tiles = compute_ham(a, o, stats);
+  t.map = load_terrain_map(b, std::nullopt, 1.0);
+  t.frame.sx = t.frame.sy = sx;
+  t.frame.h_min = t.map.h_min;
+  t.frame.ham_ref = stats.ham_max;
+  return t;
+}
 
 }  // namespace splatkit::terrain::test

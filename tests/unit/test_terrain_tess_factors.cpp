@@ -25,20 +25,7 @@ using test::MemorySource;
 
 using test::Terrain;
 
-Terrain make_terrain(std::vector<float> heights, int64_t w, int64_t h, int64_t tile, double sx) {
-  Terrain t;
-  MemorySource a(heights, w, h), b(heights, w, h);
-  HamOptions o;
-  o.tile = tile;
-  HamStats stats;
-  t.tiles = compute_ham(a, o, stats);
-  t.map = load_terrain_map(b, std::nullopt, 1.0);
-  t.frame.sx = t.frame.sy = sx;
-  t.frame.h_min = t.map.h_min;
-  t.frame.ham_ref = stats.ham_max;
-  return t;
-}
-
+using test::make_terrain;
 double height_at(const void* m, double x, double y) {
   return static_cast<const TerrainMap*>(m)->sample(x, y);
 }
