@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -493,7 +494,11 @@ std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f
 
 // The regional method's last pass: a point whose signed agreements with its graph neighbours
 // (under the signs found; n_i·n_j alone, which position noise does not touch, and no edge across
-// a gap) sum to less than −1/2 of their magnitudes is turned to follow them.
+// a gap) sum to less than −1/2 of their magnitudes is turned to follow them. A point whose every
+// edge runs across a gap follows those edges instead, read as one surface: it is a noise tail off
+// a surface (on the noisy CAD part, a point 4 σ above a face, each of its 9 nearest 0.5-0.9 of
+// its distance along the normal), not a face of a slab of its own, which would have neighbours
+// on that face.
 // The sheets grow within 11.5° only, so a point whose noisy normal left it a set of its own
 // takes its sign from its few edges in the rounds, and a vote or an edge of noise can decide it
 // against all of its neighbours (80 of 50k points on a noisy scan-line cube). Signs are read
@@ -503,26 +508,32 @@ std::size_t follow_neighbours(const KnnGraph<Id>& g, std::span<const Vec3f> posi
                               std::span<const Vec3f> normals, bool split_gaps,
                               std::vector<int8_t>& sign) {
   const std::size_t n = positions.size();
-  std::vector<float> support(n, 0.0f), weight(n, 0.0f);
+  // Per point: summed agreement and magnitude over the edges on its surface, then across gaps.
+  std::vector<std::array<float, 4>> sums(n, std::array<float, 4>{});
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t* row = g.neighbors.data() + g.start[i];
     for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) {
       const uint32_t j = row[s];
+      std::size_t at = 0;
       if (split_gaps) {  // the two sides of a thin wall face apart: not one surface
         const Vec3f e = positions[j] - positions[i];
-        if (across_gap(normals[i], normals[j], e, squared_norm(e))) continue;
+        if (across_gap(normals[i], normals[j], e, squared_norm(e))) at = 2;
       }
       const float a = dot(normals[i], normals[j]) * static_cast<float>(sign[i] * sign[j]);
-      support[i] += a, support[j] += a;
-      weight[i] += std::fabs(a), weight[j] += std::fabs(a);
+      for (const std::size_t p : {i, std::size_t{j}}) {
+        sums[p][at] += a;
+        sums[p][at + 1] += std::fabs(a);
+      }
     }
   }
   std::size_t turned = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (support[i] < -0.5f * weight[i]) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t at = sums[i][1] > 0 ? 0 : 2;
+    if (sums[i][at] < -0.5f * sums[i][at + 1]) {
       sign[i] = static_cast<int8_t>(-sign[i]);
       ++turned;
     }
+  }
   return turned;
 }
 

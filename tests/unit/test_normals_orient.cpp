@@ -1,6 +1,7 @@
 // orient_normals_mst and orient_normals_viewpoint: closed shapes end up 100 % outward from random
 // signs (sphere, torus, the CAD part with PCA and with crease-sharp robust normals), separate
-// components each oriented, tiny clouds, byte-identical results for 1 and 2 threads.
+// components each oriented, tiny clouds, byte-identical results for 1 and 2 threads, a noise
+// tail off a plane taking the plane's sign.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -197,6 +198,32 @@ TEST(NormalsOrient, SameResultForOneAndTwoThreads) {
   }
   EXPECT_EQ(0,
             std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(Vec3f)));
+}
+
+// A noise tail: one point a spacing above a plane, each of its nearest neighbours more along the
+// normal than across it (every edge of it runs across a gap, as between a slab's two faces).
+// With the gaps kept apart it has no surface of its own and takes the plane's sign (the plane's
+// points are seen from above: votes for +z).
+TEST(NormalsOrient, NoiseTailFollowsItsSurface) {
+  std::vector<Vec3f> positions;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x) positions.push_back({x * 1.0f, y * 1.0f, 0.0f});
+  positions.push_back({20.3f, 20.4f, 1.2f});
+  std::vector<Vec3f> normals(positions.size(), Vec3f{0, 0, 1});
+  normals.back() = {0, 0, -1};
+  std::vector<float> votes(positions.size(), 1.0f);
+  votes.back() = 0;
+  OrientRegionsOptions regions;
+  regions.split_gaps = true;
+  regions.evidence = votes;
+  const SpatialIndex index(positions);
+  ShrinkableArray rows = orient_knn_rows(
+      [&](std::size_t k, std::span<uint32_t> out) { index_knn_rows(index, k, out); },
+      positions.size());
+  const OrientStats stats =
+      orient_normals_mst(std::move(rows), positions, normals, kOrientK, regions);
+  EXPECT_EQ(1u, stats.relabelled);
+  for (const Vec3f& n : normals) ASSERT_GT(n.z, 0.0f);
 }
 
 TEST(NormalsOrient, Viewpoint) {
