@@ -12,6 +12,7 @@
 #include <cstring>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 #include <unordered_set>
 
 #include "formats/ply.h"
@@ -1014,7 +1015,7 @@ class PlyDecoder {
     const ScalarType item = e.properties[list].type;
     cloud_.face_offsets.reserve(rows_to_reserve(e, std::max<uint64_t>(e.min_row_bytes(), 1)) + 1);
     cloud_.face_offsets.push_back(0);
-    for (uint64_t r = 0; r < e.count; ++r) {
+    auto one_row = [&](uint64_t r) {
       read_row(
           e, r, rows, [](std::size_t, double) {},
           [&](std::size_t i, uint64_t n) {
@@ -1025,7 +1026,62 @@ class PlyDecoder {
       if (cloud_.face_indices.size() > std::numeric_limits<uint32_t>::max())
         rows.fail("more than 2^32 face indices in total");
       cloud_.face_offsets.push_back(static_cast<uint32_t>(cloud_.face_indices.size()));
+    };
+    uint64_t r = 0;
+    if constexpr (std::is_same_v<Rows, BinaryRows>) {
+      const ScalarType count = e.properties[list].count_type;
+      if (e.properties.size() == 1 && scalar_size(count) == 1 && scalar_size(item) == 4)
+        r = read_face_blocks(e, one_row);
     }
+    for (; r < e.count; ++r) one_row(r);
+  }
+
+  // Binary faces whose only property is the index list, of 8-bit counts and 32-bit indices (what
+  // mesh writers write): parsed a block at a time, the stream taking each block's whole rows at
+  // once (one bounds check and one checksum update per block, not per value; on a 4M-vertex mesh
+  // the value-by-value reading was 30 % of build-qsplat's instructions). A row the block does not
+  // hold whole, or that breaks a rule, goes through one_row, which reads it or says what is wrong
+  // as for any other file. Returns the rows read.
+  template <class OneRow>
+  uint64_t read_face_blocks(const Element& e, OneRow& one_row) {
+    constexpr std::size_t kBlock = std::size_t{1} << 20;
+    const Property& p = e.properties[0];
+    const bool signed_count = p.count_type == ScalarType::kInt8;
+    const bool signed_item = p.type == ScalarType::kInt32;
+    const uint64_t limit = std::min<uint64_t>(vertex_count_, uint64_t{1} << 32);
+    constexpr uint64_t kMaxIndices = std::numeric_limits<uint32_t>::max();
+    std::vector<uint32_t>& indices = cloud_.face_indices;
+    uint64_t r = 0;
+    while (r < e.count) {
+      const std::string_view block = in_.peek(kBlock);
+      std::size_t at = 0;
+      while (r < e.count && at < block.size()) {
+        const auto c = static_cast<uint8_t>(block[at]);
+        const std::size_t need = 1 + 4 * std::size_t{c};
+        if ((signed_count && c >= 128) || at + need > block.size() ||
+            indices.size() + c > kMaxIndices)
+          break;
+        const char* q = block.data() + at + 1;
+        const std::size_t start = indices.size();
+        for (std::size_t k = 0; k < c; ++k) {
+          uint32_t v;
+          std::memcpy(&v, q + 4 * k, 4);
+          if (swap_) v = __builtin_bswap32(v);
+          if ((signed_item && v >= 0x80000000u) || v >= limit) break;
+          indices.push_back(v);
+        }
+        if (indices.size() != start + c) {
+          indices.resize(start);
+          break;
+        }
+        cloud_.face_offsets.push_back(static_cast<uint32_t>(indices.size()));
+        at += need;
+        ++r;
+      }
+      in_.take(at, "faces");
+      if (r < e.count) one_row(r++);
+    }
+    return r;
   }
 
   template <class Rows>

@@ -576,5 +576,57 @@ TEST(PlyBad, AsciiTrailingWhitespaceIsFine) {
   EXPECT_EQ(c.positions[1], (Vec3f{1, 1, 1}));
 }
 
+// Faces of 8-bit counts and 32-bit indices are read a block at a time: rows that straddle the
+// blocks, both byte orders, a file read through a small buffer and one in memory all give the
+// faces written; a bad row past the first block is named as in any other file.
+TEST(Ply, FacesAcrossReadBlocks) {
+  constexpr uint32_t kFaces = 200000;  // 2.4 MB of rows: several blocks
+  const auto corners = [](uint32_t f, uint32_t k) { return (f * 7 + k * 13) % 1000; };
+  for (const bool big : {false, true}) {
+    for (const ScalarType count : {ScalarType::kUInt8, ScalarType::kInt8}) {
+      Bytes b(std::string("ply\nformat binary_") + (big ? "big" : "little") +
+                  "_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face " + std::to_string(kFaces) +
+                  "\nproperty list " + (count == ScalarType::kUInt8 ? "uchar" : "char") +
+                  " uint vertex_indices\nend_header\n",
+              big);
+      for (int i = 0; i < 1000; ++i) b.f(static_cast<float>(i)).f(0).f(0);
+      std::vector<uint32_t> offsets{0}, indices;
+      for (uint32_t f = 0; f < kFaces; ++f) {
+        const uint32_t n = 3 + f % 2;  // triangles and quads: rows of 13 and 17 bytes
+        b.put<uint8_t>(static_cast<uint8_t>(n));
+        for (uint32_t k = 0; k < n; ++k) {
+          b.put<uint32_t>(corners(f, k));
+          indices.push_back(corners(f, k));
+        }
+        offsets.push_back(static_cast<uint32_t>(indices.size()));
+      }
+      const SplatCloud memory = read_bytes(b.str()).cloud;
+      EXPECT_EQ(memory.face_offsets, offsets);
+      EXPECT_EQ(memory.face_indices, indices);
+      const std::string path = unique_temp_path("faces.ply");
+      std::ofstream(path, std::ios::binary) << b.str();
+      InputStream file(path, 4096);
+      const SplatCloud read = read_ply(file).cloud;
+      EXPECT_EQ(read.face_offsets, offsets);
+      EXPECT_EQ(read.face_indices, indices);
+      std::remove(path.c_str());
+    }
+  }
+  const auto file_with_bad_row = [&](uint32_t bad) {
+    Bytes b(kBinaryHead + "element face " + std::to_string(kFaces) +
+            "\nproperty list uchar int vertex_indices\nend_header\n");
+    b.f(0).f(0).f(0).f(1).f(1).f(1);
+    for (uint32_t f = 0; f < kFaces; ++f)
+      b.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(f == bad ? 2 : 1).put<int32_t>(0);
+    return b.str();
+  };
+  expect_bad(file_with_bad_row(150000),
+             "element 'face' row 150000: vertex index 2 out of range (2 vertices)");
+  const std::string good = file_with_bad_row(kFaces);
+  EXPECT_EQ(read_bytes(good).cloud.face_indices.size(), 3 * kFaces);
+  expect_bad(good.substr(0, good.size() - 6), "row 199999: list count too big");
+}
+
 }  // namespace
 }  // namespace splatkit
