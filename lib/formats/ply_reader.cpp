@@ -1030,8 +1030,13 @@ class PlyDecoder {
     uint64_t r = 0;
     if constexpr (std::is_same_v<Rows, BinaryRows>) {
       const ScalarType count = e.properties[list].count_type;
-      if (e.properties.size() == 1 && scalar_size(count) == 1 && scalar_size(item) == 4)
+      if (e.properties.size() == 1 && scalar_size(count) == 1 && scalar_size(item) == 4) {
+        // Triangles' indices allocated ahead (within what the file holds): growing the vector
+        // copied it and faulted in its pages again at each doubling.
+        const std::optional<uint64_t> left = in_.remaining();
+        if (left) cloud_.face_indices.reserve(std::min(3 * e.count, *left / 4));
         r = read_face_blocks(e, one_row);
+      }
     }
     for (; r < e.count; ++r) one_row(r);
   }

@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 #include "splatkit/sized_in_parallel.h"
 #include "splatkit/vertex_normals.h"
 
@@ -43,28 +44,69 @@ void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const V
   if (cloud.has_colors()) out.colors.push_back(to_rgb8(cloud.colors[i], cloud.color_bits));
 }
 
+// Why a mesh vertex is no leaf, or kUsable.
+enum Drop : uint8_t { kUsable, kUnused, kZeroRadius, kZeroNormal };
+
 QSplatLeaves from_mesh(const SplatCloud& cloud) {
   const std::size_t n = cloud.size();
-  const std::vector<Vec3f> normal = vertex_normals(cloud);
-  std::vector<double> radius(n, 0.0);
-  std::vector<uint8_t> used(n, 0);
-  for (uint32_t v : cloud.face_indices) used[v] = 1;
-  for_each_triangle(cloud, [&](const std::array<uint32_t, 3>& t) {
-    const double r =
-        triangle_sphere_radius(cloud.positions[t[0]], cloud.positions[t[1]], cloud.positions[t[2]]);
-    for (uint32_t v : t) radius[v] = std::max(radius[v], r);
-  });
-  QSplatLeaves out;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!used[i]) {
-      ++out.dropped_unused;
-    } else if (!(radius[i] > 0)) {
-      ++out.dropped_zero_radius;
-    } else if (!(squared_norm(normal[i]) > 0)) {
-      ++out.dropped_zero_normal;
-    } else {
-      add_leaf(out, cloud, i, normalized(normal[i]), static_cast<float>(radius[i]));
+  // vertex_normals' sums and each vertex's largest triangle sphere, in one pass over the faces.
+  std::vector<Vec3f> normal(n, Vec3f{0, 0, 0});
+  std::vector<double> radius(n, -1.0);  // -1: no face uses the vertex
+  for_each_triangle_by_vertex_range(
+      cloud, [&](const std::array<uint32_t, 3>& t, uint32_t lo, uint32_t hi) {
+        const Vec3f &p0 = cloud.positions[t[0]], &p1 = cloud.positions[t[1]],
+                    &p2 = cloud.positions[t[2]];
+        const Vec3f fn = cross(p1 - p0, p2 - p0);
+        const double r = triangle_sphere_radius(p0, p1, p2);
+        for (uint32_t v : t)
+          if (v >= lo && v < hi) {
+            normal[v] += fn;
+            radius[v] = std::max(radius[v], r);
+          }
+      });
+  // A face of fewer than 3 vertices has no triangle but uses its vertices.
+  for (std::size_t f = 0; f < cloud.face_count(); ++f)
+    if (cloud.face_offsets[f + 1] - cloud.face_offsets[f] < 3)
+      for (uint32_t k = cloud.face_offsets[f]; k < cloud.face_offsets[f + 1]; ++k)
+        radius[cloud.face_indices[k]] = std::max(radius[cloud.face_indices[k]], 0.0);
+  // Leaves in vertex order: each chunk counts its usable vertices, then writes them after the
+  // earlier chunks' (the arrays sized once, in parallel).
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
+  std::vector<uint8_t> drop(n);
+  std::vector<std::size_t> first(chunk_count(n, kChunk) + 1, 0);
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+    std::size_t kept = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      drop[i] = radius[i] < 0                    ? kUnused
+                : !(radius[i] > 0)               ? kZeroRadius
+                : !(squared_norm(normal[i]) > 0) ? kZeroNormal
+                                                 : kUsable;
+      kept += drop[i] == kUsable;
     }
+    first[c + 1] = kept;
+  });
+  for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+  QSplatLeaves out;
+  const std::size_t m = first.back();
+  sized_in_parallel(out.positions, m);
+  sized_in_parallel(out.normals, m);
+  sized_in_parallel(out.radii, m);
+  if (cloud.has_colors()) sized_in_parallel(out.colors, m);
+  for_each_chunk(n, kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+    std::size_t j = first[c];
+    for (std::size_t i = b; i < e; ++i) {
+      if (drop[i] != kUsable) continue;
+      out.positions[j] = cloud.positions[i];
+      out.normals[j] = normalized(normal[i]);
+      out.radii[j] = static_cast<float>(radius[i]);
+      if (cloud.has_colors()) out.colors[j] = to_rgb8(cloud.colors[i], cloud.color_bits);
+      ++j;
+    }
+  });
+  for (uint8_t d : drop) {
+    out.dropped_unused += d == kUnused;
+    out.dropped_zero_radius += d == kZeroRadius;
+    out.dropped_zero_normal += d == kZeroNormal;
   }
   return out;
 }

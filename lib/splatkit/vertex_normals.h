@@ -3,6 +3,10 @@
 // faces wind (counter-clockwise seen from outside: outward).
 #pragma once
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -24,8 +28,28 @@ void for_each_triangle(const SplatCloud& cloud, Fn&& fn) {
   }
 }
 
+// Calls fn(t, lo, hi) for every triangle t of the mesh with a vertex in [lo, hi), for ranges
+// [lo, hi) that split the vertices among tasks run in parallel, one per thread of the arena: fn
+// writes only the entries of vertices in [lo, hi). Every task reads all the faces (cheap beside
+// what fn does) and sees its triangles in face order, so a per-vertex sum comes out as a single
+// pass over the faces makes it, whatever the thread count.
+template <class Fn>
+void for_each_triangle_by_vertex_range(const SplatCloud& cloud, Fn&& fn) {
+  const std::size_t n = cloud.size();
+  const auto tasks = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  tbb::parallel_for(std::size_t{0}, tasks, [&](std::size_t task) {
+    const auto lo = static_cast<uint32_t>(n * task / tasks),
+               hi = static_cast<uint32_t>(n * (task + 1) / tasks);
+    for_each_triangle(cloud, [&](const std::array<uint32_t, 3>& t) {
+      if ((t[0] >= lo && t[0] < hi) || (t[1] >= lo && t[1] < hi) || (t[2] >= lo && t[2] < hi))
+        fn(t, lo, hi);
+    });
+  });
+}
+
 // #N unnormalised sums (twice the areas): zero at a vertex that no face of positive area uses.
-// cloud.check_consistent() must hold (face indices in range).
+// cloud.check_consistent() must hold (face indices in range). In parallel, the same sums for any
+// thread count (for_each_triangle_by_vertex_range).
 std::vector<Vec3f> vertex_normals(const SplatCloud& cloud);
 
 }  // namespace splatkit

@@ -15,8 +15,10 @@
 #include "formats/read_qsplat.h"
 #include "qsplat/build_qsplat_tree.h"
 #include "qsplat/encode_qsplat.h"
+#include "qsplat/make_qsplat_leaves.h"
 #include "splatkit/error.h"
 #include "splatkit/synthetic_shapes.h"
+#include "splatkit/vertex_normals.h"
 #include "tbb/global_control.h"
 
 namespace splatkit::qsplat {
@@ -369,6 +371,62 @@ TEST(QSplatEncode, BytesDoNotDependOnTheThreadCount) {
     many = encode_qsplat(t, "x").bytes;
   }
   EXPECT_EQ(one, many);
+}
+
+// A mesh's leaves: the vertices split among threads, each summing its faces in face order, give
+// the same bits for any thread count, and the sums a plain pass over the faces makes; unused
+// vertices, those of a degenerate triangle only (no normal) and of a two-vertex face (no radius)
+// are dropped and counted.
+TEST(QSplatLeavesFromMesh, SameBitsForAnyThreadCountAndAsOnePass) {
+  SplatCloud mesh;
+  constexpr uint32_t kSide = 300;
+  for (uint32_t y = 0; y < kSide; ++y)
+    for (uint32_t x = 0; x < kSide; ++x)
+      mesh.positions.push_back({x * 0.1f, y * 0.1f, 0.05f * std::sin(x * 0.3f + y * 0.17f)});
+  mesh.face_offsets = {0};
+  const auto face = [&](std::initializer_list<uint32_t> v) {
+    mesh.face_indices.insert(mesh.face_indices.end(), v);
+    mesh.face_offsets.push_back(static_cast<uint32_t>(mesh.face_indices.size()));
+  };
+  for (uint32_t y = 0; y + 1 < kSide - 2; ++y)  // the last two rows: not in this grid
+    for (uint32_t x = 0; x + 1 < kSide; ++x) {
+      const uint32_t a = y * kSide + x, b = a + 1, c = a + kSide, d = c + 1;
+      if ((x + y) % 7 == 0)
+        face({a, b, d, c});  // a quad, fanned
+      else {
+        face({a, b, d});
+        face({a, d, c});
+      }
+    }
+  const uint32_t last = kSide * (kSide - 2);  // row kSide - 2: a degenerate triangle, an edge
+  face({last, last + 1, last + 1});
+  face({last + 2, last + 3});
+  std::vector<QSplatLeaves> runs;
+  for (int threads : {1, 2, 3}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    runs.push_back(make_qsplat_leaves(mesh, "mesh"));
+  }
+  const QSplatLeaves& one = runs[0];
+  EXPECT_EQ(one.dropped_unused, std::size_t{kSide} * 2 - 4);
+  EXPECT_EQ(one.dropped_zero_radius, 2u);  // the edge's two vertices
+  EXPECT_EQ(one.dropped_zero_normal, 2u);  // the degenerate triangle's
+  EXPECT_EQ(one.size(), std::size_t{kSide} * (kSide - 2));
+  for (const QSplatLeaves& r : runs) {
+    ASSERT_EQ(r.size(), one.size());
+    EXPECT_EQ(0, std::memcmp(r.normals.data(), one.normals.data(), one.size() * sizeof(Vec3f)));
+    EXPECT_EQ(0, std::memcmp(r.radii.data(), one.radii.data(), one.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(r.positions.data(), one.positions.data(), one.size() * sizeof(Vec3f)));
+  }
+  std::vector<Vec3f> sum(mesh.size(), Vec3f{0, 0, 0});  // one pass over the faces, in order
+  for_each_triangle(mesh, [&](const std::array<uint32_t, 3>& t) {
+    const Vec3f fn = cross(mesh.positions[t[1]] - mesh.positions[t[0]],
+                           mesh.positions[t[2]] - mesh.positions[t[0]]);
+    for (uint32_t v : t) sum[v] += fn;
+  });
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    const Vec3f expected = normalized(sum[i]);
+    ASSERT_EQ(0, std::memcmp(&expected, &one.normals[i], sizeof(Vec3f))) << i;
+  }
 }
 
 }  // namespace
