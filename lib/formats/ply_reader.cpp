@@ -18,6 +18,7 @@
 #include "formats/ply.h"
 #include "splatkit/error.h"
 #include "splatkit/position_builder.h"
+#include "splatkit/sized_in_parallel.h"
 
 namespace splatkit {
 namespace {
@@ -1035,6 +1036,10 @@ class PlyDecoder {
         // copied it and faulted in its pages again at each doubling.
         const std::optional<uint64_t> left = in_.remaining();
         if (left) cloud_.face_indices.reserve(std::min(3 * e.count, *left / 4));
+        // Their pages (and the row offsets') mapped in parallel: faulted in one by one, they
+        // were a quarter of the reading's time.
+        for (auto* v : {&cloud_.face_indices, &cloud_.face_offsets})
+          map_pages_in_parallel(v->data() + v->size(), v->data() + v->capacity());
         r = read_face_blocks(e, one_row);
       }
     }
