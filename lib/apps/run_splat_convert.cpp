@@ -83,7 +83,9 @@ StageSummary run_splat_convert(const SplatConvertOptions& o, const ProgressFn& p
   // chunks (LAS and OFF keep neither: there the chunks are only reported dropped).
   if (f == FileFormat::kPly || f == FileFormat::kXyz)
     graph::chunks_to_attributes(doc, stage.input_name());
-  stage.write(doc, write);
+  nlohmann::json report = {{"points", doc.cloud.size()}, {"output_format", format_name(f)}};
+  if (many) report["inputs"] = inputs;
+  stage.write(doc, write, report);
   // What the output format cannot hold, said in the summary line (not an error: converting to a
   // plainer format is often the point).
   std::string lost;

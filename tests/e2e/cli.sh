@@ -150,4 +150,10 @@ expect_exit 0 "$BIN/splat-synth" -q torus "$WORK/synth.splk" -n 1000 --report "$
 expect_eq "splat-synth --report" "$(jq -c '[.tool, .shape, .points]' "$WORK/synth.json")" \
   '["splat-synth","torus",1002]'
 
+expect_exit 0 "$BIN/splat-convert" -q "$WORK/synth.splk" "$WORK/synth.splk" "$WORK/both.ply" \
+  --stats "$WORK/convert.json"
+expect_eq "splat-convert --stats" \
+  "$(jq -c '[.tool, .points, .output_format, [.inputs[].points], (.timings_s.read > 0)]' \
+    "$WORK/convert.json")" '["splat-convert",2004,"ply",[1002,1002],true]'
+
 finish

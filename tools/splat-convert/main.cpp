@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({0, 1, 2, 3, 6, 7, 8}));
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
   tool.add_threads_option();  // LAZ chunks are decoded in parallel
+  app.add_option("--report,--stats", o.paths.report,
+                 "Write the counts (points in and out, per input), the timings (read, write) and "
+                 "peak RSS as JSON");
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     return splatkit::apps::run_splat_convert(o, progress);
   });
