@@ -3,7 +3,8 @@
 # of README.md and docs/tools/*.md, in a private directory holding the files the examples name
 # and a link data-samples/ to the samples (example_files.bash), with the tools first on PATH:
 # exit code 0 and nothing on stderr but summary lines. README.md's make code block is written to
-# ./Makefile before its commands run. Every tool has a page, and every page commands that run.
+# ./Makefile before its commands run. Every tool has a page that lists every option of its --help
+# and holds commands that run.
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/common.bash"
 S=$SRC/data-samples
@@ -44,6 +45,11 @@ for tool in splat-synth splat-info splat-convert splat-tile estimate-normals bui
   if [ ! -f "$page" ]; then fail "no page docs/tools/$tool.md"; continue; fi
   run_doc "$page"
   expect_eq "docs/tools/$tool.md commands run" "$([ "$DOC_RUN" -ge 2 ] && echo ok)" ok
+  # The page lists every option of --help (the page is the long form of the same facts).
+  while IFS= read -r opt; do
+    grep -q -- "\`$opt[ ,{\`]" "$page" && pass || fail "docs/tools/$tool.md does not list $opt"
+  done < <("$tool" --help | sed -n '/^Options:/,/^$/p' | grep -Eo '^  -[-a-z0-9,]+' |
+           sed 's/^  //; s/,.*//' | grep -v -- '^-h$')
 done
 
 # What the README's recipes promise.
