@@ -1,9 +1,6 @@
-# The files the examples of tests/e2e/examples.sh (every tool's --help) and
-# tests/e2e/doc_examples.sh (README.md and docs/tools/*.md) name, made in the current directory
-# from data-samples/ ($S), and left_out, the examples a sanitizer build does not run. Sourced
-# after common.bash, in the directory the examples run in.
+# The files the examples of every tool's --help name (tests/e2e/examples.sh), made in the current
+# directory from data-samples/ ($S). Sourced after common.bash, in the directory the examples run in.
 mkdir -p scans out frames
-ln -sfn "$S" data-samples  # the documentation's commands name the samples by this path
 # The files the examples name.
 # A scan as scanners give it: points without normals or radii (the examples that draw or build
 # from splats must name the output of estimate-normals).
@@ -36,27 +33,3 @@ open("N46W122.hgt", "wb").write(struct.pack(">%dh" % (n * n), *[int(1500 + 800 *
 open("dem.f32", "wb").write(struct.pack("<%df" % (1024 * 1024), *[100 * math.sin(i / 5000) for i in range(1024 * 1024)]))' ||
   fail "setup: heightmaps"
 setup build-ham -q dem.tif tiles.exr
-
-# A sanitizer build (ASan, detected from the binary) leaves out the examples of the 10M-point
-# city: its walkthrough render is two thirds of this test's CPU there (53 of 81 s), and its
-# occlusion culling runs under the sanitizers in e2e.occlusion (150k points). A release build
-# runs every example.
-sanitized=0
-grep -q __asan_init "$BIN/splat-info" 2>/dev/null && sanitized=1
-left_out() {  # left_out COMMAND: true (and a note) for an example this build does not run
-  [ $sanitized = 1 ] && [[ $1 == *city.splk* ]] || return 1
-  echo "note: not run in a sanitizer build: $1"
-}
-
-run_example() {  # run_example SOURCE COMMAND
-  local cmd=$2 code
-  bash -o pipefail -c "$cmd" >"$WORK/ex.out" 2>"$WORK/ex.err"
-  code=$?
-  if [ "$code" -ne 0 ]; then
-    fail "$1: exit $code: $cmd"; sed 's/^/  stderr: /' "$WORK/ex.err" | head -5 >&2
-  elif grep -v -E '^[a-z-]+: [0-9]+ (points|splats|samples|triangles) in ' "$WORK/ex.err" | grep -q .; then
-    fail "$1: unexpected stderr: $cmd: $(head -3 "$WORK/ex.err")"
-  else
-    pass
-  fi
-}

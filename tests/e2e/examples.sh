@@ -12,6 +12,7 @@ export PATH=$BIN:$PATH
 cd "$EX" || exit 1
 
 source "$HERE/example_files.bash"
+source "$HERE/run_example.bash"
 
 count=0
 for tool in splat-info splat-tile splat-convert splat-synth estimate-normals build-splat-graph \
