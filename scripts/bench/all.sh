@@ -4,7 +4,7 @@
 # docs/benchmarks.md: the machine, the CPU model, and per tool the command, date and output of
 # each bench.
 #
-# usage: scripts/bench/all.sh [--full] [NAME...]
+# usage: scripts/bench/all.sh [--full] [--page] [NAME...]
 #   NAME: knn normals graph segmentation io laz qsplat spt ham render (default: all of them)
 #   Sizes are small by default (the whole set takes about 15 minutes on 2 busy cores, building
 #   the bench programs included); --full gives each script its own defaults (hours).
@@ -13,6 +13,7 @@
 #   at different times appear with their own dates, and a bench never run says so.
 #   BUILD_DIR (default build-bench, as the scripts) is passed on to every script; with an existing
 #   build directory the bench programs are added to it (-DSPLATKIT_BUILD_BENCH=ON).
+#   --page writes the page from the results kept, running nothing.
 #   TIMEOUT (seconds, default 900) stops a bench that runs longer; its page entry says so.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -25,7 +26,8 @@ names=()
 for a in "$@"; do
   case $a in
     --full) full=1 ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --page) names+=(-) ;;
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) names+=("$a") ;;
   esac
 done
@@ -46,6 +48,10 @@ benches=(
 [ ${#names[@]} -gt 0 ] || for b in "${benches[@]}"; do names+=("${b%%|*}"); done
 
 mkdir -p "$results"
+# Some scripts configure BUILD_DIR with SPLATKIT_BUILD_TESTS=OFF; a build directory that had the
+# tests gets them back after each bench (laz.sh needs one of them, and ctest the rest).
+tests_on=0
+grep -q '^SPLATKIT_BUILD_TESTS:BOOL=ON' "$BUILD_DIR/CMakeCache.txt" 2>/dev/null && tests_on=1
 for b in "${benches[@]}"; do
   IFS='|' read -r name tool peer script quick why <<<"$b"
   [[ " ${names[*]} " == *" $name "* ]] || continue
@@ -65,6 +71,9 @@ for b in "${benches[@]}"; do
     echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
   } >"$results/$name.meta"
   tail -5 "$results/$name.out" >&2
+  if [ $tests_on = 1 ] && ! grep -q '^SPLATKIT_BUILD_TESTS:BOOL=ON' "$BUILD_DIR/CMakeCache.txt"; then
+    cmake -B "$BUILD_DIR" -DSPLATKIT_BUILD_TESTS=ON >/dev/null
+  fi
 done
 
 # The page.
@@ -95,7 +104,11 @@ kernel=$(uname -sr)
       when=$(sed -n 's/^date: //p' "$results/$name.meta")
       if [ "$code" = 0 ]; then state="$when"
       elif [ "$code" = 124 ]; then state="stopped after ${timeout_s} s ($when)"
+      elif [ "$code" = 1 ]; then state="$when; exit 1: a goal the script checks was missed"
       else state="failed, exit $code ($when)"; fi
+      if grep -Eqi '^(peer|PotreeConverter[^:]*|laz-perf): (qsplat_make )?not (found|installed)' "$results/$name.out"; then
+        state="$state; peer not installed here: splatkit's side only"
+      fi
     else
       state="not run${why:+: $why}"
     fi
@@ -120,7 +133,7 @@ kernel=$(uname -sr)
     echo
     echo '```text'
     # The bench's report; the build's and the tools' progress lines left out.
-    grep -v -E '^\[[0-9]+/[0-9]+\]|^ninja:|^-- |: [0-9]+ (points|splats|samples|triangles) in ' \
+    grep -v -E '^\[[0-9]+/[0-9]+\]|^ninja:|^-- |^\*\* WARNING \*\*|: [0-9]+ (points|splats|samples|triangles) in ' \
       "$results/$name.out" | tail -60
     echo '```'
   done
