@@ -10,8 +10,8 @@
 # Each stage prints its time; the end, the 10 slowest tests of each stage.
 # SPLATKIT_TEST_SANITIZE=0 skips stage 2. Works from any directory.
 # SPLATKIT_SIMD=portable|sse2|avx2|avx512 caps the vector code of every kernel for the whole suite
-# (see the README); the tests that compare vector paths run at each level up to the cap that the
-# CPU has and skip the others loudly. The summary lines say which levels ran.
+# (docs/design/spatial-index.md); the tests that compare vector paths run at each level up to the
+# cap that the CPU has and skip the others loudly. The summary lines say which levels ran.
 set -euo pipefail
 top=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$top/scripts/install-deps.sh"

@@ -1,9 +1,15 @@
 #include "apps/describe_terrain_file.h"
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <vector>
 #include <sstream>
 #include <string_view>
 
+#include "apps/texel_frame.h"
+#include "formats/describe_common.h"
 #include "formats/read_qsplat.h"
 #include "formats/splk.h"
 #include "formats/spt_codes.h"
@@ -13,6 +19,49 @@
 #include "terrain/terrain_map.h"
 
 namespace splatkit::apps {
+
+namespace {
+
+// The keys every splat-info report has (formats/describe_common.h): bytes, bounds of the texel
+// centres in the file's coordinates (heights `z_lo`..`z_hi`, null when unknown), crs.
+void add_common_keys(nlohmann::json& r, const std::string& path, int64_t width, int64_t height,
+                     const nlohmann::json& georef, const nlohmann::json& z_lo,
+                     const nlohmann::json& z_hi) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (!ec) r["bytes"] = bytes;
+  const TexelFrame f = texel_frame(georef);
+  const double xa = f.x0, xb = f.x0 + double(width - 1) * f.dx;
+  const double ya = f.y0, yb = f.y0 + double(height - 1) * f.dy;
+  r["bounds"] = {{"min", {std::min(xa, xb), std::min(ya, yb), z_lo}},
+                 {"max", {std::max(xa, xb), std::max(ya, yb), z_hi}}};
+  r["crs"] = georef.is_object() && georef.contains("crs") && georef["crs"].is_string()
+                 ? georef["crs"]
+                 : nlohmann::json(nullptr);
+}
+
+// The lowest and highest height of the map, no-data and NaN samples left out (read in bands of
+// rows, as build-ham does); nulls when every sample is a void.
+std::pair<nlohmann::json, nlohmann::json> height_range(terrain::HeightmapSource& source) {
+  const terrain::HeightmapInfo& info = source.info();
+  const int64_t band = std::max<int64_t>(1, info.band_rows);
+  std::vector<float> rows(std::size_t(band * info.width));
+  float lo = INFINITY, hi = -INFINITY;
+  for (int64_t y = 0; y < info.height; y += band) {
+    const int64_t n = std::min(band, info.height - y);
+    source.read_rows(n, rows.data());
+    for (std::size_t i = 0; i < std::size_t(n * info.width); ++i) {
+      const float v = rows[i];
+      if (std::isnan(v) || (info.has_nodata && double(v) == info.nodata)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (!(lo <= hi)) return {nullptr, nullptr};
+  return {lo, hi};
+}
+
+}  // namespace
 
 nlohmann::json describe_terrain_file(const std::string& path) {
   const std::string ext = lower_extension(path);
@@ -27,6 +76,10 @@ nlohmann::json describe_terrain_file(const std::string& path) {
                           {"z_scale", t.z_scale}};
       for (const char* key : {"h_min", "h_max", "ham_max", "voids", "nodata", "georef"})
         if (t.header.contains(key)) r[key] = t.header[key];
+      r["entries"] = int64_t(t.tiles_x) * int64_t(t.tiles_y);  // the tiles
+      add_common_keys(r, path, t.width, t.height, r.value("georef", nlohmann::json()),
+                      r.value("h_min", nlohmann::json()), r.value("h_max", nlohmann::json()));
+      tidy_report_numbers(r);
       return r;
     } catch (const Error& e) {  // an EXR without the tiles' header is a heightmap
       if (e.kind() != ErrorKind::kBadInput ||
@@ -36,34 +89,43 @@ nlohmann::json describe_terrain_file(const std::string& path) {
   }
   const std::unique_ptr<terrain::HeightmapSource> source = terrain::open_heightmap(path, "");
   const terrain::HeightmapInfo& info = source->info();
-  return {{"file", path},
-          {"format", "heightmap"},
-          {"file_format", info.format},
-          {"width", info.width},
-          {"height", info.height},
-          {"sample_type", info.sample_type},
-          {"nodata", info.has_nodata ? nlohmann::json(info.nodata) : nlohmann::json(nullptr)},
-          {"georef", info.georef}};
+  nlohmann::json r = {
+      {"file", path},
+      {"format", "heightmap"},
+      {"file_format", info.format},
+      {"width", info.width},
+      {"height", info.height},
+      {"points", info.width * info.height},  // the samples
+      {"sample_type", info.sample_type},
+      {"nodata", info.has_nodata ? nlohmann::json(info.nodata) : nlohmann::json(nullptr)},
+      {"georef", info.georef}};
+  const auto [lo, hi] = height_range(*source);
+  add_common_keys(r, path, info.width, info.height, info.georef, lo, hi);
+  tidy_report_numbers(r);
+  return r;
 }
 
 std::string describe_terrain_text(const nlohmann::json& r) {
   std::ostringstream s;
-  s << "File: " << r["file"].get<std::string>() << "\n";
   if (r["format"] == "ham") {
-    s << "Format: build-ham tiles (EXR)\n"
+    s << describe_common_text(r, "ham (build-ham tiles, EXR)",
+                              report_number(r["tiles"][0]) + " x " + report_number(r["tiles"][1]) +
+                                  " tiles")
       << "Map: " << r["width"] << " x " << r["height"] << " texels\n"
       << "Tiles: " << r["tiles"][0] << " x " << r["tiles"][1] << " of " << r["tile"] << " texels\n"
-      << "Z scale: " << r["z_scale"] << "\n";
+      << "Z scale: " << report_number(r["z_scale"]) << "\n";
     if (r.contains("h_min") && r.contains("h_max"))
-      s << "Heights: " << r["h_min"] << " .. " << r["h_max"] << "\n";
-    if (r.contains("ham_max")) s << "Largest HAM: " << r["ham_max"] << "\n";
+      s << "Heights: " << report_number(r["h_min"]) << " .. " << report_number(r["h_max"]) << "\n";
+    if (r.contains("ham_max")) s << "Largest HAM: " << report_number(r["ham_max"]) << "\n";
     if (r.contains("voids")) s << "Voids filled: " << r["voids"] << "\n";
   } else {
-    s << "Format: heightmap (" << r["file_format"].get<std::string>() << ", "
-      << r["sample_type"].get<std::string>() << ")\n"
+    s << describe_common_text(r, "heightmap (" + r["file_format"].get<std::string>() + ", " +
+                                     r["sample_type"].get<std::string>() + ")",
+                              "samples")
       << "Map: " << r["width"] << " x " << r["height"] << " texels\n";
   }
-  if (r.contains("nodata") && !r["nodata"].is_null()) s << "No-data: " << r["nodata"] << "\n";
+  if (r.contains("nodata") && !r["nodata"].is_null())
+    s << "No-data: " << report_number(r["nodata"]) << "\n";
   // The georeferencing in brief (--json gives it whole): the CRS and the texel size.
   if (r.contains("georef") && r["georef"].is_object()) {
     const nlohmann::json& g = r["georef"];
@@ -71,7 +133,7 @@ std::string describe_terrain_text(const nlohmann::json& r) {
       << (g.contains("crs") && g["crs"].is_string() ? g["crs"].get<std::string>() : "yes");
     const nlohmann::json scale = g.value("pixel_scale", nlohmann::json());
     if (scale.is_array() && scale.size() >= 2 && scale[0].is_number() && scale[1].is_number())
-      s << ", texels " << scale[0].get<double>() << " x " << scale[1].get<double>();
+      s << ", texels " << report_number(scale[0]) << " x " << report_number(scale[1]);
     s << "\n";
   }
   return s.str();

@@ -10,7 +10,9 @@ namespace splatkit::apps {
 // The report of `path` when its extension names a heightmap or tile format (.tif .tiff .png .exr
 // .hgt, any case), else null. A tile EXR gives "format": "ham" (map and tile sizes, z scale,
 // height range, largest HAM, voids, georeferencing); any other heightmap "format": "heightmap"
-// (size, sample type, no-data, georeferencing). Throws as the readers do.
+// (size, sample type, no-data, georeferencing), reading every sample once for the height range;
+// both with the keys every report has (formats/describe_common.h: "points" the samples of a
+// heightmap, "entries" the tiles of a tile EXR). Throws as the readers do.
 nlohmann::json describe_terrain_file(const std::string& path);
 
 // The text splat-info prints for such a report.

@@ -9,6 +9,7 @@
 #include "apps/describe_terrain_file.h"
 #include "apps/parse_triple.h"
 #include "apps/stage.h"
+#include "apps/texel_frame.h"
 #include "render/write_image.h"
 #include "splatkit/error.h"
 #include "terrain/ham_tiles_mismatch.h"
@@ -34,48 +35,7 @@ std::array<float, 3> parse_view(const std::string& text) {
   return v;
 }
 
-// The file's coordinates of the texels: X = x0 + column * dx, Y = y0 + row * dy (dy < 0 for a
-// north-up map), from the georeferencing the tiles carry (GeoTIFF tiepoint and pixel scale, with
-// the half-texel shift of PixelIsArea; a north-up ModelTransformation; SRTM's origin); without
-// one, X is the column and Y minus the row. Heights are the file's, times --z-scale in the view.
-struct FileFrame {
-  double x0 = 0, dx = 1, y0 = 0, dy = -1;
-  std::string name = "texels: x = column, y = -row, z = height";
-};
-
-FileFrame file_frame(const nlohmann::json& geo) {
-  FileFrame f;
-  if (!geo.is_object()) return f;
-  auto numbers = [&](const char* key, std::size_t n) {
-    std::vector<double> v;
-    const auto it = geo.find(key);
-    if (it == geo.end() || !it->is_array() || it->size() < n) return v;
-    for (const auto& x : *it) {
-      if (!x.is_number() || !std::isfinite(x.get<double>())) return std::vector<double>{};
-      v.push_back(x.get<double>());
-    }
-    return v;
-  };
-  const double area = geo.value("raster_type", std::string("area")) == "point" ? 0.0 : 0.5;
-  const std::vector<double> scale = numbers("pixel_scale", 2), tie = numbers("tiepoint", 6),
-                            origin = numbers("origin", 2), m = numbers("transformation", 16);
-  FileFrame g;
-  if (scale.size() >= 2 && scale[0] > 0 && scale[1] > 0 && tie.size() >= 6) {
-    g = {tie[3] + (area - tie[0]) * scale[0], scale[0], tie[4] - (area - tie[1]) * scale[1],
-         -scale[1], ""};
-  } else if (scale.size() >= 2 && scale[0] > 0 && scale[1] > 0 && origin.size() >= 2) {
-    g = {origin[0], scale[0], origin[1], -scale[1], ""};  // SRTM: the north-west sample
-  } else if (m.size() >= 16 && m[1] == 0 && m[4] == 0 && m[0] != 0 && m[5] != 0) {
-    g = {m[3] + area * m[0], m[0], m[7] + area * m[5], m[5], ""};
-  } else {
-    return f;
-  }
-  const std::string crs = geo.value("crs", std::string());
-  g.name = crs == "EPSG:4326"
-               ? "EPSG:4326: x = longitude, y = latitude (degrees), z = height"
-               : (crs.empty() ? std::string("the map's") : crs) + ": x, y projected, z = height";
-  return g;
-}
+using FileFrame = TexelFrame;
 
 // A point in the file's coordinates, in the frame the terrain is drawn in: metres (texel sizes
 // from the tiles) east and north of the north-west texel, heights times z_scale.
@@ -176,7 +136,7 @@ StageSummary run_terrain_view(const SplatViewOptions& o, const TerrainViewOption
   if (!o.background.empty()) ro.background = parse_background(o.background);
   const nlohmann::json georef =
       tiles.header.contains("georef") ? tiles.header["georef"] : nlohmann::json(nullptr);
-  const FileFrame file = file_frame(georef);
+  const FileFrame file = texel_frame(georef);
   const render::Camera camera =
       make_camera(o, terrain::terrain_bounds(map, frame), file, frame, tiles.z_scale);
   render::Framebuffer fb;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "formats/describe_common.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -31,13 +32,6 @@ json attribute(const std::string& name, ScalarType type, const Range& r, std::si
   return a;
 }
 
-// Float values printed through %.9g so the same float32 gives the same text in every format.
-double tidy(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return std::strtod(buf, nullptr);
-}
-
 }  // namespace
 
 json describe_cloud(const LoadedCloud& doc, const std::string& path,
@@ -59,7 +53,8 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
   for (const Vec3f& p : c.positions)
     for (int k = 0; k < 3; ++k) pos[k].add(p[k]);
   for (int k = 0; k < 3; ++k) {
-    Range file_range{pos[k].min + c.origin[k], pos[k].max + c.origin[k]};
+    Range file_range{shortest_value(float(pos[k].min)) + c.origin[k],
+                     shortest_value(float(pos[k].max)) + c.origin[k]};
     attrs.push_back(attribute(axis[k], ScalarType::kFloat32, file_range, n));
   }
   for (const Vec3f& v : c.normals)
@@ -88,56 +83,36 @@ json describe_cloud(const LoadedCloud& doc, const std::string& path,
     for (std::size_t i = 0; i < e.values.size(); ++i) er.add(e.values[i]);
     attrs.push_back(attribute(e.name, e.type(), er, n));
   }
-  for (auto& a : attrs)
-    if (a.contains("min")) {
-      a["min"] = tidy(a["min"].get<double>());
-      a["max"] = tidy(a["max"].get<double>());
-    }
   r["attributes"] = attrs;
 
   if (n > 0) {
     json mn = json::array(), mx = json::array();
     for (int k = 0; k < 3; ++k) {
-      // The float32 part tidied, the origin (a round number) added as it is: UTM coordinates
-      // keep their millimetres.
-      mn.push_back(tidy(pos[k].min) + c.origin[k]);
-      mx.push_back(tidy(pos[k].max) + c.origin[k]);
+      // The float32 part as its shortest text, the origin (a round number) added to it: UTM
+      // coordinates keep their millimetres without float32's tail.
+      mn.push_back(shortest_value(float(pos[k].min)) + c.origin[k]);
+      mx.push_back(shortest_value(float(pos[k].max)) + c.origin[k]);
     }
     r["bounds"] = {{"min", mn}, {"max", mx}};
   }
   r["origin"] = {c.origin[0], c.origin[1], c.origin[2]};
   if (c.viewpoint) r["viewpoint"] = {(*c.viewpoint)[0], (*c.viewpoint)[1], (*c.viewpoint)[2]};
+  r["crs"] = nullptr;  // no reader keeps a cloud's CRS yet (LAS GeoKeys and WKT are skipped)
   r["header"] = doc.header;
   if (!doc.metadata.empty()) r["metadata"] = doc.metadata;
+  tidy_report_numbers(r);
   return r;
-}
-
-// Numbers as a person reads them: integers without ".0", others with up to `digits` significant
-// digits (9 holds a float32; bounds, a float32 plus the origin, get 12).
-static std::string num(const json& v, int digits = 9) {
-  if (!v.is_number_float()) return v.dump();
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v.get<double>());
-  return buf;
 }
 
 std::string describe_cloud_text(const json& r) {
   std::ostringstream o;
-  o << "File: " << r["file"].get<std::string>() << "\n";
-  o << "Format: " << r["format"].get<std::string>();
-  if (r.contains("bytes")) o << " (" << r["bytes"].get<uint64_t>() << " bytes)";
-  o << "\nPoints: " << r["points"].get<uint64_t>() << "\n";
-  if (r["faces"].get<uint64_t>() > 0) o << "Faces: " << r["faces"].get<uint64_t>() << "\n";
-  if (r.contains("bounds")) {
-    auto v3 = [](const json& a) {
-      return num(a[0], 12) + ", " + num(a[1], 12) + ", " + num(a[2], 12);
-    };
-    o << "Bounds: min (" << v3(r["bounds"]["min"]) << ")\n";
-    o << "        max (" << v3(r["bounds"]["max"]) << ")\n";
-  }
+  const uint64_t faces = r["faces"].get<uint64_t>();
+  o << describe_common_text(r, r["format"].get<std::string>());
+  if (faces > 0) o << "Faces: " << faces << "\n";
   const auto& org = r["origin"];
   if (org[0].get<double>() != 0 || org[1].get<double>() != 0 || org[2].get<double>() != 0)
-    o << "Local origin: (" << num(org[0]) << ", " << num(org[1]) << ", " << num(org[2]) << ")\n";
+    o << "Local origin: (" << report_number(org[0]) << ", " << report_number(org[1]) << ", "
+      << report_number(org[2]) << ")\n";
   if (r.contains("viewpoint")) o << "Viewpoint: " << r["viewpoint"].dump() << "\n";
   o << "Attributes:\n";
   for (const auto& a : r["attributes"]) {
@@ -145,7 +120,8 @@ std::string describe_cloud_text(const json& r) {
     std::snprintf(line, sizeof line, "  %-16s %-8s", a["name"].get<std::string>().c_str(),
                   a["type"].get<std::string>().c_str());
     o << line;
-    if (a.contains("min")) o << "  [" << num(a["min"]) << ", " << num(a["max"]) << "]";
+    if (a.contains("min"))
+      o << "  [" << report_number(a["min"]) << ", " << report_number(a["max"]) << "]";
     o << "\n";
   }
   if (!r["header"].empty()) {

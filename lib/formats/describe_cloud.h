@@ -12,7 +12,8 @@
 
 namespace splatkit {
 
-// JSON report (stable key order, see splat-info --help). Bounding box and origin are in file
+// JSON report with the keys every report has (formats/describe_common.h; "crs" null: no reader
+// keeps a cloud's CRS yet), then "faces", "attributes", "origin", "header", "metadata". Bounding box and origin are in file
 // coordinates (origin added back). `file_bytes` is included when known.
 nlohmann::json describe_cloud(const LoadedCloud& doc, const std::string& path,
                               std::optional<uint64_t> file_bytes);

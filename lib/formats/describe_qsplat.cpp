@@ -1,9 +1,10 @@
 #include "formats/describe_qsplat.h"
 
+#include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 
+#include "formats/describe_common.h"
 #include "splatkit/error.h"
 
 namespace splatkit {
@@ -18,9 +19,11 @@ nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
   j["comment_fragments"] = m.comment_fragments;
   j["levels"] = m.levels;
   j["nodes"] = m.size() - m.roots.size();  // the file's nodes (the roots live in the headers)
+  j["entries"] = j["nodes"];
   j["leaves"] = m.leaves;
   j["interior_nodes"] = m.size() - m.roots.size() - m.leaves;
-  j["bytes_per_leaf"] = m.leaves ? static_cast<double>(m.file_bytes) / m.leaves : 0.0;
+  j["bytes_per_leaf"] =
+      m.leaves ? std::round(1000.0 * static_cast<double>(m.file_bytes) / m.leaves) / 1000 : 0.0;
   j["color"] = m.has_color;
   if (!m.roots.empty()) {
     const uint32_t r = m.roots[0];
@@ -29,7 +32,20 @@ nlohmann::json describe_qsplat(const QSplatModel& m, const std::string& path) {
   }
   const std::array<double, 3> origin = qsplat_origin(m);
   if (origin != std::array<double, 3>{0, 0, 0}) j["origin"] = origin;
+  if (!m.roots.empty()) {  // the box of the root spheres, in the coordinates of the input cloud
+    std::array<double, 3> lo, hi;
+    lo.fill(INFINITY);
+    hi.fill(-INFINITY);
+    for (const uint32_t r : m.roots)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], double(m.centres[r][k]) - m.radii[r] + origin[k]);
+        hi[k] = std::max(hi[k], double(m.centres[r][k]) + m.radii[r] + origin[k]);
+      }
+    j["bounds"] = {{"min", lo}, {"max", hi}};
+  }
+  j["crs"] = nullptr;
   j["comments"] = m.comments;
+  tidy_report_numbers(j);
   return j;
 }
 
@@ -84,23 +100,21 @@ std::optional<std::array<float, 4>> qsplat_view_sphere(const QSplatModel& m) {
 
 std::string describe_qsplat_text(const nlohmann::json& j) {
   std::ostringstream s;
-  s << "File: " << j["file"].get<std::string>() << "\n"
-    << "Format: QSplat .qs version 11 (big-endian)\n"
-    << "Bytes: " << j["bytes"] << "\n"
+  s << describe_common_text(j, "qs (QSplat version 11, big-endian)",
+                            report_number(j["interior_nodes"]) + " interior, " +
+                                report_number(j["leaves"]) + " leaves")
     << "Fragments: " << j["tree_fragments"] << " tree, " << j["comment_fragments"] << " comment\n"
     << "Levels: " << j["levels"] << "\n"
-    << "Nodes: " << j["nodes"] << " (" << j["interior_nodes"] << " interior)\n"
     << "Leaves: " << j["leaves"] << "\n"
-    << "Bytes per leaf: " << j["bytes_per_leaf"].get<double>() << "\n"
+    << "Bytes per leaf: " << report_number(j["bytes_per_leaf"]) << "\n"
     << "Colour: " << (j["color"].get<bool>() ? "yes (5-6-5)" : "no") << "\n";
   if (j.contains("root"))
-    s << "Root sphere: centre (" << j["root"]["centre"][0] << ", " << j["root"]["centre"][1] << ", "
-      << j["root"]["centre"][2] << "), radius " << j["root"]["radius"] << "\n";
-  if (j.contains("origin"))  // as splat-info prints a cloud's bounds: to the millimetre
-    s << std::fixed << std::setprecision(3) << "Origin (the local frame in file coordinates): ("
-      << j["origin"][0].get<double>() << ", " << j["origin"][1].get<double>() << ", "
-      << j["origin"][2].get<double>() << ")\n"
-      << std::defaultfloat << std::setprecision(6);
+    s << "Root sphere: centre (" << report_number(j["root"]["centre"][0]) << ", "
+      << report_number(j["root"]["centre"][1]) << ", " << report_number(j["root"]["centre"][2])
+      << "), radius " << report_number(j["root"]["radius"]) << " (local frame)\n";
+  if (j.contains("origin"))  // as for a cloud: the local frame's origin in file coordinates
+    s << "Local origin: (" << report_number(j["origin"][0]) << ", "
+      << report_number(j["origin"][1]) << ", " << report_number(j["origin"][2]) << ")\n";
   const std::string c = j["comments"].get<std::string>();
   if (!c.empty()) {
     s << "Comments:\n";

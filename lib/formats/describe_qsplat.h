@@ -14,7 +14,9 @@ namespace splatkit {
 
 // {"file", "format": "qs", "version": 11, "bytes", "tree_fragments", "comment_fragments",
 //  "levels", "nodes", "leaves", "interior_nodes", "bytes_per_leaf", "color", "root": {"centre",
-//  "radius"}, "origin" (when qsplat_origin is not zero), "comments"}
+//  "radius"}, "origin" (when qsplat_origin is not zero), "comments"}, and the keys every report
+// has (formats/describe_common.h): "entries" (= "nodes"), "bounds" (the box of the root spheres,
+// origin added back), "crs" (null)
 nlohmann::json describe_qsplat(const QSplatModel& model, const std::string& path);
 
 // The offset from the file's local frame to the coordinates of the cloud it was made from, which

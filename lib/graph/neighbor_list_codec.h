@@ -14,7 +14,8 @@
 // varint: unsigned LEB128, 7 bits per byte, low group first, high bit = more bytes follow; at
 // most 10 bytes (64 bits), shortest form only. zigzag(x) = (x << 1) ^ (x >> 63).
 // Indices of a spatially ordered cloud are close to their row's, so most deltas take one byte:
-// kUpper costs about one byte per undirected edge plus one per row (see README.md for figures).
+// kUpper costs about one byte per undirected edge plus one per row (figures: docs/design/graph.md
+// and docs/design/spatial-index.md).
 #pragma once
 
 #include <cstdint>

@@ -13,7 +13,7 @@
 // refined as Rayleigh quotients (the cubic's roots lose half their digits at a double root). No
 // iteration. Accuracy: about 1e-15 rad on well-separated eigenvalues, like Eigen's iterative
 // SelfAdjointEigenSolver; 1e-9 rad for λ = 1, 1 + 1e-6, 2, where Eigen's computeDirect loses the
-// normal (7e-5 rad). Speed against both: README.md, Choices.
+// normal (7e-5 rad). Speed against both: docs/design/normals.md, "PCA normals".
 //
 // Never NaN: the vectors are always unit and mutually orthogonal. A zero matrix or a multiple of
 // the identity gives normal (0, 0, 1) and axis (1, 0, 0); non-finite entries give the same with

@@ -30,7 +30,7 @@ bytes=$(stat -c %s "$work/model.qs")
 awk -v n="$n" -v t="$best" -v b="$bytes" -v th="$threads" 'BEGIN {
   printf "build-qsplat: %d splats, %d threads: %.3f s end to end = %.2f M splats/s; %d bytes (%.2f per leaf)\n",
          n, th, t, n / t / 1e6, b, b / n }'
-# The peer: the original qsplat_make (QSplat 1.0; README, "The QSplat peer"), named by
+# The peer: the original qsplat_make (QSplat 1.0; docs/design/qsplat.md, "The QSplat peer"), named by
 # QSPLAT_MAKE or found on the PATH, against build-qsplat on one triangle mesh of N vertices (the
 # original reads nothing else: binary big-endian PLY, x y z and faces), the two run by turns
 # (the machine's speed drifts); medians of the runs and their ratio.
@@ -55,7 +55,7 @@ p, o = statistics.median(t['peer']), statistics.median(t['ours'])
 print(f'mesh of $((side * side)) vertices, whole commands, medians of $runs runs by turns: '
       f'qsplat_make {p:.3f} s, build-qsplat --threads $threads {o:.3f} s: qsplat_make / build-qsplat = {p / o:.2f}')"
 else
-  echo "peer: qsplat_make not found (set QSPLAT_MAKE=/path/to/qsplat_make; README, \"The QSplat peer\")"
+  echo "peer: qsplat_make not found (set QSPLAT_MAKE=/path/to/qsplat_make; docs/design/qsplat.md, \"The QSplat peer\")"
 fi
 for blend in zbuffer zthreshold; do
 for px in 1 4 16; do

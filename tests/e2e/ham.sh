@@ -45,8 +45,8 @@ fi
 # splat-info describes the heightmap and the tiles.
 expect_exit 0 "$BIN/splat-info" "$DEM" "$WORK/t.exr"
 for line in "Format: heightmap \(tiff, int16\)" "Map: 257 x 257 texels" "No-data: -32768" \
-  "Georeferencing: EPSG:4326" "Format: build-ham tiles \(EXR\)" "Tiles: 5 x 5 of 64 texels" \
-  "Heights: 806.0 .. 4371.0" "Voids filled: 2551"; do
+  "Georeferencing: EPSG:4326" "Format: ham \(build-ham tiles, EXR\)" "Tiles: 5 x 5 of 64 texels" \
+  "Heights: 806 .. 4371" "Voids filled: 2551"; do
   grep -Eq "^$line" "$WORK/stdout" && pass || fail "splat-info lacks '$line'"
 done
 expect_exit 0 "$BIN/splat-info" --json "$WORK/t.exr"

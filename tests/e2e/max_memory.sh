@@ -30,7 +30,7 @@ mkdir -p "$WORK/tmp"
 # cloud:limit in MiB, each below what the cloud takes in memory (checked below: both peak at
 # 94 MiB in memory); at 72M both peak at 62-65 MiB, within the bound of 1.1x that a parallel pass
 # mapping fresh pages faster than the watcher (looking every millisecond) drops them may need
-# (README, "Memory limit").
+# (docs/design/memory.md, "Memory limit").
 for run in torus.splk:72 cad-dirty.xyz:72; do
   cloud=${run%:*} limit_mib=${run#*:}
   name=${cloud%.*}

@@ -26,12 +26,12 @@ expect_eq "compact entry size" "$((size - 128))" "$((entries * 16))"
 
 # splat-info describes both precisions.
 expect_exit 0 "$BIN/splat-info" "$WORK/t1.spt"
-grep -q "^Format: Sequential Point Tree .spt version 1 (compact, 16 bytes per entry)" "$WORK/stdout" &&
+grep -q "^Format: spt (Sequential Point Tree version 1, compact, 16 bytes per entry)" "$WORK/stdout" &&
   pass || fail "splat-info .spt: $(head -3 "$WORK/stdout")"
 grep -q "^Colour: yes" "$WORK/stdout" && pass || fail "splat-info .spt: no colour"
 expect_exit 0 "$BIN/build-spt" "$S/torus.ply" "$WORK/full.spt" -q --precision full
 expect_exit 0 "$BIN/splat-info" "$WORK/full.spt"
-grep -q "(full, 40 bytes per entry)" "$WORK/stdout" && pass || fail "splat-info: full precision"
+grep -q "^Format: spt (.*, full, 40 bytes per entry)" "$WORK/stdout" && pass || fail "splat-info: full precision"
 
 # splat-view: the drawn count falls as the camera recedes; the stats name the prefix.
 prev=999999999

@@ -7,13 +7,16 @@
 int main(int argc, char** argv) {
   splatkit::Tool tool(
       "splat-info",
-      "Describe point-cloud and splat files: format, point and face counts, "
-      "attributes with ranges, bounding box, format header, .splk chunks and metadata; QSplat "
-      ".qs and Sequential Point Tree .spt files: their levels, entries and quantisation; "
-      "heightmaps (.tif .png .exr .hgt: size, sample type, no-data, georeferencing) and "
-      "build-ham's tile EXRs (tiles, z scale, height range, largest HAM, voids). A file "
-      "that cannot be read is reported on stderr and the others are still described (exit "
-      "code of the first failure).",
+      "Describe point clouds (PLY, XYZ, LAS, LAZ, PCD, OFF, .splk), QSplat .qs and Sequential "
+      "Point Tree .spt files, heightmaps (.tif .png .exr .hgt) and build-ham's tile EXRs, every "
+      "kind with the same first lines: File, Format, Bytes, Points (a cloud's points, a "
+      "heightmap's samples) or Entries (.qs nodes, .spt entries, tiles), Bounds (in the file's "
+      "coordinates) and CRS; then the kind's own facts (attributes with ranges, header, .splk "
+      "chunks and metadata; levels and leaves; quantisation; size, sample type, no-data and "
+      "georeferencing; tiles, heights and HAM). --json gives the same facts with the keys file, "
+      "format, bytes, points or entries, bounds and crs for every kind. A file that cannot be "
+      "read is reported on stderr and the others are still described (exit code of the first "
+      "failure).",
       "  $ splat-info scan.ply\n"
       "  $ splat-info --json model.splk | jq .points\n"
       "  $ estimate-normals scan.las - | splat-info -\n"
