@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   app.add_option("--walk-frames", o.walk_frames, "city: cameras on the walkthrough (2..100000)")
       ->default_val(60);
   tool.add_ply_encoding_options(o.write.ascii, o.write.big_endian);
+  tool.add_threads_option();  // the writers checksum and copy large outputs in parallel
   app.add_option("--report,--stats", o.report,
                  "Write the counts, timings and peak RSS as JSON here");
   return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
