@@ -234,6 +234,7 @@ export class SplatRenderer {
   // Splat files: the file's colours, or the surface palette when `surfaces` and the file has ids.
   useColors(surfaces) {
     const gl = this.gl;
+    if (this.kind !== 'splats') return;
     const b = surfaces && this.surfaceBuffer ? this.surfaceBuffer : this.colorBuffer;
     gl.bindVertexArray(this.vao);
     if (b) {

@@ -1,5 +1,6 @@
-# cmake -DOUT=file.cpp -DBASE=dir -DFILES="a;b" -P embed_files.cmake: writes a C++ source that
+# cmake -DOUT=file.cpp -DBASE=dir -DFILES=a,b -P embed_files.cmake: writes a C++ source that
 # defines splatkit::serve::kViewerAssets (viewer_assets.h) holding the bytes of BASE/a, BASE/b, ...
+string(REPLACE "," ";" FILES "${FILES}")
 set(body "")
 set(table "")
 set(i 0)

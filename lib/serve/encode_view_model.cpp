@@ -111,8 +111,9 @@ std::string encode_spt(const SptModel& m, const RenderScene& s, const std::strin
     const float r_max = std::min(m.r_max[i], 3.4e38f);
     const float f[3] = {m.diameters[i], m.r_min[i], r_max};
     std::memcpy(e + 20, f, 12);
+    // Without colours: splat-view's grey albedo, 0.6 linear.
     const std::array<uint8_t, 3> c =
-        m.colors.empty() ? std::array<uint8_t, 3>{200, 200, 200} : m.colors[i];
+        m.colors.empty() ? std::array<uint8_t, 3>{203, 203, 203} : m.colors[i];
     const unsigned char rgba[4] = {c[0], c[1], c[2], 255};
     std::memcpy(e + 32, rgba, 4);
   }

@@ -19,9 +19,9 @@
 //           surface u32 and surface_color f32x3 (splat-view's --shade surface palette).
 //   spt:    entries: one interleaved vertex buffer, 36 bytes per entry in list order (r_max
 //           descending): position f32x3, normal snorm16x3 + 2 zero bytes, diameter f32, r_min
-//           f32, r_max f32 (infinity as 3.4e38), sRGB colour u8x4 (alpha 255; 200,200,200 when
-//           the file has none, flagged by "has_color": false); plus "epsilon" (the build's
-//           error, radians) and "leaves".
+//           f32, r_max f32 (infinity as 3.4e38), sRGB colour u8x4 (alpha 255; when the file has
+//           none, 203,203,203: splat-view's grey, and "has_color": false); plus "epsilon" (the
+//           build's error, radians) and "leaves".
 //   qsplat: centre f32x3, radius f32, normal f32x3 (decoded), cone u32 (2-bit code),
 //           first_child u32, child_count u32, roots u32 (#roots), optionally color f32x3; plus
 //           "leaves".

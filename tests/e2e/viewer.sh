@@ -1,0 +1,45 @@
+# The browser viewer in headless Chromium with software GL (SwiftShader): a .splk, an .spt and a
+# .qs of one scan, each opened from a #file=...&view=AZ,EL URL and compared with splat-view's CPU
+# render of the same camera (mask IoU and PSNR inside the masks). Skips (77) only when Chromium
+# or Node.js is not installed (scripts/install-deps.sh installs both).
+source "$(dirname "$0")/common.bash"
+source "$SRC/tests/viewer/serve.bash"
+S=$SRC/data-samples
+CHROMIUM=${SPLATKIT_CHROMIUM:-$(command -v chromium || command -v chromium-browser || true)}
+[ -n "$CHROMIUM" ] || { echo "SKIP: chromium is not installed (scripts/install-deps.sh)"; exit 77; }
+command -v node >/dev/null || { echo "SKIP: node is not installed (scripts/install-deps.sh)"; exit 77; }
+W=640 H=360
+
+# One scan (cad-scan.laz: scan lines of the CAD part), its normals, and its three kinds of file.
+expect_exit 0 "$BIN/estimate-normals" -q "$S/cad-scan.laz" "$WORK/scan.splk"
+expect_exit 0 "$BIN/build-spt" -q "$WORK/scan.splk" "$WORK/scan.spt"
+expect_exit 0 "$BIN/build-qsplat" -q "$WORK/scan.splk" "$WORK/scan.qs"
+start_server "$WORK/scan.splk" "$WORK/scan.spt" "$WORK/scan.qs" || finish
+
+# check FILE VIEW MIN_IOU MIN_PSNR
+check() {
+  local f=$1 view=$2 tag
+  tag=$(echo "$f-$view" | tr -c 'a-zA-Z0-9\n' '_')
+  "$BIN/splat-view" -q "$WORK/$f" "$WORK/$tag-cpu.png" --view "$view" --width $W --height $H ||
+    { fail "splat-view $f --view $view"; return; }
+  if ! node "$SRC/tests/viewer/drive_chromium.mjs" --chromium "$CHROMIUM" --width $W --height $H \
+      --url "${URL}#file=$f&view=$view&hud=0" --png "$WORK/$tag-gpu.png" --json "$WORK/$tag.json"
+  then
+    fail "the viewer did not draw $f"; return
+  fi
+  local m
+  m=$(node "$SRC/tests/viewer/compare_images.mjs" "$WORK/$tag-cpu.png" "$WORK/$tag-gpu.png")
+  echo "$f --view $view: $m $(cat "$WORK/$tag.json")"
+  node -e '
+    const m = JSON.parse(process.argv[1]);
+    process.exit(m.iou >= +process.argv[2] && m.psnr >= +process.argv[3] ? 0 : 1);' \
+    "$m" "$3" "$4" && pass || fail "$f --view $view: $m (want IoU >= $3, PSNR >= $4)"
+  [ -n "${SPLATKIT_VIEWER_KEEP:-}" ] && cp "$WORK/$tag-cpu.png" "$WORK/$tag-gpu.png" "$SPLATKIT_VIEWER_KEEP/"
+}
+
+check scan.splk 35,25 0.98 28
+check scan.spt 35,25 0.98 28
+check scan.qs 35,25 0.98 28
+check scan.splk 120,40 0.98 28
+stop_server INT
+finish
