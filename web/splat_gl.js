@@ -25,7 +25,7 @@ uniform float uFocal, uCx, uCy, uW, uH, uNear;
 uniform float uRadiusScale, uSptK, uMaxPoint;
 uniform bool uSpt, uSrgbColor, uEllipse;
 out vec3 vC, vN, vColor, vAxis;
-out float vR, vMinor, vFront;
+out float vR, vMinor, vFront, vRing;
 float toLinear(float v) {
   return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
@@ -40,8 +40,12 @@ void main() {
   float rad = aRadius * uRadiusScale;
   if (c.z - rad < uNear) { cull(); return; }
   vec2 px = vec2(uCx + uFocal * c.x / c.z, uCy + uFocal * c.y / c.z);
+  // Splats of more than 3 pixels get a ring out to 1.25 r whose fragments join the normal only
+  // (as splat-view's rasteriser: setup_splats.h).
+  vRing = rad * uFocal / c.z > 3.0 ? 1.5625 : 1.0;
+  float reach = rad * sqrt(vRing);
   // Bound on the distance from the projected centre to the projection of any point of the disc.
-  float ext = uFocal * rad * (1.0 + max(abs(c.x), abs(c.y)) / c.z) / (c.z - rad);
+  float ext = uFocal * reach * (1.0 + max(abs(c.x), abs(c.y)) / c.z) / max(c.z - reach, 1e-6 * c.z);
   gl_PointSize = min(2.0 * ext + 2.0, uMaxPoint);
   gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, 0.0, 1.0);
   vec3 n = normalize(aNormal);
@@ -57,7 +61,7 @@ void main() {
 const FS = `#version 300 es
 precision highp float;
 in vec3 vC, vN, vColor, vAxis;
-in float vR, vMinor, vFront;
+in float vR, vMinor, vFront, vRing;
 uniform float uFocal, uCx, uCy, uH, uNear;
 uniform float uDepthOffset, uDepthNear, uDepthFar, uBackWeight;
 uniform bool uEllipse;
@@ -81,13 +85,18 @@ void main() {
   } else {
     rho2 = dot(q, q) / (vR * vR);
   }
-  if (rho2 > 1.0) discard;
+  if (rho2 > vRing || (rho2 > 1.0 && uPass == 0)) discard;
   gl_FragDepth = clamp((t + uDepthOffset - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0);
   if (uPass == 0) return;
   float w = exp(-2.0 * rho2) - exp(-3.125);
   w *= vFront > 0.5 ? 1.0 : uBackWeight;
   vec3 nw = vN.x * uRight + vN.y * uDown + vN.z * uForward;  // back to the scene frame
   float depth01 = (t - uDepthNear) / (uDepthFar - uDepthNear);
+  if (rho2 > 1.0) {  // ring: the normal only
+    oNormal = vec4(nw * w, 0.0);
+    oColor = vec4(0.0);
+    return;
+  }
   oNormal = vec4(nw * w, w);
   oColor = vec4(vColor * w, depth01 * w);
 }`;
@@ -355,6 +364,8 @@ export class SplatRenderer {
     gl.uniform1i(u.uPass, 0);
     gl.uniform1f(u.uDepthOffset, eps);
     gl.drawArrays(gl.POINTS, 0, count);
+    const times = [];
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
     // 2. attributes
     gl.depthFunc(gl.LEQUAL);
     gl.depthMask(false);
@@ -364,6 +375,7 @@ export class SplatRenderer {
     gl.uniform1i(u.uPass, 1);
     gl.uniform1f(u.uDepthOffset, 0);
     gl.drawArrays(gl.POINTS, 0, count);
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
     gl.disable(gl.BLEND);
     gl.disable(gl.DEPTH_TEST);
     gl.depthMask(true);
@@ -396,12 +408,19 @@ export class SplatRenderer {
     gl.uniform1i(su.uMode, { phong: 0, normals: 1, depth: 2, flat: 3, surface: 0 }[opts.shade] ?? 0);
     gl.viewport(0, 0, proj.width, proj.height);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
-    return { submitted, drawn: count };
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
+    return { submitted, drawn: count, times };
   }
 
-  // Waits for the GPU (for timing): a one-pixel read.
+  // Waits for the GPU (for timing): a one-pixel read of the bound framebuffer (the float
+  // targets are read as floats).
   finish() {
-    const px = new Uint8Array(4);
-    this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, px);
+    const gl = this.gl;
+    if (gl.getParameter(gl.FRAMEBUFFER_BINDING)) {
+      gl.readBuffer(gl.COLOR_ATTACHMENT0);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, new Float32Array(4));
+    } else {
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    }
   }
 }

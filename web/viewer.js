@@ -61,6 +61,7 @@ function frame() {
   const t0 = performance.now();
   const r = renderer.draw(proj, {
     splatScale: state.size, sptError: state.sptError, shade: state.shade,
+    profile: state.profile,
     traverse: (p, out) => traverseQSplat(state.model, p, state.qsThreshold, out),
   });
   renderer.finish();
@@ -68,6 +69,10 @@ function frame() {
   const hd = state.model.header;
   state.lastStats = { file: state.name, kind: hd.kind, entries: hd.count, splats: r.drawn,
                       ms: Math.round(state.lastMs * 100) / 100, width: w, height: h };
+  if (state.profile && r.times.length === 3) {  // ms of: selection + visibility, attributes, shading
+    const t = [t0, ...r.times];
+    state.lastStats.pass_ms = [1, 2, 3].map((i) => Math.round((t[i] - t[i - 1]) * 10) / 10);
+  }
   $('stats').textContent =
       `${state.name} (${hd.kind}, ${hd.count} ${hd.kind === 'splats' ? 'splats' : 'nodes'})\n` +
       `${hd.kind === 'spt' ? 'entries tested' : 'splats drawn'}: ${r.drawn}\n` +
@@ -118,6 +123,7 @@ function readControlsFromHash() {
   state.size = num('size', state.size);
   state.sptError = num('spt-error', state.sptError);
   state.qsThreshold = num('qsplat-threshold', state.qsThreshold);
+  state.profile = p.get('profile') === '1';
   $('shade').value = state.shade;
   $('size').value = state.size;
   $('spt-error').value = state.sptError;
@@ -247,6 +253,7 @@ async function bench(ms) {
   }
   const elapsed = performance.now() - t0;
   return { fps: frames / (elapsed / 1000), frames, ms_per_frame: elapsed / frames,
+           pass_ms: last?.pass_ms,
            splats: last?.splats, entries: last?.entries, width: last?.width, height: last?.height };
 }
 
