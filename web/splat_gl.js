@@ -101,6 +101,64 @@ void main() {
   oColor = vec4(vColor * w, depth01 * w);
 }`;
 
+// The fast path (blend=zbuffer, splat-view's --blend zbuffer): one pass, each splat a round
+// point of its projected diameter at its centre's depth, shaded per vertex; no blending.
+const ZB_VS = `#version 300 es
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in float aRadius;
+layout(location = 3) in vec3 aColor;
+layout(location = 6) in vec2 aRange;
+uniform vec3 uEye, uRight, uDown, uForward, uLight;
+uniform float uFocal, uCx, uCy, uW, uH, uNear, uDepthNear, uDepthFar;
+uniform float uRadiusScale, uSptK, uMaxPoint;
+uniform bool uSpt, uSrgbColor;
+uniform int uMode;
+out vec3 vColor;
+float toLinear(float v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
+float toSrgb(float v) {
+  v = clamp(v, 0.0, 1.0);
+  return v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+void main() {
+  vec3 d = aPos - uEye;
+  if (uSpt) {
+    float r = length(d) * uSptK;
+    if (!(aRange.x <= r && r < aRange.y)) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  }
+  vec3 c = vec3(dot(d, uRight), dot(d, uDown), dot(d, uForward));
+  float rad = aRadius * uRadiusScale;
+  if (c.z - rad < uNear) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  vec2 px = vec2(uCx + uFocal * c.x / c.z, uCy + uFocal * c.y / c.z);
+  gl_PointSize = clamp(2.0 * rad * uFocal / c.z, 1.0, uMaxPoint);
+  float z = clamp((c.z - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0) * 2.0 - 1.0;
+  gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, z, 1.0);
+  vec3 albedo = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
+  vec3 n = normalize(aNormal);
+  vec3 view = -normalize(d);
+  vec3 col;
+  if (uMode == 1) { vColor = 0.5 * (n + 1.0); return; }
+  if (uMode == 2) { float t = 1.0 - (c.z - uDepthNear) / (uDepthFar - uDepthNear); vColor = vec3(t); return; }
+  if (uMode == 3) { col = albedo; } else {
+    float nv = dot(n, view);
+    if (nv < 0.0) n = n - view * (2.0 * nv);
+    float lambert = max(0.0, dot(n, uLight));
+    float spec = lambert > 0.0 ? pow(max(0.0, dot(n, normalize(uLight + view))), 32.0) : 0.0;
+    col = albedo * (0.12 + 0.8 * lambert) + vec3(0.25 * spec);
+  }
+  vColor = vec3(toSrgb(col.r), toSrgb(col.g), toSrgb(col.b));
+}`;
+
+const ZB_FS = `#version 300 es
+precision mediump float;
+in vec3 vColor;
+out vec4 oColor;
+void main() {
+  vec2 q = gl_PointCoord - 0.5;
+  if (dot(q, q) > 0.25) discard;
+  oColor = vec4(vColor, 1.0);
+}`;
+
 const QUAD_VS = `#version 300 es
 void main() {
   vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
@@ -163,7 +221,7 @@ function compile(gl, vs, fs) {
 
 export class SplatRenderer {
   constructor(canvas) {
-    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: false });
     if (!gl) throw new Error('this browser has no WebGL2');
     if (!gl.getExtension('EXT_color_buffer_float'))
       throw new Error('this browser cannot render into float targets (EXT_color_buffer_float)');
@@ -171,6 +229,7 @@ export class SplatRenderer {
     this.canvas = canvas;
     this.splat = compile(gl, VS, FS);
     this.shade = compile(gl, QUAD_VS, SHADE_FS);
+    this.zbuffer = compile(gl, ZB_VS, ZB_FS);
     this.maxPoint = gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1];
     this.vao = gl.createVertexArray();
     this.width = this.height = 0;
@@ -325,7 +384,13 @@ export class SplatRenderer {
     const depthNear = Math.max(proj.near, centreDepth - h.radius);
     const depthFar = Math.max(depthNear + 1e-6, centreDepth + h.radius + eps);
 
-    const p = this.splat;
+    const light = [-0.4 * proj.right[0] - 0.6 * proj.down[0] - proj.forward[0],
+                   -0.4 * proj.right[1] - 0.6 * proj.down[1] - proj.forward[1],
+                   -0.4 * proj.right[2] - 0.6 * proj.down[2] - proj.forward[2]];
+    const ln = Math.hypot(light[0], light[1], light[2]);
+    this.light = light.map((v) => v / ln);
+    const mode = { phong: 0, normals: 1, depth: 2, flat: 3, surface: 0 }[opts.shade] ?? 0;
+    const p = opts.blend === 'zbuffer' ? this.zbuffer : this.splat;
     gl.useProgram(p.program);
     const u = p.uniforms;
     gl.uniform3fv(u.uEye, proj.eye);
@@ -347,6 +412,7 @@ export class SplatRenderer {
     gl.uniform1f(u.uDepthNear, depthNear);
     gl.uniform1f(u.uDepthFar, depthFar);
     gl.uniform1f(u.uBackWeight, 1 / 256);
+    if (opts.blend === 'zbuffer') return this.drawZBuffer(proj, u, mode, submitted, count);
 
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
     gl.viewport(0, 0, proj.width, proj.height);
@@ -395,21 +461,37 @@ export class SplatRenderer {
     gl.uniform3fv(su.uRight, proj.right);
     gl.uniform3fv(su.uDown, proj.down);
     gl.uniform3fv(su.uForward, proj.forward);
-    const l = [-0.4 * proj.right[0] - 0.6 * proj.down[0] - proj.forward[0],
-               -0.4 * proj.right[1] - 0.6 * proj.down[1] - proj.forward[1],
-               -0.4 * proj.right[2] - 0.6 * proj.down[2] - proj.forward[2]];
-    const ln = Math.hypot(l[0], l[1], l[2]);
-    gl.uniform3f(su.uLight, l[0] / ln, l[1] / ln, l[2] / ln);
+    gl.uniform3fv(su.uLight, this.light);
     gl.uniform3f(su.uBackground, 0.0194, 0.0232, 0.0273);  // splat-view's background (linear)
     gl.uniform1f(su.uFocal, proj.focal);
     gl.uniform1f(su.uCx, proj.cx);
     gl.uniform1f(su.uCy, proj.cy);
     gl.uniform1f(su.uH, proj.height);
-    gl.uniform1i(su.uMode, { phong: 0, normals: 1, depth: 2, flat: 3, surface: 0 }[opts.shade] ?? 0);
+    gl.uniform1i(su.uMode, mode);
     gl.viewport(0, 0, proj.width, proj.height);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     if (opts.profile) { this.finish(); times.push(performance.now()); }
     return { submitted, drawn: count, times };
+  }
+
+  drawZBuffer(proj, u, mode, submitted, count) {
+    const gl = this.gl;
+    gl.uniform3fv(u.uLight, this.light);
+    gl.uniform1i(u.uMode, mode);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, proj.width, proj.height);
+    const bg = [0.0194, 0.0232, 0.0273].map((v) => (v <= 0.0031308 ? v * 12.92 : 1.055 * v ** (1 / 2.4) - 0.055));
+    gl.clearColor(bg[0], bg[1], bg[2], 1);
+    gl.clearDepth(1);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    gl.enable(gl.DEPTH_TEST);
+    gl.depthFunc(gl.LESS);
+    gl.depthMask(true);
+    gl.bindVertexArray(this.vao);
+    gl.drawArrays(gl.POINTS, 0, count);
+    gl.bindVertexArray(null);
+    gl.disable(gl.DEPTH_TEST);
+    return { submitted, drawn: count, times: [] };
   }
 
   // Waits for the GPU (for timing): a one-pixel read of the bound framebuffer (the float
