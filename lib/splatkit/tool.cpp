@@ -63,7 +63,8 @@ bool knows_option(const CLI::App& app, const std::string& name) {
 // The first argument that looks like an option ("--name[=value]" or "-x") and that neither the
 // tool nor any of its subcommands knows; empty when there is none. CLI11 reports a missing
 // positional before an unknown option ("IN is required" for `tool --bogus`): the unknown option
-// is the user's real mistake.
+// is the user's real mistake. A tool without required positionals (splat-view: IN and OUT, or
+// --serve FILE...) gets an unexpected-argument error instead, with the same real mistake.
 std::string unknown_option(const CLI::App& app, int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -143,7 +144,8 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   } catch (const CLI::CallForVersion& e) {
     return app_.exit(e);
   } catch (const CLI::ParseError& e) {
-    const std::string unknown = dynamic_cast<const CLI::RequiredError*>(&e)
+    const std::string unknown = dynamic_cast<const CLI::RequiredError*>(&e) ||
+                                        dynamic_cast<const CLI::ExtrasError*>(&e)
                                     ? unknown_option(app_, argc, argv)
                                     : std::string();
     // One line, as every error (a script that keeps the first line of stderr keeps it all).

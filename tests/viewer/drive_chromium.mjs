@@ -3,7 +3,7 @@
 // page, wait for its first frame, and save the canvas and the page's stats.
 //
 //   node drive_chromium.mjs --chromium PATH --url URL --width W --height H \
-//        [--png OUT.png] [--json OUT.json] [--bench MS]
+//        [--png CANVAS.png] [--screenshot PAGE.png] [--json OUT.json] [--bench MS]
 //
 // Software GL: SwiftShader through ANGLE. Exit 0 on success; 1 with a message otherwise.
 import { spawn } from 'node:child_process';
@@ -84,6 +84,10 @@ try {
   if (args.png) {
     const url = await evaluate(sessionId, 'window.viewer.capture()');
     writeFileSync(args.png, Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
+  }
+  if (args.screenshot) {  // the whole page, controls and stats included
+    const shot = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
+    writeFileSync(args.screenshot, Buffer.from(shot.data, 'base64'));
   }
   if (args.bench) result.bench = await evaluate(sessionId, `window.viewer.bench(${Number(args.bench)})`);
   result.gl = await evaluate(sessionId, `(() => {
