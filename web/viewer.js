@@ -75,7 +75,7 @@ function frame() {
   }
   $('stats').textContent =
       `${state.name} (${hd.kind}, ${hd.count} ${hd.kind === 'splats' ? 'splats' : 'nodes'})\n` +
-      `${hd.kind === 'spt' ? 'entries tested' : 'splats drawn'}: ${r.drawn}\n` +
+      `${hd.kind === 'spt' ? 'entries submitted (prefix)' : 'splats drawn'}: ${r.drawn}\n` +
       `${state.lastMs.toFixed(1)} ms/frame  ${w}x${h}`;
   return state.lastStats;
 }

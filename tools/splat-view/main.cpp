@@ -27,8 +27,9 @@ int main(int argc, char** argv) {
       "$ splat-view part-graph.splk soft.png --no-clip        # compare with clipping off\n"
       "$ splat-view city.splk 'walk_%04d.png' --path city.path.json --occlusion chc++\n"
       "$ splat-view --terrain dem.tif --ham tiles.exr dem.png --wireframe  # after build-ham\n"
-      "$ splat-view --serve scan.spt bunny.qs part.splk --port 8080  # open the printed URL;\n"
-      "      # http://127.0.0.1:8080/#file=scan.spt&view=35,25 shows scan.spt as --view 35,25\n");
+      "The browser viewer runs until Ctrl-C:\n"
+      "  splat-view --serve scan.spt bunny.qs part.splk --port 8080\n"
+      "  then open http://127.0.0.1:8080/#file=scan.spt&view=35,25 (the camera of --view 35,25)\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
   splatkit::apps::SplatViewOptions o;
