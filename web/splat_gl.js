@@ -24,8 +24,9 @@ uniform vec3 uEye, uRight, uDown, uForward;
 uniform float uFocal, uCx, uCy, uW, uH, uNear;
 uniform float uRadiusScale, uSptK, uMaxPoint;
 uniform bool uSpt, uSrgbColor, uEllipse;
-out vec3 vC, vN, vColor, vAxis;
-out float vR, vMinor, vFront, vRing;
+// Per splat, constant over its point sprite: flat (no interpolation to set up per point).
+flat out vec3 vC, vN, vColor, vAxis;
+flat out float vR, vMinor, vFront, vRing;
 float toLinear(float v) {
   return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
@@ -44,9 +45,11 @@ void main() {
   // (as splat-view's rasteriser: setup_splats.h).
   vRing = rad * uFocal / c.z > 3.0 ? 1.5625 : 1.0;
   float reach = rad * sqrt(vRing);
-  // Bound on the distance from the projected centre to the projection of any point of the disc.
-  float ext = uFocal * reach * (1.0 + max(abs(c.x), abs(c.y)) / c.z) / max(c.z - reach, 1e-6 * c.z);
-  gl_PointSize = min(2.0 * ext + 2.0, uMaxPoint);
+  // Bound on the distance, along x or y, from the projected centre to the projection of any
+  // point within reach of the centre: reach sqrt(1 + (x/z)^2) / (z - reach) in units of f.
+  float slope = max(abs(c.x), abs(c.y)) / c.z;
+  float ext = uFocal * reach * sqrt(1.0 + slope * slope) / max(c.z - reach, 1e-6 * c.z);
+  gl_PointSize = min(2.0 * ext + 1.0, uMaxPoint);
   gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, 0.0, 1.0);
   vec3 n = normalize(aNormal);
   vC = c;
@@ -60,8 +63,8 @@ void main() {
 
 const FS = `#version 300 es
 precision highp float;
-in vec3 vC, vN, vColor, vAxis;
-in float vR, vMinor, vFront, vRing;
+flat in vec3 vC, vN, vColor, vAxis;
+flat in float vR, vMinor, vFront, vRing;
 uniform float uFocal, uCx, uCy, uH, uNear;
 uniform float uDepthOffset, uDepthNear, uDepthFar, uBackWeight;
 uniform bool uEllipse;
@@ -114,7 +117,7 @@ uniform float uFocal, uCx, uCy, uW, uH, uNear, uDepthNear, uDepthFar;
 uniform float uRadiusScale, uSptK, uMaxPoint;
 uniform bool uSpt, uSrgbColor;
 uniform int uMode;
-out vec3 vColor;
+flat out vec3 vColor;
 float toLinear(float v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
 float toSrgb(float v) {
   v = clamp(v, 0.0, 1.0);
@@ -151,7 +154,7 @@ void main() {
 
 const ZB_FS = `#version 300 es
 precision mediump float;
-in vec3 vColor;
+flat in vec3 vColor;
 out vec4 oColor;
 void main() {
   vec2 q = gl_PointCoord - 0.5;
