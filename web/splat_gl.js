@@ -430,6 +430,7 @@ export class SplatRenderer {
     gl.depthFunc(gl.LESS);
     gl.depthMask(true);
     gl.colorMask(false, false, false, false);
+    gl.drawBuffers([gl.NONE, gl.NONE]);
     gl.uniform1i(u.uPass, 0);
     gl.uniform1f(u.uDepthOffset, eps);
     gl.drawArrays(gl.POINTS, 0, count);
@@ -439,6 +440,7 @@ export class SplatRenderer {
     gl.depthFunc(gl.LEQUAL);
     gl.depthMask(false);
     gl.colorMask(true, true, true, true);
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0, gl.COLOR_ATTACHMENT1]);
     gl.enable(gl.BLEND);
     gl.blendFunc(gl.ONE, gl.ONE);
     gl.uniform1i(u.uPass, 1);
