@@ -38,8 +38,8 @@ class Arrays {
     const std::size_t offset = data_.size();
     data_.resize(offset + ((bytes + 3) & ~std::size_t{3}), '\0');
     if (bytes) std::memcpy(data_.data() + offset, data, bytes);
-    index_[name] = {{"offset", offset}, {"bytes", bytes}, {"type", type},
-                    {"components", components}};
+    index_[name] = {
+        {"offset", offset}, {"bytes", bytes}, {"type", type}, {"components", components}};
   }
   void add_vec3(const std::string& name, const std::vector<Vec3f>& v) {
     add(name, reinterpret_cast<const float*>(v.data()), v.size() * 3, "f32", 3);
@@ -70,12 +70,9 @@ std::string assemble(nlohmann::json header, Arrays& arrays) {
 nlohmann::json common(const char* kind, const std::string& name, std::size_t count,
                       const BoundingSphere& b, const std::array<double, 3>& origin,
                       float mean_radius) {
-  return {{"kind", kind},
-          {"name", name},
-          {"count", count},
-          {"bounds", {b.center.x, b.center.y, b.center.z, b.radius}},
-          {"origin", origin},
-          {"mean_radius", mean_radius}};
+  return {{"kind", kind},     {"name", name},
+          {"count", count},   {"bounds", {b.center.x, b.center.y, b.center.z, b.radius}},
+          {"origin", origin}, {"mean_radius", mean_radius}};
 }
 
 std::string encode_splats(RenderScene& s, const std::string& name) {
@@ -105,8 +102,8 @@ std::string encode_spt(const SptModel& m, const RenderScene& s, const std::strin
   for (std::size_t i = 0; i < m.size(); ++i) {
     unsigned char* e = entries.data() + i * kStride;
     std::memcpy(e, &m.positions[i], 12);
-    const int16_t n[4] = {snorm16(m.normals[i].x), snorm16(m.normals[i].y),
-                          snorm16(m.normals[i].z), 0};
+    const int16_t n[4] = {snorm16(m.normals[i].x), snorm16(m.normals[i].y), snorm16(m.normals[i].z),
+                          0};
     std::memcpy(e + 12, n, 8);
     const float r_max = std::min(m.r_max[i], 3.4e38f);
     const float f[3] = {m.diameters[i], m.r_min[i], r_max};

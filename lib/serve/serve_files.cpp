@@ -72,11 +72,10 @@ std::map<std::string, std::unique_ptr<ServedFile>> check_files(const ServeOption
 
 // The file's bytes through a provider, which lets the library answer Range requests.
 void send_file(const ServedFile& f, httplib::Response& res) {
-  auto fd = std::shared_ptr<int>(new int(::open(f.path.c_str(), O_RDONLY | O_CLOEXEC)),
-                                 [](int* p) {
-                                   if (*p >= 0) ::close(*p);
-                                   delete p;
-                                 });
+  auto fd = std::shared_ptr<int>(new int(::open(f.path.c_str(), O_RDONLY | O_CLOEXEC)), [](int* p) {
+    if (*p >= 0) ::close(*p);
+    delete p;
+  });
   if (*fd < 0) {
     res.status = 500;
     return;
@@ -86,8 +85,8 @@ void send_file(const ServedFile& f, httplib::Response& res) {
       [fd](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
         char buf[1 << 16];
         while (length > 0) {
-          const ssize_t n = ::pread(*fd, buf, std::min(length, sizeof buf),
-                                    static_cast<off_t>(offset));
+          const ssize_t n =
+              ::pread(*fd, buf, std::min(length, sizeof buf), static_cast<off_t>(offset));
           if (n <= 0) return false;  // the file shrank or cannot be read: the response aborts
           if (!sink.write(buf, static_cast<std::size_t>(n))) return false;
           offset += static_cast<std::size_t>(n);

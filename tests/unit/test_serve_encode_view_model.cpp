@@ -52,7 +52,8 @@ Parsed parse(std::string bytes) {
 template <class T>
 T at(const Parsed& p, const std::string& array, std::size_t index) {
   T v;
-  std::memcpy(&v, p.data + p.header["arrays"][array]["offset"].get<std::size_t>() + index * sizeof(T),
+  std::memcpy(&v,
+              p.data + p.header["arrays"][array]["offset"].get<std::size_t>() + index * sizeof(T),
               sizeof(T));
   return v;
 }

@@ -43,11 +43,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> serve;
   int port = 0;
   app.add_option("--serve", serve,
-               "Serve these files to the browser viewer (WebGL2: .spt drawn on the GPU by "
-               "its distance intervals, .qs by the QSplat traversal per frame, other splat files "
-               "as blended splats) on 127.0.0.1 only, print its URL, and run until Ctrl-C. "
-               "http://127.0.0.1:PORT/#file=NAME&view=AZ,EL[,DIST] shows NAME as --view does "
-               "at the window's size. Only the named files are served, under their base names")
+                 "Serve these files to the browser viewer (WebGL2: .spt drawn on the GPU by "
+                 "its distance intervals, .qs by the QSplat traversal per frame, other splat files "
+                 "as blended splats) on 127.0.0.1 only, print its URL, and run until Ctrl-C. "
+                 "http://127.0.0.1:PORT/#file=NAME&view=AZ,EL[,DIST] shows NAME as --view does "
+                 "at the window's size. Only the named files are served, under their base names")
       ->expected(1, -1)
       ->type_name("FILE...");
   app.add_option("--port", port, "With --serve: the port (0: any free port)")
