@@ -278,6 +278,7 @@ export class SplatRenderer {
       const floats = new Float32Array(arrays.entries.buffer, arrays.entries.byteOffset,
                                       arrays.entries.byteLength / 4);
       this.rMax = (i) => floats[9 * i + 7];
+      this.entries = floats;
     } else if (header.kind === 'qsplat') {
       this.stream = new Float32Array(Math.min(header.count, 8 << 20) * 10);
       this.streamBuffer = buffer(this.stream.byteLength, gl.DYNAMIC_DRAW);
@@ -363,9 +364,23 @@ export class SplatRenderer {
     return lo;
   }
 
+  // How many of the first `prefix` entries of an .spt list pass the interval test the vertex
+  // shader makes (for the stats; the GPU does not report it).
+  sptSelected(proj, k, prefix) {
+    const f = this.entries, e = proj.eye;
+    let n = 0;
+    for (let i = 0; i < prefix; ++i) {
+      const o = 9 * i;
+      const r = Math.hypot(f[o] - e[0], f[o + 1] - e[1], f[o + 2] - e[2]) * k;
+      if (f[o + 6] <= r && r < f[o + 7]) ++n;
+    }
+    return n;
+  }
+
   // Draws one frame. opts: {splatScale, sptError (px), qsplatThreshold (px), shade ('phong',
   // 'normals', 'depth', 'flat'), epsilon (scene units; default twice the mean radius)}.
-  // Returns {splats: the number of vertices submitted, drawn: selected (qsplat)}.
+  // Returns {submitted: the vertices drawn, drawn: the splats among them (.spt: those passing
+  // the interval test, counted unless opts.countSpt is false)}.
   draw(proj, opts) {
     const gl = this.gl;
     const h = this.model.header;
@@ -415,7 +430,7 @@ export class SplatRenderer {
     gl.uniform1f(u.uDepthNear, depthNear);
     gl.uniform1f(u.uDepthFar, depthFar);
     gl.uniform1f(u.uBackWeight, 1 / 256);
-    if (opts.blend === 'zbuffer') return this.drawZBuffer(proj, u, mode, submitted, count);
+    if (opts.blend === 'zbuffer') return this.drawZBuffer(proj, u, mode, submitted, count, opts, sptK);
 
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
     gl.viewport(0, 0, proj.width, proj.height);
@@ -476,10 +491,12 @@ export class SplatRenderer {
     gl.viewport(0, 0, proj.width, proj.height);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     if (opts.profile) { this.finish(); times.push(performance.now()); }
-    return { submitted, drawn: count, times };
+    const drawn = h.kind === 'spt' && opts.countSpt !== false
+        ? this.sptSelected(proj, sptK, count) : count;
+    return { submitted, drawn, times };
   }
 
-  drawZBuffer(proj, u, mode, submitted, count) {
+  drawZBuffer(proj, u, mode, submitted, count, opts, sptK) {
     const gl = this.gl;
     gl.uniform3fv(u.uLight, this.light);
     gl.uniform1i(u.uMode, mode);
@@ -496,7 +513,9 @@ export class SplatRenderer {
     gl.drawArrays(gl.POINTS, 0, count);
     gl.bindVertexArray(null);
     gl.disable(gl.DEPTH_TEST);
-    return { submitted, drawn: count, times: [] };
+    const drawn = this.model.header.kind === 'spt' && opts.countSpt !== false
+        ? this.sptSelected(proj, sptK, count) : count;
+    return { submitted, drawn, times: [] };
   }
 
   // Waits for the GPU (for timing): a one-pixel read of the bound framebuffer (the float

@@ -61,13 +61,14 @@ function frame() {
   const t0 = performance.now();
   const r = renderer.draw(proj, {
     splatScale: state.size, sptError: state.sptError, shade: state.shade, blend: state.blend,
-    profile: state.profile,
+    profile: state.profile, countSpt: !state.benchmarking,
     traverse: (p, out) => traverseQSplat(state.model, p, state.qsThreshold, out),
   });
   if (!state.benchmarking) renderer.finish();  // (ms/frame: the GPU's work too)
   state.lastMs = performance.now() - t0;
   const hd = state.model.header;
   state.lastStats = { file: state.name, kind: hd.kind, entries: hd.count, splats: r.drawn,
+                      submitted: r.submitted,
                       ms: Math.round(state.lastMs * 100) / 100, width: w, height: h };
   if (state.profile && r.times.length === 3) {  // ms of: selection + visibility, attributes, shading
     const t = [t0, ...r.times];
@@ -75,7 +76,8 @@ function frame() {
   }
   $('stats').textContent =
       `${state.name} (${hd.kind}, ${hd.count} ${hd.kind === 'splats' ? 'splats' : 'nodes'})\n` +
-      `${hd.kind === 'spt' ? 'entries submitted (prefix)' : 'splats drawn'}: ${r.drawn}\n` +
+      `splats drawn: ${r.drawn}` +
+      (hd.kind === 'spt' ? ` (of a prefix of ${r.submitted} entries)\n` : '\n') +
       `${state.lastMs.toFixed(1)} ms/frame  ${w}x${h}`;
   return state.lastStats;
 }
