@@ -4,6 +4,7 @@
 #include <httplib.h>
 #include <pthread.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -138,6 +139,12 @@ void serve_files(const ServeOptions& o,
   const std::string listing_text = listing.dump();
 
   httplib::Server server;
+  // SO_REUSEADDR only: the library's default adds SO_REUSEPORT, which would let a second server
+  // share a port already taken (each getting some of the connections) instead of failing.
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   server.Get(R"(/.*)", [&](const httplib::Request& req, httplib::Response& res) {
     const std::string& p = req.path;
     if (auto a = assets.find(p); a != assets.end()) {

@@ -47,6 +47,9 @@ if [ -n "$other" ] && [ "${other#127.}" = "$other" ]; then
   code=$(curl -s -o /dev/null -w '%{http_code}' --max-time 2 "http://$other:$port/")
   expect_eq "reached on $other" "$code" 000
 fi
+# A port already taken is an error (exit 4), not a second server sharing it.
+expect_exit 4 "$BIN/splat-view" --serve "$S/torus.ply" --port "$port"
+expect_stderr "cannot listen there"
 stop_server INT
 
 start_server "$S/torus.ply" || finish
