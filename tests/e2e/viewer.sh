@@ -43,6 +43,20 @@ check scan.splk 35,25 0.98 28
 check scan.spt 35,25 0.98 28
 check scan.qs 35,25 0.98 28
 check scan.splk 120,-30 0.98 28
+
+# The controls: orbit drag and wheel, the walk camera, the shading; the URL follows the orbit.
+if node "$SRC/tests/viewer/drive_chromium.mjs" --chromium "$CHROMIUM" --width $W --height $H \
+    --url "${URL}#file=scan.qs&view=10,20" --eval "$(cat "$SRC/tests/viewer/interact.js")" \
+    --json "$WORK/interact.json"; then
+  expect_eq "interaction" "$(jq -c '.eval | [.orbit_turned, .zoomed_out, .walked, .shade, .error]' \
+    "$WORK/interact.json")" '[true,true,true,"normals",""]'
+  jq -r .eval.hash_after_drag "$WORK/interact.json" | grep -Eq '^#file=scan\.qs&view=-2,17$' &&
+    pass || fail "the URL after a drag: $(jq -r .eval.hash_after_drag "$WORK/interact.json")"
+  jq -r .eval.stats "$WORK/interact.json" | grep -q "splats drawn: [1-9]" && pass ||
+    fail "no stats overlay: $(jq -r .eval.stats "$WORK/interact.json")"
+else
+  fail "the interaction script did not run"
+fi
 stop_server INT
 
 building=${SPLATKIT_CGAL_SCANS:-$BIN/../cgal-scans}/building.ply

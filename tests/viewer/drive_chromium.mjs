@@ -3,7 +3,9 @@
 // page, wait for its first frame, and save the canvas and the page's stats.
 //
 //   node drive_chromium.mjs --chromium PATH --url URL --width W --height H \
-//        [--png CANVAS.png] [--screenshot PAGE.png] [--json OUT.json] [--bench MS]
+//        [--png CANVAS.png] [--screenshot PAGE.png] [--json OUT.json] [--bench MS] [--eval JS]
+// (--eval: an expression evaluated in the page after the first frame, awaited; its value is
+// "eval" in the JSON)
 //
 // Software GL: SwiftShader through ANGLE. Exit 0 on success; 1 with a message otherwise.
 import { spawn } from 'node:child_process';
@@ -89,6 +91,7 @@ try {
     const shot = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
     writeFileSync(args.screenshot, Buffer.from(shot.data, 'base64'));
   }
+  if (args.eval) result.eval = await evaluate(sessionId, args.eval);
   if (args.bench) result.bench = await evaluate(sessionId, `window.viewer.bench(${Number(args.bench)})`);
   result.gl = await evaluate(sessionId, `(() => {
       const gl = document.createElement('canvas').getContext('webgl2');
