@@ -1,5 +1,5 @@
 // Compares the viewer's screenshot with splat-view's render of the same camera:
-//   node compare_images.mjs REFERENCE.png OTHER.png [DIFF.png]
+//   node compare_images.mjs REFERENCE.png OTHER.png
 // Both are 8-bit RGB(A) PNGs over splat-view's background colour; a pixel is in an image's mask
 // when any channel differs from that colour by more than 2 levels. Prints one JSON line:
 // {"iou": mask IoU, "psnr": dB over the pixels both masks hold (8-bit RGB), "reference_pixels",
@@ -63,27 +63,29 @@ function mask(img) {
   return m;
 }
 
-if (process.argv[1].endsWith("compare_images.mjs")) main();
+// The comparison, when run as a program (readPng is also imported by other scripts).
 function main() {
-const [refPath, otherPath] = process.argv.slice(2);
-const ref = readPng(refPath), other = readPng(otherPath);
-if (ref.width !== other.width || ref.height !== other.height) {
-  console.log(JSON.stringify({ error: `sizes differ: ${ref.width}x${ref.height} and ` +
-                                      `${other.width}x${other.height}` }));
-  process.exit(1);
-}
-const a = mask(ref), b = mask(other);
-let both = 0, either = 0, na = 0, nb = 0, se = 0;
-for (let i = 0; i < a.length; ++i) {
-  na += a[i]; nb += b[i];
-  if (a[i] || b[i]) ++either;
-  if (a[i] && b[i]) {
-    ++both;
-    for (let k = 0; k < 3; ++k) se += (ref.rgb[3 * i + k] - other.rgb[3 * i + k]) ** 2;
+  const [refPath, otherPath] = process.argv.slice(2);
+  const ref = readPng(refPath), other = readPng(otherPath);
+  if (ref.width !== other.width || ref.height !== other.height) {
+    console.log(JSON.stringify({ error: `sizes differ: ${ref.width}x${ref.height} and ` +
+                                        `${other.width}x${other.height}` }));
+    process.exit(1);
   }
+  const a = mask(ref), b = mask(other);
+  let both = 0, either = 0, na = 0, nb = 0, se = 0;
+  for (let i = 0; i < a.length; ++i) {
+    na += a[i]; nb += b[i];
+    if (a[i] || b[i]) ++either;
+    if (a[i] && b[i]) {
+      ++both;
+      for (let k = 0; k < 3; ++k) se += (ref.rgb[3 * i + k] - other.rgb[3 * i + k]) ** 2;
+    }
+  }
+  const mse = both ? se / (3 * both) : 0;
+  const psnr = mse > 0 ? 10 * Math.log10(255 * 255 / mse) : 99;
+  console.log(JSON.stringify({ iou: either ? both / either : 1, psnr, reference_pixels: na,
+                               other_pixels: nb, both }));
 }
-const mse = both ? se / (3 * both) : 0;
-const psnr = mse > 0 ? 10 * Math.log10(255 * 255 / mse) : 99;
-console.log(JSON.stringify({ iou: either ? both / either : 1, psnr, reference_pixels: na,
-                             other_pixels: nb, both }));
-}
+
+if (process.argv[1].endsWith('compare_images.mjs')) main();
