@@ -6,6 +6,9 @@
 //   3. normalisation and deferred shading: each pixel divides by the summed weight and is shaded
 //      as splat-view shades (lib/render/shade_pixel.h: one white light above-left of the camera,
 //      ambient 0.12, diffuse 0.8, Blinn-Phong specular 0.25 with exponent 32, two-sided).
+// With surface ids (segment-surfaces), a pass before them finds the nearest splat's surface per
+// pixel and the attribute pass sets aside the other surfaces' fragments, as splat-view does
+// (lib/render/reconstruct_pixel.h); clipping at partners' planes is not done here.
 // Splats are point sprites; the fragment shader intersects the pixel's ray with the splat's disc
 // (or ellipse) exactly, so depth and coverage are perspectively correct, and weights it with the
 // Gaussian of splat-view's rasteriser (exp(-2 rho^2) - exp(-2 * 1.25^2)). A Sequential Point Tree
@@ -20,6 +23,7 @@ layout(location = 3) in vec3 aColor;
 layout(location = 4) in vec3 aAxis;
 layout(location = 5) in float aMinor;
 layout(location = 6) in vec2 aRange;
+layout(location = 7) in uint aSurface;
 uniform vec3 uEye, uRight, uDown, uForward;
 uniform float uFocal, uCx, uCy, uW, uH, uNear;
 uniform float uRadiusScale, uSptK, uMaxPoint;
@@ -27,6 +31,7 @@ uniform bool uSpt, uSrgbColor, uEllipse;
 // Per splat, constant over its point sprite: flat (no interpolation to set up per point).
 flat out vec3 vC, vN, vColor, vAxis;
 flat out float vR, vMinor, vFront, vRing;
+flat out uint vSurface;
 float toLinear(float v) {
   return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
@@ -59,19 +64,27 @@ void main() {
   vColor = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
   vAxis = uEllipse ? vec3(dot(aAxis, uRight), dot(aAxis, uDown), dot(aAxis, uForward)) : vec3(0.0);
   vMinor = aMinor * uRadiusScale;
+  vSurface = aSurface;
 }`;
 
 const FS = `#version 300 es
 precision highp float;
 flat in vec3 vC, vN, vColor, vAxis;
 flat in float vR, vMinor, vFront, vRing;
+flat in uint vSurface;
 uniform float uFocal, uCx, uCy, uH, uNear;
 uniform float uDepthOffset, uDepthNear, uDepthFar, uBackWeight;
 uniform bool uEllipse;
 uniform int uPass;  // 0: visibility, 1: attributes
 uniform vec3 uRight, uDown, uForward;
+#ifdef ID_PASS
+layout(location = 0) out uint oId;
+#else
+uniform highp usampler2D uFrontId;
+uniform bool uUseIds;
 layout(location = 0) out vec4 oNormal;
 layout(location = 1) out vec4 oColor;
+#endif
 void main() {
   vec2 pix = vec2(gl_FragCoord.x, uH - gl_FragCoord.y);
   vec3 ray = vec3((pix.x - uCx) / uFocal, (pix.y - uCy) / uFocal, 1.0);
@@ -90,7 +103,12 @@ void main() {
   }
   if (rho2 > vRing || (rho2 > 1.0 && uPass == 0)) discard;
   gl_FragDepth = clamp((t + uDepthOffset - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0);
+#ifdef ID_PASS
+  oId = vSurface;
+#else
   if (uPass == 0) return;
+  // Fragments of other surfaces than the pixel's nearest are set aside (splat-view's rule).
+  if (uUseIds && vSurface != texelFetch(uFrontId, ivec2(gl_FragCoord.xy), 0).r) discard;
   float w = exp(-2.0 * rho2) - exp(-3.125);
   w *= vFront > 0.5 ? 1.0 : uBackWeight;
   vec3 nw = vN.x * uRight + vN.y * uDown + vN.z * uForward;  // back to the scene frame
@@ -102,6 +120,7 @@ void main() {
   }
   oNormal = vec4(nw * w, w);
   oColor = vec4(vColor * w, depth01 * w);
+#endif
 }`;
 
 // The fast path (blend=zbuffer, splat-view's --blend zbuffer): one pass, each splat a round
@@ -231,6 +250,8 @@ export class SplatRenderer {
     this.gl = gl;
     this.canvas = canvas;
     this.splat = compile(gl, VS, FS);
+    // The nearest surface id per pixel, for files with surface ids.
+    this.idPass = compile(gl, VS, FS.replace('#version 300 es\n', '#version 300 es\n#define ID_PASS\n'));
     this.shade = compile(gl, QUAD_VS, SHADE_FS);
     this.zbuffer = compile(gl, ZB_VS, ZB_FS);
     this.maxPoint = gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1];
@@ -262,6 +283,8 @@ export class SplatRenderer {
     };
     gl.vertexAttrib3f(3, 0.6, 0.6, 0.6);  // splat-view's albedo for files without colours
     gl.vertexAttrib2f(6, 0, 3.4e38);
+    gl.vertexAttribI4ui(7, 0, 0, 0, 0);
+    this.hasIds = false;
     this.ellipse = false;
     this.radiusScale = 1;
     this.srgbColor = false;
@@ -297,6 +320,12 @@ export class SplatRenderer {
       }
       this.colorBuffer = arrays.color ? buffer(arrays.color) : null;
       this.surfaceBuffer = arrays.surface_color ? buffer(arrays.surface_color) : null;
+      if (arrays.surface) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, buffer(arrays.surface));
+        gl.enableVertexAttribArray(7);
+        gl.vertexAttribIPointer(7, 1, gl.UNSIGNED_INT, 0, 0);
+        this.hasIds = true;
+      }
       this.useColors(false);
     }
     gl.bindVertexArray(null);
@@ -330,6 +359,8 @@ export class SplatRenderer {
       gl.deleteFramebuffer(this.fbo);
       this.targets.forEach((t) => gl.deleteTexture(t));
       gl.deleteRenderbuffer(this.depth);
+      gl.deleteFramebuffer(this.idFbo);
+      gl.deleteTexture(this.idTarget);
     }
     this.fbo = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
@@ -345,6 +376,16 @@ export class SplatRenderer {
     this.depth = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, this.depth);
     gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT32F, width, height);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depth);
+    // The id pass's target, in a framebuffer of its own (the attribute pass samples it).
+    this.idFbo = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.idFbo);
+    this.idTarget = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, this.idTarget);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.R32UI, width, height);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.idTarget, 0);
     gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depth);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
   }
@@ -408,29 +449,54 @@ export class SplatRenderer {
     const ln = Math.hypot(light[0], light[1], light[2]);
     this.light = light.map((v) => v / ln);
     const mode = { phong: 0, normals: 1, depth: 2, flat: 3, surface: 0 }[opts.shade] ?? 0;
-    const p = opts.blend === 'zbuffer' ? this.zbuffer : this.splat;
-    gl.useProgram(p.program);
-    const u = p.uniforms;
-    gl.uniform3fv(u.uEye, proj.eye);
-    gl.uniform3fv(u.uRight, proj.right);
-    gl.uniform3fv(u.uDown, proj.down);
-    gl.uniform3fv(u.uForward, proj.forward);
-    gl.uniform1f(u.uFocal, proj.focal);
-    gl.uniform1f(u.uCx, proj.cx);
-    gl.uniform1f(u.uCy, proj.cy);
-    gl.uniform1f(u.uW, proj.width);
-    gl.uniform1f(u.uH, proj.height);
-    gl.uniform1f(u.uNear, proj.near);
-    gl.uniform1f(u.uRadiusScale, this.radiusScale * opts.splatScale);
-    gl.uniform1f(u.uSptK, sptK);
-    gl.uniform1f(u.uMaxPoint, this.maxPoint);
-    gl.uniform1i(u.uSpt, h.kind === 'spt' ? 1 : 0);
-    gl.uniform1i(u.uSrgbColor, this.srgbColor ? 1 : 0);
-    gl.uniform1i(u.uEllipse, this.ellipse ? 1 : 0);
-    gl.uniform1f(u.uDepthNear, depthNear);
-    gl.uniform1f(u.uDepthFar, depthFar);
-    gl.uniform1f(u.uBackWeight, 1 / 256);
+    // The uniforms every splat program reads (a program ignores those it does not have).
+    const setUniforms = (program) => {
+      gl.useProgram(program.program);
+      const u = program.uniforms;
+      gl.uniform3fv(u.uEye, proj.eye);
+      gl.uniform3fv(u.uRight, proj.right);
+      gl.uniform3fv(u.uDown, proj.down);
+      gl.uniform3fv(u.uForward, proj.forward);
+      gl.uniform1f(u.uFocal, proj.focal);
+      gl.uniform1f(u.uCx, proj.cx);
+      gl.uniform1f(u.uCy, proj.cy);
+      gl.uniform1f(u.uW, proj.width);
+      gl.uniform1f(u.uH, proj.height);
+      gl.uniform1f(u.uNear, proj.near);
+      gl.uniform1f(u.uRadiusScale, this.radiusScale * opts.splatScale);
+      gl.uniform1f(u.uSptK, sptK);
+      gl.uniform1f(u.uMaxPoint, this.maxPoint);
+      gl.uniform1i(u.uSpt, h.kind === 'spt' ? 1 : 0);
+      gl.uniform1i(u.uSrgbColor, this.srgbColor ? 1 : 0);
+      gl.uniform1i(u.uEllipse, this.ellipse ? 1 : 0);
+      gl.uniform1f(u.uDepthNear, depthNear);
+      gl.uniform1f(u.uDepthFar, depthFar);
+      gl.uniform1f(u.uBackWeight, 1 / 256);
+      return u;
+    };
+    const u = setUniforms(opts.blend === 'zbuffer' ? this.zbuffer : this.splat);
     if (opts.blend === 'zbuffer') return this.drawZBuffer(proj, u, mode, submitted, count, opts, sptK);
+
+    const useIds = this.hasIds && opts.surfaceIds !== false;
+    gl.bindVertexArray(this.vao);
+    if (useIds) {  // 0. the nearest splat's surface id per pixel
+      const ui = setUniforms(this.idPass);
+      gl.uniform1i(ui.uPass, 0);
+      gl.uniform1f(ui.uDepthOffset, 0);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, this.idFbo);
+      gl.viewport(0, 0, proj.width, proj.height);
+      gl.clearBufferuiv(gl.COLOR, 0, [0xFFFFFFFF, 0, 0, 0]);
+      gl.clearBufferfi(gl.DEPTH_STENCIL, 0, 1, 0);
+      gl.enable(gl.DEPTH_TEST);
+      gl.depthFunc(gl.LESS);
+      gl.depthMask(true);
+      gl.drawArrays(gl.POINTS, 0, count);
+      setUniforms(this.splat);
+    }
+    gl.activeTexture(gl.TEXTURE2);
+    gl.bindTexture(gl.TEXTURE_2D, this.idTarget);
+    gl.uniform1i(u.uFrontId, 2);
+    gl.uniform1i(u.uUseIds, useIds ? 1 : 0);
 
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
     gl.viewport(0, 0, proj.width, proj.height);

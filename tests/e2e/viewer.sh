@@ -12,20 +12,25 @@ CHROMIUM=${SPLATKIT_CHROMIUM:-$(command -v chromium || command -v chromium-brows
 command -v node >/dev/null || { echo "SKIP: node is not installed (scripts/install-deps.sh)"; exit 77; }
 W=640 H=360
 
-# One scan (cad-scan.laz: scan lines of the CAD part), its normals, and its three kinds of file.
+# One scan (cad-scan.laz: scan lines of the CAD part), its normals, and its three kinds of file;
+# and a noisy part split into surfaces (surface ids: no blending across surfaces, their colours).
 expect_exit 0 "$BIN/estimate-normals" -q "$S/cad-scan.laz" "$WORK/scan.splk"
 expect_exit 0 "$BIN/build-spt" -q "$WORK/scan.splk" "$WORK/scan.spt"
 expect_exit 0 "$BIN/build-qsplat" -q "$WORK/scan.splk" "$WORK/scan.qs"
-start_server "$WORK/scan.splk" "$WORK/scan.spt" "$WORK/scan.qs" || finish
+expect_exit 0 "$BIN/estimate-normals" -q --method robust "$S/cad-noisy.xyz" "$WORK/part.splk"
+expect_exit 0 "$BIN/build-splat-graph" -q "$WORK/part.splk" "$WORK/part-graph.splk"
+expect_exit 0 "$BIN/segment-surfaces" -q "$WORK/part-graph.splk" "$WORK/part-surf.splk"
+start_server "$WORK/scan.splk" "$WORK/scan.spt" "$WORK/scan.qs" "$WORK/part-surf.splk" || finish
 
-# check FILE VIEW MIN_IOU MIN_PSNR (image W x H)
+# check FILE VIEW MIN_IOU MIN_PSNR [SHADE [SPLAT-VIEW OPTIONS...]] (image W x H)
 check() {
-  local f=$1 view=$2 tag
-  tag=$(echo "$f-$view" | tr -c 'a-zA-Z0-9\n' '_')
-  "$BIN/splat-view" -q "$WORK/$f" "$WORK/$tag-cpu.png" --view "$view" --width $W --height $H ||
-    { fail "splat-view $f --view $view"; return; }
+  local f=$1 view=$2 shade=${5:-phong} tag
+  tag=$(echo "$f-$view-$shade" | tr -c 'a-zA-Z0-9\n' '_')
+  "$BIN/splat-view" -q "$WORK/$f" "$WORK/$tag-cpu.png" --view "$view" --width $W --height $H \
+    --shade "$shade" "${@:6}" || { fail "splat-view $f --view $view"; return; }
   if ! node "$SRC/tests/viewer/drive_chromium.mjs" --chromium "$CHROMIUM" --width $W --height $H \
-      --url "${URL}#file=$f&view=$view&hud=0" --png "$WORK/$tag-gpu.png" --json "$WORK/$tag.json"
+      --url "${URL}#file=$f&view=$view&hud=0&shade=$shade" --png "$WORK/$tag-gpu.png" \
+      --json "$WORK/$tag.json"
   then
     fail "the viewer did not draw $f"; return
   fi
@@ -43,6 +48,8 @@ check scan.splk 35,25 0.98 28
 check scan.spt 35,25 0.98 28
 check scan.qs 35,25 0.98 28
 check scan.splk 120,-30 0.98 28
+# The viewer does not clip splats at their partners' planes (build-splat-graph's CLIP chunk).
+check part-surf.splk 35,25 0.98 25 surface --no-clip
 
 # The controls: orbit drag and wheel, the walk camera, the shading; the URL follows the orbit.
 if node "$SRC/tests/viewer/drive_chromium.mjs" --chromium "$CHROMIUM" --width $W --height $H \
