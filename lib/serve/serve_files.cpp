@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -193,6 +194,8 @@ void serve_files(const ServeOptions& o,
   on_ready("http://" + std::string(kHost) + ":" + std::to_string(port) + "/");
   int sig = 0;
   sigwait(&stop_signals, &sig);
+  // stop() does nothing before the listening loop runs: a signal at startup waits for it.
+  while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   server.stop();
   listener.join();
   pthread_sigmask(SIG_SETMASK, &previous, nullptr);
