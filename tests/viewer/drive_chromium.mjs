@@ -4,12 +4,13 @@
 //
 //   node drive_chromium.mjs --chromium PATH --url URL --width W --height H \
 //        [--png CANVAS.png] [--screenshot PAGE.png] [--json OUT.json] [--bench MS] [--eval JS]
+//   node drive_chromium.mjs --chromium PATH --width W --height H --jobs JOBS.jsonl
 // (--eval: an expression evaluated in the page after the first frame, awaited; its value is
 // "eval" in the JSON)
 //
 // Software GL: SwiftShader through ANGLE. Exit 0 on success; 1 with a message otherwise.
 import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
@@ -71,38 +72,59 @@ const timer = setTimeout(() => finish(1, `timed out; chromium said: ${stderr.sli
                          Number(args.timeout ?? 90) * 1000);
 browser.on('exit', (code) => finish(1, `chromium exited (${code}): ${stderr.slice(-600)}`));
 
-try {
+// One page: open `job.url` in a new tab, wait for its first frame, then what the job asks.
+async function runJob(job) {
   const { targetId } = await send('Target.createTarget', { url: 'about:blank' });
   const { sessionId } = await send('Target.attachToTarget', { targetId, flatten: true });
-  await send('Emulation.setDeviceMetricsOverride',
-             { width, height, deviceScaleFactor: 1, mobile: false }, sessionId);
-  await send('Page.enable', {}, sessionId);
-  await send('Page.navigate', { url: args.url }, sessionId);
-  const stats = await evaluate(sessionId, `new Promise((resolve) => {
-      const poll = () => window.viewer ? window.viewer.ready.then(resolve) : setTimeout(poll, 20);
-      poll(); })`);
-  if (!stats || stats.error) throw new Error(`the page failed: ${stats?.error}`);
-  const result = { stats };
-  if (args.png) {
-    const url = await evaluate(sessionId, 'window.viewer.capture()');
-    writeFileSync(args.png, Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
+  try {
+    await send('Emulation.setDeviceMetricsOverride',
+               { width, height, deviceScaleFactor: 1, mobile: false }, sessionId);
+    await send('Page.enable', {}, sessionId);
+    await send('Page.navigate', { url: job.url }, sessionId);
+    const stats = await evaluate(sessionId, `new Promise((resolve) => {
+        const poll = () => window.viewer ? window.viewer.ready.then(resolve) : setTimeout(poll, 20);
+        poll(); })`);
+    if (!stats || stats.error) throw new Error(`the page failed: ${stats?.error}`);
+    const result = { stats };
+    if (job.png) {
+      const url = await evaluate(sessionId, 'window.viewer.capture()');
+      writeFileSync(job.png, Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
+    }
+    if (job.screenshot) {  // the whole page, controls and stats included
+      const shot = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
+      writeFileSync(job.screenshot, Buffer.from(shot.data, 'base64'));
+    }
+    if (job.eval) result.eval = await evaluate(sessionId, job.eval);
+    if (job.bench) result.bench = await evaluate(sessionId, `window.viewer.bench(${Number(job.bench)})`);
+    result.gl = await evaluate(sessionId, `(() => {
+        const gl = document.createElement('canvas').getContext('webgl2');
+        const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
+        return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : String(gl && gl.getParameter(gl.RENDERER));
+      })()`);
+    return result;
+  } finally {
+    await send('Target.closeTarget', { targetId });
   }
-  if (args.screenshot) {  // the whole page, controls and stats included
-    const shot = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
-    writeFileSync(args.screenshot, Buffer.from(shot.data, 'base64'));
-  }
-  if (args.eval) result.eval = await evaluate(sessionId, args.eval);
-  if (args.bench) result.bench = await evaluate(sessionId, `window.viewer.bench(${Number(args.bench)})`);
-  result.gl = await evaluate(sessionId, `(() => {
-      const gl = document.createElement('canvas').getContext('webgl2');
-      const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
-      return info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : String(gl && gl.getParameter(gl.RENDERER));
-    })()`);
-  const text = JSON.stringify(result);
-  if (args.json) writeFileSync(args.json, text + '\n'); else console.log(text);
-  clearTimeout(timer);
-  browser.removeAllListeners('exit');
-  finish(0);
-} catch (err) {
-  finish(1, err.message);
 }
+
+// --jobs FILE: one JSON object per line ({"url", "png", "screenshot", "json", "eval", "bench"}),
+// all in one browser; else one job from the options.
+const jobs = args.jobs
+  ? readFileSync(args.jobs, 'utf8').split('\n').filter((l) => l.trim()).map((l) => JSON.parse(l))
+  : [{ url: args.url, png: args.png, screenshot: args.screenshot, json: args.json,
+       eval: args.eval, bench: args.bench }];
+let failed = 0;
+for (const job of jobs) {
+  let text;
+  try {
+    text = JSON.stringify(await runJob(job));
+  } catch (err) {
+    ++failed;
+    console.error(`drive_chromium: ${job.url}: ${err.message}`);
+    text = JSON.stringify({ error: err.message });
+  }
+  if (job.json) writeFileSync(job.json, text + '\n'); else console.log(text);
+}
+clearTimeout(timer);
+browser.removeAllListeners('exit');
+finish(failed ? 1 : 0);
