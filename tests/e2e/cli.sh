@@ -143,7 +143,9 @@ expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st4.png" -o "$WORK/st5
 expect_stderr "OUT given twice"
 expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk"
 expect_stderr "^splat-view: OUT is required"
-"$BIN/splat-view" --help | grep -q "IN OUT\|IN \[OUT\]\|\[IN\] \[OUT\]" && pass ||
+# (The help is read whole first: grep -q stopping early would fail the pipeline.)
+help=$("$BIN/splat-view" --help)
+grep -q "IN OUT\|IN \[OUT\]\|\[IN\] \[OUT\]" <<<"$help" && pass ||
   fail "splat-view --help does not show IN OUT"
 
 # Usage errors take one line, with where to look; a heightmap given as a cloud is named as one.
