@@ -127,8 +127,9 @@ done
 
 # One name for the JSON report everywhere: --report, with --stats accepted as the same option.
 for t in "${tools[@]}"; do
-  "$BIN/$t" --help | grep -q -- "--report" || continue
-  "$BIN/$t" --help | grep -q -- "--report,--stats" && pass || fail "$t: --report without --stats"
+  help=$("$BIN/$t" --help)  # whole: grep -q stopping early would fail a pipeline
+  grep -q -- "--report" <<<"$help" || continue
+  grep -q -- "--report,--stats" <<<"$help" && pass || fail "$t: --report without --stats"
 done
 expect_exit 0 "$BIN/estimate-normals" -q "$S/cube.ply" "$WORK/st.splk" --stats "$WORK/st.json"
 expect_eq "estimate-normals --stats" "$(jq -r .tool "$WORK/st.json")" estimate-normals
@@ -143,7 +144,6 @@ expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st4.png" -o "$WORK/st5
 expect_stderr "OUT given twice"
 expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk"
 expect_stderr "^splat-view: OUT is required"
-# (The help is read whole first: grep -q stopping early would fail the pipeline.)
 help=$("$BIN/splat-view" --help)
 grep -q "IN OUT\|IN \[OUT\]\|\[IN\] \[OUT\]" <<<"$help" && pass ||
   fail "splat-view --help does not show IN OUT"
