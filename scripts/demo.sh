@@ -156,4 +156,14 @@ terrain() {  # terrain NAME [camera options]
 }
 terrain rainier-orbit --view 200,35
 terrain rainier-low --eye 16000,-26000,5200 --target 8120,-11800,3300 --fov 50
+echo "== 7. the browser viewer =="
+# splat-view --serve shows the models above in a browser (WebGL2; http://127.0.0.1 only):
+# .spt on the GPU by its distance intervals, .qs by the QSplat traversal, .splk blended.
+served=("$out/images/cad.spt")
+for f in "$out/real-scan/building-auto.splk" "$out/real-scan/building-auto.qs"; do
+  [ -e "$f" ] && served+=("$f")
+done
+echo "  to look at them in a browser, run:"
+echo "    $bin/splat-view --serve ${served[*]} --port 8080"
+echo "  and open http://127.0.0.1:8080/#file=$(basename "${served[0]}")&view=35,25"
 echo "demo: results in $out"

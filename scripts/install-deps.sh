@@ -10,8 +10,12 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libopencv-dev
   libcli11-dev nlohmann-json3-dev zlib1g-dev
   snakemake help2man man-db
+  libcpp-httplib-dev chromium nodejs curl jq
 )
 # snakemake: the workflow engine of workflows/Snakefile (tiled surveys; e2e.workflow runs it).
+# libcpp-httplib-dev: splat-view --serve's HTTP server. chromium, nodejs, curl, jq: the viewer's
+# tests (headless Chromium with software GL, driven over the DevTools protocol by a Node.js
+# script).
 # help2man, man-db: the tools' man pages, made at build time and rendered by a test.
 # pcl-tools: PCL's own command-line tools, the peers of some benchmarks.
 [ "${SPLATKIT_BENCH_DEPS:-0}" = 1 ] && packages+=(pcl-tools)

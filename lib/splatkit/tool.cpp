@@ -63,13 +63,15 @@ bool knows_option(const CLI::App& app, const std::string& name) {
 // The first argument that looks like an option ("--name[=value]" or "-x") and that neither the
 // tool nor any of its subcommands knows; empty when there is none. CLI11 reports a missing
 // positional before an unknown option ("IN is required" for `tool --bogus`): the unknown option
-// is the user's real mistake.
+// is the user's real mistake. A tool without required positionals (splat-view: IN and OUT, or
+// --serve FILE...) gets an unexpected-argument error instead, with the same real mistake.
 std::string unknown_option(const CLI::App& app, int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--") break;
     const bool long_name = a.size() > 2 && a.compare(0, 2, "--") == 0;
-    const bool short_name = a.size() == 2 && a[0] == '-' && std::isalpha(static_cast<unsigned char>(a[1]));
+    const bool short_name =
+        a.size() == 2 && a[0] == '-' && std::isalpha(static_cast<unsigned char>(a[1]));
     if (!long_name && !short_name) continue;
     const std::string name = a.substr(0, a.find('='));
     if (!knows_option(app, name)) return name;
@@ -143,13 +145,13 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   } catch (const CLI::CallForVersion& e) {
     return app_.exit(e);
   } catch (const CLI::ParseError& e) {
-    const std::string unknown = dynamic_cast<const CLI::RequiredError*>(&e)
-                                    ? unknown_option(app_, argc, argv)
-                                    : std::string();
+    const std::string unknown =
+        dynamic_cast<const CLI::RequiredError*>(&e) || dynamic_cast<const CLI::ExtrasError*>(&e)
+            ? unknown_option(app_, argc, argv)
+            : std::string();
     // One line, as every error (a script that keeps the first line of stderr keeps it all).
     std::fprintf(stderr, "%s: %s (see %s --help)\n", name_.c_str(),
-                 unknown.empty() ? e.what() : ("unknown option " + unknown).c_str(),
-                 name_.c_str());
+                 unknown.empty() ? e.what() : ("unknown option " + unknown).c_str(), name_.c_str());
     return static_cast<int>(ErrorKind::kUsage);
   } catch (const Error& e) {
     std::fprintf(stderr, "%s: %s\n", name_.c_str(), e.what());

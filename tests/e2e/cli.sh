@@ -110,7 +110,7 @@ expect_stderr "removed every one of its"
 [ ! -e "$WORK/none.splk" ] && pass || fail "an empty output was written"
 # A stream without an extension: .splk for clouds, PNG for images (e.g. only the stats wanted).
 "$BIN/estimate-normals" -q "$sample" "$WORK/n.splk"
-expect_exit 0 "$BIN/splat-view" -q "$WORK/n.splk" -o /dev/null --stats "$WORK/stats.json" \
+expect_exit 0 "$BIN/splat-view" -q "$WORK/n.splk" /dev/null --stats "$WORK/stats.json" \
   --width 64 --height 48
 grep -q '"splats_drawn"\|"splats"' "$WORK/stats.json" && pass || fail "no stats with -o /dev/null"
 expect_exit 0 "$BIN/build-splat-graph" -q "$WORK/n.splk" /dev/null
@@ -129,13 +129,26 @@ done
 # Every tool but splat-info (whose output is its description) takes both, and --threads.
 for t in "${tools[@]}"; do
   [ "$t" = splat-info ] && continue
-  "$BIN/$t" --help | grep -q -- "--report,--stats" && pass || fail "$t: no --report,--stats"
-  "$BIN/$t" --help | grep -q -- "--threads" && pass || fail "$t: no --threads"
+  help=$("$BIN/$t" --help)  # whole: grep -q stopping early would fail a pipeline
+  grep -q -- "--report,--stats" <<<"$help" && pass || fail "$t: no --report,--stats"
+  grep -q -- "--threads" <<<"$help" && pass || fail "$t: no --threads"
 done
 expect_exit 0 "$BIN/estimate-normals" -q "$S/cube.ply" "$WORK/st.splk" --stats "$WORK/st.json"
 expect_eq "estimate-normals --stats" "$(jq -r .tool "$WORK/st.json")" estimate-normals
-expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" -o "$WORK/st.png" --report "$WORK/sv.json"
+expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st.png" --report "$WORK/sv.json"
 jq -e .timings_s "$WORK/sv.json" >/dev/null && pass || fail "splat-view --report wrote no report"
+expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st2.png" --stats "$WORK/sv2.json"
+jq -e .timings_s "$WORK/sv2.json" >/dev/null && pass || fail "splat-view --stats wrote no report"
+# splat-view takes IN OUT like every tool; -o OUT is the same (one of them, not both).
+expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" -o "$WORK/st3.png"
+cmp -s "$WORK/st2.png" "$WORK/st3.png" && pass || fail "splat-view IN OUT and IN -o OUT differ"
+expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st4.png" -o "$WORK/st5.png"
+expect_stderr "OUT given twice"
+expect_exit 1 "$BIN/splat-view" -q "$WORK/st.splk"
+expect_stderr "^splat-view: OUT is required"
+help=$("$BIN/splat-view" --help)
+grep -q "IN OUT\|IN \[OUT\]\|\[IN\] \[OUT\]" <<<"$help" && pass ||
+  fail "splat-view --help does not show IN OUT"
 
 # Usage errors take one line, with where to look; a heightmap given as a cloud is named as one.
 for t in "${tools[@]}"; do

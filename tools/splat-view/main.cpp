@@ -1,38 +1,63 @@
-// splat-view: declares the options of apps::run_splat_view (lib/apps) and calls it.
+// splat-view: declares the options of apps::run_splat_view (lib/apps) and calls it; --serve
+// calls serve::serve_files (lib/serve) instead.
+#include <cstdio>
+
 #include "apps/run_splat_view.h"
 #include "apps/run_terrain_view.h"
 #include "render/reconstruct_pixel.h"
 #include "render/setup_splats.h"
+#include "serve/serve_files.h"
 #include "splatkit/error.h"
+#include "splatkit/progress.h"
 #include "splatkit/tool.h"
 
 int main(int argc, char** argv) {
   splatkit::Tool tool(
       "splat-view",
       "Render a splat file (positions, normals, radii, optional colours) to an image; QSplat .qs "
-      "and Sequential Point Tree .spt files are drawn by level of detail",
-      "$ splat-view bunny.splk -o bunny.png                 # default three-quarter view\n"
-      "$ splat-view scan.splk -o top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
-      "$ splat-view part.splk -o part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
-      "$ splat-view part.splk -o 'turn_%04d.png' --turntable 36 --stats stats.json\n"
-      "$ splat-view part-surf.splk -o surf.png --shade surface   # after segment-surfaces\n"
-      "$ splat-view bunny.qs -o far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
-      "$ splat-view scan.spt -o far.png --spt-error 2 --stats s.json  # Sequential Point Tree\n"
-      "$ splat-view part-graph.splk -o soft.png --no-clip        # compare with clipping off\n"
-      "$ splat-view city.splk -o 'walk_%04d.png' --path city.path.json --occlusion chc++\n"
-      "$ splat-view --terrain dem.tif --ham tiles.exr -o dem.png --wireframe  # after build-ham\n");
+      "and Sequential Point Tree .spt files are drawn by level of detail. With --serve, show "
+      "files in a web browser instead (WebGL2 viewer on http://127.0.0.1 only)",
+      "$ splat-view bunny.splk bunny.png                    # default three-quarter view\n"
+      "$ splat-view scan.splk top.png --view 0,90 --width 1920 --height 1080  # a map, +y up\n"
+      "$ splat-view part.splk part.exr --eye 3,2,1 --target 0,0,0  # float colour + Z, N AOVs\n"
+      "$ splat-view part.splk 'turn_%04d.png' --turntable 36 --report stats.json\n"
+      "$ splat-view part-surf.splk surf.png --shade surface   # after segment-surfaces\n"
+      "$ splat-view bunny.qs far.png --qsplat-threshold 4      # QSplat traversal, 4 px\n"
+      "$ splat-view scan.spt far.png --spt-error 2 --stats s.json  # Sequential Point Tree\n"
+      "$ splat-view part-graph.splk soft.png --no-clip        # compare with clipping off\n"
+      "$ splat-view city.splk 'walk_%04d.png' --path city.path.json --occlusion chc++\n"
+      "$ splat-view --terrain dem.tif --ham tiles.exr dem.png --wireframe  # after build-ham\n"
+      "The browser viewer runs until Ctrl-C:\n"
+      "  splat-view --serve scan.spt bunny.qs part.splk --port 8080\n"
+      "  then open http://127.0.0.1:8080/#file=scan.spt&view=35,25 (the camera of --view 35,25)\n");
   tool.add_threads_option();
   CLI::App& app = tool.app();
   splatkit::apps::SplatViewOptions o;
   namespace render = splatkit::render;
-  app.add_option("input", o.input,
-                 "Splat file (any format estimate-normals writes, .splk); none with --terrain");
-  app.add_option("-o,--output", o.output,
+  std::string positional_out;
+  app.add_option("IN", o.input,
+                 "Splat file (any format estimate-normals writes, .splk, .qs, .spt); with "
+                 "--terrain the only argument is OUT");
+  app.add_option("OUT", positional_out, "The image (as -o)");
+  std::string output_option;
+  std::vector<std::string> serve;
+  int port = 0;
+  app.add_option("--serve", serve,
+                 "Serve these files to the browser viewer (WebGL2: .spt drawn on the GPU by "
+                 "its distance intervals, .qs by the QSplat traversal per frame, other splat files "
+                 "as blended splats) on 127.0.0.1 only, print its URL, and run until Ctrl-C. "
+                 "http://127.0.0.1:PORT/#file=NAME&view=AZ,EL[,DIST] shows NAME as --view does "
+                 "at the window's size. Only the named files are served, under their base names")
+      ->expected(1, -1)
+      ->type_name("FILE...");
+  app.add_option("--port", port, "With --serve: the port (0: any free port)")
+      ->default_val(0)
+      ->check(CLI::Range(0, 65535));
+  app.add_option("-o,--output", output_option,
                  "Image: .png (8-bit sRGB) or .exr (float RGBA + Z, N.X N.Y N.Z, and a uint "
                  "surface_id channel when the file has surface ids and --no-surface-ids is not "
                  "given); no other format. '-' = PNG to stdout. A frame number field such as "
-                 "%04d only with --turntable or --path")
-      ->required();
+                 "%04d only with --turntable or --path. The same as OUT (give one of them)");
   app.add_option("--eye", o.eye,
                  "Camera position x,y,z, in the file's coordinates (georeferenced ones too; "
                  "with --terrain the map's: longitude, latitude and height for a lon/lat DEM, "
@@ -165,10 +190,41 @@ int main(int argc, char** argv) {
   app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges")
       ->needs(terrain_option);
   tool.reuse_freed_blocks();  // every frame allocates its buffers again
-  return tool.run_stage(argc, argv, o.output, [&](const splatkit::ProgressFn& progress) {
-    if (!terrain.heightmap.empty()) return splatkit::apps::run_terrain_view(o, terrain, progress);
-    if (o.input.empty())
+  return tool.run(argc, argv, [&] {
+    if (!serve.empty()) {
+      if (!output_option.empty() || !terrain.heightmap.empty() || !o.input.empty())
+        splatkit::throw_usage(
+            "--serve shows files in the browser; it takes no IN, OUT, -o or --terrain");
+      splatkit::serve::serve_files({serve, port}, [](const std::string& url) {
+        std::printf("splat-view: serving on %s (Ctrl-C stops)\n", url.c_str());
+        std::fflush(stdout);
+      });
+      return;
+    }
+    if (app.count("--port") > 0) splatkit::throw_usage("--port goes with --serve");
+    std::vector<std::string> positional;
+    for (const std::string* a : {&o.input, &positional_out})
+      if (!a->empty()) positional.push_back(*a);
+    o.input.clear();
+    const std::size_t inputs = terrain.heightmap.empty() ? 1 : 0;
+    if (positional.size() > inputs + 1)
+      splatkit::throw_usage("with --terrain give only OUT (the heightmap is --terrain's)");
+    if (inputs == 1 && positional.empty())
       splatkit::throw_usage("input is required (a splat file, or --terrain HEIGHTMAP)");
-    return splatkit::apps::run_splat_view(o, progress).line();
+    if (inputs == 1) o.input = positional[0];
+    if (positional.size() == inputs + 1) {
+      if (!output_option.empty())
+        splatkit::throw_usage("OUT given twice: as an argument and as -o; give one");
+      o.output = positional[inputs];
+    } else {
+      o.output = output_option;
+    }
+    if (o.output.empty()) splatkit::throw_usage("OUT is required (IN OUT, or -o OUT)");
+    splatkit::Progress progress("splat-view", tool.quiet() || o.output == "-");
+    const splatkit::apps::StageSummary summary =
+        terrain.heightmap.empty()
+            ? splatkit::apps::run_splat_view(o, progress.callback()).line()
+            : splatkit::apps::run_terrain_view(o, terrain, progress.callback());
+    progress.finish(summary.count, summary.unit, summary.extra);
   });
 }

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The browser viewer's frame rate: a Sequential Point Tree of at least 5 M entries (splat-synth's
+# CAD part, 3.5 M points, build-spt at its defaults) served by splat-view --serve and drawn in
+# headless Chromium with software GL (SwiftShader) at WIDTHxHEIGHT from the default view, for
+# each blending mode: botsch (three passes, Botsch et al. 2005) and zbuffer (one pass, no
+# blending). The page draws one frame per animation frame for 5 s and reports frames/s; the
+# frame's fixed cost (clearing, shading, compositing) is shown by the same run at a distance where
+# one entry is drawn. Prints the CPU model and the load average: SwiftShader runs on the CPU.
+# usage: scripts/bench/viewer-fps.sh [points=3500000] [width=1280] [height=720]
+#        (build dir: $BUILD_DIR, default build)
+# Goal: >= 20 frames/s at 1280x720 for a 5M-entry .spt in software GL.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build}
+ninja -C "$build" -j2 build-spt splat-view splat-synth >/dev/null
+bin=$build/tools
+n=${1:-3500000} width=${2:-1280} height=${3:-720}
+work=$(mktemp -d)
+server=
+cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; rm -rf "$work"; }
+trap cleanup EXIT
+"$bin/splat-synth" -q cad "$work/in.ply" -n "$n" --seed 1 --no-color
+"$bin/build-spt" -q "$work/in.ply" "$work/model.spt"
+rm "$work/in.ply"
+"$bin/splat-info" "$work/model.spt" | grep -E '^Entries'
+"$bin/splat-view" --serve "$work/model.spt" --port 0 >"$work/serve.out" &
+server=$!
+for _ in $(seq 100); do grep -q http "$work/serve.out" && break; sleep 0.05; done
+url=$(grep -o 'http://127\.0\.0\.1:[0-9]*/' "$work/serve.out")
+echo "CPU: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+for blend in botsch zbuffer; do
+  for view in "" "&view=35,25,1000000"; do
+    r=$(node "$root/tests/viewer/drive_chromium.mjs" --width "$width" --height "$height" \
+          --url "${url}#file=model.spt&hud=0&blend=$blend$view" --bench 5000 --timeout 300)
+    node -e '
+      const r = JSON.parse(process.argv[1]);
+      const b = r.bench;
+      console.log(`${process.argv[2].padEnd(8)} ${process.argv[3] ? "empty frame" : "default view"}: ` +
+                  `${b.fps.toFixed(1)} frames/s (${b.ms_per_frame.toFixed(1)} ms), ` +
+                  `${b.splats} of ${b.entries} entries submitted, ${b.width}x${b.height}, ${r.gl}`);' \
+      "$r" "$blend" "$view"
+  done
+done

@@ -1,0 +1,598 @@
+// Surface splatting in WebGL2 after Botsch, Hornung, Zwicker and Kobbelt 2005 (docs/references.md):
+//   1. visibility: every splat's depth, pushed back along the ray by epsilon, into the depth
+//      buffer (no colour);
+//   2. attributes: the splats within epsilon of the nearest surface add weight x normal and
+//      weight x colour into two float targets (additive blending, depth test only);
+//   3. normalisation and deferred shading: each pixel divides by the summed weight and is shaded
+//      as splat-view shades (lib/render/shade_pixel.h: one white light above-left of the camera,
+//      ambient 0.12, diffuse 0.8, Blinn-Phong specular 0.25 with exponent 32, two-sided).
+// With surface ids (segment-surfaces), a pass before them finds the nearest splat's surface per
+// pixel and the attribute pass sets aside the other surfaces' fragments, as splat-view does
+// (lib/render/reconstruct_pixel.h); clipping at partners' planes is not done here.
+// Splats are point sprites; the fragment shader intersects the pixel's ray with the splat's disc
+// (or ellipse) exactly, so depth and coverage are perspectively correct, and weights it with the
+// Gaussian of splat-view's rasteriser (exp(-2 rho^2) - exp(-2 * 1.25^2)). A Sequential Point Tree
+// (Dachsbacher, Vogelgsang and Stamminger 2003) is one vertex buffer; its vertex shader draws an
+// entry only when its distance interval holds the eye's distance (r_min <= r k < r_max).
+
+const VS = `#version 300 es
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in float aRadius;
+layout(location = 3) in vec3 aColor;
+layout(location = 4) in vec3 aAxis;
+layout(location = 5) in float aMinor;
+layout(location = 6) in vec2 aRange;
+layout(location = 7) in uint aSurface;
+uniform vec3 uEye, uRight, uDown, uForward;
+uniform float uFocal, uCx, uCy, uW, uH, uNear;
+uniform float uRadiusScale, uSptK, uMaxPoint;
+uniform bool uSpt, uSrgbColor, uEllipse;
+// Per splat, constant over its point sprite: flat (no interpolation to set up per point).
+flat out vec3 vC, vN, vColor, vAxis;
+flat out float vR, vMinor, vFront, vRing;
+flat out uint vSurface;
+float toLinear(float v) {
+  return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+void cull() { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); gl_PointSize = 0.0; }
+void main() {
+  vec3 d = aPos - uEye;
+  if (uSpt) {
+    float r = length(d) * uSptK;
+    if (!(aRange.x <= r && r < aRange.y)) { cull(); return; }
+  }
+  vec3 c = vec3(dot(d, uRight), dot(d, uDown), dot(d, uForward));
+  float rad = aRadius * uRadiusScale;
+  if (c.z - rad < uNear) { cull(); return; }
+  vec2 px = vec2(uCx + uFocal * c.x / c.z, uCy + uFocal * c.y / c.z);
+  // Splats of more than 3 pixels get a ring out to 1.25 r whose fragments join the normal only
+  // (as splat-view's rasteriser: setup_splats.h).
+  vRing = rad * uFocal / c.z > 3.0 ? 1.5625 : 1.0;
+  float reach = rad * sqrt(vRing);
+  // Bound on the distance, along x or y, from the projected centre to the projection of any
+  // point within reach of the centre: reach sqrt(1 + (x/z)^2) / (z - reach) in units of f.
+  float slope = max(abs(c.x), abs(c.y)) / c.z;
+  float ext = uFocal * reach * sqrt(1.0 + slope * slope) / max(c.z - reach, 1e-6 * c.z);
+  gl_PointSize = min(2.0 * ext + 1.0, uMaxPoint);
+  gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, 0.0, 1.0);
+  vec3 n = normalize(aNormal);
+  vC = c;
+  vN = vec3(dot(n, uRight), dot(n, uDown), dot(n, uForward));
+  vFront = dot(n, -d) > 0.0 ? 1.0 : 0.0;
+  vR = rad;
+  vColor = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
+  vAxis = uEllipse ? vec3(dot(aAxis, uRight), dot(aAxis, uDown), dot(aAxis, uForward)) : vec3(0.0);
+  vMinor = aMinor * uRadiusScale;
+  vSurface = aSurface;
+}`;
+
+const FS = `#version 300 es
+precision highp float;
+flat in vec3 vC, vN, vColor, vAxis;
+flat in float vR, vMinor, vFront, vRing;
+flat in uint vSurface;
+uniform float uFocal, uCx, uCy, uH, uNear;
+uniform float uDepthOffset, uDepthNear, uDepthFar, uBackWeight;
+uniform bool uEllipse;
+uniform int uPass;  // 0: visibility, 1: attributes
+uniform vec3 uRight, uDown, uForward;
+#ifdef ID_PASS
+layout(location = 0) out uint oId;
+#else
+uniform highp usampler2D uFrontId;
+uniform bool uUseIds;
+layout(location = 0) out vec4 oNormal;
+layout(location = 1) out vec4 oColor;
+#endif
+void main() {
+  vec2 pix = vec2(gl_FragCoord.x, uH - gl_FragCoord.y);
+  vec3 ray = vec3((pix.x - uCx) / uFocal, (pix.y - uCy) / uFocal, 1.0);
+  float den = dot(ray, vN);
+  if (abs(den) < 1e-12) discard;
+  float t = dot(vC, vN) / den;
+  if (t < uNear) discard;
+  vec3 q = ray * t - vC;
+  float rho2;
+  if (uEllipse) {
+    float u = dot(q, vAxis) / vR;
+    float v = dot(q, cross(vN, vAxis)) / vMinor;
+    rho2 = u * u + v * v;
+  } else {
+    rho2 = dot(q, q) / (vR * vR);
+  }
+  if (rho2 > vRing || (rho2 > 1.0 && uPass == 0)) discard;
+  gl_FragDepth = clamp((t + uDepthOffset - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0);
+#ifdef ID_PASS
+  oId = vSurface;
+#else
+  if (uPass == 0) return;
+  // Fragments of other surfaces than the pixel's nearest are set aside (splat-view's rule).
+  if (uUseIds && vSurface != texelFetch(uFrontId, ivec2(gl_FragCoord.xy), 0).r) discard;
+  float w = exp(-2.0 * rho2) - exp(-3.125);
+  w *= vFront > 0.5 ? 1.0 : uBackWeight;
+  vec3 nw = vN.x * uRight + vN.y * uDown + vN.z * uForward;  // back to the scene frame
+  float depth01 = (t - uDepthNear) / (uDepthFar - uDepthNear);
+  if (rho2 > 1.0) {  // ring: the normal only
+    oNormal = vec4(nw * w, 0.0);
+    oColor = vec4(0.0);
+    return;
+  }
+  oNormal = vec4(nw * w, w);
+  oColor = vec4(vColor * w, depth01 * w);
+#endif
+}`;
+
+// The fast path (blend=zbuffer, splat-view's --blend zbuffer): one pass, each splat a round
+// point of its projected diameter at its centre's depth, shaded per vertex; no blending.
+const ZB_VS = `#version 300 es
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in float aRadius;
+layout(location = 3) in vec3 aColor;
+layout(location = 6) in vec2 aRange;
+uniform vec3 uEye, uRight, uDown, uForward, uLight;
+uniform float uFocal, uCx, uCy, uW, uH, uNear, uDepthNear, uDepthFar;
+uniform float uRadiusScale, uSptK, uMaxPoint;
+uniform bool uSpt, uSrgbColor;
+uniform int uMode;
+flat out vec3 vColor;
+float toLinear(float v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
+float toSrgb(float v) {
+  v = clamp(v, 0.0, 1.0);
+  return v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+void main() {
+  vec3 d = aPos - uEye;
+  if (uSpt) {
+    float r = length(d) * uSptK;
+    if (!(aRange.x <= r && r < aRange.y)) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  }
+  vec3 c = vec3(dot(d, uRight), dot(d, uDown), dot(d, uForward));
+  float rad = aRadius * uRadiusScale;
+  if (c.z - rad < uNear) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  vec2 px = vec2(uCx + uFocal * c.x / c.z, uCy + uFocal * c.y / c.z);
+  gl_PointSize = clamp(2.0 * rad * uFocal / c.z, 1.0, uMaxPoint);
+  float z = clamp((c.z - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0) * 2.0 - 1.0;
+  gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, z, 1.0);
+  vec3 albedo = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
+  vec3 n = normalize(aNormal);
+  vec3 view = -normalize(d);
+  vec3 col;
+  if (uMode == 1) { vColor = 0.5 * (n + 1.0); return; }
+  if (uMode == 2) { float t = 1.0 - (c.z - uDepthNear) / (uDepthFar - uDepthNear); vColor = vec3(t); return; }
+  if (uMode == 3) { col = albedo; } else {
+    float nv = dot(n, view);
+    if (nv < 0.0) n = n - view * (2.0 * nv);
+    float lambert = max(0.0, dot(n, uLight));
+    float spec = lambert > 0.0 ? pow(max(0.0, dot(n, normalize(uLight + view))), 32.0) : 0.0;
+    col = albedo * (0.12 + 0.8 * lambert) + vec3(0.25 * spec);
+  }
+  vColor = vec3(toSrgb(col.r), toSrgb(col.g), toSrgb(col.b));
+}`;
+
+const ZB_FS = `#version 300 es
+precision mediump float;
+flat in vec3 vColor;
+out vec4 oColor;
+void main() {
+  vec2 q = gl_PointCoord - 0.5;
+  if (dot(q, q) > 0.25) discard;
+  oColor = vec4(vColor, 1.0);
+}`;
+
+const QUAD_VS = `#version 300 es
+void main() {
+  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+  gl_Position = vec4(p, 0.0, 1.0);
+}`;
+
+const SHADE_FS = `#version 300 es
+precision highp float;
+uniform sampler2D uNormalSum, uColorSum;
+uniform vec3 uRight, uDown, uForward, uLight, uBackground;
+uniform float uFocal, uCx, uCy, uH;
+uniform int uMode;  // 0 phong, 1 normals, 2 depth, 3 flat
+out vec4 oColor;
+float toSrgb(float v) {
+  v = clamp(v, 0.0, 1.0);
+  return v <= 0.0031308 ? v * 12.92 : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
+}
+vec3 srgb(vec3 c) { return vec3(toSrgb(c.r), toSrgb(c.g), toSrgb(c.b)); }
+void main() {
+  ivec2 ij = ivec2(gl_FragCoord.xy);
+  vec4 ns = texelFetch(uNormalSum, ij, 0);
+  vec4 cs = texelFetch(uColorSum, ij, 0);
+  if (!(ns.w > 0.0)) { oColor = vec4(srgb(uBackground), 1.0); return; }
+  vec3 albedo = cs.rgb / ns.w;
+  vec3 n = normalize(ns.xyz);
+  if (uMode == 1) { oColor = vec4(0.5 * (n + 1.0), 1.0); return; }
+  if (uMode == 2) { float d = clamp(1.0 - cs.a / ns.w, 0.0, 1.0); oColor = vec4(d, d, d, 1.0); return; }
+  if (uMode == 3) { oColor = vec4(srgb(albedo), 1.0); return; }
+  vec2 pix = vec2(gl_FragCoord.x, uH - gl_FragCoord.y);
+  vec3 ray = uForward + uRight * ((pix.x - uCx) / uFocal) + uDown * ((pix.y - uCy) / uFocal);
+  vec3 view = -normalize(ray);
+  float nv = dot(n, view);
+  if (nv < 0.0) n = n - view * (2.0 * nv);
+  float lambert = max(0.0, dot(n, uLight));
+  vec3 h = normalize(uLight + view);
+  float spec = lambert > 0.0 ? pow(max(0.0, dot(n, h)), 32.0) : 0.0;
+  vec3 c = albedo * (0.12 + 0.8 * lambert) + vec3(0.25 * spec);
+  oColor = vec4(srgb(c), 1.0);
+}`;
+
+function compile(gl, vs, fs) {
+  const program = gl.createProgram();
+  for (const [type, text] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
+    const s = gl.createShader(type);
+    gl.shaderSource(s, text);
+    gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    gl.attachShader(program, s);
+  }
+  gl.linkProgram(program);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+  const uniforms = {};
+  const count = gl.getProgramParameter(program, gl.ACTIVE_UNIFORMS);
+  for (let i = 0; i < count; ++i) {
+    const name = gl.getActiveUniform(program, i).name;
+    uniforms[name] = gl.getUniformLocation(program, name);
+  }
+  return { program, uniforms };
+}
+
+export class SplatRenderer {
+  constructor(canvas) {
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: false });
+    if (!gl) throw new Error('this browser has no WebGL2');
+    if (!gl.getExtension('EXT_color_buffer_float'))
+      throw new Error('this browser cannot render into float targets (EXT_color_buffer_float)');
+    this.gl = gl;
+    this.canvas = canvas;
+    this.splat = compile(gl, VS, FS);
+    // The nearest surface id per pixel, for files with surface ids.
+    this.idPass = compile(gl, VS, FS.replace('#version 300 es\n', '#version 300 es\n#define ID_PASS\n'));
+    this.shade = compile(gl, QUAD_VS, SHADE_FS);
+    this.zbuffer = compile(gl, ZB_VS, ZB_FS);
+    this.maxPoint = gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1];
+    this.vao = gl.createVertexArray();
+    this.width = this.height = 0;
+  }
+
+  // Uploads a view model (view_model.js). Splat files and .spt lists stay on the GPU; a QSplat
+  // tree gets a stream buffer the traversal refills each frame.
+  load(model) {
+    const gl = this.gl;
+    const { header, arrays } = model;
+    this.kind = header.kind;
+    gl.bindVertexArray(this.vao);
+    for (let i = 0; i < 7; ++i) gl.disableVertexAttribArray(i);
+    this.buffers?.forEach((b) => gl.deleteBuffer(b));
+    this.buffers = [];
+    const buffer = (data, usage = gl.STATIC_DRAW) => {
+      const b = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.bufferData(gl.ARRAY_BUFFER, data, usage);
+      this.buffers.push(b);
+      return b;
+    };
+    const attrib = (loc, b, size, type, normalized, stride, offset) => {
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, size, type, normalized, stride, offset);
+    };
+    gl.vertexAttrib3f(3, 0.6, 0.6, 0.6);  // splat-view's albedo for files without colours
+    gl.vertexAttrib2f(6, 0, 3.4e38);
+    gl.vertexAttribI4ui(7, 0, 0, 0, 0);
+    this.hasIds = false;
+    this.ellipse = false;
+    this.radiusScale = 1;
+    this.srgbColor = false;
+    if (header.kind === 'spt') {
+      const b = buffer(arrays.entries);
+      attrib(0, b, 3, gl.FLOAT, false, 36, 0);
+      attrib(1, b, 3, gl.SHORT, true, 36, 12);
+      attrib(2, b, 1, gl.FLOAT, false, 36, 20);
+      attrib(6, b, 2, gl.FLOAT, false, 36, 24);
+      attrib(3, b, 3, gl.UNSIGNED_BYTE, true, 36, 32);
+      this.radiusScale = 0.5;  // entries store diameters
+      this.srgbColor = true;
+      // r_max of every entry, for the prefix search (float 7 of each 9).
+      const floats = new Float32Array(arrays.entries.buffer, arrays.entries.byteOffset,
+                                      arrays.entries.byteLength / 4);
+      this.rMax = (i) => floats[9 * i + 7];
+      this.entries = floats;
+    } else if (header.kind === 'qsplat') {
+      this.stream = new Float32Array(Math.min(header.count, 8 << 20) * 10);
+      this.streamBuffer = buffer(this.stream.byteLength, gl.DYNAMIC_DRAW);
+      attrib(0, this.streamBuffer, 3, gl.FLOAT, false, 40, 0);
+      attrib(1, this.streamBuffer, 3, gl.FLOAT, false, 40, 12);
+      attrib(2, this.streamBuffer, 1, gl.FLOAT, false, 40, 24);
+      attrib(3, this.streamBuffer, 3, gl.FLOAT, false, 40, 28);
+    } else {
+      attrib(0, buffer(arrays.position), 3, gl.FLOAT, false, 0, 0);
+      attrib(1, buffer(arrays.normal), 3, gl.FLOAT, false, 0, 0);
+      attrib(2, buffer(arrays.radius), 1, gl.FLOAT, false, 0, 0);
+      if (arrays.axis && arrays.minor) {
+        attrib(4, buffer(arrays.axis), 3, gl.FLOAT, false, 0, 0);
+        attrib(5, buffer(arrays.minor), 1, gl.FLOAT, false, 0, 0);
+        this.ellipse = true;
+      }
+      this.colorBuffer = arrays.color ? buffer(arrays.color) : null;
+      this.surfaceBuffer = arrays.surface_color ? buffer(arrays.surface_color) : null;
+      if (arrays.surface) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, buffer(arrays.surface));
+        gl.enableVertexAttribArray(7);
+        gl.vertexAttribIPointer(7, 1, gl.UNSIGNED_INT, 0, 0);
+        this.hasIds = true;
+      }
+      this.useColors(false);
+    }
+    gl.bindVertexArray(null);
+    this.model = model;
+  }
+
+  // Splat files: the file's colours, or the surface palette when `surfaces` and the file has ids.
+  useColors(surfaces) {
+    const gl = this.gl;
+    if (this.kind !== 'splats') return;
+    const b = surfaces && this.surfaceBuffer ? this.surfaceBuffer : this.colorBuffer;
+    gl.bindVertexArray(this.vao);
+    if (b) {
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.enableVertexAttribArray(3);
+      gl.vertexAttribPointer(3, 3, gl.FLOAT, false, 0, 0);
+    } else {
+      gl.disableVertexAttribArray(3);
+    }
+    gl.bindVertexArray(null);
+  }
+
+  resize(width, height) {
+    if (width === this.width && height === this.height) return;
+    const gl = this.gl;
+    this.width = width;
+    this.height = height;
+    this.canvas.width = width;
+    this.canvas.height = height;
+    if (this.fbo) {
+      gl.deleteFramebuffer(this.fbo);
+      this.targets.forEach((t) => gl.deleteTexture(t));
+      gl.deleteRenderbuffer(this.depth);
+      gl.deleteFramebuffer(this.idFbo);
+      gl.deleteTexture(this.idTarget);
+    }
+    this.fbo = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
+    this.targets = [0, 1].map((i) => {
+      const t = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, t);
+      gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA16F, width, height);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+      gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0 + i, gl.TEXTURE_2D, t, 0);
+      return t;
+    });
+    this.depth = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, this.depth);
+    gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT32F, width, height);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depth);
+    // The id pass's target, in a framebuffer of its own (the attribute pass samples it).
+    this.idFbo = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.idFbo);
+    this.idTarget = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, this.idTarget);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.R32UI, width, height);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.idTarget, 0);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depth);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  }
+
+  // The first entries of an .spt list that can pass the interval test anywhere in the model:
+  // those with r_max > k x (distance from the eye to the bounding sphere) (select_spt.h).
+  sptPrefix(proj, k) {
+    const h = this.model.header;
+    const d = Math.hypot(proj.eye[0] - h.center[0], proj.eye[1] - h.center[1],
+                         proj.eye[2] - h.center[2]);
+    const nearest = Math.max(0, d - h.radius) * k;
+    let lo = 0, hi = h.count;
+    while (lo < hi) {
+      const mid = (lo + hi) >>> 1;
+      if (this.rMax(mid) > nearest) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  }
+
+  // How many of the first `prefix` entries of an .spt list pass the interval test the vertex
+  // shader makes (for the stats; the GPU does not report it).
+  sptSelected(proj, k, prefix) {
+    const f = this.entries, e = proj.eye;
+    let n = 0;
+    for (let i = 0; i < prefix; ++i) {
+      const o = 9 * i;
+      const r = Math.hypot(f[o] - e[0], f[o + 1] - e[1], f[o + 2] - e[2]) * k;
+      if (f[o + 6] <= r && r < f[o + 7]) ++n;
+    }
+    return n;
+  }
+
+  // Draws one frame. opts: {splatScale, sptError (px), qsplatThreshold (px), shade ('phong',
+  // 'normals', 'depth', 'flat'), epsilon (scene units; default twice the mean radius)}.
+  // Returns {submitted: the vertices drawn, drawn: the splats among them (.spt: those passing
+  // the interval test, counted unless opts.countSpt is false)}.
+  draw(proj, opts) {
+    const gl = this.gl;
+    const h = this.model.header;
+    let count = h.count, submitted = h.count;
+    let sptK = 0;
+    if (h.kind === 'spt') {
+      sptK = opts.sptError / proj.focal / h.epsilon;
+      count = submitted = this.sptPrefix(proj, sptK);
+    } else if (h.kind === 'qsplat') {
+      const t = opts.traverse(proj, this.stream);
+      count = submitted = t.drawn;
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.streamBuffer);
+      gl.bufferSubData(gl.ARRAY_BUFFER, 0, this.stream, 0, count * 10);
+    }
+    const centreDepth = (h.center[0] - proj.eye[0]) * proj.forward[0] +
+                        (h.center[1] - proj.eye[1]) * proj.forward[1] +
+                        (h.center[2] - proj.eye[2]) * proj.forward[2];
+    const eps = opts.epsilon ?? 2 * h.mean_radius * opts.splatScale;
+    const depthNear = Math.max(proj.near, centreDepth - h.radius);
+    const depthFar = Math.max(depthNear + 1e-6, centreDepth + h.radius + eps);
+
+    const light = [-0.4 * proj.right[0] - 0.6 * proj.down[0] - proj.forward[0],
+                   -0.4 * proj.right[1] - 0.6 * proj.down[1] - proj.forward[1],
+                   -0.4 * proj.right[2] - 0.6 * proj.down[2] - proj.forward[2]];
+    const ln = Math.hypot(light[0], light[1], light[2]);
+    this.light = light.map((v) => v / ln);
+    const mode = { phong: 0, normals: 1, depth: 2, flat: 3, surface: 0 }[opts.shade] ?? 0;
+    // The uniforms every splat program reads (a program ignores those it does not have).
+    const setUniforms = (program) => {
+      gl.useProgram(program.program);
+      const u = program.uniforms;
+      gl.uniform3fv(u.uEye, proj.eye);
+      gl.uniform3fv(u.uRight, proj.right);
+      gl.uniform3fv(u.uDown, proj.down);
+      gl.uniform3fv(u.uForward, proj.forward);
+      gl.uniform1f(u.uFocal, proj.focal);
+      gl.uniform1f(u.uCx, proj.cx);
+      gl.uniform1f(u.uCy, proj.cy);
+      gl.uniform1f(u.uW, proj.width);
+      gl.uniform1f(u.uH, proj.height);
+      gl.uniform1f(u.uNear, proj.near);
+      gl.uniform1f(u.uRadiusScale, this.radiusScale * opts.splatScale);
+      gl.uniform1f(u.uSptK, sptK);
+      gl.uniform1f(u.uMaxPoint, this.maxPoint);
+      gl.uniform1i(u.uSpt, h.kind === 'spt' ? 1 : 0);
+      gl.uniform1i(u.uSrgbColor, this.srgbColor ? 1 : 0);
+      gl.uniform1i(u.uEllipse, this.ellipse ? 1 : 0);
+      gl.uniform1f(u.uDepthNear, depthNear);
+      gl.uniform1f(u.uDepthFar, depthFar);
+      gl.uniform1f(u.uBackWeight, 1 / 256);
+      return u;
+    };
+    const u = setUniforms(opts.blend === 'zbuffer' ? this.zbuffer : this.splat);
+    if (opts.blend === 'zbuffer') return this.drawZBuffer(proj, u, mode, submitted, count, opts, sptK);
+
+    const useIds = this.hasIds && opts.surfaceIds !== false;
+    gl.bindVertexArray(this.vao);
+    if (useIds) {  // 0. the nearest splat's surface id per pixel
+      const ui = setUniforms(this.idPass);
+      gl.uniform1i(ui.uPass, 0);
+      gl.uniform1f(ui.uDepthOffset, 0);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, this.idFbo);
+      gl.viewport(0, 0, proj.width, proj.height);
+      gl.clearBufferuiv(gl.COLOR, 0, [0xFFFFFFFF, 0, 0, 0]);
+      gl.clearBufferfi(gl.DEPTH_STENCIL, 0, 1, 0);
+      gl.enable(gl.DEPTH_TEST);
+      gl.depthFunc(gl.LESS);
+      gl.depthMask(true);
+      gl.drawArrays(gl.POINTS, 0, count);
+      setUniforms(this.splat);
+    }
+    gl.activeTexture(gl.TEXTURE2);
+    gl.bindTexture(gl.TEXTURE_2D, this.idTarget);
+    gl.uniform1i(u.uFrontId, 2);
+    gl.uniform1i(u.uUseIds, useIds ? 1 : 0);
+
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
+    gl.viewport(0, 0, proj.width, proj.height);
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0, gl.COLOR_ATTACHMENT1]);
+    gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
+    gl.clearBufferfv(gl.COLOR, 1, [0, 0, 0, 0]);
+    gl.clearBufferfi(gl.DEPTH_STENCIL, 0, 1, 0);
+    gl.bindVertexArray(this.vao);
+    gl.enable(gl.DEPTH_TEST);
+
+    // 1. visibility
+    gl.depthFunc(gl.LESS);
+    gl.depthMask(true);
+    gl.colorMask(false, false, false, false);
+    gl.drawBuffers([gl.NONE, gl.NONE]);
+    gl.uniform1i(u.uPass, 0);
+    gl.uniform1f(u.uDepthOffset, eps);
+    gl.drawArrays(gl.POINTS, 0, count);
+    const times = [];
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
+    // 2. attributes
+    gl.depthFunc(gl.LEQUAL);
+    gl.depthMask(false);
+    gl.colorMask(true, true, true, true);
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0, gl.COLOR_ATTACHMENT1]);
+    gl.enable(gl.BLEND);
+    gl.blendFunc(gl.ONE, gl.ONE);
+    gl.uniform1i(u.uPass, 1);
+    gl.uniform1f(u.uDepthOffset, 0);
+    gl.drawArrays(gl.POINTS, 0, count);
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
+    gl.disable(gl.BLEND);
+    gl.disable(gl.DEPTH_TEST);
+    gl.depthMask(true);
+    gl.bindVertexArray(null);
+
+    // 3. normalisation and shading
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    const s = this.shade;
+    gl.useProgram(s.program);
+    const su = s.uniforms;
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, this.targets[0]);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, this.targets[1]);
+    gl.uniform1i(su.uNormalSum, 0);
+    gl.uniform1i(su.uColorSum, 1);
+    gl.uniform3fv(su.uRight, proj.right);
+    gl.uniform3fv(su.uDown, proj.down);
+    gl.uniform3fv(su.uForward, proj.forward);
+    gl.uniform3fv(su.uLight, this.light);
+    gl.uniform3f(su.uBackground, 0.0194, 0.0232, 0.0273);  // splat-view's background (linear)
+    gl.uniform1f(su.uFocal, proj.focal);
+    gl.uniform1f(su.uCx, proj.cx);
+    gl.uniform1f(su.uCy, proj.cy);
+    gl.uniform1f(su.uH, proj.height);
+    gl.uniform1i(su.uMode, mode);
+    gl.viewport(0, 0, proj.width, proj.height);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    if (opts.profile) { this.finish(); times.push(performance.now()); }
+    const drawn = h.kind === 'spt' && opts.countSpt !== false
+        ? this.sptSelected(proj, sptK, count) : count;
+    return { submitted, drawn, times };
+  }
+
+  drawZBuffer(proj, u, mode, submitted, count, opts, sptK) {
+    const gl = this.gl;
+    gl.uniform3fv(u.uLight, this.light);
+    gl.uniform1i(u.uMode, mode);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, proj.width, proj.height);
+    const bg = [0.0194, 0.0232, 0.0273].map((v) => (v <= 0.0031308 ? v * 12.92 : 1.055 * v ** (1 / 2.4) - 0.055));
+    gl.clearColor(bg[0], bg[1], bg[2], 1);
+    gl.clearDepth(1);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    gl.enable(gl.DEPTH_TEST);
+    gl.depthFunc(gl.LESS);
+    gl.depthMask(true);
+    gl.bindVertexArray(this.vao);
+    gl.drawArrays(gl.POINTS, 0, count);
+    gl.bindVertexArray(null);
+    gl.disable(gl.DEPTH_TEST);
+    const drawn = this.model.header.kind === 'spt' && opts.countSpt !== false
+        ? this.sptSelected(proj, sptK, count) : count;
+    return { submitted, drawn, times: [] };
+  }
+
+  // Waits for the GPU (for timing): a one-pixel read of the bound framebuffer (the float
+  // targets are read as floats).
+  finish() {
+    const gl = this.gl;
+    if (gl.getParameter(gl.FRAMEBUFFER_BINDING)) {
+      gl.readBuffer(gl.COLOR_ATTACHMENT0);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, new Float32Array(4));
+    } else {
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    }
+  }
+}
