@@ -53,12 +53,13 @@ struct SplatViewOptions {
 
 struct SplatViewSummary {
   std::size_t frames = 0;
-  uint64_t splats = 0;       // per frame
+  uint64_t splats = 0;       // in the scene (a .qs file's leaves, a .spt file's entries)
+  uint64_t drawn = 0;        // summed over frames (a level of detail draws a few of them)
   double frame_seconds = 0;  // sum over frames, rendering only
   double load_seconds = 0, write_seconds = 0;
   double bvh_seconds = 0;            // building the chunk hierarchy (occlusion culling)
   render::OcclusionStats occlusion;  // summed over frames
-  StageSummary line() const;  // for the command line's summary
+  StageSummary line() const;         // for the command line's summary
 };
 
 // Throws Error(kUsage) for bad or conflicting options and unusable paths (before reading the

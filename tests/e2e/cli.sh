@@ -137,6 +137,15 @@ expect_exit 0 "$BIN/estimate-normals" -q "$S/cube.ply" "$WORK/st.splk" --stats "
 expect_eq "estimate-normals --stats" "$(jq -r .tool "$WORK/st.json")" estimate-normals
 expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st.png" --report "$WORK/sv.json"
 jq -e .timings_s "$WORK/sv.json" >/dev/null && pass || fail "splat-view --report wrote no report"
+# The summary line counts the splats drawn: a QSplat tree seen from afar draws a few of its leaves.
+expect_exit 0 "$BIN/build-qsplat" -q "$S/sphere.ply" "$WORK/far.qs"
+"$BIN/splat-view" "$WORK/far.qs" "$WORK/far.png" --view 0,20,400 --stats "$WORK/far.json" \
+  2>"$WORK/far.err"
+drawn=$(jq .splats_drawn "$WORK/far.json")
+leaves=$(sed -n 's/.* frame(s) of \([0-9]*\) splats.*/\1/p' "$WORK/far.err")
+grep -q "^splat-view: $drawn splats drawn in " "$WORK/far.err" && [ "$leaves" = "$(grep -a -m1 "^element vertex" "$S/sphere.ply" | cut -d" " -f3)" ] &&
+  [ "$drawn" -lt "$leaves" ] && pass ||
+  fail "splat-view's summary of a far .qs: $(cat "$WORK/far.err") (drawn $drawn)"
 expect_exit 0 "$BIN/splat-view" -q "$WORK/st.splk" "$WORK/st2.png" --stats "$WORK/sv2.json"
 jq -e .timings_s "$WORK/sv2.json" >/dev/null && pass || fail "splat-view --stats wrote no report"
 # splat-view takes IN OUT like every tool; -o OUT is the same (one of them, not both).
