@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <numbers>
+#include <span>
 #include <sstream>
 #include <vector>
 
@@ -393,6 +394,23 @@ uint64_t surface_count(const std::vector<uint32_t>& ids) {
   return sorted.size() - (!sorted.empty() && sorted.back() == kNoSurfaceId);
 }
 
+// A model drawn with the default +z up that looks as if +y were its up: longest along y, by a
+// fifth over x, and deep along z (at least 0.45 of y). Many PLY models are y-up (the kitten:
+// 0.65 x 1.0 x 0.59; the Nefertiti bust: 3.9 x 4.9 x 2.4), drawn z-up they lie on their side;
+// surveys and terrain are flat along z (a city 80 x 52 x 9, CGAL's building scan 16 x 55 x 18).
+// A hint only: a z-up car parked along y passes it too.
+bool looks_y_up(std::span<const Vec3f> positions) {
+  if (positions.empty()) return false;
+  Vec3f lo = positions[0], hi = positions[0];
+  for (const Vec3f& p : positions)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  const Vec3f e = hi - lo;
+  return e.y > 1.2f * e.x && e.y >= e.z && e.z >= 0.45f * e.y;
+}
+
 }  // namespace
 
 void check_single_image_name(const std::string& output) {
@@ -418,7 +436,7 @@ StageSummary SplatViewSummary::line() const {
                 frames, static_cast<unsigned long long>(splats),
                 1e3 * frame_seconds / static_cast<double>(frames),
                 static_cast<double>(drawn) / frame_seconds / 1e6);
-  return {drawn, "splats drawn", extra};
+  return {drawn, "splats drawn", hint.empty() ? std::string(extra) : extra + ("; " + hint)};
 }
 
 SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& progress) {
@@ -470,6 +488,10 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
                   double(scene.bounds.radius), double(kMaxSceneRadius));
     throw_bad_input(name, what);
   }
+  if (o.up.empty() && !r.eye && o.path.empty() && looks_y_up(scene.positions))
+    summary.hint =
+        "longest along y and not flat: if +y is up (as in many PLY models), give "
+        "--up 0,1,0";
   const Camera base = base_camera(o, r, scene);
   if (!o.path.empty() && scene.origin != std::array<double, 3>{0, 0, 0})  // now in the local frame
     path = read_camera_path(path_text, o.path, r.up, o.fov_y_deg, o.width, o.height, scene.origin);

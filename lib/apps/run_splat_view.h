@@ -59,6 +59,7 @@ struct SplatViewSummary {
   double load_seconds = 0, write_seconds = 0;
   double bvh_seconds = 0;            // building the chunk hierarchy (occlusion culling)
   render::OcclusionStats occlusion;  // summed over frames
+  std::string hint;                  // for the summary line (e.g. a model that looks y-up)
   StageSummary line() const;         // for the command line's summary
 };
 

@@ -158,4 +158,16 @@ awk '!/^#/ { print $0, 3 + NR % 5 }' "$WORK/labelled.xyz" >"$WORK/labelled-class
 "$BIN/splat-convert" -q --columns x,y,z,nx,ny,nz,r,g,b,radius,patch_id,class \
   "$WORK/labelled-class.xyz" "$WORK/labelled.ply"
 expect_exit 0 "$V" "$WORK/labelled.ply" -o "$WORK/labelled.png"
+# A y-up model (the kitten: longest along y, deep along z) gets the hint in the summary line;
+# given --up, or a flat scene, none.
+"$BIN/estimate-normals" -q --columns x,y,z,_,_,_ "$SRC/data-samples/kitten.xyz" "$WORK/kitten.splk"
+expect_exit 0 "$BIN/splat-view" "$WORK/kitten.splk" "$WORK/kitten.png" --width 64 --height 48
+expect_stderr "if \\+y is up \\(as in many PLY models\\), give --up 0,1,0$"
+expect_exit 0 "$BIN/splat-view" "$WORK/kitten.splk" "$WORK/kitten.png" --width 64 --height 48 \
+  --up 0,1,0
+! grep -q -- "--up 0,1,0" "$WORK/stderr" && pass || fail "a hint although --up was given"
+expect_exit 0 "$BIN/splat-view" "$SRC/data-samples/torus.ply" "$WORK/torus.png" --width 64 \
+  --height 48
+! grep -q -- "--up 0,1,0" "$WORK/stderr" && pass || fail "a y-up hint for the torus"
+
 finish
