@@ -16,5 +16,6 @@ export function parseViewModel(buffer) {
   }
   header.center = header.bounds.slice(0, 3);
   header.radius = header.bounds[3];
+  header.box = header.box ?? null;  // [min x, y, z, max x, y, z], or none: framed by the sphere
   return { header, arrays };
 }

@@ -48,8 +48,8 @@ function camera(width, height) {
              fovY: DEFAULT_FOV };
   }
   const o = state.orbit;
-  return orbitCamera({ center: h.center, radius: h.radius }, o.az, o.el, o.dist, UP, DEFAULT_FOV,
-                     width, height);
+  return orbitCamera({ center: h.center, radius: h.radius, box: h.box }, o.az, o.el, o.dist, UP,
+                     DEFAULT_FOV, width, height);
 }
 
 function frame() {

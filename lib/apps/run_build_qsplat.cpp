@@ -29,6 +29,9 @@ std::string comment_text(const LoadedCloud& doc, const render::BoundingSphere& v
   if (doc.cloud.origin != std::array<double, 3>{0, 0, 0}) meta["origin"] = doc.cloud.origin;
   meta["view_sphere"] = {{"centre", {view.center.x, view.center.y, view.center.z}},
                          {"radius", view.radius}};
+  if (view.has_box())
+    meta["view_box"] = {{"min", {view.box_lo.x, view.box_lo.y, view.box_lo.z}},
+                        {"max", {view.box_hi.x, view.box_hi.y, view.box_hi.z}}};
   text += "splatkit " + meta.dump() + "\n";
   return text;
 }

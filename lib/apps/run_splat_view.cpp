@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <vector>
@@ -268,7 +269,19 @@ Camera base_camera(const SplatViewOptions& o, const Resolved& r, const RenderSce
   }
   const float az = r.view ? (*r.view)[0] : kDefaultAzimuthDeg;
   const float el = r.view ? (*r.view)[1] : kDefaultElevationDeg;
-  return orbit_camera(bounds, az, el, r.view_distance, r.up, o.fov_y_deg, o.width, o.height);
+  std::optional<float> distance = r.view_distance;
+  if (o.turntable > 0 && !distance) {
+    // The box fills the frame at one azimuth and may leave it at another: a turntable stays at
+    // the farthest of its azimuths' framing distances (every 5°), so nothing leaves the frame.
+    float d = 0;
+    for (int k = 0; k < 72; ++k) {
+      const Camera c = orbit_camera(bounds, az + 5.0f * static_cast<float>(k), el, std::nullopt,
+                                    r.up, o.fov_y_deg, o.width, o.height);
+      d = std::max(d, norm(c.eye - c.target));
+    }
+    distance = d;
+  }
+  return orbit_camera(bounds, az, el, distance, r.up, o.fov_y_deg, o.width, o.height);
 }
 
 const char* blend_name(BlendMode m) {

@@ -98,6 +98,21 @@ std::optional<std::array<float, 4>> qsplat_view_sphere(const QSplatModel& m) {
                               static_cast<float>(centre[2]), static_cast<float>(radius)};
 }
 
+std::optional<std::array<float, 6>> qsplat_view_box(const QSplatModel& m) {
+  const nlohmann::json j = provenance(m);
+  if (!j.is_object() || !j.contains("view_box")) return std::nullopt;
+  double lo[3], hi[3];
+  if (!finite_numbers(j["view_box"], "min", 3, lo) || !finite_numbers(j["view_box"], "max", 3, hi))
+    return std::nullopt;
+  std::array<float, 6> box{};
+  for (int a = 0; a < 3; ++a) {
+    if (!(lo[a] <= hi[a] && std::fabs(lo[a]) < 3e38 && std::fabs(hi[a]) < 3e38)) return std::nullopt;
+    box[a] = static_cast<float>(lo[a]);
+    box[3 + a] = static_cast<float>(hi[a]);
+  }
+  return box;
+}
+
 std::string describe_qsplat_text(const nlohmann::json& j) {
   std::ostringstream s;
   s << describe_common_text(j, "qs (QSplat version 11, big-endian)",

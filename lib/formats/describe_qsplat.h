@@ -32,6 +32,12 @@ std::array<double, 3> qsplat_origin(const QSplatModel& model);
 // is missing, or gives no finite centre or no positive finite radius (older files).
 std::optional<std::array<float, 4>> qsplat_view_sphere(const QSplatModel& model);
 
+// The box build-qsplat records beside it as "view_box": {"min": [x, y, z], "max": [x, y, z]}: the
+// splats' reach (centre +- radius per axis) before quantisation, which default views fill the
+// frame with. Returned as {min x, y, z, max x, y, z}; nullopt when missing or not finite and
+// ordered (older files).
+std::optional<std::array<float, 6>> qsplat_view_box(const QSplatModel& model);
+
 // The report of describe_qsplat as text, one fact per line.
 std::string describe_qsplat_text(const nlohmann::json& report);
 

@@ -84,6 +84,32 @@ float framing_distance(const BoundingSphere& sphere, float fov_y_deg, int width,
   return kMargin * std::max(sphere.radius, 1e-6f) / std::sin(half);
 }
 
+float box_framing_distance(const BoundingSphere& sphere, const Vec3f& dir, const Vec3f& up,
+                           float fov_y_deg, int width, int height) {
+  const float loose = framing_distance(sphere, fov_y_deg, width, height);
+  if (!sphere.has_box()) return loose;
+  constexpr float kMargin = 1.08f;
+  const float tan_y = std::tan(0.5f * fov_y_deg * kDegToRad);
+  const float tan_x = tan_y * static_cast<float>(width) / static_cast<float>(std::max(height, 1));
+  const Vec3f forward = -normalized(dir);
+  const Vec3f right = normalized(cross(forward, automatic_up(forward, up)));
+  const Vec3f down = cross(forward, right);
+  // Corner o (from the centre) at depth d + o.forward: inside when |o.right| <= tan_x (d +
+  // o.forward) / margin, and likewise down; in front of the eye by at least a tenth of the
+  // radius.
+  float d = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3f corner{(k & 1) ? sphere.box_hi.x : sphere.box_lo.x,
+                       (k & 2) ? sphere.box_hi.y : sphere.box_lo.y,
+                       (k & 4) ? sphere.box_hi.z : sphere.box_lo.z};
+    const Vec3f o = corner - sphere.center;
+    const float z = dot(o, forward);
+    d = std::max({d, kMargin * std::fabs(dot(o, right)) / tan_x - z,
+                  kMargin * std::fabs(dot(o, down)) / tan_y - z, 0.1f * sphere.radius - z});
+  }
+  return std::isfinite(d) && d > 0 ? std::min(d, loose) : loose;
+}
+
 Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float elevation_deg,
                     std::optional<float> distance, const Vec3f& up, float fov_y_deg, int width,
                     int height) {
@@ -93,7 +119,8 @@ Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float eleva
   float az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
   Vec3f dir =
       a * (std::cos(el) * std::cos(az)) + b * (std::cos(el) * std::sin(az)) + w * std::sin(el);
-  float d = distance ? *distance : framing_distance(sphere, fov_y_deg, width, height);
+  float d = distance ? *distance
+                     : box_framing_distance(sphere, dir, w, fov_y_deg, width, height);
   if (!(d > 0) || !std::isfinite(d)) throw_usage("--view distance must be positive");
   Camera c;
   c.target = sphere.center;

@@ -25,6 +25,10 @@ struct Camera {
 struct BoundingSphere {
   Vec3f center{0, 0, 0};
   float radius = 0;
+  // The box the splats' discs reach (each centre +- its radius per axis), which default views
+  // fill the frame with; none (box_lo above box_hi) where unknown: the sphere frames the view.
+  Vec3f box_lo{1, 1, 1}, box_hi{-1, -1, -1};
+  bool has_box() const { return box_lo.x <= box_hi.x && box_lo.y <= box_hi.y && box_lo.z <= box_hi.z; }
 };
 
 // What every stage needs from the camera for one frame.
@@ -56,9 +60,17 @@ Projection make_projection(const Camera& camera);
 // view) with a small margin.
 float framing_distance(const BoundingSphere& sphere, float fov_y_deg, int width, int height);
 
+// Distance from sphere.center along `dir` (towards the eye) at which a camera looking at the
+// centre, its up from automatic_up(-dir, up), sees every corner of the sphere's box within both
+// fields of view with the same margin: the model fills the frame (a wide building inside its
+// bounding sphere covered 44-48 % of the width). No farther than the sphere's framing distance;
+// that distance when there is no box.
+float box_framing_distance(const BoundingSphere& sphere, const Vec3f& dir, const Vec3f& up,
+                           float fov_y_deg, int width, int height);
+
 // A camera on a sphere around `sphere.center`, looking at it: azimuth measured around `up` (0° on
 // the axis most perpendicular to `up` among +x, +y, turning right-handed about `up`), elevation
-// above the plane perpendicular to `up`. `distance` in scene units; default framing_distance().
+// above the plane perpendicular to `up`. `distance` in scene units; default box_framing_distance().
 // The camera's up vector is automatic_up(): `up`, or for a top or bottom view (|elevation| above
 // 89.19°) the azimuth-90° axis.
 Camera orbit_camera(const BoundingSphere& sphere, float azimuth_deg, float elevation_deg,

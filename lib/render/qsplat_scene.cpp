@@ -18,6 +18,10 @@ RenderScene make_qsplat_scene(QSplatModel&& model, const std::string& name) {
   if (const auto view = qsplat_view_sphere(model)) {
     s.bounds.center = {(*view)[0], (*view)[1], (*view)[2]};
     s.bounds.radius = (*view)[3];
+    if (const auto box = qsplat_view_box(model)) {  // else framed by the sphere
+      s.bounds.box_lo = {(*box)[0], (*box)[1], (*box)[2]};
+      s.bounds.box_hi = {(*box)[3], (*box)[4], (*box)[5]};
+    }
   } else {
     s.bounds = splat_bounds(model.size(), [&](std::size_t i, Vec3f& c, float& r) {
       c = model.centres[i];

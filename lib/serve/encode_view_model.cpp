@@ -70,9 +70,13 @@ std::string assemble(nlohmann::json header, Arrays& arrays) {
 nlohmann::json common(const char* kind, const std::string& name, std::size_t count,
                       const BoundingSphere& b, const std::array<double, 3>& origin,
                       float mean_radius) {
-  return {{"kind", kind},     {"name", name},
-          {"count", count},   {"bounds", {b.center.x, b.center.y, b.center.z, b.radius}},
-          {"origin", origin}, {"mean_radius", mean_radius}};
+  nlohmann::json h = {
+      {"kind", kind},     {"name", name},
+      {"count", count},   {"bounds", {b.center.x, b.center.y, b.center.z, b.radius}},
+      {"origin", origin}, {"mean_radius", mean_radius}};
+  if (b.has_box())  // what default views fill the frame with (render/camera.h)
+    h["box"] = {b.box_lo.x, b.box_lo.y, b.box_lo.z, b.box_hi.x, b.box_hi.y, b.box_hi.z};
+  return h;
 }
 
 std::string encode_splats(RenderScene& s, const std::string& name) {

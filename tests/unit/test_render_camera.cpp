@@ -1,12 +1,15 @@
 // The camera's up vector rule: automatic_up() keeps `up` except for top and bottom views, which
 // become maps with +y up (+x right from above, left from below), the same for --eye cameras and
 // orbit cameras at elevation ±90°; explicit parallel up vectors are refused; turned_camera()
-// spins a top view in the image and keeps an up along the axis bit for bit.
+// spins a top view in the image and keeps an up along the axis bit for bit; default views fill the
+// frame with the splats' box.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "render/camera.h"
 #include "splatkit/error.h"
@@ -126,6 +129,36 @@ TEST(RenderCamera, TurnedCameraKeepsAnUpAlongTheAxis) {
   const Vec3f d0 = c.eye - c.target, d1 = t.eye - t.target;
   EXPECT_NEAR(std::hypot(d1.x, d1.y), std::hypot(d0.x, d0.y), 1e-5);
   EXPECT_NEAR(std::atan2(d1.y, d1.x) - std::atan2(d0.y, d0.x), 0.7f, 1e-5);
+}
+
+// Default views fill the frame with the splats' box: a wide, low building-like box seen from the
+// default three-quarter view and from above has every corner inside the image, one of them at the
+// margin (the box fills the frame), and the camera is nearer than the bounding sphere's framing
+// would put it; without a box the sphere's distance stands.
+TEST(RenderCamera, DefaultViewsFillTheFrameWithTheBox) {
+  BoundingSphere b;
+  b.center = {1, 2, 3};
+  b.box_lo = b.center - Vec3f{8, 27, 9};
+  b.box_hi = b.center + Vec3f{8, 27, 9};
+  b.radius = norm(Vec3f{8, 27, 9});
+  for (const std::array<float, 2> view : {std::array<float, 2>{35, 25}, {0, 90}, {200, -30}}) {
+    const Camera c = orbit_camera(b, view[0], view[1], std::nullopt, {0, 0, 1}, 40, 1280, 720);
+    const Projection p = make_projection(c);
+    float edge = 1;  // the least free share of the half-width or half-height over the corners
+    for (int k = 0; k < 8; ++k) {
+      const Vec3f corner{(k & 1) ? b.box_hi.x : b.box_lo.x, (k & 2) ? b.box_hi.y : b.box_lo.y,
+                         (k & 4) ? b.box_hi.z : b.box_lo.z};
+      const auto [x, y] = project(p, corner);
+      edge = std::min({edge, 1 - std::fabs(x - p.cx) / p.cx, 1 - std::fabs(y - p.cy) / p.cy});
+    }
+    EXPECT_NEAR(edge, 1 - 1 / 1.08f, 1e-4f) << view[0] << "," << view[1];
+    EXPECT_LT(norm(c.eye - c.target), framing_distance(b, 40, 1280, 720));
+  }
+  BoundingSphere sphere_only = b;
+  sphere_only.box_lo = {1, 1, 1};
+  sphere_only.box_hi = {-1, -1, -1};
+  const Camera c = orbit_camera(sphere_only, 35, 25, std::nullopt, {0, 0, 1}, 40, 1280, 720);
+  EXPECT_FLOAT_EQ(norm(c.eye - c.target), framing_distance(b, 40, 1280, 720));
 }
 
 }  // namespace
