@@ -24,17 +24,19 @@ std::array<uint8_t, 3> to_rgb8(const std::array<uint16_t, 3>& c, int bits) {
   return out;
 }
 
-// Radius of the smallest sphere around triangle (a, b, c): half the longest edge when the
-// triangle is right or obtuse, else the circumradius.
-double triangle_sphere_radius(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+// Squared radius of the smallest sphere around triangle (a, b, c), n its (unnormalised) normal:
+// a quarter of the longest edge's square when the triangle is right or obtuse, else the squared
+// circumradius. Squared, so that a vertex takes one square root for all its triangles (the root
+// is monotonic and correctly rounded: the root of the largest square is the largest root, and
+// sqrt(x / 4) is sqrt(x) / 2 to the bit).
+double triangle_sphere_radius2(const Vec3f& a, const Vec3f& b, const Vec3f& c, const Vec3f& n) {
   const double ab = squared_distance(a, b), bc = squared_distance(b, c),
                ca = squared_distance(c, a);
   const double longest = std::max({ab, bc, ca});
-  if (2 * longest >= ab + bc + ca) return 0.5 * std::sqrt(longest);
-  const Vec3f n = cross(b - a, c - a);
+  if (2 * longest >= ab + bc + ca) return 0.25 * longest;
   const double area2 = squared_norm(n);  // (2·area)²
-  if (!(area2 > 0)) return 0.5 * std::sqrt(longest);
-  return std::sqrt(ab * bc * ca / (4.0 * area2));
+  if (!(area2 > 0)) return 0.25 * longest;
+  return ab * bc * ca / (4.0 * area2);
 }
 
 void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const Vec3f& n, float r) {
@@ -49,7 +51,8 @@ enum Drop : uint8_t { kUsable, kUnused, kZeroRadius, kZeroNormal };
 
 QSplatLeaves from_mesh(const SplatCloud& cloud) {
   const std::size_t n = cloud.size();
-  // vertex_normals' sums and each vertex's largest triangle sphere, in one pass over the faces.
+  // vertex_normals' sums and each vertex's largest triangle sphere (its squared radius), in one
+  // pass over the faces.
   std::vector<Vec3f> normal(n, Vec3f{0, 0, 0});
   std::vector<double> radius(n, -1.0);  // -1: no face uses the vertex
   for_each_triangle_by_vertex_range(
@@ -57,11 +60,11 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
         const Vec3f &p0 = cloud.positions[t[0]], &p1 = cloud.positions[t[1]],
                     &p2 = cloud.positions[t[2]];
         const Vec3f fn = cross(p1 - p0, p2 - p0);
-        const double r = triangle_sphere_radius(p0, p1, p2);
+        const double r2 = triangle_sphere_radius2(p0, p1, p2, fn);
         for (uint32_t v : t)
           if (v >= lo && v < hi) {
             normal[v] += fn;
-            radius[v] = std::max(radius[v], r);
+            radius[v] = std::max(radius[v], r2);
           }
       });
   // A face of fewer than 3 vertices has no triangle but uses its vertices.
@@ -98,7 +101,7 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
       if (drop[i] != kUsable) continue;
       out.positions[j] = cloud.positions[i];
       out.normals[j] = normalized(normal[i]);
-      out.radii[j] = static_cast<float>(radius[i]);
+      out.radii[j] = static_cast<float>(std::sqrt(radius[i]));
       if (cloud.has_colors()) out.colors[j] = to_rgb8(cloud.colors[i], cloud.color_bits);
       ++j;
     }
