@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string_view>
 
 #include "apps/parse_triple.h"
+#include "apps/check_tile_halo.h"
 #include "apps/tile_walls.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
@@ -237,6 +239,15 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
   }
   // A tile of splat-tile: its views do not look through the borders where the survey goes on.
   options.walls = tile_walls(doc.metadata, doc.cloud);
+  const TileHaloCheck halo = stage.phase("check_tile_halo", "checking the tile's halo",
+                                         [&] { return check_tile_halo(doc.metadata, doc.cloud); });
+  if (halo.short_of > 0)
+    std::fprintf(stderr,
+                 "estimate-normals: warning: %s: the tile's halo (%.6g) does not hold the "
+                 "neighbourhoods of %zu of its points near a cut (they reach %.6g beyond the "
+                 "tile): their normals and radii may differ from a run over the whole survey; "
+                 "cut the survey again with splat-tile --halo %.6g or more\n",
+                 stage.input_name().c_str(), halo.halo, halo.short_of, halo.needed, halo.needed);
   const NormalReport result = stage.phase(nullptr, "estimating normals", [&] {
     return estimate_normals(doc.cloud, options, progress);
   });
@@ -248,6 +259,7 @@ StageSummary run_estimate_normals(const EstimateNormalsOptions& o, const Progres
     report = result.to_json();
     if (!outliers.empty()) report["outliers"] = removed.to_json(outliers);
     report["input_points"] = points_read;  // before the outliers went
+    report["tile_halo"] = halo.to_json();
     const uint64_t rss = peak_rss_bytes();
     report["peak_rss_bytes_per_point"] =
         static_cast<double>(rss) / static_cast<double>(points_read);

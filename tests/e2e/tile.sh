@@ -87,8 +87,11 @@ PY
 # over the whole survey.
 mkdir -p normals
 for t in out/tiles/*.splk; do
-  "$BIN/estimate-normals" -q --orient none "$t" "normals/$(basename "$t")" || fail "normals of $t"
+  "$BIN/estimate-normals" -q --orient none "$t" "normals/$(basename "$t")" 2>>normals.err ||
+    fail "normals of $t"
 done
+# The default halo holds every neighbourhood: no tile warns.
+expect_eq "estimate-normals' warnings on the tiles" "$(cat normals.err)" ""
 expect_exit 0 "$BIN/splat-convert" -q normals/*.splk merged.xyz
 expect_exit 0 "$BIN/splat-convert" -q part0.laz part1.laz part2.laz whole.splk
 expect_exit 0 "$BIN/estimate-normals" -q --orient none whole.splk whole-n.splk
@@ -97,6 +100,17 @@ expect_eq "merged columns" "$(head -1 merged.xyz)" "$(head -1 whole.xyz)"
 expect_eq "merged points" "$(grep -vc '^#' merged.xyz)" "$total"
 cmp <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) >/dev/null && pass ||
   fail "tiles' normals or radii differ from the whole run's: $(diff <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) | grep -c '^<') lines"
+
+# A halo narrower than the neighbourhoods: estimate-normals says so, how many points and what
+# halo would do, in its warning and its report.
+expect_exit 0 "$BIN/splat-tile" -q part0.laz part1.laz part2.laz -o narrow --tile-size 70 --halo 0.3
+t=narrow/tiles/$(jq -r '.tiles | max_by(.own_points) | .name' narrow/tiles.json).splk
+"$BIN/estimate-normals" -q --orient none "$t" narrow.splk --report narrow.json 2>narrow.err ||
+  fail "normals of $t"
+grep -q "warning: $t: the tile's halo (0.3) does not hold the neighbourhoods of [0-9]* of its points" \
+  narrow.err && pass || fail "no warning of the narrow halo: $(cat narrow.err)"
+jq -e '.tile_halo.points_short > 0 and .tile_halo.halo_needed > 0.3' narrow.json >/dev/null && pass ||
+  fail "report: $(jq -c .tile_halo narrow.json)"
 
 # The same bytes for another thread count and another run.
 expect_exit 0 "$BIN/splat-tile" -q part0.laz part1.laz part2.laz -o again --tile-size 70 --threads 1
