@@ -2,8 +2,8 @@
 # Every command of the documentation runs as written: the lines "$ command" of the sh code blocks
 # of README.md and docs/tools/*.md, each file's in a fresh directory holding nothing but a link
 # data-samples/ to the samples (as the top of a clone does), in order, with the tools first on
-# PATH: exit code 0 and nothing on stderr but summary lines. README.md's make code block is
-# written to ./Makefile before its commands run. Every tool has a page that lists every option of
+# PATH: exit code 0 and nothing on stderr but summary lines. README.md's make code blocks are
+# written to ./Makefile and ./tiled.mk before its commands run. Every tool has a page that lists every option of
 # its --help and holds commands that run.
 HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/common.bash"
@@ -16,9 +16,10 @@ doc_commands() {
   awk '/^```sh *$/ { code = 1; next } /^```/ { code = 0; next }
        code && /^\$ / { sub(/^\$ /, ""); sub(/  +# .*$/, ""); print }' "$1"
 }
-# doc_makefile FILE: the first make code block of FILE.
+# doc_makefile FILE N: the N-th make code block of FILE.
 doc_makefile() {
-  awk '/^```make *$/ { code = 1; next } code && /^```/ { exit } code { print }' "$1"
+  awk -v n="$2" '/^```make *$/ { if (++seen == n) { code = 1; next } }
+                 code && /^```/ { exit } code { print }' "$1"
 }
 
 run_doc() {  # run_doc FILE: runs its commands in $WORK/<its name>/; DOC_RUN = how many ran
@@ -34,8 +35,10 @@ run_doc() {  # run_doc FILE: runs its commands in $WORK/<its name>/; DOC_RUN = h
 }
 
 mkdir -p "$WORK/README"
-doc_makefile "$SRC/README.md" > "$WORK/README/Makefile"
+doc_makefile "$SRC/README.md" 1 > "$WORK/README/Makefile"
+doc_makefile "$SRC/README.md" 2 > "$WORK/README/tiled.mk"
 [ -s "$WORK/README/Makefile" ] && pass || fail "README.md has no make code block"
+grep -q '^# tiled.mk' "$WORK/README/tiled.mk" && pass || fail "README.md's second make block is not tiled.mk"
 run_doc "$SRC/README.md"
 expect_eq "README commands run" "$([ "$DOC_RUN" -ge 15 ] && echo ok)" ok
 
@@ -56,7 +59,7 @@ done
 cd "$WORK/README" || exit 1
 for f in survey.splk survey.png survey-top.png frames/survey-0011.png kitten.qs kitten.spt \
          kitten-qs.png kitten-spt.png cad.splk cad.png cad-surfaces.png rainier-tiles.exr \
-         rainier.png build/sphere.spt build/torus.png; do
+         rainier.png build/sphere.spt build/torus.png survey-tiled.splk; do
   [ -s "$f" ] && pass || fail "no $f after the README's commands"
 done
 
