@@ -31,7 +31,7 @@ expect_eq "merged .qs leaves" "$(jq .leaves qs.json)" "$own"
 # PSNR and IoU of the merged renders against the whole ones. .spt: the tiles' entries are the
 # whole list's but for the frame (re-quantised positions) and the cut at the tiles' borders
 # (measured 41.9-49.8 dB, IoU 0.9991-0.9995). .qs: each leaf quantised twice, in its tile's frame
-# and again under its new parent (docs/design/tiles.md: measured 28.7-30.9 dB, IoU 0.969-0.980;
+# and again under its new parent (docs/design/tiles.md: measured 28.7-31.1 dB, IoU 0.969-0.980;
 # the whole .qs against the plain render gives 33-36 dB).
 render() {
   "$BIN/splat-view" -q "$1" -o "$2" --width 960 --height 540 --view "$3" --background 1,0,1 \

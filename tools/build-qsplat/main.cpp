@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
   });
   bool merge = false;
   app.add_flag("--merge", merge,
-               "IN... are .qs files of tiles of one survey (same colour option and origin): "
-               "write one tree with new levels over the tiles' roots");
+               "IN... are .qs files of tiles of one survey (all with colours or none): write one "
+               "tree with new levels over the tiles' roots");
   app.add_flag("--no-color", o.no_color, "Leave the colours out (4 instead of 6 bytes per node)");
   app.add_flag("--centroid-spheres", o.centroid_rule,
                "Node spheres by the original rule (centroid of the children + farthest) instead "

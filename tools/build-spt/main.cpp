@@ -37,8 +37,8 @@ int main(int argc, char** argv) {
   });
   bool merge = false;
   app.add_flag("--merge", merge,
-               "IN... are .spt files of tiles of one survey (same --epsilon, --color-weight, "
-               "--precision, origin): write one list with new nodes above the tiles' roots");
+               "IN... are .spt files of tiles of one survey (same --epsilon, --color-weight and "
+               "--precision): write one list with new nodes above the tiles' roots");
   app.add_option("--epsilon", o.epsilon,
                  "Screen error in radians the stored distances are stated for (r_min = e_g / E); "
                  "viewers rescale to their own error, so it only sets the stored scale")
