@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <numeric>
 
 #include "formats/rgb565.h"
 #include "splatkit/common_origin.h"
@@ -61,7 +60,7 @@ std::size_t tile_root(const SptModel& m, const std::string& name) {
   if (!std::isinf(m.r_max[0])) throw_bad_input(name, "the list has no root (no r_max = infinity)");
   if (m.size() > 1 && std::isinf(m.r_max[1]))
     throw_bad_input(name, "the list holds more than one tree (several entries with r_max = "
-                          "infinity; merged lists cannot be merged again)");
+                          "infinity)");
   return 0;
 }
 
