@@ -20,8 +20,8 @@ template <class Model, class Read>
 std::vector<Model> read_merge_inputs(Stage& stage, const std::vector<std::string>& more,
                                      std::vector<std::string>& names, Read&& read) {
   std::vector<Model> models;
-  models.push_back(stage.phase("read", "reading " + stage.input_name(),
-                               [&] { return read(stage.input()); }));
+  models.push_back(
+      stage.phase("read", "reading " + stage.input_name(), [&] { return read(stage.input()); }));
   names.push_back(stage.input_name());
   for (const std::string& path : more) {
     InputStream in(path);

@@ -13,7 +13,7 @@
 namespace splatkit::apps {
 
 struct MergeQSplatOptions {
-  StagePaths paths;                     // IN: the first tile's .qs; OUT: .qs or "-"
+  StagePaths paths;                      // IN: the first tile's .qs; OUT: .qs or "-"
   std::vector<std::string> more_inputs;  // the other tiles' .qs files
 };
 

@@ -48,9 +48,9 @@ StageSummary run_merge_spt(const MergeSptOptions& o, const ProgressFn& progress)
   OutputFile* outputs[] = {&out};
   stage.commit(outputs, std::move(report));
   std::ostringstream extra;
-  extra << tiles.size() << " tiles merged, " << merged.entries << " entries ("
-        << merged.new_nodes << " new above the tiles), depth " << merged.depth << ", "
-        << merged.bytes.size() << " bytes";
+  extra << tiles.size() << " tiles merged, " << merged.entries << " entries (" << merged.new_nodes
+        << " new above the tiles), depth " << merged.depth << ", " << merged.bytes.size()
+        << " bytes";
   return {points, "points", extra.str()};
 }
 

@@ -13,7 +13,7 @@
 namespace splatkit::apps {
 
 struct MergeSptOptions {
-  StagePaths paths;                     // IN: the first tile's .spt; OUT: .spt or "-"
+  StagePaths paths;                      // IN: the first tile's .spt; OUT: .spt or "-"
   std::vector<std::string> more_inputs;  // the other tiles' .spt files
 };
 

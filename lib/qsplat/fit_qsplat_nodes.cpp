@@ -18,8 +18,7 @@ double cosine(const Vec3f& a, const Vec3f& b) {
 
 }  // namespace
 
-void fit_qsplat_nodes(QSplatTree& t, const QSplatLeaves& leaves, bool centroid_rule,
-                      bool measure) {
+void fit_qsplat_nodes(QSplatTree& t, const QSplatLeaves& leaves, bool centroid_rule, bool measure) {
   const std::size_t m = t.first_child.size();
   const bool color = !leaves.colors.empty();
   // The parents' sums, for interior nodes only (uninitialised: the pages of the bottom level,

@@ -16,7 +16,6 @@
 
 namespace splatkit::qsplat {
 
-void fit_qsplat_nodes(QSplatTree& t, const QSplatLeaves& leaves, bool centroid_rule,
-                      bool measure);
+void fit_qsplat_nodes(QSplatTree& t, const QSplatLeaves& leaves, bool centroid_rule, bool measure);
 
 }  // namespace splatkit::qsplat

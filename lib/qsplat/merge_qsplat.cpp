@@ -28,7 +28,8 @@ void check_tiles(std::span<const QSplatModel> tiles, std::span<const std::string
                                     " tree fragments; a tile's file holds one (build-qsplat's)");
     if (m.has_color != tiles[0].has_color)
       throw_bad_input(names[t], std::string("colour ") + (m.has_color ? "present" : "absent") +
-                                    " differs from " + names[0] + "'s (the tiles must all have "
+                                    " differs from " + names[0] +
+                                    "'s (the tiles must all have "
                                     "colours or none: build-qsplat --no-color on all or none)");
   }
 }
@@ -77,7 +78,8 @@ MergedQSplatTree merge_qsplat_tree(std::span<const QSplatModel> tiles,
     return r.tile == kUpper ? up.child_count[r.node] : tiles[r.tile].child_count[r.node];
   };
   auto child = [&](Ref r, uint32_t k) {
-    const uint32_t f = r.tile == kUpper ? up.first_child[r.node] : tiles[r.tile].first_child[r.node];
+    const uint32_t f =
+        r.tile == kUpper ? up.first_child[r.node] : tiles[r.tile].first_child[r.node];
     return resolve({r.tile, f + k});
   };
 

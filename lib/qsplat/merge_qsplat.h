@@ -25,9 +25,9 @@
 namespace splatkit::qsplat {
 
 struct MergedQSplatTree {
-  QSplatTree tree;      // fitted, ready for encode_qsplat
-  uint64_t leaves = 0;  // the tiles' leaves, all kept
-  uint32_t upper_nodes = 0;  // nodes above the tiles' roots
+  QSplatTree tree;                        // fitted, ready for encode_qsplat
+  uint64_t leaves = 0;                    // the tiles' leaves, all kept
+  uint32_t upper_nodes = 0;               // nodes above the tiles' roots
   std::array<double, 3> origin{0, 0, 0};  // of the tree's frame (common_origin of the tiles')
 };
 

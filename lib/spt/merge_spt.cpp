@@ -59,8 +59,9 @@ std::size_t tile_root(const SptModel& m, const std::string& name) {
   if (m.size() == 0) throw_bad_input(name, "the list has no entries");
   if (!std::isinf(m.r_max[0])) throw_bad_input(name, "the list has no root (no r_max = infinity)");
   if (m.size() > 1 && std::isinf(m.r_max[1]))
-    throw_bad_input(name, "the list holds more than one tree (several entries with r_max = "
-                          "infinity)");
+    throw_bad_input(name,
+                    "the list holds more than one tree (several entries with r_max = "
+                    "infinity)");
   return 0;
 }
 
@@ -115,8 +116,8 @@ struct Upper {
     n.r_min = r_min;
     n.r_max = INFINITY;  // set by the parent
     for (int j = 0; j < 3; ++j)
-      n.color[j] = has_color ? static_cast<uint8_t>(std::clamp(std::lround(d.color[j]), 0L, 255L))
-                             : 0;
+      n.color[j] =
+          has_color ? static_cast<uint8_t>(std::clamp(std::lround(d.color[j]), 0L, 255L)) : 0;
     out.push_back(n);
     return d;
   }
@@ -170,8 +171,7 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
   std::vector<Entry> upper;
   std::vector<float> root_r_max(t_count, INFINITY);
   std::vector<uint32_t> root_depth(t_count, 0);
-  Upper u{order.levels, sorted, h0.color_weight, has_color, epsilon, upper, root_r_max,
-          root_depth};
+  Upper u{order.levels, sorted, h0.color_weight, has_color, epsilon, upper, root_r_max, root_depth};
   u.build(0, t_count, 0);
 
   // Every entry: the tiles' in Morton order of their roots, each in its file's order, then the
@@ -185,7 +185,10 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
   for (std::size_t i = 0; i < t_count; ++i) {
     const SptModel& m = tiles[tile_of[i]];
     for (std::size_t k = 0; k < m.size(); ++k) {
-      Entry e{shifted(m, m.positions[k]), m.normals[k], m.diameters[k], m.r_min[k],
+      Entry e{shifted(m, m.positions[k]),
+              m.normals[k],
+              m.diameters[k],
+              m.r_min[k],
               k == 0 ? root_r_max[i] : m.r_max[k],
               has_color ? m.colors[k] : std::array<uint8_t, 3>{0, 0, 0}};
       all.push_back(e);

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "formats/read_spt.h"
+#include "splatkit/common_origin.h"
 #include "splatkit/error.h"
 #include "splatkit/synthetic_shapes.h"
 #include "spt/encode_spt.h"
-#include "splatkit/common_origin.h"
 #include "spt/merge_spt.h"
 
 namespace splatkit::spt {
@@ -122,7 +122,8 @@ TEST(SptMerge, TilesOfAnotherOriginJoinTheCommonFrame) {
   EXPECT_EQ(b.header.origin, a.header.origin);
   ASSERT_EQ(a.size(), b.size());
   float far = 0;
-  for (std::size_t e = 0; e < a.size(); ++e) far = std::max(far, norm(a.positions[e] - b.positions[e]));
+  for (std::size_t e = 0; e < a.size(); ++e)
+    far = std::max(far, norm(a.positions[e] - b.positions[e]));
   EXPECT_LT(far, 1e-3f);
   const std::array<double, 3> o[] = {{1, 0, 0}, {0, 5, 0}, {1, 0, 0}, {0, 5, 0}, {2, 0, 0}};
   EXPECT_EQ(common_origin(o), (std::array<double, 3>{0, 5, 0}));

@@ -62,8 +62,8 @@ int main(int argc, char** argv) {
                           "order, so a pass holds few of them at a time; the output is the same");
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     if (merge) {
-      for (const char* option : {"--epsilon", "--color-weight", "--precision", "--columns",
-                                 "--max-memory", "--tmp-dir"})
+      for (const char* option :
+           {"--epsilon", "--color-weight", "--precision", "--columns", "--max-memory", "--tmp-dir"})
         if (app.count(option) > 0)
           splatkit::throw_usage(std::string(option) +
                                 " does not apply to --merge (the tiles' files were built with "
