@@ -80,8 +80,8 @@ StageSummary run_merge_qsplat(const MergeQSplatOptions& o, const ProgressFn& pro
         return m;
       });
   progress(0.3, "merging");
-  qsplat::MergedQSplatTree merged = stage.phase(
-      "tree", "merging the trees", [&] { return qsplat::merge_qsplat_tree(tiles, names); });
+  qsplat::MergedQSplatTree merged = merge_phase(
+      stage, "tree", "merging the trees", [&] { return qsplat::merge_qsplat_tree(tiles, names); });
   if (merged.leaves < 5)  // not reached from build-qsplat's tiles (5 leaves each)
     throw_unsupported(names[0], "fewer than 5 leaves in all");
   progress(0.6, "quantising");

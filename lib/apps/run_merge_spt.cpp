@@ -21,8 +21,8 @@ StageSummary run_merge_spt(const MergeSptOptions& o, const ProgressFn& progress)
   const std::vector<SptModel> tiles = read_merge_inputs<SptModel>(
       stage, o.more_inputs, names, [](InputStream& in) { return read_spt(in); });
   progress(0.5, "merging");
-  const spt::MergedSpt merged =
-      stage.phase("merge", "merging the lists", [&] { return spt::merge_spt(tiles, names); });
+  const spt::MergedSpt merged = merge_phase(stage, "merge", "merging the lists",
+                                            [&] { return spt::merge_spt(tiles, names); });
   const Clock::time_point t0 = Clock::now();
   OutputFile out(output);
   out.write(merged.bytes.data(), merged.bytes.size());

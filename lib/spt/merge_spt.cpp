@@ -25,7 +25,7 @@ struct Entry {
 
 std::string number(double v) {
   char s[32];
-  std::snprintf(s, sizeof s, "%.9g", v);
+  std::snprintf(s, sizeof s, "%g", v);
   return s;
 }
 

@@ -62,19 +62,19 @@ cmp -s merged.qs again.qs && pass || fail "a second .qs merge gave other bytes"
 # a build option with --merge; nothing written.
 first=$(ls lod/*.spt | head -1)
 expect_exit 2 "$BIN/build-spt" -q --merge "$first" lod/"$(basename "$first" .spt)".qs bad.spt
-expect_stderr "build-spt: .*\.qs: .*magic"
+expect_stderr "^build-spt: lod/[^:]*\.qs: byte 0: .*magic"
 "$BIN/build-spt" -q "${first%.spt}.splk" other-eps.spt --epsilon 0.002
 expect_exit 2 "$BIN/build-spt" -q --merge lod/*.spt other-eps.spt bad.spt
-expect_stderr "build-spt: .*other-eps\.spt: epsilon"
+expect_stderr "^build-spt: other-eps\.spt: epsilon 0\.002 differs from lod/"
 expect_exit 1 "$BIN/build-spt" -q lod/*.spt bad.spt
 expect_stderr "build-spt: .*--merge"
 expect_exit 1 "$BIN/build-spt" -q --merge --epsilon 0.002 lod/*.spt bad.spt
 expect_stderr "build-spt: --epsilon does not apply to --merge"
 expect_exit 2 "$BIN/build-qsplat" -q --merge "${first%.spt}.qs" "$first" bad.qs
-expect_stderr "build-qsplat: .*\.spt: "
+expect_stderr "^build-qsplat: lod/[^:]*\.spt: byte 0: "
 "$BIN/splat-synth" -q sphere -n 2000 coloured.splk  # the survey's tiles have no colours
 "$BIN/build-qsplat" -q coloured.splk coloured.qs
 expect_exit 2 "$BIN/build-qsplat" -q --merge lod/*.qs coloured.qs bad.qs
-expect_stderr "build-qsplat: .*coloured\.qs: colour"
+expect_stderr "^build-qsplat: coloured\.qs: colour present differs"
 [ ! -e bad.spt ] && [ ! -e bad.qs ] && pass || fail "a refused merge left an output"
 finish
