@@ -7,6 +7,7 @@
 #include "qsplat/encode_qsplat.h"
 #include "qsplat/make_qsplat_leaves.h"
 #include "render/splat_bounds.h"
+#include "splatkit/drop_halo_points.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 
@@ -44,6 +45,8 @@ StageSummary run_build_qsplat(const BuildQSplatOptions& o, const ProgressFn& pro
     throw_usage("OUT must end in .qs or be '-': " + output);
   Stage stage("build-qsplat", o.paths);
   LoadedCloud doc = stage.read(o.read, progress);
+  // A tile of splat-tile: its own points only (its halo belongs to its neighbours' files).
+  drop_halo_points(doc.cloud, stage.input_name());
   const nlohmann::json options = {{"no_color", o.no_color}, {"centroid_rule", o.centroid_rule}};
   stage.stamp(doc, options);  // provenance from the input cloud, before the leaves take it over
   const std::size_t input_points = doc.cloud.size(), input_faces = doc.cloud.face_count();

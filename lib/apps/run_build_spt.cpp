@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "splatkit/check_splats.h"
+#include "splatkit/drop_halo_points.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 #include "splatkit/spill_arena.h"
@@ -36,6 +37,8 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   LoadedCloud doc = stage.read(o.read, progress);
   spill::check_room(doc.cloud.size() * kSpillBytesPerPoint);
   SplatCloud& cloud = doc.cloud;
+  // A tile of splat-tile: its own points only (its halo belongs to its neighbours' files).
+  drop_halo_points(cloud, stage.input_name());
   if (cloud.size() == 0) throw_bad_input(stage.input_name(), "the file has no points");
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");

@@ -25,6 +25,13 @@ setup build-splat-graph -q part.splk part-graph.splk
 setup segment-surfaces -q part-graph.splk part-surf.splk
 setup splat-convert -q bunny.splk bunny.ply
 setup build-qsplat -q bunny.splk bunny.qs
+# Tiles' level-of-detail files (build-spt --merge, build-qsplat --merge): a torus in four tiles.
+setup splat-tile -q "$S/torus.ply" -o torus-tiles --tile-size 1.5
+mkdir -p lod
+for t in torus-tiles/tiles/*.splk; do
+  setup build-spt -q "$t" "lod/$(basename "$t" .splk).spt"
+  setup build-qsplat -q "$t" "lod/$(basename "$t" .splk).qs"
+done
 # Heightmaps: the real SRTM crop as GeoTIFF, as an SRTM .hgt, and 1024² float32 RAW.
 cp "$S/rainier-srtm.tif" dem.tif
 python3 -c 'import struct, math, sys

@@ -1,5 +1,6 @@
 # workflows/Snakefile run by Snakemake on one machine: a survey of four LAZ files cut along
-# arbitrary lines through the objects goes tile -> normals -> graph -> surfaces -> merge -> LOD.
+# arbitrary lines through the objects goes tile -> normals -> graph -> surfaces -> merge, and per
+# tile .spt and .qs merged into one each (tests/e2e/lod_merge.sh compares merged and whole renders).
 # OUT/splats.splk holds exactly the input points, with the positions, radii and normals of one
 # estimate-normals run over the whole survey (signs decided per tile: at most 0.1 % differ); the
 # models and the report are there; a second run has nothing to do.
@@ -18,7 +19,10 @@ done
 tiles=$(jq '.tiles | length' OUT/tiled/tiles.json)
 [ "$tiles" -ge 4 ] && pass || fail "only $tiles tiles"
 expect_eq "report: tiles" "$(jq .tiles OUT/report.json)" "$tiles"
-expect_eq "report: jobs" "$(jq '.jobs | length' OUT/report.json)" "$((3 * tiles + 4))"
+expect_eq "report: jobs" "$(jq '.jobs | length' OUT/report.json)" "$((5 * tiles + 4))"
+expect_eq "LOD files per tile" "$(ls OUT/lod | wc -l)" "$((2 * tiles))"
+expect_eq "model.spt: every point once" "$(jq .input_points OUT/reports/spt.json)" "$total"
+expect_eq "model.qs: every point once" "$(jq .leaves OUT/reports/qsplat.json)" "$total"
 jq -e '[.jobs[] | select(.job != "merge") | .peak_rss_bytes > 0 and .peak_rss_bytes < 2e9] | all' \
   OUT/report.json >/dev/null && pass || fail "report: peak RSS missing or absurd"
 expect_eq "surfaces per tile" "$(ls OUT/surfaces | wc -l)" "$tiles"
