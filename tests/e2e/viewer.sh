@@ -84,12 +84,10 @@ if [ -s "$building" ]; then
   expect_exit 0 "$BIN/build-qsplat" -q "$WORK/building.splk" "$WORK/building.qs"
   start_server "$WORK/building.splk" "$WORK/building.spt" "$WORK/building.qs" || finish
   W=1280 H=720
-  # The goal is PSNR >= 28 dB for every kind; the .qs measures 27.9 at the default view since it
-  # fills the frame (28.2 when the building covered half the width): its differences sit at
-  # creases and in the vegetation, where splat-view fits a linear normal field per pixel and the
-  # page does not. Checked against 27.5 so that it does not fall further.
-  for kind in splk spt; do check "building.$kind" 35,25 0.98 28; done
-  check building.qs 35,25 0.98 27.5
+  # PSNR >= 28 dB for every kind (measured 28.6 / 28.6 / 28.3 for .splk / .spt / .qs); the
+  # differences sit at creases and in the vegetation, where splat-view fits a linear normal field
+  # per pixel and chains its Z-threshold, and the page does neither.
+  for kind in splk spt qs; do check "building.$kind" 35,25 0.98 28; done
   run_pages
   stop_server TERM
 else
