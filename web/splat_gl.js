@@ -131,6 +131,8 @@ void main() {
 
 // The fast path (blend=zbuffer, splat-view's --blend zbuffer): one pass, each splat a round
 // point of its projected diameter at its centre's depth, shaded per vertex; no blending.
+// One program per shading mode (#define MODE as SHADE_FS) and colour encoding (#define
+// SRGB_COLOR: the colour attribute is sRGB); culled entries return before any shading.
 const ZB_VS = `#version 300 es
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aNormal;
@@ -140,8 +142,7 @@ layout(location = 6) in vec2 aRange;
 uniform vec3 uEye, uRight, uDown, uForward, uLight;
 uniform float uFocal, uCx, uCy, uW, uH, uNear, uDepthNear, uDepthFar;
 uniform float uRadiusScale, uSptK, uMaxPoint;
-uniform bool uSpt, uSrgbColor;
-uniform int uMode;
+uniform bool uSpt;
 flat out vec3 vColor;
 float toLinear(float v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
 float toSrgb(float v) {
@@ -161,20 +162,31 @@ void main() {
   gl_PointSize = clamp(2.0 * rad * uFocal / c.z, 1.0, uMaxPoint);
   float z = clamp((c.z - uDepthNear) / (uDepthFar - uDepthNear), 0.0, 1.0) * 2.0 - 1.0;
   gl_Position = vec4(2.0 * px.x / uW - 1.0, 1.0 - 2.0 * px.y / uH, z, 1.0);
-  vec3 albedo = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
+#if MODE == 1
+  vColor = 0.5 * (normalize(aNormal) + 1.0);
+#elif MODE == 2
+  vColor = vec3(1.0 - (c.z - uDepthNear) / (uDepthFar - uDepthNear));
+#else
+#ifdef SRGB_COLOR
+  vec3 albedo = vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b));
+#else
+  vec3 albedo = aColor;
+#endif
+#if MODE == 3
+  vec3 col = albedo;
+#else
   vec3 n = normalize(aNormal);
   vec3 view = -normalize(d);
-  vec3 col;
-  if (uMode == 1) { vColor = 0.5 * (n + 1.0); return; }
-  if (uMode == 2) { float t = 1.0 - (c.z - uDepthNear) / (uDepthFar - uDepthNear); vColor = vec3(t); return; }
-  if (uMode == 3) { col = albedo; } else {
-    float nv = dot(n, view);
-    if (nv < 0.0) n = n - view * (2.0 * nv);
-    float lambert = max(0.0, dot(n, uLight));
-    float spec = lambert > 0.0 ? pow(max(0.0, dot(n, normalize(uLight + view))), 32.0) : 0.0;
-    col = albedo * (0.12 + 0.8 * lambert) + vec3(0.25 * spec);
-  }
+  float nv = dot(n, view);
+  if (nv < 0.0) n = n - view * (2.0 * nv);
+  float lambert = max(0.0, dot(n, uLight));
+  float spec = max(0.0, dot(n, normalize(uLight + view)));
+  spec *= spec; spec *= spec; spec *= spec; spec *= spec; spec *= spec;  // ^32
+  if (!(lambert > 0.0)) spec = 0.0;
+  vec3 col = albedo * (0.12 + 0.8 * lambert) + vec3(0.25 * spec);
+#endif
   vColor = vec3(toSrgb(col.r), toSrgb(col.g), toSrgb(col.b));
+#endif
 }`;
 
 const ZB_FS = `#version 300 es
@@ -287,7 +299,7 @@ export class SplatRenderer {
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
     gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, SRGB_TABLE, 1, gl.RED, gl.FLOAT, Float32Array.from(
         { length: SRGB_TABLE }, (_, i) => toSrgb((i / (SRGB_TABLE - 1)) ** 2)));
-    this.zbuffer = compile(gl, ZB_VS, ZB_FS);
+    this.zbuffer = new Map();  // z-buffer programs by MODE and SRGB_COLOR, made when first used
     this.maxPoint = gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1];
     this.vao = gl.createVertexArray();
     this.width = this.height = 0;
@@ -335,7 +347,9 @@ export class SplatRenderer {
       attrib(6, b, 2, gl.FLOAT, false, 36, 24);
       attrib(3, b, 3, gl.UNSIGNED_BYTE, true, 36, 32);
       this.radiusScale = 0.5;  // entries store diameters
-      this.srgbColor = true;
+      this.srgbColor = header.has_color !== false;
+      // Without colours, splat-view's albedo as a constant (the entries' 203 grey is 0.597).
+      if (!this.srgbColor) gl.disableVertexAttribArray(3);
     } else if (header.kind === 'qsplat') {
       this.stream = new Float32Array(Math.min(header.count, 8 << 20) * 10);
       this.streamBuffer = buffer(this.stream.byteLength, gl.DYNAMIC_DRAW);
@@ -511,7 +525,12 @@ export class SplatRenderer {
       return u;
     };
     if (opts.blend === 'zbuffer') {
-      return this.drawZBuffer(proj, setUniforms(this.zbuffer), mode, submitted, count, opts, sptK);
+      const key = `${mode} ${this.srgbColor}`;
+      if (!this.zbuffer.has(key)) {
+        this.zbuffer.set(key, compile(gl, define(ZB_VS, `#define MODE ${mode}` +
+                                                     (this.srgbColor ? '\n#define SRGB_COLOR' : '')), ZB_FS));
+      }
+      return this.drawZBuffer(proj, setUniforms(this.zbuffer.get(key)), submitted, count, opts, sptK);
     }
 
     const useIds = this.hasIds && opts.surfaceIds !== false;
@@ -599,10 +618,9 @@ export class SplatRenderer {
     return { submitted, drawn, times };
   }
 
-  drawZBuffer(proj, u, mode, submitted, count, opts, sptK) {
+  drawZBuffer(proj, u, submitted, count, opts, sptK) {
     const gl = this.gl;
     gl.uniform3fv(u.uLight, this.light);
-    gl.uniform1i(u.uMode, mode);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, proj.width, proj.height);
     const bg = BACKGROUND;
