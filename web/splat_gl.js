@@ -49,9 +49,14 @@ void main() {
   if (c.z - rad < uNear) { cull(); return; }
   vec2 px = vec2(uCx + uFocal * c.x / c.z, uCy + uFocal * c.y / c.z);
   // Splats of more than 3 pixels get a ring out to 1.25 r whose fragments join the normal only
-  // (as splat-view's rasteriser: setup_splats.h).
+  // (as splat-view's rasteriser: setup_splats.h); the visibility and id passes draw the discs
+  // alone, on point sprites sized for them.
   vRing = rad * uFocal / c.z > 3.0 ? 1.5625 : 1.0;
+#if defined(VISIBILITY_PASS) || defined(ID_PASS)
+  float reach = rad;
+#else
   float reach = rad * sqrt(vRing);
+#endif
   // Bound on the distance, along x or y, from the projected centre to the projection of any
   // point within reach of the centre: reach sqrt(1 + (x/z)^2) / (z - reach) in units of f.
   float slope = max(abs(c.x), abs(c.y)) / c.z;
@@ -63,7 +68,11 @@ void main() {
   vN = vec3(dot(n, uRight), dot(n, uDown), dot(n, uForward));
   vFront = dot(n, -d) > 0.0 ? 1.0 : 0.0;
   vR = rad;
+#if defined(VISIBILITY_PASS) || defined(ID_PASS)
+  vColor = vec3(0.0);
+#else
   vColor = uSrgbColor ? vec3(toLinear(aColor.r), toLinear(aColor.g), toLinear(aColor.b)) : aColor;
+#endif
   vAxis = uEllipse ? vec3(dot(aAxis, uRight), dot(aAxis, uDown), dot(aAxis, uForward)) : vec3(0.0);
   vMinor = aMinor * uRadiusScale;
   vSurface = aSurface;
@@ -286,9 +295,10 @@ export class SplatRenderer {
     this.gl = gl;
     this.canvas = canvas;
     this.splat = compile(gl, VS, FS);
-    this.visibility = compile(gl, VS, define(FS, '#define VISIBILITY_PASS'));
+    this.visibility = compile(gl, define(VS, '#define VISIBILITY_PASS'),
+                              define(FS, '#define VISIBILITY_PASS'));
     // The nearest surface id per pixel, for files with surface ids.
-    this.idPass = compile(gl, VS, define(FS, '#define ID_PASS'));
+    this.idPass = compile(gl, define(VS, '#define ID_PASS'), define(FS, '#define ID_PASS'));
     this.shade = [0, 1, 2, 3].map(
         (m) => compile(gl, QUAD_VS, define(SHADE_FS, `#define MODE ${m}\n#define SRGB_TABLE ${SRGB_TABLE}`)));
     // toSrgb(x^2) at x = i / (SRGB_TABLE - 1), for SHADE_FS.
@@ -340,6 +350,9 @@ export class SplatRenderer {
                                                   arrays.entries.byteLength / 4), header.count);
       this.entries = split.entries;
       this.split = split;
+      // The model keeps the reordered list only (the file's order is 180 MB at 5M entries).
+      arrays.entries = new Uint8Array(this.entries.buffer, this.entries.byteOffset,
+                                      this.entries.byteLength);
       const b = buffer(this.entries);
       attrib(0, b, 3, gl.FLOAT, false, 36, 0);
       attrib(1, b, 3, gl.SHORT, true, 36, 12);
