@@ -5,7 +5,10 @@
 //                                 qsplat-threshold= as the controls.
 // For tests and measurements, window.viewer offers ready (a promise of the first frame's
 // stats), capture() (the canvas as a PNG data URL) and bench(ms) (frames per second drawing
-// continuously with the camera turning). blend=zbuffer draws one pass without blending (fast).
+// continuously with the camera turning). blend=zbuffer draws one pass without blending (fast),
+// blend=botsch the three passes; without blend=, files of LARGE_MODEL entries or more open with
+// the z-buffer (the only mode that keeps 20 frames/s on a 5M-entry .spt in software GL:
+// docs/design/viewer.md), smaller ones blended.
 import { DEFAULT_AZIMUTH, DEFAULT_ELEVATION, DEFAULT_FOV, add, cross, makeProjection, norm,
          normalized, orbitCamera, parseView, scale, sub } from './camera.js';
 import { traverseQSplat } from './qsplat_traversal.js';
@@ -15,12 +18,13 @@ import { parseViewModel } from './view_model.js';
 const $ = (id) => document.getElementById(id);
 const canvas = $('view');
 const UP = [0, 0, 1];
+const LARGE_MODEL = 1000000;
 
 const state = {
   model: null, name: '',
   orbit: { az: DEFAULT_AZIMUTH, el: DEFAULT_ELEVATION, dist: undefined },
   walk: null,  // {eye, dir} in walk mode
-  shade: 'phong', blend: 'botsch', size: 1, sptError: 1, qsThreshold: 1,
+  shade: 'phong', blend: 'botsch', blendAsked: null, size: 1, sptError: 1, qsThreshold: 1,
   lastMs: 0, lastStats: null,
 };
 let renderer = null;
@@ -68,7 +72,7 @@ function frame() {
   state.lastMs = performance.now() - t0;
   const hd = state.model.header;
   state.lastStats = { file: state.name, kind: hd.kind, entries: hd.count, splats: r.drawn,
-                      submitted: r.submitted,
+                      submitted: r.submitted, draws: r.draws,
                       ms: Math.round(state.lastMs * 100) / 100, width: w, height: h };
   if (state.profile && r.times.length === 3) {  // ms of: selection + visibility, attributes, shading
     const t = [t0, ...r.times];
@@ -107,6 +111,7 @@ async function open(name) {
   state.name = name;
   renderer.load(state.model);
   renderer.useColors?.(state.shade === 'surface');
+  chooseBlend();
   $('spt-row').classList.toggle('hidden', state.model.header.kind !== 'spt');
   $('qs-row').classList.toggle('hidden', state.model.header.kind !== 'qsplat');
 }
@@ -122,8 +127,8 @@ function readControlsFromHash() {
   }
   const num = (key, fallback) => (p.has(key) && Number.isFinite(+p.get(key)) ? +p.get(key) : fallback);
   state.shade = p.get('shade') ?? state.shade;
-  state.blend = p.get('blend') === 'zbuffer' ? 'zbuffer' : 'botsch';
-  $('blend').value = state.blend;
+  state.blendAsked = ['zbuffer', 'botsch'].includes(p.get('blend')) ? p.get('blend') : null;
+  chooseBlend();
   state.size = num('size', state.size);
   state.sptError = num('spt-error', state.sptError);
   state.qsThreshold = num('qsplat-threshold', state.qsThreshold);
@@ -134,6 +139,14 @@ function readControlsFromHash() {
   $('qs-threshold').value = state.qsThreshold;
   $('spt-error-value').textContent = state.sptError;
   $('qs-threshold-value').textContent = state.qsThreshold;
+}
+
+// The blending asked for (URL or control), else the default for the file's size.
+function chooseBlend() {
+  const large = state.model && state.model.header.count >= LARGE_MODEL;
+  state.defaultBlend = large ? 'zbuffer' : 'botsch';
+  state.blend = state.blendAsked ?? state.defaultBlend;
+  $('blend').value = state.blend;
 }
 
 function bindControls() {
@@ -149,7 +162,11 @@ function bindControls() {
     renderer.useColors?.(state.shade === 'surface');
     redraw();
   };
-  $('blend').onchange = () => { state.blend = $('blend').value; redraw(); };
+  $('blend').onchange = () => {
+    state.blendAsked = $('blend').value;
+    chooseBlend();
+    redraw();
+  };
   $('size').oninput = () => { state.size = +$('size').value; redraw(); };
   $('spt-error').oninput = () => {
     state.sptError = +$('spt-error').value;
@@ -262,7 +279,7 @@ async function bench(ms) {
   state.benchmarking = false;
   const elapsed = performance.now() - t0;
   return { fps: frames / (elapsed / 1000), frames, ms_per_frame: elapsed / frames,
-           pass_ms: last?.pass_ms,
+           pass_ms: last?.pass_ms, blend: state.blend, default_blend: state.defaultBlend,
            splats: last?.splats, entries: last?.entries, width: last?.width, height: last?.height };
 }
 

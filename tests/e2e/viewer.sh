@@ -12,6 +12,11 @@ CHROMIUM=${SPLATKIT_CHROMIUM:-$(command -v chromium || command -v chromium-brows
 command -v node >/dev/null || { echo "SKIP: node is not installed (scripts/install-deps.sh)"; exit 77; }
 W=640 H=360
 
+# The CPU step for large .spt lists (web/spt_cells.js): no entry the vertex shader would draw is
+# left out of the ranges, on a synthetic list of 1M entries.
+node "$SRC/tests/viewer/check_spt_cells.mjs" >"$WORK/spt_cells.json" && pass ||
+  fail "spt_cells: $(cat "$WORK/spt_cells.json")"
+
 # One scan (cad-scan.laz: scan lines of the CAD part), its normals, and its three kinds of file;
 # and a noisy part split into surfaces (surface ids: no blending across surfaces, their colours).
 expect_exit 0 "$BIN/estimate-normals" -q "$S/cad-scan.laz" "$WORK/scan.splk"
@@ -84,12 +89,10 @@ if [ -s "$building" ]; then
   expect_exit 0 "$BIN/build-qsplat" -q "$WORK/building.splk" "$WORK/building.qs"
   start_server "$WORK/building.splk" "$WORK/building.spt" "$WORK/building.qs" || finish
   W=1280 H=720
-  # The goal is PSNR >= 28 dB for every kind; the .qs measures 27.9 at the default view since it
-  # fills the frame (28.2 when the building covered half the width): its differences sit at
-  # creases and in the vegetation, where splat-view fits a linear normal field per pixel and the
-  # page does not. Checked against 27.5 so that it does not fall further.
-  for kind in splk spt; do check "building.$kind" 35,25 0.98 28; done
-  check building.qs 35,25 0.98 27.5
+  # PSNR >= 28 dB for every kind (measured 28.6 / 28.6 / 28.3 for .splk / .spt / .qs); the
+  # differences sit at creases and in the vegetation, where splat-view fits a linear normal field
+  # per pixel and chains its Z-threshold, and the page does neither.
+  for kind in splk spt qs; do check "building.$kind" 35,25 0.98 28; done
   run_pages
   stop_server TERM
 else
