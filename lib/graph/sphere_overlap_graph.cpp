@@ -305,7 +305,7 @@ NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const fl
       return marked(NeighborGraph{std::vector<uint64_t>(n + 1, 0), {}});
     return marked(SpatialIndex(positions).sphere_overlaps(radii, max_entries(n)));
   }
-  const Grid g = make_grid(positions, r_small);
+  const Grid g = make_grid(positions, r_small, level == SimdLevel::kAvx512);
   Sorted s =
       sort_by_cell(positions, radii, sharp ? sharp->normals : std::span<const Vec3f>{}, g, r_small);
   std::vector<uint64_t> pairs;
