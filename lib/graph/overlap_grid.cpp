@@ -157,12 +157,8 @@ Grid make_grid(std::span<const Vec3f> positions, float r_small, bool grow) {
     bulk_hi[a] = quantile(v, 1 - kBulkQuantile);
     cell = std::max(cell, (bulk_hi[a] - bulk_lo[a]) / double(kMaxCellsPerAxis) * (1 + kCellMargin));
   }
-  if (grow && !bulk[0] && !bulk[1] && !bulk[2]) {
-    const double grown = cell * cell_growth(positions, g.lo, cell);
-    bool fits = true;
-    for (int a = 0; a < 3; ++a) fits = fits && (hi[a] - g.lo[a]) / grown < double(kMaxCellsPerAxis);
-    if (fits) cell = grown;
-  }
+  // (Larger cells still fit: every axis needed fewer than kMaxCellsPerAxis of the smaller ones.)
+  if (grow && !bulk[0] && !bulk[1] && !bulk[2]) cell *= cell_growth(positions, g.lo, cell);
   for (int a = 0; a < 3; ++a) {
     if (!bulk[a]) continue;
     const double mid = 0.5 * (bulk_lo[a] + bulk_hi[a]),
