@@ -77,16 +77,18 @@ __attribute__((target("avx512f"))) uint32_t Candidates::count_avx512(const Sorte
   const __m512 px = _mm512_set1_ps(s.x[p]), py = _mm512_set1_ps(s.y[p]),
                pz = _mm512_set1_ps(s.z[p]), pr = _mm512_set1_ps(s.r[p]);
   const __m512i self = _mm512_set1_epi32(int(s.id[p]));
+  const float *cx = x.data(), *cy = y.data(), *cz = z.data(), *cr = r.data();
+  const uint32_t* cid = id.data();
   uint32_t m = 0;
   for (std::size_t j = 0; j < size; j += 16) {
-    const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(x.data() + j));
-    const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(y.data() + j));
-    const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(z.data() + j));
-    const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(r.data() + j));
+    const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(cx + j));
+    const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(cy + j));
+    const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(cz + j));
+    const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(cr + j));
     const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
                                     _mm512_mul_ps(dz, dz));
     const __mmask16 hit = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
-                          ~_mm512_cmpeq_epi32_mask(_mm512_loadu_si512(id.data() + j), self);
+                          ~_mm512_cmpeq_epi32_mask(_mm512_loadu_si512(cid + j), self);
     m += uint32_t(std::popcount(unsigned(hit)));
   }
   return m;
@@ -104,15 +106,17 @@ __attribute__((target("avx512f"))) uint32_t Candidates::row_avx512(const Sorted&
   const __m512 pnx = _mm512_set1_ps(sharp ? s.nx[p] : 0), pny = _mm512_set1_ps(sharp ? s.ny[p] : 0),
                pnz = _mm512_set1_ps(sharp ? s.nz[p] : 0), w_s = _mm512_set1_ps(threshold);
   __m512i row = _mm512_set1_epi32(-1);  // 2^32 - 1 in the empty lanes: sorted last
+  const float *cx = x.data(), *cy = y.data(), *cz = z.data(), *cr = r.data();
+  const uint32_t* cid = id.data();
   uint32_t m = 0;
   for (std::size_t j = 0; j < size; j += 16) {
-    const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(x.data() + j));
-    const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(y.data() + j));
-    const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(z.data() + j));
-    const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(r.data() + j));
+    const __m512 dx = _mm512_sub_ps(px, _mm512_loadu_ps(cx + j));
+    const __m512 dy = _mm512_sub_ps(py, _mm512_loadu_ps(cy + j));
+    const __m512 dz = _mm512_sub_ps(pz, _mm512_loadu_ps(cz + j));
+    const __m512 sum = _mm512_add_ps(pr, _mm512_loadu_ps(cr + j));
     const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)),
                                     _mm512_mul_ps(dz, dz));
-    const __m512i ids = _mm512_loadu_si512(id.data() + j);
+    const __m512i ids = _mm512_loadu_si512(cid + j);
     const __mmask16 hit = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
                           ~_mm512_cmpeq_epi32_mask(ids, self);
     const uint32_t k = uint32_t(std::popcount(unsigned(hit)));
@@ -140,11 +144,19 @@ __attribute__((target("avx512f"))) uint32_t Candidates::copy_avx512(
   const __m512 hx = _mm512_set1_ps(hi[0]), hy = _mm512_set1_ps(hi[1]), hz = _mm512_set1_ps(hi[2]);
   const __m512 rc = _mm512_set1_ps(r_cell), big = _mm512_set1_ps(s.small_radius);
   const __m512 zero = _mm512_setzero_ps();
+  // (The arrays' pointers held apart: the stores would otherwise reload them every step.)
+  const float *sx = s.x.data(), *sy = s.y.data(), *sz = s.z.data(), *sr = s.r.data();
+  const float *snx = s.nx.data(), *sny = s.ny.data(), *snz = s.nz.data();
+  const uint32_t* sid = s.id.data();
+  float *ox = x.data(), *oy = y.data(), *oz = z.data(), *orad = r.data();
+  float *onx = nx.data(), *ony = ny.data(), *onz = nz.data();
+  uint32_t* oid = id.data();
+  const bool with_normals = sharp;
   uint32_t count = 0;
   for (const auto& [a, b] : runs)
     for (std::size_t q = a; q < b; q += 16) {
-      const __m512 qx = _mm512_loadu_ps(s.x.data() + q), qy = _mm512_loadu_ps(s.y.data() + q),
-                   qz = _mm512_loadu_ps(s.z.data() + q), qr = _mm512_loadu_ps(s.r.data() + q);
+      const __m512 qx = _mm512_loadu_ps(sx + q), qy = _mm512_loadu_ps(sy + q),
+                   qz = _mm512_loadu_ps(sz + q), qr = _mm512_loadu_ps(sr + q);
       const __m512 gx =
           _mm512_max_ps(_mm512_max_ps(_mm512_sub_ps(lx, qx), _mm512_sub_ps(qx, hx)), zero);
       const __m512 gy =
@@ -157,19 +169,16 @@ __attribute__((target("avx512f"))) uint32_t Candidates::copy_avx512(
       const __mmask16 lanes = b - q >= 16 ? 0xFFFF : __mmask16((1u << (b - q)) - 1);
       const __mmask16 keep = _mm512_cmp_ps_mask(d2, _mm512_mul_ps(sum, sum), _CMP_LT_OQ) &
                              _mm512_cmp_ps_mask(qr, big, _CMP_LE_OQ) & lanes;
-      _mm512_storeu_ps(x.data() + count, _mm512_maskz_compress_ps(keep, qx));
-      _mm512_storeu_ps(y.data() + count, _mm512_maskz_compress_ps(keep, qy));
-      _mm512_storeu_ps(z.data() + count, _mm512_maskz_compress_ps(keep, qz));
-      _mm512_storeu_ps(r.data() + count, _mm512_maskz_compress_ps(keep, qr));
-      _mm512_storeu_si512(id.data() + count,
-                          _mm512_maskz_compress_epi32(keep, _mm512_loadu_si512(s.id.data() + q)));
-      if (sharp) {
-        _mm512_storeu_ps(nx.data() + count,
-                         _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.nx.data() + q)));
-        _mm512_storeu_ps(ny.data() + count,
-                         _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.ny.data() + q)));
-        _mm512_storeu_ps(nz.data() + count,
-                         _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(s.nz.data() + q)));
+      _mm512_storeu_ps(ox + count, _mm512_maskz_compress_ps(keep, qx));
+      _mm512_storeu_ps(oy + count, _mm512_maskz_compress_ps(keep, qy));
+      _mm512_storeu_ps(oz + count, _mm512_maskz_compress_ps(keep, qz));
+      _mm512_storeu_ps(orad + count, _mm512_maskz_compress_ps(keep, qr));
+      _mm512_storeu_si512(oid + count,
+                          _mm512_maskz_compress_epi32(keep, _mm512_loadu_si512(sid + q)));
+      if (with_normals) {
+        _mm512_storeu_ps(onx + count, _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(snx + q)));
+        _mm512_storeu_ps(ony + count, _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(sny + q)));
+        _mm512_storeu_ps(onz + count, _mm512_maskz_compress_ps(keep, _mm512_loadu_ps(snz + q)));
       }
       count += uint32_t(std::popcount(unsigned(keep)));
     }

@@ -1,8 +1,8 @@
 // The uniform grid of sphere_overlap_graph: the splats sorted by cell into their own arrays
 // (structure of arrays), and the walk over each cell's 27 surrounding cells.
 //
-// Cells have side 2 R (R the largest "small" radius, a little more for float rounding), so two
-// small splats that overlap lie in the same or adjacent cells. Cell coordinates are clamped to
+// Cells have side 2 R (R the largest "small" radius, a little more for float rounding) or more, so
+// two small splats that overlap lie in the same or adjacent cells. Cell coordinates are clamped to
 // the grid's box, which never moves two splats further apart in cells: a box that leaves out a
 // few far-away splats (see make_grid) gives the same graph.
 #pragma once
@@ -61,8 +61,9 @@ using Runs = std::array<std::pair<uint32_t, uint32_t>, 9>;
 // R: the 99.9th percentile of the radii (from a sample).
 float small_radius(std::span<const float> radii);
 
-// The grid for splats at `positions` with small radius r_small > 0.
-Grid make_grid(std::span<const Vec3f> positions, float r_small);
+// The grid for splats at `positions` with small radius r_small > 0: cells of side 2 R, or up to
+// twice that with `grow` when a sample shows few splats per cell (see make_grid).
+Grid make_grid(std::span<const Vec3f> positions, float r_small, bool grow = false);
 
 // The splats sorted by cell (stable: by index within a cell), with their radii and, when
 // `normals` is not empty, their normals.

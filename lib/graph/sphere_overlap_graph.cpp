@@ -3,9 +3,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
 #include <span>
 #include <stdexcept>
@@ -250,9 +252,27 @@ void expand_marks(const NeighborGraph& graph, SharpFound& found, const SharpEdge
   const std::size_t entries = graph.neighbors.size();
   marks.flags.clear();
   sized_in_parallel(marks.flags, entries);
+  // Eight entries at a time: each byte of the bits spread to eight bytes of 0 or 1 (a table whose
+  // entry holds bit k in its k-th byte in memory), times the flag (no carries: flag <= 255).
+  // Chunks start at multiples of 64.
+  static_assert(kChunk % 64 == 0);
+  static const std::array<uint64_t, 256> spread = [] {
+    std::array<uint64_t, 256> t{};
+    for (unsigned b = 0; b < 256; ++b) {
+      uint8_t bytes[8];
+      for (unsigned k = 0; k < 8; ++k) bytes[k] = uint8_t((b >> k) & 1);
+      std::memcpy(&t[b], bytes, 8);
+    }
+    return t;
+  }();
+  const uint64_t times = sharp.flag;
   for_each_chunk(entries, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t e = begin; e < end; ++e)
-      marks.flags[e] = (found.bits[e / 64] >> (e % 64)) & 1 ? sharp.flag : 0;
+    std::size_t e = begin;
+    for (; e + 8 <= end; e += 8) {
+      const uint64_t v = spread[(found.bits[e / 64] >> (e % 64)) & 0xFF] * times;
+      std::memcpy(marks.flags.data() + e, &v, 8);
+    }
+    for (; e < end; ++e) marks.flags[e] = (found.bits[e / 64] >> (e % 64)) & 1 ? sharp.flag : 0;
   });
   std::vector<uint64_t>().swap(found.bits);
   marks.rows = std::move(found.rows);
@@ -305,7 +325,7 @@ NeighborGraph overlap_graph(std::span<const Vec3f> positions, std::span<const fl
       return marked(NeighborGraph{std::vector<uint64_t>(n + 1, 0), {}});
     return marked(SpatialIndex(positions).sphere_overlaps(radii, max_entries(n)));
   }
-  const Grid g = make_grid(positions, r_small);
+  const Grid g = make_grid(positions, r_small, level == SimdLevel::kAvx512);
   Sorted s =
       sort_by_cell(positions, radii, sharp ? sharp->normals : std::span<const Vec3f>{}, g, r_small);
   std::vector<uint64_t> pairs;

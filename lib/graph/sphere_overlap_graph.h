@@ -6,7 +6,8 @@
 // iff squared_distance(C_i, C_j) < (r_i + r_j)², both computed in float the same way; rows
 // ascending. Built for splat clouds, where radii come from the local spacing and are alike:
 //   - cells of side 2 R, R the largest "small" radius, so two small splats that overlap lie in
-//     the same or adjacent cells (27 cells, walked as 9 runs of 3 cells that are consecutive in
+//     the same or adjacent cells; with AVX-512, up to twice that side where a sample shows few
+//     splats per cell, so that each cell's candidates serve more splats (graph/overlap_grid.h) (27 cells, walked as 9 runs of 3 cells that are consecutive in
 //     the cells' key order; one cursor per run moves forward only, so no hashing, no search);
 //   - splats are sorted by cell (parallel LSD radix sort on the cell key) into their own arrays;
 //   - the 27 cells' small splats that can reach a cell's bounding box are copied together once

@@ -13,22 +13,32 @@
 # same sphere-overlap graph >= 10x faster than PCL builds it (one process, one input, the same
 # rows); segment-surfaces >= 10 M splats/s; same graph. The whole build_splat_graph (graph,
 # sharp edges, classes, surfaces, clip partners) against PCL's graph alone is printed too.
-# usage: scripts/bench/graph.sh [splats] [threads] [repeats] [shape]
+# usage: scripts/bench/graph.sh [splats] [threads] [repeats] [shape] [source]
 #   (build dir: $BUILD_DIR; timings: best of the repeats)
+#   source: synth (default: splat-synth's stratified sample, true normals, radii from the
+#   spacing) or normals (issue 46's input: an i.i.d. sample of the shape, --random, through
+#   estimate-normals with its defaults: PCA normals, cover radii, Morton order)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
-splats=${1:-1000000} threads=${2:-2} repeats=${3:-3} shape=${4:-cad}
+splats=${1:-1000000} threads=${2:-2} repeats=${3:-3} shape=${4:-cad} source=${5:-synth}
+case $source in synth | normals) ;; *) echo "graph.sh: source must be synth or normals" >&2; exit 2 ;; esac
 # A new build dir gets no tests, like normals.sh; an existing one keeps its SPLATKIT_BUILD_TESTS
 # (re-running the bench must not reconfigure a dir's tests away).
 options=(-DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_BENCH=ON)
 [ -f "$build/CMakeCache.txt" ] || options+=(-DSPLATKIT_BUILD_TESTS=OFF)
 cmake -S "$root" -B "$build" -G Ninja "${options[@]}" >/dev/null
-ninja -C "$build" -j2 splat-synth build-splat-graph segment-surfaces bench_graph_pcl >/dev/null
+ninja -C "$build" -j2 splat-synth estimate-normals build-splat-graph segment-surfaces \
+  bench_graph_pcl >/dev/null
 bin=$build/tools
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$bin/splat-synth" -q "$shape" "$work/in.ply" -n "$splats" --no-color
+if [ "$source" = normals ]; then
+  "$bin/splat-synth" -q "$shape" "$work/points.ply" -n "$splats" --no-color --random
+  "$bin/estimate-normals" -q "$work/points.ply" "$work/in.ply" --threads "$threads"
+else
+  "$bin/splat-synth" -q "$shape" "$work/in.ply" -n "$splats" --no-color
+fi
 
 # timing KEY FILE: seconds of phase KEY in a --report's timings_s.
 timing() {
@@ -63,7 +73,7 @@ done
   --report "$work/seed.json"
 
 n=$(value splats "$best")
-echo "graph: $shape, $n splats, $(value edges "$best") edges (m = $(value mean_degree "$best")), $threads threads, best of $repeats"
+echo "graph: $shape ($source), $n splats, $(value edges "$best") edges (m = $(value mean_degree "$best")), $threads threads, best of $repeats"
 echo "  ours, phases of the best run: $(tr -d '\n ' <"$best" | grep -o '"timings_s":{[^}]*}')"
 echo "  PCL, first run: $(cat "$work/pcl1.json")"
 awk -v to="$(min "${ours[@]}")" -v tp="$(min "${pcl[@]}")" -v tc="$(min "${cmd[@]}")" \

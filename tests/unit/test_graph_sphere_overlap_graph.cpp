@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "graph/overlap_grid.h"
 #include "graph/sphere_overlap_graph.h"
 #include "simd_level_test.h"
 #include "splatkit/error.h"
@@ -98,6 +99,28 @@ TEST_P(GraphSphereOverlapGraphAt, ShapesMatchTheKdTree) {
     const SplatCloud cloud = make_shape(so);
     const NeighborGraph expected = SpatialIndex(cloud.positions).sphere_overlaps(cloud.radii);
     expect_same(sphere_overlap_graph(cloud.positions, cloud.radii), expected, "kd-tree");
+  }
+}
+
+// Cells that hold few splats grow (with AVX-512, up to twice 2 R) and the graph stays exact: a
+// jittered grid on a plane and in a thin slab, radii alike, about 2 splats per cell of 2 R.
+TEST_P(GraphSphereOverlapGraphAt, SparseCellsGrowAndKeepTheGraph) {
+  std::mt19937 rng(47);
+  std::uniform_real_distribution<float> u(-0.3f, 0.3f);
+  for (int slab = 0; slab < 2; ++slab) {
+    std::vector<Vec3f> c;
+    std::vector<float> r;
+    for (int i = 0; i < 70; ++i)
+      for (int j = 0; j < 70; ++j) {
+        c.push_back({float(i) + u(rng), float(j) + u(rng), slab ? 2 * u(rng) : 0.0f});
+        r.push_back(0.75f + 0.05f * u(rng));
+      }
+    const float R = overlap::small_radius(r);
+    const overlap::Grid fixed = overlap::make_grid(c, R, false), grown = overlap::make_grid(c, R, true);
+    EXPECT_GE(1 / fixed.inv_cell, 2.0 * R);
+    EXPECT_GT(1 / grown.inv_cell, 1.2 / fixed.inv_cell);  // grows on the plane and in the slab
+    EXPECT_LE(1 / grown.inv_cell, 2.0 / fixed.inv_cell * (1 + 1e-12));
+    expect_same(sphere_overlap_graph(c, r, level()), brute_force(c, r), "brute force");
   }
 }
 
