@@ -33,7 +33,9 @@ std::optional<Bounds> tile_survey_box(const nlohmann::json& metadata,
       // (the tile's positions are float32 values p with origin + p exact in float64)
       b.min[a] = static_cast<float>(lo - origin[static_cast<std::size_t>(a)]);
       b.max[a] = static_cast<float>(hi - origin[static_cast<std::size_t>(a)]);
-      if (!(b.min[a] <= own.min[a]) || !(own.max[a] <= b.max[a])) return std::nullopt;
+      if (!std::isfinite(b.min[a]) || !std::isfinite(b.max[a]) || !(b.min[a] <= own.min[a]) ||
+          !(own.max[a] <= b.max[a]))
+        return std::nullopt;
     }
     return b;
   } catch (const nlohmann::json::exception&) {
