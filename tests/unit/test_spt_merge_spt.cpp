@@ -171,6 +171,7 @@ TEST(SptMerge, TilesBuiltInTheWholeCubeGiveTheWholeList) {
   for (std::size_t e = 0; e < w.size(); ++e)
     whole[{w.positions[e].x, w.positions[e].y, w.positions[e].z}] = e;
   ASSERT_EQ(whole.size(), w.size());
+  ASSERT_TRUE(std::isinf(w.r_max[0]));  // the root first
   std::size_t other = 0;
   for (std::size_t a = 0; a < m.size(); ++a) {
     const auto it = whole.find({m.positions[a].x, m.positions[a].y, m.positions[a].z});
@@ -179,14 +180,18 @@ TEST(SptMerge, TilesBuiltInTheWholeCubeGiveTheWholeList) {
       continue;
     }
     const std::size_t b = it->second;
-    EXPECT_NEAR(m.r_min[a], w.r_min[b], 3e-4 * w.r_min[b]);
-    if (std::isinf(w.r_max[b]))
+    // The root is fitted over the tiles' decoded roots (grown by their position error): its
+    // r_min, its children's r_max, within 1 %; every other r as the whole list's but for the
+    // rounding on two scales.
+    const bool root = std::isinf(w.r_max[b]), under_root = w.r_max[b] == w.r_min[0];
+    EXPECT_NEAR(m.r_min[a], w.r_min[b], (root ? 1e-2 : 3e-4) * w.r_min[b]);
+    if (root)
       EXPECT_TRUE(std::isinf(m.r_max[a]));
     else
-      EXPECT_NEAR(m.r_max[a], w.r_max[b], 3e-4 * w.r_max[b]);
+      EXPECT_NEAR(m.r_max[a], w.r_max[b], (under_root ? 1e-2 : 3e-4) * w.r_max[b]);
     EXPECT_NEAR(m.diameters[a], w.diameters[b], 1e-3 * w.diameters[b]);
   }
-  EXPECT_LE(other, 1u);  // the root, fitted over the decoded tile roots
+  EXPECT_LE(other, 1u);  // the root, if its centre rounds to another code
 }
 
 TEST(SptMerge, SameBytesForAnyOrderOfTheTiles) {
