@@ -96,4 +96,6 @@ expect_stderr "^build-qsplat: lod/[^:]*\.spt: byte 0: "
 expect_exit 2 "$BIN/build-qsplat" -q --merge lod/*.qs coloured.qs bad.qs
 expect_stderr "^build-qsplat: coloured\.qs: colour present differs"
 [ ! -e bad.spt ] && [ ! -e bad.qs ] && pass || fail "a refused merge left an output"
+expect_exit 1 "$BIN/splat-tile" -q - -o bad-tiles --tile-size 12 --morton-grid </dev/null
+expect_stderr "splat-tile: --morton-grid reads the inputs twice: not with '-'"
 finish
