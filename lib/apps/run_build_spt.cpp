@@ -60,10 +60,9 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   const bool has_color = !cloud.colors.empty();
   // The splats in the tree's order, moved out of the cloud (colours made 8-bit).
   spt::SptSplats splats = spt::take_spt_splats(cloud);
-  spt::SptOrder order =
-      stage.phase("order", "sorting the splats", [&] {
-        return spt::sort_spt_splats(splats, nullptr, survey ? &*survey : nullptr);
-      });
+  spt::SptOrder order = stage.phase("order", "sorting the splats", [&] {
+    return spt::sort_spt_splats(splats, nullptr, survey ? &*survey : nullptr);
+  });
   progress(0.3, "building the tree");
   spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
     return spt::build_spt_tree(splats, order, {o.color_weight, o.full});

@@ -461,8 +461,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   }
   progress(1.0, "done");
   char extra[160];
-  std::snprintf(extra, sizeof extra, "%zu tiles of %g, halo %g", tile_list.size(), grid.size,
-                halo);
+  std::snprintf(extra, sizeof extra, "%zu tiles of %g, halo %g", tile_list.size(), grid.size, halo);
   return {total, "points", extra};
 }
 

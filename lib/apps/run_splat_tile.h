@@ -37,8 +37,8 @@ struct SplatTileOptions {
   // Morton cell side of the box's cube at most tile_size (apps/morton_tile_grid.h), so that
   // build-spt's tiles merge into the whole survey's list; the inputs are read twice (no "-").
   bool morton_grid = false;
-  ReadOptions read;      // read.columns: text inputs' column layout
-  std::string report;    // JSON report; empty = none; "-" = standard output
+  ReadOptions read;    // read.columns: text inputs' column layout
+  std::string report;  // JSON report; empty = none; "-" = standard output
 };
 
 // Throws Error(kUsage) for bad options (no inputs, a size that is not positive and finite, "-"

@@ -13,8 +13,7 @@ const nlohmann::json* find_tile(const nlohmann::json& metadata) {
   if (history == metadata.end() || !history->is_array()) return nullptr;
   for (auto it = history->rbegin(); it != history->rend(); ++it)
     if (it->is_object())
-      if (const auto tile = it->find("tile"); tile != it->end() && tile->is_object())
-        return &*tile;
+      if (const auto tile = it->find("tile"); tile != it->end() && tile->is_object()) return &*tile;
   return nullptr;
 }
 

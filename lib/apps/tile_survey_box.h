@@ -16,8 +16,8 @@ namespace splatkit::apps {
 // "history" holding one (a tile passed through estimate-normals), in the frame of `origin` (file
 // coordinates minus origin, as float32). Nothing when no tile records a box or the box does not
 // read as one (not numbers, not finite in float32 in that frame, min > max: a hand-edited or
-// hostile file) or does not hold `own` (the tile's own points' box, in the same frame): callers then use the points' own
-// box, as for a whole survey.
+// hostile file) or does not hold `own` (the tile's own points' box, in the same frame): callers
+// then use the points' own box, as for a whole survey.
 std::optional<Bounds> tile_survey_box(const nlohmann::json& metadata,
                                       const std::array<double, 3>& origin, const Bounds& own);
 

@@ -254,9 +254,10 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
     h.r_hi = r_hi;
   }
   const float slack =
-      full || one_frame ? 0.0f
-           : static_cast<float>(
-                 0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
+      full || one_frame
+          ? 0.0f
+          : static_cast<float>(
+                0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
   constexpr float kMax = std::numeric_limits<float>::max();
   if (d_lo <= d_hi) {
     h.d_lo = std::min(d_lo + 2 * slack, kMax);

@@ -5,10 +5,10 @@
 // keeps every tile's entries and puts new interior discs above the tiles' roots: the roots are
 // put in Morton order over the cube of all entries (sort_spt_splats) and cut where their codes
 // part, as build_spt_tree cuts splats, and each new node is the disc fitted to its children
-// (fit_spt_disc), its error made monotone over theirs. A tile root's r_max becomes its new parent's r_min; every other interval
-// is the tile's own, re-quantised on the merged file's scales. Since a child's r_max and its
-// parent's r_min decode to the same float in the tile's file, they take the same code again: the
-// cut property holds for the merged list as for each tile's.
+// (fit_spt_disc), its error made monotone over theirs. A tile root's r_max becomes its new parent's
+// r_min; every other interval is the tile's own, re-quantised on the merged file's scales. Since a
+// child's r_max and its parent's r_min decode to the same float in the tile's file, they take the
+// same code again: the cut property holds for the merged list as for each tile's.
 //
 // Tiles built in the survey's Morton cube and frame (build-spt over splat-tile's survey box;
 // formats/tiles.md) share one quantisation frame, the merged one: their positions keep their

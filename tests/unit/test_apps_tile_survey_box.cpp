@@ -19,7 +19,8 @@ TEST(TileSurveyBox, FromTheTileOrItsNewestHistoryEntry) {
   ASSERT_TRUE(in_tile.has_value());
   EXPECT_EQ(in_tile->min, (Vec3f{0.5f, 0, 1}));
   EXPECT_EQ(in_tile->max, (Vec3f{10, 10.25f, 10}));
-  const nlohmann::json older = {{"tile", {{"survey_box", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}}}};
+  const nlohmann::json older = {
+      {"tile", {{"survey_box", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}}}}};
   const nlohmann::json history = {{"tool", "estimate-normals"},
                                   {"history", {older, {{"tile", {{"survey_box", box}}}}}}};
   const auto from_history = tile_survey_box(history, origin, kOwn);
@@ -31,14 +32,12 @@ TEST(TileSurveyBox, NoneWhenMalformedOrNotHoldingTheTile) {
   const std::array<double, 3> origin{0, 0, 0};
   EXPECT_FALSE(tile_survey_box(nlohmann::json::object(), origin, kOwn));
   EXPECT_FALSE(tile_survey_box({{"tile", {{"i", 1}}}}, origin, kOwn));
-  for (const char* bad : {R"({"min": [0, 0], "max": [9, 9, 9]})",
-                          R"({"min": [0, 0, "a"], "max": [9, 9, 9]})",
-                          R"({"min": [0, 0, 9], "max": [9, 9, 0]})",
-                          R"({"min": [0, 0, 0], "max": [9, 9, 1e300]})",
-                          R"({"min": [2, 0, 0], "max": [9, 9, 9]})",
-                          R"({"min": [0, 0, 0], "max": [9, 4.5, 9]})"})
-    EXPECT_FALSE(tile_survey_box({{"tile", {{"survey_box", nlohmann::json::parse(bad)}}}},
-                                 origin, kOwn))
+  for (const char* bad :
+       {R"({"min": [0, 0], "max": [9, 9, 9]})", R"({"min": [0, 0, "a"], "max": [9, 9, 9]})",
+        R"({"min": [0, 0, 9], "max": [9, 9, 0]})", R"({"min": [0, 0, 0], "max": [9, 9, 1e300]})",
+        R"({"min": [2, 0, 0], "max": [9, 9, 9]})", R"({"min": [0, 0, 0], "max": [9, 4.5, 9]})"})
+    EXPECT_FALSE(
+        tile_survey_box({{"tile", {{"survey_box", nlohmann::json::parse(bad)}}}}, origin, kOwn))
         << bad;
 }
 
