@@ -32,7 +32,8 @@ for t in tiled/tiles/*.splk; do
 done
 "$bin/build-spt" -q --merge lod/*.spt merged.spt --report merged.json
 "$bin/build-spt" -q city.splk whole.spt --threads "$threads"
-echo "tiles: $(ls lod/*.spt | wc -l), merged entries $(jq .entries merged.json)"
+tiles=(lod/*.spt)
+echo "tiles: ${#tiles[@]}, merged entries $(jq .entries merged.json)"
 for view in 0,20 120,35 45,60; do
   for m in merged whole; do
     "$bin/splat-view" -q "$m.spt" -o "$m-${view/,/_}.png" --width "$width" --height "$height" \
