@@ -3,14 +3,17 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string_view>
 
+#include "apps/tile_survey_box.h"
 #include "splatkit/check_splats.h"
 #include "splatkit/drop_halo_points.h"
 #include "splatkit/error.h"
 #include "splatkit/lower_extension.h"
 #include "splatkit/spill_arena.h"
+#include "splatkit/take_own_points.h"
 #include "spt/build_spt_tree.h"
 #include "spt/encode_spt.h"
 
@@ -38,11 +41,17 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   spill::check_room(doc.cloud.size() * kSpillBytesPerPoint);
   SplatCloud& cloud = doc.cloud;
   // A tile of splat-tile: its own points only (its halo belongs to its neighbours' files).
+  const bool is_tile = cloud.find_extra(kHaloAttribute) != nullptr;
   drop_halo_points(cloud, stage.input_name());
   if (cloud.size() == 0) throw_bad_input(stage.input_name(), "the file has no points");
   if (cloud.size() >= (std::size_t{1} << 31))
     throw_unsupported(stage.input_name(), "2^31 points or more");
   check_splats(cloud, stage.input_name());
+  // A tile's octree in the survey's Morton cube, its positions coded over the survey's box: the
+  // whole build's cells and frame (docs/design/tiles.md, "Merged level-of-detail files").
+  const std::optional<Bounds> survey =
+      is_tile ? tile_survey_box(doc.metadata, cloud.origin, compute_bounds(cloud.positions))
+              : std::nullopt;
   // Not part of an .spt: the memory goes to the tree (swapped out: `= {}` keeps the capacity).
   std::vector<ExtraAttribute>().swap(cloud.extras);
   std::vector<Vec3f>().swap(cloud.axes);
@@ -51,8 +60,9 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
   const bool has_color = !cloud.colors.empty();
   // The splats in the tree's order, moved out of the cloud (colours made 8-bit).
   spt::SptSplats splats = spt::take_spt_splats(cloud);
-  spt::SptOrder order =
-      stage.phase("order", "sorting the splats", [&] { return spt::sort_spt_splats(splats); });
+  spt::SptOrder order = stage.phase("order", "sorting the splats", [&] {
+    return spt::sort_spt_splats(splats, nullptr, survey ? &*survey : nullptr);
+  });
   progress(0.3, "building the tree");
   spt::SptTree tree = stage.phase("tree", "building the point tree", [&] {
     return spt::build_spt_tree(splats, order, {o.color_weight, o.full});
@@ -103,6 +113,7 @@ StageSummary run_build_spt(const BuildSptOptions& o, const ProgressFn& progress)
               {"file_bytes", file.bytes},
               {"bytes_per_input_point", static_cast<double>(file.bytes) / n},
               {"peak_rss_bytes_per_point", static_cast<double>(peak_rss_bytes()) / n}};
+    if (survey) report["frame"] = "survey_box";
     const double work = stage.seconds("read") + stage.seconds("order") + stage.seconds("tree") +
                         stage.seconds("sequentialise") + stage.seconds("write");
     if (work > 0) report["points_per_second"] = std::round(n / work);

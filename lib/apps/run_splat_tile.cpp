@@ -18,6 +18,7 @@
 #include <numeric>
 #include <system_error>
 
+#include "apps/morton_tile_grid.h"
 #include "apps/stage.h"
 #include "formats/provenance.h"
 #include "formats/write_cloud.h"
@@ -150,9 +151,10 @@ void append_parts(SplatCloud& tile, const std::vector<Part>& parts,
   }
 }
 
-nlohmann::json square_json(const TileKey& key, double size) {
-  const double x0 = static_cast<double>(key.i) * size, y0 = static_cast<double>(key.j) * size;
-  return {{"min", {x0, y0}}, {"max", {x0 + size, y0 + size}}};
+nlohmann::json square_json(const TileKey& key, const TileGridFrame& grid) {
+  const double x0 = grid.x0 + static_cast<double>(key.i) * grid.size,
+               y0 = grid.y0 + static_cast<double>(key.j) * grid.size;
+  return {{"min", {x0, y0}}, {"max", {x0 + grid.size, y0 + grid.size}}};
 }
 
 void check_options(const SplatTileOptions& o) {
@@ -162,6 +164,8 @@ void check_options(const SplatTileOptions& o) {
   if (!std::isfinite(o.halo)) throw Error(ErrorKind::kUsage, "--halo must be a number");
   if (std::count(o.inputs.begin(), o.inputs.end(), "-") > 1)
     throw Error(ErrorKind::kUsage, "standard input ('-') given twice");
+  if (o.morton_grid && std::count(o.inputs.begin(), o.inputs.end(), "-") > 0)
+    throw Error(ErrorKind::kUsage, "--morton-grid reads the inputs twice: not with '-'");
   if (o.out_dir.empty() || o.out_dir == "-")
     throw Error(ErrorKind::kUsage, "-o needs a folder (standard output cannot hold tiles)");
 }
@@ -181,10 +185,26 @@ fs::path make_out_dir(const std::string& out_dir) {
   return dir;
 }
 
+// The box of every own point, file coordinates (float64 sums of an origin and a float32
+// position: exact, so a reader gets the float32 bounds back in its frame).
+struct SurveyBox {
+  std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  void add(double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    for (std::size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+  nlohmann::json json() const { return {{"min", lo}, {"max", hi}}; }
+};
+
 // What pass 2 needs of the whole run.
 struct TileRun {
-  double tile_size, halo;
+  TileGridFrame grid;
+  double halo;
   std::array<double, 3> origin;  // the first input's
+  const SurveyBox& survey;
   const std::vector<std::string>& input_names;
   const std::map<TileKey, Skyline>& skylines;
 };
@@ -201,11 +221,11 @@ nlohmann::json write_tile(const fs::path& dir, const TileKey& key, const TilePar
   // in a run over the whole survey read from the same files), unless the tile lies farther
   // from it than float32 keeps millimetres; then one chosen at the square's corner as the
   // readers choose one (splat_cloud.h).
-  const double corner[3] = {static_cast<double>(key.i) * run.tile_size,
-                            static_cast<double>(key.j) * run.tile_size, t.first_z};
+  const double corner[3] = {run.grid.x0 + static_cast<double>(key.i) * run.grid.size,
+                            run.grid.y0 + static_cast<double>(key.j) * run.grid.size, t.first_z};
   tile.origin = run.origin;
   for (int a = 0; a < 3; ++a)
-    if (!(std::fabs(corner[a] - run.origin[a]) + (a < 2 ? run.tile_size + run.halo : 0) <
+    if (!(std::fabs(corner[a] - run.origin[a]) + (a < 2 ? run.grid.size + run.halo : 0) <
           kFrameReach))
       tile.origin = choose_origin({corner[0], corner[1], corner[2]});
   append_parts(tile, t.own, run.input_names);
@@ -225,12 +245,13 @@ nlohmann::json write_tile(const fs::path& dir, const TileKey& key, const TilePar
        {{"name", name},
         {"i", key.i},
         {"j", key.j},
-        {"size", run.tile_size},
+        {"size", run.grid.size},
         {"halo", run.halo},
-        {"square", square_json(key, run.tile_size)},
+        {"square", square_json(key, run.grid)},
+        {"survey_box", run.survey.json()},
         {"own_points", t.own_points},
         {"halo_points", t.halo_points},
-        {"skyline", sky != run.skylines.end() ? skyline_json(sky->second, run.tile_size / 2)
+        {"skyline", sky != run.skylines.end() ? skyline_json(sky->second, run.grid.size / 2)
                                               : nlohmann::json::object()}}},
       {"inputs", run.input_names}};
   WriteOptions w;
@@ -240,7 +261,7 @@ nlohmann::json write_tile(const fs::path& dir, const TileKey& key, const TilePar
           {"file", file},
           {"i", key.i},
           {"j", key.j},
-          {"square", square_json(key, run.tile_size)},
+          {"square", square_json(key, run.grid)},
           {"own_points", t.own_points},
           {"halo_points", t.halo_points}};
 }
@@ -275,7 +296,21 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   SplatCloud first_fields;  // one point of the first input: the fields every input must have
   uint64_t total = 0, skipped_halo = 0, faces_dropped = 0;
   std::vector<TileKey> around;
+  SurveyBox survey;
   const double n_inputs = static_cast<double>(o.inputs.size());
+  TileGridFrame grid{0, 0, o.tile_size};
+  if (o.morton_grid) {  // a first pass for the survey's box
+    SurveyBox box;
+    for (const std::string& path : o.inputs) {
+      InputStream in(path);
+      LoadedCloud doc = read_cloud(in, o.read);
+      const SplatCloud& cloud = doc.cloud;
+      for (uint32_t i : take_own_points(doc.cloud))
+        box.add(cloud.origin[0] + cloud.positions[i].x, cloud.origin[1] + cloud.positions[i].y,
+                cloud.origin[2] + cloud.positions[i].z);
+    }
+    if (box.lo[0] <= box.hi[0]) grid = morton_tile_grid(box.lo, box.hi, o.tile_size);
+  }
 
   // Pass 1: each input read whole, its points parted by tile.
   for (std::size_t a = 0; a < o.inputs.size(); ++a) {
@@ -321,13 +356,15 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     for (uint32_t i : keep) {
       const Vec3f& p = cloud.positions[i];
       const double x = cloud.origin[0] + p.x, y = cloud.origin[1] + p.y;
-      const TileKey key = tile_of(x, y, o.tile_size);
+      const double z = cloud.origin[2] + p.z;
+      survey.add(x, y, z);
+      const TileKey key = tile_of(x - grid.x0, y - grid.y0, grid.size);
       if (own == nullptr || !(key == last)) own = &parts[last = key];
       own->first.push_back(i);
       around.clear();
-      halo_tiles(x, y, o.tile_size, halo, around);
+      halo_tiles(x - grid.x0, y - grid.y0, grid.size, halo, around);
       for (const TileKey& k : around) parts[k].second.push_back(i);
-      raise_skylines(x, y, cloud.origin[2] + p.z, o.tile_size, halo, skylines);
+      raise_skylines(x - grid.x0, y - grid.y0, z, grid.size, halo, skylines);
     }
     progress((static_cast<double>(a) + 0.75) / n_inputs * 0.7, "parting");
     for (const auto& [key, lists] : parts) {
@@ -361,7 +398,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   nlohmann::json tile_list = nlohmann::json::array();
   std::vector<std::string> written;
   std::size_t done = 0;
-  const TileRun run{o.tile_size, halo, first_fields.origin, input_names, skylines};
+  const TileRun run{grid, halo, first_fields.origin, survey, input_names, skylines};
   for (const auto& [key, t] : tiles) {
     progress(0.7 + 0.3 * static_cast<double>(done++) / static_cast<double>(tiles.size()), "tiles");
     if (t.own_points == 0) continue;  // a halo without a tile: its points belong elsewhere
@@ -385,13 +422,20 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
 
   nlohmann::json index = {{"tool", kTool},
                           {"version", kVersion},
-                          {"tile_size", o.tile_size},
+                          {"tile_size", grid.size},
                           {"halo", halo},
                           {"halo_rule", halo_rule},
                           {"grid", "tile (i, j) holds i*S <= x < (i+1)*S, j*S <= y < (j+1)*S"},
                           {"points", total},
                           {"tiles", tile_list},
                           {"inputs", inputs}};
+  if (total > 0) index["survey_box"] = survey.json();
+  if (o.morton_grid) {
+    index["grid"] =
+        "tile (i, j) holds X0 + i*S <= x < X0 + (i+1)*S, Y0 + j*S <= y < Y0 + (j+1)*S: the "
+        "columns of the Morton cells of the survey box's cube";
+    index["grid_origin"] = {grid.x0, grid.y0};
+  }
   {
     OutputFile out(tiles_json.string());
     out.write(index.dump(2) + "\n");
@@ -401,7 +445,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
     timings["command"] = seconds_since(start);
     nlohmann::json report = {{"tool", kTool},
                              {"output", o.out_dir},
-                             {"tile_size", o.tile_size},
+                             {"tile_size", grid.size},
                              {"halo", halo},
                              {"points", total},
                              {"tiles", tile_list.size()},
@@ -417,8 +461,7 @@ StageSummary run_splat_tile(const SplatTileOptions& o, const ProgressFn& progres
   }
   progress(1.0, "done");
   char extra[160];
-  std::snprintf(extra, sizeof extra, "%zu tiles of %g, halo %g", tile_list.size(), o.tile_size,
-                halo);
+  std::snprintf(extra, sizeof extra, "%zu tiles of %g, halo %g", tile_list.size(), grid.size, halo);
   return {total, "points", extra};
 }
 

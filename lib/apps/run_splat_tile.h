@@ -33,8 +33,12 @@ struct SplatTileOptions {
   std::string out_dir;
   double tile_size = 0;  // > 0, in the inputs' units
   double halo = -1;      // >= 0; negative: tile_halo() of the first input of 64 points or more
-  ReadOptions read;      // read.columns: text inputs' column layout
-  std::string report;    // JSON report; empty = none; "-" = standard output
+  // --morton-grid: the grid anchored at the survey box's lower corner, its side the largest
+  // Morton cell side of the box's cube at most tile_size (apps/morton_tile_grid.h), so that
+  // build-spt's tiles merge into the whole survey's list; the inputs are read twice (no "-").
+  bool morton_grid = false;
+  ReadOptions read;    // read.columns: text inputs' column layout
+  std::string report;  // JSON report; empty = none; "-" = standard output
 };
 
 // Throws Error(kUsage) for bad options (no inputs, a size that is not positive and finite, "-"

@@ -309,10 +309,10 @@ SptSplats take_spt_splats(SplatCloud& cloud) {
   return s;
 }
 
-SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index) {
+SptOrder sort_spt_splats(SptSplats& s, std::vector<uint32_t>* old_index, const Bounds* frame_box) {
   const std::size_t n = s.size();
   SptOrder order;
-  const Bounds box = compute_bounds(s.positions);
+  const Bounds box = frame_box ? *frame_box : compute_bounds(s.positions);
   order.lo = box.min;
   order.hi = box.max;
   const MortonFrame frame(box.min, box.max);

@@ -52,12 +52,18 @@ struct SptOrder {
   // #N−1: levels[i] ranks where splats i and i+1 part in the octree (higher = nearer the root;
   // 0 = equal codes). A node's children are the runs between its range's highest levels.
   std::vector<uint8_t> levels;
-  Vec3f lo{0, 0, 0}, hi{0, 0, 0};  // bounding box of the centres
+  Vec3f lo{0, 0, 0}, hi{0, 0, 0};  // bounding box of the centres, or the frame given
 };
 
 // Puts the splats in the tree's order, in place. `old_index` (optional): gets, for each new
-// position, the splat's index before the call. Precondition: 1 <= size() < 2^31.
-SptOrder sort_spt_splats(SptSplats& splats, std::vector<uint32_t>* old_index = nullptr);
+// position, the splat's index before the call. `frame` (optional): the box whose bounding cube
+// the codes are made over and whose extent the position codes span (SptOrder::lo, hi), instead
+// of the centres' own box: a survey's box for one tile of it (formats/tiles.md), so that the
+// tile's octree cells are the whole survey's and a cell inside the tile gets the subtree a build
+// over the whole survey gives it. Precondition: 1 <= size() < 2^31; `frame`, when given, holds
+// every centre.
+SptOrder sort_spt_splats(SptSplats& splats, std::vector<uint32_t>* old_index = nullptr,
+                         const Bounds* frame = nullptr);
 
 // An interior node as stored: position, normal and colour as .spt codes, radius and error as
 // floats; parent, and from encoding on the r codes.

@@ -386,7 +386,7 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& in, const EncodeSptOptions& o, c
 }
 
 SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
-                         const EncodeSptOptions& options, bool keep_map) {
+                         const EncodeSptOptions& options, bool keep_map, const Bounds* frame) {
   SplatCloud copy;
   copy.positions = cloud.positions;
   copy.normals = cloud.normals;
@@ -395,7 +395,7 @@ SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
   copy.color_bits = cloud.color_bits;
   SptSplats splats = take_spt_splats(copy);
   std::vector<uint32_t> old_index;
-  const SptOrder order = sort_spt_splats(splats, keep_map ? &old_index : nullptr);
+  const SptOrder order = sort_spt_splats(splats, keep_map ? &old_index : nullptr, frame);
   SptTree tree = build_spt_tree(splats, order, {color_weight, options.full});
   SptBytes out;
   out.depth = tree.depth;

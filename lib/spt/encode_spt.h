@@ -60,13 +60,15 @@ EncodedSpt encode_spt(SptTree& tree, SptSplats& splats, const EncodeSptOptions& 
                       const SptSink& sink, bool keep_map = false);
 
 // The whole build in memory (tests and small clouds): sort, tree, list. With `keep_map`, the
-// map's leaves are numbered by their index in `cloud`.
+// map's leaves are numbered by their index in `cloud`. `frame`: as sort_spt_splats's (a survey's
+// box for a tile of it), holding every position.
 struct SptBytes {
   std::vector<unsigned char> bytes;
   EncodedSpt info;
   uint32_t depth = 0;
 };
 SptBytes build_spt_bytes(const SplatCloud& cloud, float color_weight,
-                         const EncodeSptOptions& options, bool keep_map = false);
+                         const EncodeSptOptions& options, bool keep_map = false,
+                         const Bounds* frame = nullptr);
 
 }  // namespace splatkit::spt

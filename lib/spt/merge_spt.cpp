@@ -147,8 +147,22 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
   };
   const float epsilon = h0.epsilon;
 
+  // The box of every entry: the merged list's frame, and the cube the roots are coded over.
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  Bounds box{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+  for (const SptModel& m : tiles)
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      const Vec3f p = shifted(m, m.positions[k]);
+      for (int j = 0; j < 3; ++j) {
+        box.min[j] = std::min(box.min[j], p[j]);
+        box.max[j] = std::max(box.max[j], p[j]);
+      }
+    }
+
   // The tiles' roots as discs (error from r_min; the colour deviation is not stored: 0), put in
-  // Morton order of their centres.
+  // the Morton order of their centres over the cube of all entries: for tiles built in the
+  // survey's cube (splat-tile's survey box), the cube of the whole build, so that the roots are
+  // grouped as that build groups their cells.
   SptSplats roots;
   std::vector<SptDisc> root_discs(t_count);
   for (std::size_t t = 0; t < t_count; ++t) {
@@ -164,7 +178,7 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
     roots.radii.push_back(d.radius);
   }
   std::vector<uint32_t> tile_of;  // Morton rank -> tile
-  const SptOrder order = sort_spt_splats(roots, &tile_of);
+  const SptOrder order = sort_spt_splats(roots, &tile_of, &box);
   std::vector<SptDisc> sorted(t_count);
   for (std::size_t i = 0; i < t_count; ++i) sorted[i] = root_discs[tile_of[i]];
 
@@ -210,14 +224,8 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
   h.origin = origin;
   h.epsilon = epsilon;
   h.color_weight = h0.color_weight;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
   float r_lo = kInf, r_hi = 0, d_lo = kInf, d_hi = 0;
   for (const Entry& e : all) {
-    for (int j = 0; j < 3; ++j) {
-      lo[j] = std::min(lo[j], e.position[j]);
-      hi[j] = std::max(hi[j], e.position[j]);
-    }
     if (e.r_min > 0) {
       r_lo = std::min(r_lo, e.r_min);
       r_hi = std::max(r_hi, e.r_min);
@@ -227,16 +235,29 @@ MergedSpt merge_spt(std::span<const SptModel> tiles, std::span<const std::string
       d_hi = std::max(d_hi, e.diameter);
     }
   }
-  h.box_min = lo;
-  h.step = {(hi.x - lo.x) / 65535.0f, (hi.y - lo.y) / 65535.0f, (hi.z - lo.z) / 65535.0f};
+  // (the new nodes lie in the hull of their children: the tiles' box holds them)
+  h.box_min = box.min;
+  h.step = {(box.max.x - box.min.x) / 65535.0f, (box.max.y - box.min.y) / 65535.0f,
+            (box.max.z - box.min.z) / 65535.0f};
+  // Tiles quantised in one frame (built over splat-tile's survey box, so the merged one):
+  // their positions keep their codes, and the discs need not grow again.
+  bool one_frame = !full;
+  for (const SptModel& m : tiles)
+    one_frame = one_frame && m.header.origin == origin && m.header.box_min == h0.box_min &&
+                m.header.step == h0.step;
+  if (one_frame) {
+    h.box_min = h0.box_min;
+    h.step = h0.step;
+  }
   if (r_lo <= r_hi) {
     h.r_lo = r_lo;
     h.r_hi = r_hi;
   }
   const float slack =
-      full ? 0.0f
-           : static_cast<float>(
-                 0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
+      full || one_frame
+          ? 0.0f
+          : static_cast<float>(
+                0.5 * std::hypot(double(h.step.x), double(h.step.y), double(h.step.z)) * 1.0001);
   constexpr float kMax = std::numeric_limits<float>::max();
   if (d_lo <= d_hi) {
     h.d_lo = std::min(d_lo + 2 * slack, kMax);

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "formats/read_spt.h"
 #include "splatkit/common_origin.h"
 #include "splatkit/error.h"
+#include "splatkit/morton_order.h"
 #include "splatkit/synthetic_shapes.h"
 #include "spt/encode_spt.h"
 #include "spt/merge_spt.h"
@@ -127,6 +129,69 @@ TEST(SptMerge, TilesOfAnotherOriginJoinTheCommonFrame) {
   EXPECT_LT(far, 1e-3f);
   const std::array<double, 3> o[] = {{1, 0, 0}, {0, 5, 0}, {1, 0, 0}, {0, 5, 0}, {2, 0, 0}};
   EXPECT_EQ(common_origin(o), (std::array<double, 3>{0, 5, 0}));
+}
+
+// Tiles that are the whole cloud's Morton cells, built in the whole cloud's cube (a survey box
+// from splat-tile), give the whole build's list: every tile entry where the whole list has it
+// (the same position codes, the same intervals but for the second rounding of r), and above them
+// one new root fitted as the whole root is.
+TEST(SptMerge, TilesBuiltInTheWholeCubeGiveTheWholeList) {
+  ShapeOptions s;
+  s.kind = ShapeKind::kTorus;
+  s.points = 8000;
+  s.random = true;
+  const SplatCloud torus = make_shape(s);
+  const Bounds box = compute_bounds(torus.positions);
+  const MortonFrame frame(box.min, box.max);
+  EncodeSptOptions o;
+  std::vector<SptModel> tiles;
+  for (uint64_t cell = 0; cell < 8; ++cell) {  // the cube's octants (the torus lies in four)
+    SplatCloud tile;
+    for (std::size_t i = 0; i < torus.size(); ++i) {
+      if (frame.code(torus.positions[i]) >> 60 != cell) continue;
+      tile.positions.push_back(torus.positions[i]);
+      tile.normals.push_back(torus.normals[i]);
+      tile.radii.push_back(torus.radii[i]);
+    }
+    if (tile.size() == 0) continue;
+    const SptBytes b = build_spt_bytes(tile, 1.0f, o, false, &box);
+    tiles.push_back(parse_spt(b.bytes, "tile" + std::to_string(cell) + ".spt"));
+  }
+  ASSERT_EQ(tiles.size(), 4u);
+  const MergedSpt merged = merge_spt(tiles, names_of(4));
+  const SptModel m = parse_spt(merged.bytes, "merged.spt");
+  const SptModel w = parse_spt(build_spt_bytes(torus, 1.0f, o).bytes, "whole.spt");
+  EXPECT_EQ(merged.new_nodes, 1u);
+  EXPECT_EQ(m.header.box_min, w.header.box_min);
+  EXPECT_EQ(m.header.step, w.header.step);
+  EXPECT_EQ(m.header.depth, w.header.depth);
+  ASSERT_EQ(m.size(), w.size());
+  // The whole list's entries by position (decoded from the same codes: equal floats).
+  std::map<std::array<float, 3>, std::size_t> whole;
+  for (std::size_t e = 0; e < w.size(); ++e)
+    whole[{w.positions[e].x, w.positions[e].y, w.positions[e].z}] = e;
+  ASSERT_EQ(whole.size(), w.size());
+  ASSERT_TRUE(std::isinf(w.r_max[0]));  // the root first
+  std::size_t other = 0;
+  for (std::size_t a = 0; a < m.size(); ++a) {
+    const auto it = whole.find({m.positions[a].x, m.positions[a].y, m.positions[a].z});
+    if (it == whole.end()) {
+      ++other;
+      continue;
+    }
+    const std::size_t b = it->second;
+    // The root is fitted over the tiles' decoded roots (grown by their position error): its
+    // r_min, its children's r_max, within 1 %; every other r as the whole list's but for the
+    // rounding on two scales.
+    const bool root = std::isinf(w.r_max[b]), under_root = w.r_max[b] == w.r_min[0];
+    EXPECT_NEAR(m.r_min[a], w.r_min[b], (root ? 1e-2 : 3e-4) * w.r_min[b]);
+    if (root)
+      EXPECT_TRUE(std::isinf(m.r_max[a]));
+    else
+      EXPECT_NEAR(m.r_max[a], w.r_max[b], (under_root ? 1e-2 : 3e-4) * w.r_max[b]);
+    EXPECT_NEAR(m.diameters[a], w.diameters[b], 1e-3 * w.diameters[b]);
+  }
+  EXPECT_LE(other, 1u);  // the root, if its centre rounds to another code
 }
 
 TEST(SptMerge, SameBytesForAnyOrderOfTheTiles) {

@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
                  "estimate-normals reads with its defaults reaches a row of 64 and each of their "
                  "rows of up to 32)")
       ->check(splatkit::finite_range(0, 1e300));
+  app.add_flag("--morton-grid", o.morton_grid,
+               "Anchor the grid at the survey's lower corner and make S the largest side of "
+               "a Morton cell of the survey's bounding cube at most --tile-size, so that the "
+               "tiles are columns of the cells build-spt's octree over the whole survey is made "
+               "of and their .spt files merge into that build's list. Reads the inputs twice "
+               "(not with '-')");
   tool.add_columns_option(o.read.columns);
   app.add_option("--report,--stats", o.report, "Write counts, timings and peak RSS as JSON here");
   tool.add_threads_option();
