@@ -15,12 +15,18 @@
 # whole process's CPU time and the load average are printed beside the wall times: on a shared
 # machine the wall times of modes run one after another see different loads, and the CPU times
 # are the steadier comparison.
+# Then the culling row of issue 46 (chc++ per frame at most 1.3 × its floor): R more chc++ runs
+# with --count-visible, each frame's floor rendered in the same process right after it (so the
+# two see the same load), and with $BASELINE_BUILD set, the same runs of that build's splat-view
+# by turns with these (baseline, ours, baseline, ours, ...); prints per run chc++ ms/frame, floor
+# ms/frame and their ratio (all frames, and without the cold first), the median ratio over the
+# runs, whether it meets 1.3, the CPU model and the load average.
 # usage: scripts/bench/occlusion.sh [splats=10000000] [frames=8] [threads=2] [blocks=8] [leaf=2048]
-#        (build dir: $BUILD_DIR, default build-bench)
+#        [runs=3]   (build dir: $BUILD_DIR, default build-bench; $BASELINE_BUILD: optional)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
-splats=${1:-10000000} frames=${2:-8} threads=${3:-2} blocks=${4:-8} leaf=${5:-2048}
+splats=${1:-10000000} frames=${2:-8} threads=${3:-2} blocks=${4:-8} leaf=${5:-2048} runs=${6:-3}
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPLATKIT_BUILD_TESTS=OFF \
     >/dev/null
@@ -137,4 +143,46 @@ if n > 1:
          warm_q["chc++"] <= warm_q["hierarchical"] / 3)
     line("without frame 0: best possible none / floor", warm["none"] / warm_floor, "-", True)
     line("without frame 0: best possible frustum / floor", warm["frustum"] / warm_floor, "-", True)
+PY
+
+# The culling row: chc++ against its floor, R runs (by turns with $BASELINE_BUILD when given).
+turns=()
+for t in $(seq 1 "$runs"); do
+  if [ -n "${BASELINE_BUILD:-}" ]; then turns+=("baseline:$t"); fi
+  turns+=("ours:$t")
+done
+for turn in "${turns[@]}"; do
+  who=${turn%%:*} t=${turn##*:}
+  bin=$build/tools/splat-view
+  [ "$who" = baseline ] && bin=$BASELINE_BUILD/tools/splat-view
+  mkdir -p "$work/$who-$t"
+  "$bin" -q "$work/city.splk" -o "$work/$who-$t/%04d.png" --path "$work/walk.json" \
+    --width 1920 --height 1080 --threads "$threads" --occlusion chc++ --bvh-leaf "$leaf" \
+    --stats "$work/$who-$t.json" --count-visible
+  for f in "$work/none"/*.png; do
+    cmp -s "$f" "$work/$who-$t/$(basename "$f")" || echo "$who run $t: $(basename "$f") differs from none"
+  done
+  rm -rf "${work:?}/$who-$t"
+  echo "$who run $t: load average $(cut -d' ' -f1-3 /proc/loadavg)"
+done
+echo "CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//') ($(nproc) cores)"
+python3 - "$work" "$runs" "${BASELINE_BUILD:+baseline}" <<'PY'
+import json, os, statistics, sys
+work, runs, whos = sys.argv[1], int(sys.argv[2]), [w for w in (sys.argv[3], "ours") if w]
+for who in whos:
+    ratios, warm_ratios = [], []
+    for t in range(1, runs + 1):
+        fr = json.load(open(os.path.join(work, "%s-%d.json" % (who, t))))["frames"]
+        ms = [f["time_ms"]["frame"] for f in fr]
+        floor = [f["occlusion"]["floor_ms"] for f in fr]
+        depth = sum(f["occlusion"]["time_ms"]["depth"] for f in fr) / len(fr)
+        r, w = sum(ms) / sum(floor), sum(ms[1:]) / max(1e-9, sum(floor[1:]))
+        ratios.append(r)
+        warm_ratios.append(w)
+        print("%-8s run %d: chc++ %6.1f ms/frame (depth pass %5.1f), floor %6.1f ms/frame, "
+              "ratio %.2f, without frame 0 %.2f"
+              % (who, t, sum(ms) / len(ms), depth, sum(floor) / len(floor), r, w))
+    m, mw = statistics.median(ratios), statistics.median(warm_ratios)
+    print("%-8s chc++ / floor, median of %d runs: %.2f (without frame 0: %.2f)   "
+          "(target <= 1.3: %s)" % (who, runs, m, mw, "met" if m <= 1.3 else "NOT met"))
 PY

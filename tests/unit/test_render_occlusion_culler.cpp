@@ -3,8 +3,10 @@
 // noise, while culling really happens; (2) a scene with a known visible set (a wall with boxes
 // behind it, boxes in front and beside it): from several cameras the hidden boxes are culled
 // (no leaf of their own, and with the per-splat test no splat of theirs, is drawn), the splats
-// the frame truly shows (count_visible_splats.h; those the renderer draws) never are.
+// the frame truly shows (count_visible_splats.h; those the renderer draws) never are; (3) the
+// splats chc++ draws do not depend on the number of threads or their timing.
 #include <gtest/gtest.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
@@ -226,6 +228,38 @@ TEST(OcclusionCuller, WallHidesTheBoxesBehindIt) {
         EXPECT_EQ(leaves_drawn, 0) << occlusion_mode_name(mode) << " y " << y << " box " << b;
       }
     }
+  }
+}
+
+// The depth pass runs on several threads; the splats drawn must not depend on how many, nor on
+// their timing: one thread and two (twice) give the same lists.
+TEST(OcclusionCuller, DrawnSplatsDoNotDependOnThreads) {
+  CityOptions o;
+  o.points = 120000;
+  o.blocks = 4;
+  o.walk_frames = 6;
+  const RenderScene scene = make_render_scene(make_city(o), "city");
+  const ChunkBvh bvh = build_chunk_bvh(scene, 256);
+  RenderOptions options;
+  auto lists = [&](int threads) {
+    std::vector<std::vector<uint32_t>> out;
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      OcclusionCuller culler(scene, bvh);
+      for (const CityCamera& c : city_walkthrough(o)) {
+        OcclusionStats stats;
+        out.push_back(culler.cull(make_projection(camera_at(c.eye, c.target, 480, 270)),
+                                  OcclusionMode::kChcPlusPlus, margin_of(scene, options), false,
+                                  stats));
+      }
+    });
+    return out;
+  };
+  const auto one = lists(1), two = lists(2), again = lists(2);
+  ASSERT_EQ(one.size(), 6u);
+  for (std::size_t f = 0; f < one.size(); ++f) {
+    EXPECT_EQ(one[f], two[f]) << "frame " << f;
+    EXPECT_EQ(two[f], again[f]) << "frame " << f;
   }
 }
 
