@@ -1061,11 +1061,37 @@ class PlyDecoder {
     const uint64_t limit = std::min<uint64_t>(vertex_count_, uint64_t{1} << 32);
     constexpr uint64_t kMaxIndices = std::numeric_limits<uint32_t>::max();
     std::vector<uint32_t>& indices = cloud_.face_indices;
+    // Triangles, nearly every mesh's rows, a run at a time into a small batch appended whole
+    // (push_back per value kept the vectors' ends in memory); the loop below takes every other
+    // row and every row that breaks a rule.
+    constexpr std::size_t kBatch = 1024;
+    const uint64_t triangle_limit = signed_item ? std::min<uint64_t>(limit, 0x80000000u) : limit;
+    const bool swap = swap_;
+    uint32_t batch[3 * kBatch], ends[kBatch];
     uint64_t r = 0;
     while (r < e.count) {
       const std::string_view block = in_.peek(kBlock);
       std::size_t at = 0;
       while (r < e.count && at < block.size()) {
+        const uint64_t base = indices.size();
+        const std::size_t most = static_cast<std::size_t>(
+            std::min<uint64_t>({kBatch, e.count - r, (kMaxIndices - base) / 3}));
+        std::size_t rows = 0;
+        for (; rows < most && at + 13 <= block.size() && block[at] == 3; ++rows, at += 13) {
+          uint32_t v[3];
+          std::memcpy(v, block.data() + at + 1, 12);
+          if (swap)
+            for (uint32_t& x : v) x = __builtin_bswap32(x);
+          if (std::max({v[0], v[1], v[2]}) >= triangle_limit) break;
+          std::memcpy(batch + 3 * rows, v, 12);
+          ends[rows] = static_cast<uint32_t>(base + 3 * (rows + 1));
+        }
+        if (rows > 0) {
+          indices.insert(indices.end(), batch, batch + 3 * rows);
+          cloud_.face_offsets.insert(cloud_.face_offsets.end(), ends, ends + rows);
+          r += rows;
+          continue;
+        }
         const auto c = static_cast<uint8_t>(block[at]);
         const std::size_t need = 1 + 4 * std::size_t{c};
         if ((signed_count && c >= 128) || at + need > block.size() ||
