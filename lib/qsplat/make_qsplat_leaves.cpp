@@ -76,9 +76,14 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
             radius[v] = std::max(radius[v], r2);
           }
       });
-  // A face of fewer than 3 vertices has no triangle but uses its vertices.
-  for (std::size_t f = 0; f < cloud.face_count(); ++f)
-    if (cloud.face_offsets[f + 1] - cloud.face_offsets[f] < 3)
+  // A face of fewer than 3 vertices has no triangle but uses its vertices (rare: found first,
+  // in parallel, the faces then walked on one thread only when there is one).
+  const std::size_t faces = cloud.face_count();
+  const auto short_face = [&](std::size_t f) {
+    return cloud.face_offsets[f + 1] - cloud.face_offsets[f] < 3;
+  };
+  for (std::size_t f = first_in_chunks(faces, std::size_t{1} << 18, short_face); f < faces; ++f)
+    if (short_face(f))
       for (uint32_t k = cloud.face_offsets[f]; k < cloud.face_offsets[f + 1]; ++k)
         radius[cloud.face_indices[k]] = std::max(radius[cloud.face_indices[k]], 0.0);
   // Leaves in vertex order: each chunk counts its usable vertices, then writes them after the
