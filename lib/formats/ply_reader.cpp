@@ -1063,8 +1063,9 @@ class PlyDecoder {
     indices.resize(base + 3 * rows);  // within the capacity reserved (and mapped) for them
     offsets.resize(first_offset + rows);
     std::vector<uint8_t> bad(chunk_count(rows, kChunk), 0);
-    const bool swap = swap_;
-    for_each_chunk(rows, kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+    // The byte order a template argument and the checks folded into one flag: the loop has no
+    // branch but its own.
+    const auto parse = [&](auto swap, std::size_t b, std::size_t e) {
       const char* q = block.data() + 13 * b;
       uint32_t* out = indices.data() + base + 3 * b;
       uint32_t* end = offsets.data() + first_offset + b;
@@ -1072,13 +1073,16 @@ class PlyDecoder {
       for (std::size_t i = b; i < e; ++i, q += 13, out += 3) {
         uint32_t v[3];
         std::memcpy(v, q + 1, 12);
-        if (swap)
+        if constexpr (decltype(swap)::value)
           for (uint32_t& x : v) x = __builtin_bswap32(x);
-        wrong |= q[0] != 3 || std::max({v[0], v[1], v[2]}) >= limit;
+        wrong |= (q[0] != 3) | (std::max({v[0], v[1], v[2]}) >= limit);
         std::memcpy(out, v, 12);
         *end++ = static_cast<uint32_t>(base + 3 * (i + 1));
       }
-      bad[c] = wrong;
+      return wrong;
+    };
+    for_each_chunk(rows, kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+      bad[c] = swap_ ? parse(std::true_type{}, b, e) : parse(std::false_type{}, b, e);
     });
     if (std::find(bad.begin(), bad.end(), 1) == bad.end()) return rows;
     indices.resize(base);
