@@ -50,7 +50,7 @@ void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const V
 // Why a mesh vertex is no leaf, or kUsable.
 enum Drop : uint8_t { kUsable, kUnused, kZeroRadius, kZeroNormal };
 
-QSplatLeaves from_mesh(const SplatCloud& cloud) {
+QSplatLeaves from_mesh(SplatCloud& cloud) {
   const std::size_t n = cloud.size();
   // vertex_normals' sums and each vertex's largest triangle sphere (its squared radius), in one
   // pass over the faces.
@@ -105,7 +105,12 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
   for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
   QSplatLeaves out;
   const std::size_t m = first.back();
-  sized_in_parallel(out.positions, m);
+  // Every vertex kept (the usual mesh): the leaves take the cloud's positions as they are.
+  const bool all_kept = m == n;
+  if (all_kept)
+    out.positions = std::move(cloud.positions);
+  else
+    sized_in_parallel(out.positions, m);
   sized_in_parallel(out.normals, m);
   sized_in_parallel(out.radii, m);
   if (cloud.has_colors()) sized_in_parallel(out.colors, m);
@@ -113,7 +118,7 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
     std::size_t j = first[c];
     for (std::size_t i = b; i < e; ++i) {
       if (drop[i] != kUsable) continue;
-      out.positions[j] = cloud.positions[i];
+      if (!all_kept) out.positions[j] = cloud.positions[i];
       out.normals[j] = normalized(normal[i]);
       out.radii[j] = static_cast<float>(std::sqrt(radius[i]));
       if (cloud.has_colors()) out.colors[j] = to_rgb8(cloud.colors[i], cloud.color_bits);
