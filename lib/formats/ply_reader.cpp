@@ -17,6 +17,7 @@
 
 #include "formats/ply.h"
 #include "splatkit/error.h"
+#include "splatkit/for_each_chunk.h"
 #include "splatkit/position_builder.h"
 #include "splatkit/sized_in_parallel.h"
 
@@ -1046,6 +1047,49 @@ class PlyDecoder {
     for (; r < e.count; ++r) one_row(r);
   }
 
+  // A block that starts with at least kParallelRows triangle rows (count 3, then three 32-bit
+  // indices below `limit`), up to `most` of them: the rows it holds whole are appended to the
+  // faces in parallel chunks and their number returned. 0, nothing appended, when a row among
+  // them is not such a triangle (read_face_blocks' serial loop then takes the block row by row).
+  std::size_t whole_triangles(std::string_view block, uint64_t most, uint64_t limit) {
+    constexpr std::size_t kParallelRows = std::size_t{1} << 14, kChunk = std::size_t{1} << 13;
+    std::vector<uint32_t>& indices = cloud_.face_indices;
+    std::vector<uint32_t>& offsets = cloud_.face_offsets;
+    const uint64_t base = indices.size();
+    const auto rows = static_cast<std::size_t>(std::min<uint64_t>(
+        {block.size() / 13, most, (std::numeric_limits<uint32_t>::max() - base) / 3}));
+    if (rows < kParallelRows) return 0;
+    const std::size_t first_offset = offsets.size();
+    indices.resize(base + 3 * rows);  // within the capacity reserved (and mapped) for them
+    offsets.resize(first_offset + rows);
+    std::vector<uint8_t> bad(chunk_count(rows, kChunk), 0);
+    // The byte order a template argument and the checks folded into one flag: the loop has no
+    // branch but its own.
+    const auto parse = [&](auto swap, std::size_t b, std::size_t e) {
+      const char* q = block.data() + 13 * b;
+      uint32_t* out = indices.data() + base + 3 * b;
+      uint32_t* end = offsets.data() + first_offset + b;
+      bool wrong = false;
+      for (std::size_t i = b; i < e; ++i, q += 13, out += 3) {
+        uint32_t v[3];
+        std::memcpy(v, q + 1, 12);
+        if constexpr (decltype(swap)::value)
+          for (uint32_t& x : v) x = __builtin_bswap32(x);
+        wrong |= (q[0] != 3) | (std::max({v[0], v[1], v[2]}) >= limit);
+        std::memcpy(out, v, 12);
+        *end++ = static_cast<uint32_t>(base + 3 * (i + 1));
+      }
+      return wrong;
+    };
+    for_each_chunk(rows, kChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+      bad[c] = swap_ ? parse(std::true_type{}, b, e) : parse(std::false_type{}, b, e);
+    });
+    if (std::find(bad.begin(), bad.end(), 1) == bad.end()) return rows;
+    indices.resize(base);
+    offsets.resize(first_offset);
+    return 0;
+  }
+
   // Binary faces whose only property is the index list, of 8-bit counts and 32-bit indices (what
   // mesh writers write): parsed a block at a time, the stream taking each block's whole rows at
   // once (one bounds check and one checksum update per block, not per value; on a 4M-vertex mesh
@@ -1061,11 +1105,41 @@ class PlyDecoder {
     const uint64_t limit = std::min<uint64_t>(vertex_count_, uint64_t{1} << 32);
     constexpr uint64_t kMaxIndices = std::numeric_limits<uint32_t>::max();
     std::vector<uint32_t>& indices = cloud_.face_indices;
+    // Triangles, nearly every mesh's rows, a run at a time into a small batch appended whole
+    // (push_back per value kept the vectors' ends in memory); the loop below takes every other
+    // row and every row that breaks a rule.
+    constexpr std::size_t kBatch = 1024;
+    const uint64_t triangle_limit = signed_item ? std::min<uint64_t>(limit, 0x80000000u) : limit;
+    const bool swap = swap_;
+    uint32_t batch[3 * kBatch], ends[kBatch];
     uint64_t r = 0;
     while (r < e.count) {
       const std::string_view block = in_.peek(kBlock);
       std::size_t at = 0;
+      if (const std::size_t rows = whole_triangles(block, e.count - r, triangle_limit)) {
+        at = 13 * rows;
+        r += rows;
+      }
       while (r < e.count && at < block.size()) {
+        const uint64_t base = indices.size();
+        const std::size_t most = static_cast<std::size_t>(
+            std::min<uint64_t>({kBatch, e.count - r, (kMaxIndices - base) / 3}));
+        std::size_t rows = 0;
+        for (; rows < most && at + 13 <= block.size() && block[at] == 3; ++rows, at += 13) {
+          uint32_t v[3];
+          std::memcpy(v, block.data() + at + 1, 12);
+          if (swap)
+            for (uint32_t& x : v) x = __builtin_bswap32(x);
+          if (std::max({v[0], v[1], v[2]}) >= triangle_limit) break;
+          std::memcpy(batch + 3 * rows, v, 12);
+          ends[rows] = static_cast<uint32_t>(base + 3 * (rows + 1));
+        }
+        if (rows > 0) {
+          indices.insert(indices.end(), batch, batch + 3 * rows);
+          cloud_.face_offsets.insert(cloud_.face_offsets.end(), ends, ends + rows);
+          r += rows;
+          continue;
+        }
         const auto c = static_cast<uint8_t>(block[at]);
         const std::size_t need = 1 + 4 * std::size_t{c};
         if ((signed_count && c >= 128) || at + need > block.size() ||

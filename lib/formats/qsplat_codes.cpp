@@ -387,9 +387,16 @@ int SphereEncoder::nearest_disc(const double centre[3], double radius, const Vec
     }
   };
   const int below = std::clamp(floor_int(radius / pr_ * kN), 1, kN - 1);
-  for (int pass = 0; pass < 3 && best < 0; ++pass) {
-    const int s0 = pass == 0 ? below : pass == 1 ? std::max(1, below - 1) : 1;
-    const int s1 = pass == 0 ? below + 1 : pass == 1 ? std::min(kN, below + 2) : kN;
+  // The first pass, one cell per size (nearly always the last: 1473 of 1M leaves of a torus
+  // mesh go on), written out without the loops over a box of cells.
+  for (int size = below; size <= below + 1; ++size) {
+    int at[3];
+    for (int k = 0; k < 3; ++k) around(size, k, false, at[k], at[k]);
+    consider(size, at[0], at[1], at[2]);
+  }
+  for (int pass = 1; pass < 3 && best < 0; ++pass) {
+    const int s0 = pass == 1 ? std::max(1, below - 1) : 1;
+    const int s1 = pass == 1 ? std::min(kN, below + 2) : kN;
     for (int size = s0; size <= s1; ++size) {
       int lo[3], hi[3];
       for (int k = 0; k < 3; ++k) {

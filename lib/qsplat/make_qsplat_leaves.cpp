@@ -11,6 +11,7 @@
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
 #include "splatkit/sized_in_parallel.h"
+#include "splatkit/slot_array.h"
 #include "splatkit/vertex_normals.h"
 
 namespace splatkit::qsplat {
@@ -49,12 +50,20 @@ void add_leaf(QSplatLeaves& out, const SplatCloud& cloud, std::size_t i, const V
 // Why a mesh vertex is no leaf, or kUsable.
 enum Drop : uint8_t { kUsable, kUnused, kZeroRadius, kZeroNormal };
 
-QSplatLeaves from_mesh(const SplatCloud& cloud) {
+QSplatLeaves from_mesh(SplatCloud& cloud) {
   const std::size_t n = cloud.size();
   // vertex_normals' sums and each vertex's largest triangle sphere (its squared radius), in one
   // pass over the faces.
-  std::vector<Vec3f> normal(n, Vec3f{0, 0, 0});
-  std::vector<double> radius(n, -1.0);  // -1: no face uses the vertex
+  // Uninitialised, then set in parallel chunks: their pages (20 bytes a vertex) are faulted in
+  // on both threads instead of by one zeroing pass.
+  SlotArray<Vec3f> normal;
+  SlotArray<double> radius;  // -1: no face uses the vertex
+  normal.allocate(n);
+  radius.allocate(n);
+  for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
+    std::fill(normal.get() + b, normal.get() + e, Vec3f{0, 0, 0});
+    std::fill(radius.get() + b, radius.get() + e, -1.0);
+  });
   for_each_triangle_by_vertex_range(
       cloud, [&](const std::array<uint32_t, 3>& t, uint32_t lo, uint32_t hi) {
         const Vec3f &p0 = cloud.positions[t[0]], &p1 = cloud.positions[t[1]],
@@ -67,9 +76,14 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
             radius[v] = std::max(radius[v], r2);
           }
       });
-  // A face of fewer than 3 vertices has no triangle but uses its vertices.
-  for (std::size_t f = 0; f < cloud.face_count(); ++f)
-    if (cloud.face_offsets[f + 1] - cloud.face_offsets[f] < 3)
+  // A face of fewer than 3 vertices has no triangle but uses its vertices (rare: found first,
+  // in parallel, the faces then walked on one thread only when there is one).
+  const std::size_t faces = cloud.face_count();
+  const auto short_face = [&](std::size_t f) {
+    return cloud.face_offsets[f + 1] - cloud.face_offsets[f] < 3;
+  };
+  for (std::size_t f = first_in_chunks(faces, std::size_t{1} << 18, short_face); f < faces; ++f)
+    if (short_face(f))
       for (uint32_t k = cloud.face_offsets[f]; k < cloud.face_offsets[f + 1]; ++k)
         radius[cloud.face_indices[k]] = std::max(radius[cloud.face_indices[k]], 0.0);
   // Leaves in vertex order: each chunk counts its usable vertices, then writes them after the
@@ -91,7 +105,12 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
   for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
   QSplatLeaves out;
   const std::size_t m = first.back();
-  sized_in_parallel(out.positions, m);
+  // Every vertex kept (the usual mesh): the leaves take the cloud's positions as they are.
+  const bool all_kept = m == n;
+  if (all_kept)
+    out.positions = std::move(cloud.positions);
+  else
+    sized_in_parallel(out.positions, m);
   sized_in_parallel(out.normals, m);
   sized_in_parallel(out.radii, m);
   if (cloud.has_colors()) sized_in_parallel(out.colors, m);
@@ -99,7 +118,7 @@ QSplatLeaves from_mesh(const SplatCloud& cloud) {
     std::size_t j = first[c];
     for (std::size_t i = b; i < e; ++i) {
       if (drop[i] != kUsable) continue;
-      out.positions[j] = cloud.positions[i];
+      if (!all_kept) out.positions[j] = cloud.positions[i];
       out.normals[j] = normalized(normal[i]);
       out.radii[j] = static_cast<float>(std::sqrt(radius[i]));
       if (cloud.has_colors()) out.colors[j] = to_rgb8(cloud.colors[i], cloud.color_bits);

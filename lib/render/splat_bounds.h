@@ -8,41 +8,73 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <vector>
 
 #include "render/camera.h"
+#include "splatkit/for_each_chunk.h"
 
 namespace splatkit::render {
 
 // `splat(i, centre, radius)` for i in [0, count): returns whether item i is a splat and, when it
-// is, sets its centre and radius (scene units). Items that are not splats (a hierarchy's interior
-// nodes) are skipped. No splat at all: centre 0, radius 0. The same result for any item order
-// (minima and maxima only).
+// is, sets its centre and radius (scene units); called from several threads at once. Items that
+// are not splats (a hierarchy's interior nodes) are skipped. No splat at all: centre 0, radius 0.
+// Fixed chunks in parallel, combined in order, each minimum and maximum keeping the first of
+// equal values: the result of one pass in item order, bit for bit, for any thread count.
 template <class Splat>
 BoundingSphere splat_bounds(std::size_t count, Splat&& splat) {
   constexpr float kInf = 3.4e38f;
-  Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-  Vec3f c{0, 0, 0};
-  float r = 0;
-  bool any = false;
-  for (std::size_t i = 0; i < count; ++i)
-    if (splat(i, c, r)) {
-      lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-      hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
-      any = true;
-    }
+  constexpr std::size_t kChunk = std::size_t{1} << 16;
+  const auto lower = [](Vec3f& lo, const Vec3f& v) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+  };
+  const auto upper = [](Vec3f& hi, const Vec3f& v) {
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+  };
+  struct Part {
+    Vec3f lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+    float radius = 0;
+    bool any = false;
+  };
+  std::vector<Part> parts(chunk_count(count, kChunk));
+  for_each_chunk(count, kChunk, [&](std::size_t k, std::size_t b, std::size_t e) {
+    Part& p = parts[k];
+    Vec3f c{0, 0, 0};
+    float r = 0;
+    for (std::size_t i = b; i < e; ++i)
+      if (splat(i, c, r)) {
+        lower(p.lo, c);
+        upper(p.hi, c);
+        p.any = true;
+      }
+  });
+  Part all;
+  for (const Part& p : parts) {
+    lower(all.lo, p.lo);
+    upper(all.hi, p.hi);
+    all.any = all.any || p.any;
+  }
   BoundingSphere b;
-  if (!any) return b;
-  b.center = (lo + hi) * 0.5f;
+  if (!all.any) return b;
+  b.center = (all.lo + all.hi) * 0.5f;
+  for (Part& p : parts) p = Part{};
+  for_each_chunk(count, kChunk, [&](std::size_t k, std::size_t s, std::size_t e) {
+    Part& p = parts[k];
+    Vec3f c{0, 0, 0};
+    float r = 0;
+    for (std::size_t i = s; i < e; ++i)
+      if (splat(i, c, r)) {
+        p.radius = std::max(p.radius, norm(c - b.center) + r);
+        lower(p.lo, c - Vec3f{r, r, r});
+        upper(p.hi, c + Vec3f{r, r, r});
+      }
+  });
   b.box_lo = {kInf, kInf, kInf};
   b.box_hi = {-kInf, -kInf, -kInf};
-  for (std::size_t i = 0; i < count; ++i)
-    if (splat(i, c, r)) {
-      b.radius = std::max(b.radius, norm(c - b.center) + r);
-      b.box_lo = {std::min(b.box_lo.x, c.x - r), std::min(b.box_lo.y, c.y - r),
-                  std::min(b.box_lo.z, c.z - r)};
-      b.box_hi = {std::max(b.box_hi.x, c.x + r), std::max(b.box_hi.y, c.y + r),
-                  std::max(b.box_hi.z, c.z + r)};
-    }
+  for (const Part& p : parts) {
+    b.radius = std::max(b.radius, p.radius);
+    lower(b.box_lo, p.lo);
+    upper(b.box_hi, p.hi);
+  }
   return b;
 }
 

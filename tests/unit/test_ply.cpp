@@ -628,5 +628,33 @@ TEST(Ply, FacesAcrossReadBlocks) {
   expect_bad(good.substr(0, good.size() - 6), "row 199999: list count too big");
 }
 
+// Blocks of triangles only are parsed in parallel chunks: a block that holds another row (a
+// quad, in either byte order) falls back to the row by row reading, and the faces come out the
+// same.
+TEST(Ply, TriangleBlocksWithAnotherRow) {
+  constexpr uint32_t kFaces = 300000;  // 3.9 MB: blocks of triangles only, and one with the quad
+  for (const bool big : {false, true}) {
+    Bytes b(std::string("ply\nformat binary_") + (big ? "big" : "little") +
+                "_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\n"
+                "property float z\nelement face " + std::to_string(kFaces) +
+                "\nproperty list uchar uint vertex_indices\nend_header\n",
+            big);
+    for (int i = 0; i < 1000; ++i) b.f(static_cast<float>(i)).f(0).f(0);
+    std::vector<uint32_t> offsets{0}, indices;
+    for (uint32_t f = 0; f < kFaces; ++f) {
+      const uint32_t n = f == 170001 ? 4 : 3;
+      b.put<uint8_t>(static_cast<uint8_t>(n));
+      for (uint32_t k = 0; k < n; ++k) {
+        b.put<uint32_t>((f * 7 + k * 13) % 1000);
+        indices.push_back((f * 7 + k * 13) % 1000);
+      }
+      offsets.push_back(static_cast<uint32_t>(indices.size()));
+    }
+    const SplatCloud c = read_bytes(b.str()).cloud;
+    EXPECT_EQ(c.face_offsets, offsets);
+    EXPECT_EQ(c.face_indices, indices);
+  }
+}
+
 }  // namespace
 }  // namespace splatkit
