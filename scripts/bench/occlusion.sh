@@ -15,7 +15,7 @@
 # whole process's CPU time and the load average are printed beside the wall times: on a shared
 # machine the wall times of modes run one after another see different loads, and the CPU times
 # are the steadier comparison.
-# Then the culling row of issue 46 (chc++ per frame at most 1.3 × its floor): R more chc++ runs
+# Then the culling goal (chc++ per frame at most 1.3 × its floor): R more chc++ runs
 # with --count-visible, each frame's floor rendered in the same process right after it (so the
 # two see the same load), and with $BASELINE_BUILD set, the same runs of that build's splat-view
 # by turns with these (baseline, ours, baseline, ours, ...); prints per run chc++ ms/frame, floor
