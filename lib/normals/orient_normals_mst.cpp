@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "normals/layer_cuts.h"
 #include "splatkit/for_each_chunk.h"
 
 namespace splatkit {
@@ -93,6 +94,35 @@ float agreement(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& 
   if (std::fabs(d) >= kParallel && !(split_gaps && across_gap(ni, nj, e, e2))) return d;
   return d - 2 * dot(ni, e) * dot(nj, e) / e2;
 }
+
+// The two-layer points' faces (layer_cuts.h): whether an edge joins the two faces of a thin wall
+// or slab (1), one face (0), or neither end has two layers (-1).
+struct Layers {
+  std::span<const Vec3f> positions, normals;
+  std::vector<float> cut;  // empty: no point has two layers
+  int apart(uint32_t i, uint32_t j) const {
+    if (cut.empty()) return -1;
+    if (std::isfinite(cut[i]))
+      return other_layer(cut[i], normals[i], positions[i], positions[j]) ? 1 : 0;
+    if (std::isfinite(cut[j]))
+      return other_layer(cut[j], normals[j], positions[j], positions[i]) ? 1 : 0;
+    return -1;
+  }
+  // As across_gap(), the layers deciding where they are known.
+  bool gap(uint32_t i, uint32_t j) const {
+    const int a = apart(i, j);
+    if (a >= 0) return a == 1;
+    const Vec3f e = positions[j] - positions[i];
+    return across_gap(normals[i], normals[j], e, squared_norm(e));
+  }
+  // As agreement() with split gaps; between near-parallel normals on two layers, −n_i·n_j.
+  float agree(uint32_t i, uint32_t j) const {
+    const int a = apart(i, j);
+    const float d = dot(normals[i], normals[j]);
+    if (a >= 0 && std::fabs(d) >= kParallel) return a == 1 ? -d : d;
+    return agreement(positions[i], normals[i], positions[j], normals[j], true);
+  }
+};
 
 // The kNN graph with every edge once: row i holds, in rank order, the neighbours j of i whose
 // reverse edge j -> i is not in the earlier row j (the agreement is symmetric, so Kruskal would
@@ -268,7 +298,7 @@ SheetNeighbours sheet_neighbours(const KnnGraph<Id>& g, Passes&& passes) {
 template <typename Id>
 SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                             std::span<const Vec3f> normals, const OrientRegionsOptions& options,
-                            std::size_t& sheets) {
+                            const Layers& layers, std::size_t& sheets) {
   const std::size_t n = positions.size();
   const bool votes = !options.evidence.empty();
   const std::size_t nodes = n + (votes ? 1 : 0);
@@ -280,8 +310,7 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   auto passes = [&](std::size_t i, uint32_t j) {
     if (std::fabs(dot(normals[i], normals[j])) < sheet) return false;
     if (!options.split_gaps) return true;
-    const Vec3f e = positions[j] - positions[i];
-    return !across_gap(normals[i], normals[j], e, squared_norm(e));
+    return !layers.gap(static_cast<uint32_t>(i), j);
   };
   // With split gaps, an edge at a layered point that runs oblique to its normals joins only when
   // confirmed by kSheetTriangles common neighbours that join both ends (sheet_neighbours).
@@ -337,8 +366,10 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   std::vector<Edge> between;
   between.reserve(count);
   for_each_between([&](uint32_t i, uint32_t j) {
-    between.push_back(
-        {i, j, agreement(positions[i], normals[i], positions[j], normals[j], options.split_gaps)});
+    between.push_back({i, j,
+                       options.split_gaps
+                           ? layers.agree(i, j)
+                           : agreement(positions[i], normals[i], positions[j], normals[j], false)});
   });
   if (votes)
     for (std::size_t i = 0; i < n; ++i)
@@ -506,7 +537,7 @@ std::size_t assign_signs(std::span<const Vec3f> positions, std::span<const Vec3f
 template <typename Id>
 std::size_t follow_neighbours(const KnnGraph<Id>& g, std::span<const Vec3f> positions,
                               std::span<const Vec3f> normals, bool split_gaps,
-                              std::vector<int8_t>& sign) {
+                              const Layers& layers, std::vector<int8_t>& sign) {
   const std::size_t n = positions.size();
   // Per point: summed agreement and magnitude over the edges on its surface, then across gaps.
   std::vector<std::array<float, 4>> sums(n, std::array<float, 4>{});
@@ -515,10 +546,8 @@ std::size_t follow_neighbours(const KnnGraph<Id>& g, std::span<const Vec3f> posi
     for (uint32_t s = 0, m = g.row_size(i); s < m; ++s) {
       const uint32_t j = row[s];
       std::size_t at = 0;
-      if (split_gaps) {  // the two sides of a thin wall face apart: not one surface
-        const Vec3f e = positions[j] - positions[i];
-        if (across_gap(normals[i], normals[j], e, squared_norm(e))) at = 2;
-      }
+      if (split_gaps && layers.gap(static_cast<uint32_t>(i), j))
+        at = 2;  // the two sides of a thin wall face apart: not one surface
       const float a = dot(normals[i], normals[j]) * static_cast<float>(sign[i] * sign[j]);
       for (const std::size_t p : {i, std::size_t{j}}) {
         sums[p][at] += a;
@@ -588,14 +617,20 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
   OrientStats stats;
   if (n == 0) return stats;
 
+  Layers layers{positions, normals, {}};
+  if (regions.split_gaps &&
+      std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
+    layers.cut = layer_cuts(positions, normals, std::span<const uint32_t>(rows.data(), rows.size()),
+                            std::min(k, n) - 1, regions.layered);
   // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
   std::vector<int8_t> sign;
   auto forest = [&]<typename Id>(Id) {
     const KnnGraph<Id> graph = build_graph<Id>(std::move(rows), n, std::min(k, n));
-    SignedUnionFind sets = signed_sets<Id>(graph, positions, normals, regions, stats.sheets);
+    SignedUnionFind sets = signed_sets<Id>(graph, positions, normals, regions, layers, stats.sheets);
     stats.components = assign_signs(positions, normals, sets, regions.evidence, sign, stats);
     if (!regions.evidence.empty() || regions.split_gaps)
-      stats.relabelled = follow_neighbours(graph, positions, normals, regions.split_gaps, sign);
+      stats.relabelled =
+          follow_neighbours(graph, positions, normals, regions.split_gaps, layers, sign);
   };
   const std::size_t width = std::min(k, n) - 1;
   if ((uint64_t{n} << std::bit_width(width)) <= std::numeric_limits<uint32_t>::max())

@@ -102,7 +102,10 @@ struct OrientRegionsOptions {
   std::span<const float> evidence;
   // #N or empty: the points whose neighbourhood may hold two close faces (e.g. the normals that
   // widen_flat_normals.h took from a wider row). With split_gaps, a sheet edge at such a point
-  // that runs oblique to its normals joins only when points joined to both its ends confirm it.
+  // that runs oblique to its normals joins only when points joined to both its ends confirm it,
+  // and where such a point's neighbourhood splits into two layers (layer_cuts.h) an edge to the
+  // other layer is read as across the gap and one within its layer as along it, whatever the
+  // edge's angle. The cuts take 4 bytes per point while the graph is built.
   std::span<const uint8_t> layered;
 };
 
