@@ -76,6 +76,13 @@ render cad-graph-sharp "$out/graph/cad-surfaces.splk" "${view[@]}" --shade sharp
 render cad-graph-clipped "$out/graph/cad-surfaces.splk" "${view[@]}" --shade clipped
 render cad-graph-no-clip "$out/graph/cad-surfaces.splk" "${view[@]}" --no-clip --no-surface-ids
 render kitten-normals "$out/normals/kitten.splk" --shade normals
+# Shading from few splats (5k on the kitten): each pixel lit by its nearest splat's own normal
+# (--blend zbuffer: a facet per splat, dark specks in the crevices) on the left, by the default
+# reconstruction's smooth per-pixel normal field on the right.
+render kitten-zbuffer "$out/normals/kitten.splk" --blend zbuffer
+oiiotool "$out/images/kitten-zbuffer.png" "$out/images/kitten.png" --mosaic 2x1 \
+  -o "$out/images/kitten-shading-before-after.png"
+echo "  out/images/kitten-shading-before-after.png"
 for splat in circle ellipse; do  # a close-up: no background through the surface either way
   render "torus-lines-$splat" "$out/normals/torus-lines-$splat.splk" --view 20,35,1.6
 done
@@ -119,6 +126,14 @@ if "$top/scripts/fetch-cgal-scans.sh" "$out/real-scan" > /dev/null; then
       -o "$out/real-scan/$kind-before-after.png"
     echo "  out/real-scan/$kind-before-after.png"
   done
+  # Its shading, as the kitten's above: one normal per splat (left), the default (right).
+  for blend in zbuffer zthreshold; do
+    "$bin/splat-view" -q "$out/real-scan/building-auto.splk" --blend "$blend" --view 200,15,45 \
+      --width 640 --height 480 -o "$out/real-scan/shading-$blend.png"
+  done
+  oiiotool "$out/real-scan/shading-zbuffer.png" "$out/real-scan/shading-zthreshold.png" \
+    --mosaic 2x1 -o "$out/real-scan/shading-before-after.png"
+  echo "  out/real-scan/shading-before-after.png"
 else
   echo "  skipped: Debian's libcgal-demo could not be downloaded"
 fi
