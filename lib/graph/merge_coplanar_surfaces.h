@@ -40,6 +40,8 @@ struct CoplanarMergeOptions {
   double max_angle_degrees = 30;     // between the planes of two adjacent anchors that join
   bool join_disjoint = true;         // also join groups that share no edge but lie on one plane
   double max_disjoint_degrees = 10;  // between the planes of two such anchors
+  bool refit_groups = true;          // judge a group by the plane of all its splats, not its
+                                     // largest surface's
   uint32_t min_size = 50;            // smaller surfaces are not fitted and do not join here
 };
 
