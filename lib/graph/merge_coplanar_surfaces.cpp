@@ -124,15 +124,29 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
     }
     ++done.joined;
   };
-  for (const auto& [neg_large, neg_small, a, b] : order) {
-    uint32_t big = root(parent, a), small = root(parent, b);
-    if (big == small) continue;
-    if (!larger(big, small)) std::swap(big, small);
-    if (!plane[big].planar || !plane[small].fitted ||
-        std::abs(dot(plane[big].normal, plane[small].normal)) < cos_angle ||
-        !held(plane[big], positions, of(small), o.offset_scales))
-      continue;
-    join(big, small);
+  // Passes over the pairs until none joins: a group that grew may now hold a neighbour as its
+  // relief.
+  for (bool joined = true; joined;) {
+    joined = false;
+    for (const auto& [neg_large, neg_small, a, b] : order) {
+      uint32_t big = root(parent, a), small = root(parent, b);
+      if (big == small) continue;
+      if (!larger(big, small)) std::swap(big, small);
+      // Within the larger's biweight support, a minority of the union is the larger's relief;
+      // two surfaces of like size join at that offset only when each lies within the other's.
+      const bool relief = o.relief_scales > o.offset_scales;
+      const bool minority = 2 * size[small] <= size[big];
+      if (!plane[big].planar || !plane[small].fitted ||
+          std::abs(dot(plane[big].normal, plane[small].normal)) < cos_angle)
+        continue;
+      if (!held(plane[big], positions, of(small), o.offset_scales) &&
+          !(relief && held(plane[big], positions, of(small), o.relief_scales) &&
+            (minority ||
+             (plane[small].planar && held(plane[small], positions, of(big), o.relief_scales)))))
+        continue;
+      join(big, small);
+      joined = true;
+    }
   }
   if (o.join_disjoint) {
     // Groups that share no edge but lie on one plane (the wings of a facade either side of a

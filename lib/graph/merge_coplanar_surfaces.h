@@ -36,6 +36,8 @@ namespace splatkit::graph {
 struct CoplanarMergeOptions {
   double offset_scales = 3;          // how far (in the anchor's scales) a surface it takes lies,
                                      // as a median (0: nothing joins)
+  double relief_scales = 4.685;      // an adjacent group at most half the larger's size may lie
+                                     // this far (fit_robust_plane's biweight cut; 0: off)
   double max_normal_degrees = 25;    // median angle of a planar surface's normals from its plane
   double max_angle_degrees = 30;     // between the planes of two adjacent anchors that join
   bool join_disjoint = true;         // also join groups that share no edge but lie on one plane
