@@ -3,8 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -93,9 +95,10 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
   std::vector<uint64_t> size(count);
   std::vector<uint32_t> anchor(count);
   std::vector<RobustPlane> plane = planes;
+  std::vector<uint64_t> fitted(count);  // the group's size when its plane was fitted
   for (uint32_t s = 0; s < count; ++s) {
     anchor[s] = s;
-    size[s] = seg.sizes[s];
+    size[s] = fitted[s] = seg.sizes[s];
     if (o.refit_groups) members[s].assign(groups.of(s).begin(), groups.of(s).end());
   }
   auto of = [&](uint32_t r) {
@@ -117,21 +120,33 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
       both.insert(both.end(), members[small].begin(), members[small].end());
       members[small] = {};
       members[keep] = std::move(both);
-      plane[keep] =
-          fit_robust_plane(positions, normals, radii, members[keep], o.max_normal_degrees);
+      // Refitted once the group has grown by a tenth since its plane was fitted: pieces a
+      // fraction of its size barely move it, and a facade takes in dozens of them.
+      if (10 * size[keep] >= 11 * fitted[big]) {
+        plane[keep] =
+            fit_robust_plane(positions, normals, radii, members[keep], o.max_normal_degrees);
+        fitted[keep] = size[keep];
+      } else {
+        plane[keep] = plane[big];
+        fitted[keep] = fitted[big];
+      }
     } else {
       plane[keep] = planes[anchor[keep]];
     }
     ++done.joined;
   };
   // Passes over the pairs until none joins: a group that grew may now hold a neighbour as its
-  // relief.
+  // relief. A pair of groups already judged, neither changed since, is not judged again.
+  std::vector<uint32_t> version(count, 0);
+  std::set<std::array<uint32_t, 4>> rejected;
   for (bool joined = true; joined;) {
     joined = false;
     for (const auto& [neg_large, neg_small, a, b] : order) {
       uint32_t big = root(parent, a), small = root(parent, b);
       if (big == small) continue;
       if (!larger(big, small)) std::swap(big, small);
+      const std::array<uint32_t, 4> key{big, version[big], small, version[small]};
+      if (rejected.contains(key)) continue;
       // Within the larger's biweight support, a minority of the union is the larger's relief;
       // two surfaces of like size join at that offset only when each lies within the other's.
       const bool relief = o.relief_scales > o.offset_scales;
@@ -142,9 +157,12 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
       if (!held(plane[big], positions, of(small), o.offset_scales) &&
           !(relief && held(plane[big], positions, of(small), o.relief_scales) &&
             (minority ||
-             (plane[small].planar && held(plane[small], positions, of(big), o.relief_scales)))))
+             (plane[small].planar && held(plane[small], positions, of(big), o.relief_scales))))) {
+        rejected.insert(key);
         continue;
+      }
       join(big, small);
+      ++version[std::min(big, small)];
       joined = true;
     }
   }

@@ -11,7 +11,6 @@
 
 #include "graph/fit_robust_plane.h"
 #include "graph/renumber_surfaces.h"
-#include "graph/surface_borders.h"
 #include "graph/surface_members.h"
 
 namespace splatkit::graph {
@@ -42,7 +41,19 @@ Segmentation settle_plane_borders(const NeighborGraph& graph, std::span<const Ve
   });
   const double cos_crease = std::cos(o.min_crease_degrees * std::numbers::pi / 180);
   std::vector<uint32_t> label = std::move(seg.surface);
-  std::vector<uint32_t> candidates = surface_borders(graph, label).splats;
+  // The first round's candidates: the splats of planar surfaces with a neighbour elsewhere.
+  std::vector<uint8_t> border(n, 0);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    if (!planes[label[i]].planar) return;
+    for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e)
+      if (label[graph.neighbors[e]] != label[i]) {
+        border[i] = 1;
+        return;
+      }
+  });
+  std::vector<uint32_t> candidates;
+  for (std::size_t i = 0; i < n; ++i)
+    if (border[i]) candidates.push_back(uint32_t(i));
   std::vector<uint32_t> target(n, kStay);
   uint64_t moves = 0;
   for (uint32_t round = 0; round < o.rounds && !candidates.empty(); ++round) {
