@@ -18,6 +18,32 @@ namespace {
 
 constexpr uint32_t kStay = 0xFFFFFFFFu;
 
+// Whether splat i lies on surface t's side of the line where own's and t's planes cross, as
+// its neighbours on t do: the side of the crease t's splats are on, along the direction in t's
+// plane across the line (the crease's two faces are half-planes; the splat's neighbours on t lie
+// on t's, beyond the line). False when they lie on the line.
+bool on_side_of(const NeighborGraph& graph, std::span<const Vec3f> positions,
+                const std::vector<uint32_t>& label, uint32_t i, const RobustPlane& own,
+                const RobustPlane& other, uint32_t t) {
+  const Vec3d p = to_vec3d(positions[i]);
+  Vec3d mean;
+  double count = 0;
+  for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
+    const uint32_t j = graph.neighbors[e];
+    if (label[j] == t) mean += to_vec3d(positions[j]) - p, count += 1;
+  }
+  if (count == 0) return false;
+  mean = mean / count;
+  // A point x0 of the line, relative to p: n_a·x = h_a and n_b·x = h_b, d = n_a × n_b.
+  const Vec3d &na = own.normal, &nb = other.normal;
+  const Vec3d d = cross(na, nb);
+  const double ha = dot(na, own.point - p), hb = dot(nb, other.point - p);
+  const Vec3d x0 = cross(nb * ha - na * hb, d) / dot(d, d);
+  const Vec3d across = cross(d, nb);  // in t's plane, perpendicular to the line
+  const double side_p = dot(across, -x0), side_t = dot(across, mean - x0);
+  return side_p * side_t > 0;
+}
+
 }  // namespace
 
 Segmentation settle_plane_borders(const NeighborGraph& graph, std::span<const Vec3f> positions,
@@ -64,16 +90,25 @@ Segmentation settle_plane_borders(const NeighborGraph& graph, std::span<const Ve
       const RobustPlane& own = planes[label[i]];
       if (!own.planar) return;
       const Vec3d p = to_vec3d(positions[i]);
-      double best = own.distance(p);
-      if (best <= o.offset_scales * own.scale) return;
+      const double own_distance = own.distance(p);
+      const bool off_own = own_distance > o.offset_scales * own.scale;
+      double best = own_distance;
       for (uint64_t e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e) {
         const uint32_t t = label[graph.neighbors[e]];
         if (t == label[i] || !planes[t].planar ||
             std::abs(dot(planes[t].normal, own.normal)) > cos_crease)
           continue;
         const double d = planes[t].distance(p);
-        if (d > o.offset_scales * planes[t].scale) continue;
-        if (d < best || (d == best && target[i] != kStay && t < target[i])) best = d, target[i] = t;
+        if (!(d < best || (d == best && target[i] != kStay && t < target[i])) ||
+            d > o.offset_scales * planes[t].scale)
+          continue;
+        // Within its own plane's noise, the splat moves only when it is on t's side of the
+        // crease and nearer t's plane in t's scales too (a face with relief, whose scale is
+        // large, does not give its splats to a narrow ledge on it).
+        if (!off_own && !(o.crease_side && d * own.scale < own_distance * planes[t].scale &&
+                          on_side_of(graph, positions, label, i, own, planes[t], t)))
+          continue;
+        best = d, target[i] = t;
       }
     });
     std::vector<uint32_t> changed;

@@ -32,6 +32,8 @@ struct SettlePlaneBordersOptions {
   double max_normal_degrees = 25;  // median angle of a planar surface's normals from its plane
   double min_crease_degrees = 30;  // planes nearer parallel than this are left alone (a relief
                                    // step, not a crease: distance does not tell them apart)
+  bool crease_side = true;         // also move splats within their own plane's noise that lie
+                                   // on the other face's side of the crease
   uint32_t rounds = 8;             // at most this many rounds
   uint32_t min_size = 50;          // smaller surfaces are not fitted; their splats stay
 };
