@@ -180,10 +180,15 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
         if (!larger(big, small)) std::swap(big, small);
         const RobustPlane &pb = plane[big], &ps = plane[small];
         // The centre test first: it is cheap and rejects nearly every pair.
+        // A minority within the larger's biweight support is its relief here too.
+        const double scales = std::max(o.offset_scales, o.relief_scales);
+        const bool minority = 2 * size[small] <= size[big];
         if (!ps.planar || std::abs(dot(pb.normal, ps.normal)) < cos_disjoint ||
-            pb.distance(ps.point) > 2 * reach(pb, o.offset_scales) ||
-            !held(pb, positions, of(small), o.offset_scales) ||
-            !held(ps, positions, of(big), o.offset_scales))
+            pb.distance(ps.point) > 2 * reach(pb, minority ? scales : o.offset_scales))
+          continue;
+        if (!(held(pb, positions, of(small), o.offset_scales) &&
+              held(ps, positions, of(big), o.offset_scales)) &&
+            !(minority && held(pb, positions, of(small), scales)))
           continue;
         join(big, small);
         ++done.disjoint;
