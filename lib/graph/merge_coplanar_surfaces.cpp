@@ -182,7 +182,7 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
         // The centre test first: it is cheap and rejects nearly every pair.
         // A minority within the larger's biweight support is its relief here too.
         const double scales = std::max(o.offset_scales, o.relief_scales);
-        const bool minority = 2 * size[small] <= size[big];
+        const bool minority = o.relief_scales > o.offset_scales && 2 * size[small] <= size[big];
         if (!ps.planar || std::abs(dot(pb.normal, ps.normal)) < cos_disjoint ||
             pb.distance(ps.point) > 2 * reach(pb, minority ? scales : o.offset_scales))
           continue;
