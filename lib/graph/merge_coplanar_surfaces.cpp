@@ -135,6 +135,19 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
     }
     ++done.joined;
   };
+  // Whether a minority group `small` is the relief of `big`: its splats' median lies within the
+  // biweight's cut of the plane fitted to both together (the plane the joined group gets; the
+  // minority's own offset widens the union's scale a little). Cheaply rejected first when it
+  // lies beyond twice the cut of the larger's plane.
+  auto relief_of = [&](uint32_t big, uint32_t small) {
+    if (!held(plane[big], positions, of(small), 2 * o.relief_scales)) return false;
+    if (!o.refit_groups) return held(plane[big], positions, of(small), o.relief_scales);
+    std::vector<uint32_t> both = members[big];
+    both.insert(both.end(), members[small].begin(), members[small].end());
+    const RobustPlane joint =
+        fit_robust_plane(positions, normals, radii, both, o.max_normal_degrees);
+    return joint.planar && held(joint, positions, of(small), o.relief_scales);
+  };
   // Passes over the pairs until none joins: a group that grew may now hold a neighbour as its
   // relief. A pair of groups already judged, neither changed since, is not judged again.
   std::vector<uint32_t> version(count, 0);
@@ -155,9 +168,10 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
           std::abs(dot(plane[big].normal, plane[small].normal)) < cos_angle)
         continue;
       if (!held(plane[big], positions, of(small), o.offset_scales) &&
-          !(relief && held(plane[big], positions, of(small), o.relief_scales) &&
-            (minority ||
-             (plane[small].planar && held(plane[small], positions, of(big), o.relief_scales))))) {
+          !(relief && (minority ? relief_of(big, small)
+                                : held(plane[big], positions, of(small), o.relief_scales) &&
+                                      plane[small].planar &&
+                                      held(plane[small], positions, of(big), o.relief_scales)))) {
         rejected.insert(key);
         continue;
       }
@@ -188,7 +202,7 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
           continue;
         if (!(held(pb, positions, of(small), o.offset_scales) &&
               held(ps, positions, of(big), o.offset_scales)) &&
-            !(minority && held(pb, positions, of(small), scales)))
+            !(minority && relief_of(big, small)))
           continue;
         join(big, small);
         ++done.disjoint;
