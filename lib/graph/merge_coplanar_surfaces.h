@@ -15,15 +15,16 @@
 //     are within max_angle_degrees (either sign) and the smaller lies on the larger's plane: the
 //     median distance of its splats from it is within offset_scales of the plane's scales, or
 //     one splat diameter (a step lower than the splats are wide is below what the sampling
-//     resolves); or within relief_scales (the cut of the biweight that fitted the plane: the fit
-//     still weighs splats there as its own) when the smaller has at most half the larger's
-//     splats (a bay or a pilaster is the facade's relief) or each lies within the other's
-//     relief_scales (two like halves of one facade; two planes whose offset is beyond either's
-//     relief stay apart). Passes over the pairs repeat until none joins;
+//     resolves); or, when the smaller has at most half the larger's splats (a bay or a pilaster
+//     is the facade's relief), within relief_scales of the plane fitted to both together (the
+//     cut of the biweight that fits it: the fit still weighs splats there as its own); or when
+//     each lies within the other's relief_scales (two like halves of one facade; two planes
+//     whose offset is beyond either's relief stay apart). Passes over the pairs repeat until
+//     none joins;
 //   - with join_disjoint, two planar groups that share no edge join when their planes are within
 //     max_disjoint_degrees and each lies on the other's plane (the two wings of a facade either
 //     side of a recessed middle are one plane), or the smaller, at most half the larger, lies
-//     within the larger's relief_scales.
+//     within relief_scales of the plane fitted to both.
 // Parallel faces at a step higher than that, and faces that meet at a crease, stay apart. Pairs
 // are taken largest first (by the larger surface's size, then the smaller's, then the ids), so
 // the result is deterministic for any thread count; it is renumbered in the order of each
