@@ -8,7 +8,9 @@
 #include "graph/merge_small_surfaces.h"
 #include "graph/refine_surface_borders.h"
 #include "graph/segment_surfaces.h"
+#include "graph/settle_plane_borders.h"
 #include "graph/split_planar_surfaces.h"
+#include "graph/split_small_faces.h"
 #include "graph_io/chunks_to_attributes.h"
 #include "graph_io/graph_chunks.h"
 #include "splatkit/check_splats.h"
@@ -102,6 +104,8 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
   uint32_t segments_before = 0;
   graph::CoplanarMergeInfo coplanar;
   uint32_t split = 0;
+  uint64_t settled = 0;
+  uint32_t faces = 0;
   seg = stage.phase("merge", "merging the fragments", [&] {
     Segmentation merged = graph::merge_small_surfaces(g.graph, std::move(seg), o.merge_below,
                                                       {doc.cloud.positions, doc.cloud.radii});
@@ -110,11 +114,20 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
     so.min_size = o.merge_below;
     merged = graph::split_planar_surfaces(g.graph, doc.cloud.positions, doc.cloud.normals,
                                           doc.cloud.radii, std::move(merged), so, &split);
+    graph::SplitSmallFacesOptions fo;
+    fo.offset_scales = o.coplanar_scales;
+    merged = graph::split_small_faces(g.graph, doc.cloud.positions, doc.cloud.normals,
+                                      doc.cloud.radii, std::move(merged), fo, &faces);
     graph::CoplanarMergeOptions co;
     co.offset_scales = o.coplanar_scales;
     co.min_size = o.merge_below;
     merged = graph::merge_coplanar_surfaces(g.graph, doc.cloud.positions, doc.cloud.normals,
                                             doc.cloud.radii, std::move(merged), co, &coplanar);
+    graph::SettlePlaneBordersOptions sp;
+    sp.offset_scales = o.coplanar_scales;
+    sp.min_size = o.merge_below;
+    merged = graph::settle_plane_borders(g.graph, doc.cloud.positions, doc.cloud.normals,
+                                         doc.cloud.radii, std::move(merged), sp, &settled);
     segments_before = merged.count();
     return graph::drop_small_surfaces(std::move(merged), o.min_size);
   });
@@ -150,10 +163,9 @@ StageSummary run_segment_surfaces(const SegmentSurfacesOptions& o, const Progres
                         {"joined", refined.joined},       {"split", refined.split},
                         {"passes", refined.passes},       {"rounds", refined.rounds},
                         {"moved_splats", refined.moved}};
-    report["coplanar"] = {{"planar", coplanar.planar},
-                          {"joined", coplanar.joined},
-                          {"disjoint", coplanar.disjoint},
-                          {"split", split}};
+    report["coplanar"] = {{"planar", coplanar.planar},     {"joined", coplanar.joined},
+                          {"disjoint", coplanar.disjoint}, {"split", split},
+                          {"small_faces", faces},          {"settled_splats", settled}};
     if (robust) {
       report["normal_noise_degrees"] = chosen.normal_noise_degrees;
       report["sharp_edges_within_surfaces"] = chosen.sharp_edges_within;

@@ -3,8 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -85,49 +87,124 @@ Segmentation merge_coplanar_surfaces(const NeighborGraph& graph, std::span<const
   std::sort(order.begin(), order.end());
   const double cos_angle = std::cos(o.max_angle_degrees * std::numbers::pi / 180);
   const double cos_disjoint = std::cos(o.max_disjoint_degrees * std::numbers::pi / 180);
-  std::vector<uint32_t> parent(count), anchor(count);
-  for (uint32_t s = 0; s < count; ++s) parent[s] = anchor[s] = s;
-  auto larger = [&](uint32_t a, uint32_t b) {
-    return seg.sizes[a] != seg.sizes[b] ? seg.sizes[a] > seg.sizes[b] : a < b;
+  std::vector<uint32_t> parent(count);
+  for (uint32_t s = 0; s < count; ++s) parent[s] = s;
+  // Each group (by its root) with its splats, its size and the plane it is judged by: its
+  // anchor's (the largest surface's), or with refit_groups the robust plane of all its splats.
+  std::vector<std::vector<uint32_t>> members(count);
+  std::vector<uint64_t> size(count);
+  std::vector<uint32_t> anchor(count);
+  std::vector<RobustPlane> plane = planes;
+  std::vector<uint64_t> fitted(count);  // the group's size when its plane was fitted
+  for (uint32_t s = 0; s < count; ++s) {
+    anchor[s] = s;
+    size[s] = fitted[s] = seg.sizes[s];
+    if (o.refit_groups) members[s].assign(groups.of(s).begin(), groups.of(s).end());
+  }
+  auto of = [&](uint32_t r) {
+    return o.refit_groups ? std::span<const uint32_t>(members[r]) : groups.of(anchor[r]);
   };
-  auto join = [&](uint32_t ra, uint32_t rb, uint32_t big) {
-    const uint32_t keep = std::min(ra, rb), gone = std::max(ra, rb);
+  // Larger group first; ties: the lower root.
+  auto larger = [&](uint32_t ra, uint32_t rb) {
+    return size[ra] != size[rb] ? size[ra] > size[rb] : ra < rb;
+  };
+  auto join = [&](uint32_t big, uint32_t small) {
+    const uint32_t keep = std::min(big, small), gone = std::max(big, small);
     parent[gone] = keep;
-    anchor[keep] = big;
+    anchor[keep] = anchor[big];
+    size[keep] = size[big] + size[small];
+    if (o.refit_groups) {
+      // The larger group's splats first, then the smaller's: the order (hence the fit's
+      // sample) depends only on the joins made.
+      std::vector<uint32_t> both = std::move(members[big]);
+      both.insert(both.end(), members[small].begin(), members[small].end());
+      members[small] = {};
+      members[keep] = std::move(both);
+      // Refitted once the group has grown by a tenth since its plane was fitted: pieces a
+      // fraction of its size barely move it, and a facade takes in dozens of them.
+      if (10 * size[keep] >= 11 * fitted[big]) {
+        plane[keep] =
+            fit_robust_plane(positions, normals, radii, members[keep], o.max_normal_degrees);
+        fitted[keep] = size[keep];
+      } else {
+        plane[keep] = plane[big];
+        fitted[keep] = fitted[big];
+      }
+    } else {
+      plane[keep] = planes[anchor[keep]];
+    }
     ++done.joined;
   };
-  for (const auto& [neg_large, neg_small, a, b] : order) {
-    const uint32_t ra = root(parent, a), rb = root(parent, b);
-    if (ra == rb) continue;
-    uint32_t big = anchor[ra], small = anchor[rb];
-    if (!larger(big, small)) std::swap(big, small);
-    if (!planes[big].planar || !planes[small].fitted ||
-        std::abs(dot(planes[big].normal, planes[small].normal)) < cos_angle ||
-        !held(planes[big], positions, groups.of(small), o.offset_scales))
-      continue;
-    join(ra, rb, big);
+  // Whether a minority group `small` is the relief of `big`: its splats' median lies within the
+  // biweight's cut of the plane fitted to both together (the plane the joined group gets; the
+  // minority's own offset widens the union's scale a little). Cheaply rejected first when it
+  // lies beyond twice the cut of the larger's plane.
+  auto relief_of = [&](uint32_t big, uint32_t small) {
+    if (!held(plane[big], positions, of(small), 2 * o.relief_scales)) return false;
+    if (!o.refit_groups) return held(plane[big], positions, of(small), o.relief_scales);
+    std::vector<uint32_t> both = members[big];
+    both.insert(both.end(), members[small].begin(), members[small].end());
+    const RobustPlane joint =
+        fit_robust_plane(positions, normals, radii, both, o.max_normal_degrees);
+    return joint.planar && held(joint, positions, of(small), o.relief_scales);
+  };
+  // Passes over the pairs until none joins: a group that grew may now hold a neighbour as its
+  // relief. A pair of groups already judged, neither changed since, is not judged again.
+  std::vector<uint32_t> version(count, 0);
+  std::set<std::array<uint32_t, 4>> rejected;
+  for (bool joined = true; joined;) {
+    joined = false;
+    for (const auto& [neg_large, neg_small, a, b] : order) {
+      uint32_t big = root(parent, a), small = root(parent, b);
+      if (big == small) continue;
+      if (!larger(big, small)) std::swap(big, small);
+      const std::array<uint32_t, 4> key{big, version[big], small, version[small]};
+      if (rejected.contains(key)) continue;
+      // Within the larger's biweight support, a minority of the union is the larger's relief;
+      // two surfaces of like size join at that offset only when each lies within the other's.
+      const bool relief = o.relief_scales > o.offset_scales;
+      const bool minority = 2 * size[small] <= size[big];
+      if (!plane[big].planar || !plane[small].fitted ||
+          std::abs(dot(plane[big].normal, plane[small].normal)) < cos_angle)
+        continue;
+      if (!held(plane[big], positions, of(small), o.offset_scales) &&
+          !(relief && (minority ? relief_of(big, small)
+                                : held(plane[big], positions, of(small), o.relief_scales) &&
+                                      plane[small].planar &&
+                                      held(plane[small], positions, of(big), o.relief_scales)))) {
+        rejected.insert(key);
+        continue;
+      }
+      join(big, small);
+      ++version[std::min(big, small)];
+      joined = true;
+    }
   }
   if (o.join_disjoint) {
     // Groups that share no edge but lie on one plane (the wings of a facade either side of a
-    // recessed middle): anchors largest first, each held by the other's plane.
-    std::vector<uint32_t> anchors;
+    // recessed middle): largest first, each held by the other's plane.
+    std::vector<uint32_t> roots;
     for (uint32_t s = 0; s < count; ++s)
-      if (root(parent, s) == s && planes[anchor[s]].planar) anchors.push_back(s);
-    std::sort(anchors.begin(), anchors.end(),
-              [&](uint32_t a, uint32_t b) { return larger(anchor[a], anchor[b]); });
-    for (std::size_t x = 0; x < anchors.size(); ++x)
-      for (std::size_t y = x + 1; y < anchors.size(); ++y) {
-        const uint32_t rx = root(parent, anchors[x]), ry = root(parent, anchors[y]);
-        if (rx == ry) continue;
-        const uint32_t big = anchor[rx], small = anchor[ry];
-        const RobustPlane &pb = planes[big], &ps = planes[small];
+      if (root(parent, s) == s && plane[s].planar) roots.push_back(s);
+    std::sort(roots.begin(), roots.end(), larger);
+    for (std::size_t x = 0; x < roots.size(); ++x)
+      for (std::size_t y = x + 1; y < roots.size(); ++y) {
+        uint32_t big = root(parent, roots[x]), small = root(parent, roots[y]);
+        if (big == small) continue;
+        if (!larger(big, small)) std::swap(big, small);
+        const RobustPlane &pb = plane[big], &ps = plane[small];
         // The centre test first: it is cheap and rejects nearly every pair.
-        if (std::abs(dot(pb.normal, ps.normal)) < cos_disjoint ||
-            pb.distance(ps.point) > 2 * reach(pb, o.offset_scales) ||
-            !held(pb, positions, groups.of(small), o.offset_scales) ||
-            !held(ps, positions, groups.of(big), o.offset_scales))
+        // A minority within the larger's biweight support is its relief here too.
+        const double scales = std::max(o.offset_scales, o.relief_scales);
+        const bool minority = o.relief_scales > o.offset_scales && 2 * size[small] <= size[big];
+        if (!ps.planar || std::abs(dot(pb.normal, ps.normal)) < cos_disjoint ||
+            pb.distance(ps.point) > 2 * reach(pb, minority ? scales : o.offset_scales))
           continue;
-        join(rx, ry, big);
+        if (!(held(pb, positions, of(small), o.offset_scales) &&
+              held(ps, positions, of(big), o.offset_scales)) &&
+            !(minority && relief_of(big, small)))
+          continue;
+        join(big, small);
         ++done.disjoint;
       }
   }

@@ -1,6 +1,7 @@
 // merge_coplanar_surfaces: pieces of one noisy plane join, across an edge and across a gap; the
 // treads of a step (parallel, half a metre apart) and the riser between them stay apart; a
-// fillet rising from a plane stays apart; scales 0 changes nothing.
+// fillet rising from a plane stays apart; scales 0 changes nothing; a bay standing out of a wall
+// with relief joins it within the biweight's support, a wall as large at that offset does not.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,17 +24,18 @@ struct Cloud {
   DeterministicRng rng{11};
   // A grid on a plane: origin + a·u + b·v for a < na, b < nb steps of kSpacing, noise 0.003
   // along the normal u × v, normals tilted by noise of about 3 degrees.
-  void grid(Vec3f origin, Vec3f u, Vec3f v, int na, int nb, uint32_t id) {
+  void grid(Vec3f origin, Vec3f u, Vec3f v, int na, int nb, uint32_t id, double noise = 0.003,
+            float radius = kRadius) {
     const Vec3f n = cross(u, v);
     for (int a = 0; a < na; ++a)
       for (int b = 0; b < nb; ++b) {
-        const float e = float(0.003 * rng.normal());
+        const float e = float(noise * rng.normal());
         positions.push_back(origin + u * (kSpacing * float(a)) + v * (kSpacing * float(b)) + n * e);
         const Vec3f t{float(0.05 * rng.normal()), float(0.05 * rng.normal()),
                       float(0.05 * rng.normal())};
         const Vec3f m = n + t - n * dot(n, t);
         normals.push_back(m / std::sqrt(dot(m, m)));
-        radii.push_back(kRadius);
+        radii.push_back(radius);
         label.push_back(id);
       }
   }
@@ -112,6 +114,41 @@ TEST(GraphMergeCoplanarSurfaces, AFilletStaysApart) {
       merge_coplanar_surfaces(g, c.positions, c.normals, c.radii, c.segmentation(2), {}, &info);
   EXPECT_EQ(info.joined, 0u);
   EXPECT_EQ(out.surface, c.label);
+}
+
+// A wall z = 0 with relief (noise 0.1: robust scale about 0.1) and, beside it, a piece 0.4 m in
+// front of it (4 of the wall's scales: beyond 3, within the biweight's 4.685), flat within
+// 0.003; splats of radius 0.15 (a diameter under the step), which share edges across it.
+Cloud wall_and_piece(int piece_rows) {
+  Cloud c;
+  c.grid({0, 0, 0}, kX, kY, 40, 30, 0, 0.1, 0.15f);
+  c.grid({2.0f, 0, 0.4f}, kX, kY, piece_rows, 30, 1, 0.003, 0.15f);
+  return c;
+}
+
+TEST(GraphMergeCoplanarSurfaces, ABayJoinsAWallWithReliefAWallAsLargeDoesNot) {
+  const Cloud bay = wall_and_piece(10);  // a quarter of the wall's size
+  const NeighborGraph g = bay.graph();
+  CoplanarMergeInfo info;
+  EXPECT_EQ(merge_coplanar_surfaces(g, bay.positions, bay.normals, bay.radii, bay.segmentation(2),
+                                    {}, &info)
+                .count(),
+            1u);
+  EXPECT_EQ(info.joined, 1u);
+  CoplanarMergeOptions no_relief;
+  no_relief.relief_scales = 0;
+  EXPECT_EQ(merge_coplanar_surfaces(g, bay.positions, bay.normals, bay.radii, bay.segmentation(2),
+                                    no_relief)
+                .surface,
+            bay.label);
+
+  // As large as the wall: two planes, since the wall is not within the piece's own support.
+  const Cloud two = wall_and_piece(40);
+  const NeighborGraph g2 = two.graph();
+  EXPECT_EQ(
+      merge_coplanar_surfaces(g2, two.positions, two.normals, two.radii, two.segmentation(2), {})
+          .surface,
+      two.label);
 }
 
 }  // namespace

@@ -20,8 +20,9 @@ int main(int argc, char** argv) {
       "one it lies outside of, across a concave one the one it lies inside of) and whose "
       "normal is within 120 degrees of its own; a surface no primitive explains (free-form) "
       "keeps its border. Fragments left over join the neighbour they share the most graph "
-      "edges with. Then planar surfaces are split off and joined by their fitted planes "
-      "(--coplanar-scales). Ids are numbered in the order of each surface's lowest splat index and "
+      "edges with. Then planar surfaces are split off and joined, and their borders settled, "
+      "by their fitted planes (--coplanar-scales). Ids are numbered in the order of each surface's "
+      "lowest splat index and "
       "do "
       "not depend on the thread count. OUT .splk ('-' = stdout) adds the SURF chunk; OUT .ply "
       "writes a binary PLY with the extra vertex properties surface_id (uint32) and class "
@@ -62,12 +63,20 @@ int main(int argc, char** argv) {
                  "plane within 25 degrees): a planar surface of at least --merge-below splats "
                  "gives up the connected pieces of it that are off its plane (beyond S robust "
                  "residual scales, normals over 30 degrees from its normal) and planar on a "
-                 "plane of their own (a roof face joined over a blended valley); then two "
-                 "surfaces join when the larger is planar, their planes are within 30 degrees "
-                 "and the smaller's splats lie on the larger's plane (median distance within S "
-                 "scales, its noise and relief, or one splat diameter) — and, with planes "
-                 "within 10 degrees, also when they share no edge (the wings of a facade). "
-                 "Faces at a step or a crease stay apart (0: none of this)")
+                 "plane of their own (a roof face joined over a blended valley), and so do "
+                 "faces of 20 splats or more, flat within their noise and two splats wide (a "
+                 "ledge); then two surfaces join when the larger is planar, their planes are "
+                 "within 30 degrees and the smaller's splats lie on the larger's plane (median "
+                 "distance within S scales, its noise and relief, or one splat diameter; within "
+                 "4.685 scales of the plane fitted to both, the fit's own cut-off, when the "
+                 "smaller is under half the larger's size: a bay of a facade) — and, with planes "
+                 "within 10 degrees, also "
+                 "when they share no edge (the wings of a facade); a group is judged by the "
+                 "plane of all its splats. Last, a splat on the border of two planar surfaces "
+                 "whose planes are over 30 degrees apart goes to the one whose plane it lies "
+                 "nearer when that plane holds it (within S scales) and it is off its own plane "
+                 "or on the other's side of the crease. Faces at a step or a crease stay apart "
+                 "(0: none of this)")
       ->default_val(3.0)
       ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--report,--stats", o.paths.report,
