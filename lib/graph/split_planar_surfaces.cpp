@@ -12,6 +12,7 @@
 
 #include "graph/fit_robust_plane.h"
 #include "graph/lowest_root_union_find.h"
+#include "graph/off_plane_pieces.h"
 #include "graph/plane_residual_scale.h"
 #include "graph/renumber_surfaces.h"
 #include "graph/surface_members.h"
@@ -115,41 +116,12 @@ Segmentation split_planar_surfaces(const NeighborGraph& graph, std::span<const V
   if (split) *split = 0;
   if (!(o.offset_scales > 0)) return seg;
   const uint32_t min_size = std::max<uint32_t>(o.min_size, 3);
-  const SurfaceMembers groups = surface_members(seg.surface, count);
-  std::vector<RobustPlane> planes(count);
-  tbb::parallel_for(uint32_t{0}, count, [&](uint32_t s) {
-    if (groups.of(s).size() >= 2 * min_size)  // room for a piece and the rest
-      planes[s] = fit_robust_plane(positions, normals, radii, groups.of(s), o.max_normal_degrees);
-  });
+  OffPlanePieces off = off_plane_pieces(graph, positions, normals, radii, seg, o.offset_scales,
+                                        o.max_normal_degrees, o.max_splat_degrees, min_size);
+  const SurfaceMembers& groups = off.groups;
+  const std::vector<RobustPlane>& planes = off.planes;
+  std::vector<std::vector<uint32_t>>& pieces = off.pieces;
   const double cos_splat = std::cos(o.max_splat_degrees * std::numbers::pi / 180);
-  std::vector<uint8_t> off(n, 0);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    const RobustPlane& p = planes[seg.surface[i]];
-    if (!p.planar || p.distance(to_vec3d(positions[i])) <= o.offset_scales * p.scale) return;
-    const Vec3d ni = to_vec3d(normals[i]);
-    off[i] = !finite(normals[i]) || std::abs(dot(p.normal, ni)) < cos_splat * norm(ni);
-  });
-  std::vector<uint32_t> parent(n);
-  for (std::size_t i = 0; i < n; ++i) parent[i] = uint32_t(i);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!off[i]) continue;
-    for (uint64_t k = graph.offsets[i]; k < graph.offsets[i + 1]; ++k) {
-      const uint32_t j = graph.neighbors[k];
-      if (j > i && off[j] && seg.surface[j] == seg.surface[i]) unite(parent, uint32_t(i), j);
-    }
-  }
-  // Pieces by their root (the lowest splat): members in ascending order.
-  std::vector<uint32_t> root(n), size(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (off[i]) ++size[root[i] = find_root(parent, uint32_t(i))];
-  std::vector<std::vector<uint32_t>> pieces;
-  std::vector<uint32_t> slot(n, 0xFFFFFFFFu);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!off[i] || size[root[i]] < min_size) continue;
-    if (slot[root[i]] == 0xFFFFFFFFu)
-      slot[root[i]] = uint32_t(pieces.size()), pieces.emplace_back();
-    pieces[slot[root[i]]].push_back(uint32_t(i));
-  }
   // A surface that is not planar is a piece of itself (a wall and the ledge on it that the
   // segmentation joined).
   const std::size_t off_pieces = pieces.size();
