@@ -38,6 +38,16 @@ double distance(const Vec3f& a, const Vec3f& b) {
   return distance(a, b3);
 }
 
+// r · (grown + kLeafGroupBareWeight · bare) of the decoded leaf `d` of a splat (c, r, n).
+double disc_cost(const Sphere& d, const double c[3], double r, const Vec3f& n) {
+  const double v[3] = {d.centre.x - c[0], d.centre.y - c[1], d.centre.z - c[2]};
+  const double across = std::fabs(v[0] * n.x + v[1] * n.y + v[2] * n.z);
+  const double along =
+      std::sqrt(std::max(0.0, v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - across * across));
+  return r * (std::max(0.0, d.radius + along - r) +
+              kLeafGroupBareWeight * std::max(0.0, r + along + kDiscSlope * across - d.radius));
+}
+
 // The cost of one leaf (true sphere c, r, decoded normal n) under the decoded sphere (pc, pr), as
 // the first pass of SphereEncoder::nearest_disc places it (for the two cell sizes around
 // 13·r/pr, the cell nearest c on every axis; of those inside the parent, the one of least
@@ -91,15 +101,25 @@ double group_cost(const Sphere& p, const Sphere* leaves, const uint16_t* normal_
       const double c[3] = {s.centre.x, s.centre.y, s.centre.z};
       Sphere d;
       SphereEncoder(p).nearest_disc(c, s.radius, n, &d);
-      const double v[3] = {d.centre.x - c[0], d.centre.y - c[1], d.centre.z - c[2]};
-      const double across = std::fabs(v[0] * n.x + v[1] * n.y + v[2] * n.z);
-      const double along =
-          std::sqrt(std::max(0.0, v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - across * across));
-      e = double{s.radius} *
-          (std::max(0.0, d.radius + along - s.radius) +
-           kLeafGroupBareWeight * std::max(0.0, s.radius + along + kDiscSlope * across - d.radius));
+      e = disc_cost(d, c, s.radius, n);
     }
     cost += e;
+  }
+  return cost;
+}
+
+// The cost of the leaves as SphereEncoder::nearest_disc really places them under `p`.
+double placed_cost(const Sphere& p, const Sphere* leaves, const uint16_t* normal_codes,
+                   int count) {
+  const SphereEncoder encode(p);
+  double cost = 0;
+  for (int k = 0; k < count; ++k) {
+    const Sphere& s = leaves[k];
+    const Vec3f& n = decode_normal(normal_codes[k]);
+    const double c[3] = {s.centre.x, s.centre.y, s.centre.z};
+    Sphere d;
+    encode.nearest_disc(c, s.radius, n, &d);
+    cost += disc_cost(d, c, s.radius, n);
   }
   return cost;
 }
@@ -161,6 +181,13 @@ int choose_leaf_group_cell(const Sphere& grandparent, const Sphere& tight, int c
             best_sphere = d;
           }
         }
+  }
+  // The search follows a model of nearest_disc's first pass; the cell it found is kept only when
+  // the leaves nearest_disc really places in it cost no more than in the containing cell.
+  if (best != containing_code && placed_cost(best_sphere, leaves, normal_codes, count) >
+                                     placed_cost(containing, leaves, normal_codes, count)) {
+    best = containing_code;
+    best_sphere = containing;
   }
   if (decoded) *decoded = best_sphere;
   return best;
