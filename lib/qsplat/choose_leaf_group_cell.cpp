@@ -109,8 +109,7 @@ double group_cost(const Sphere& p, const Sphere* leaves, const uint16_t* normal_
 }
 
 // The cost of the leaves as SphereEncoder::nearest_disc really places them under `p`.
-double placed_cost(const Sphere& p, const Sphere* leaves, const uint16_t* normal_codes,
-                   int count) {
+double placed_cost(const Sphere& p, const Sphere* leaves, const uint16_t* normal_codes, int count) {
   const SphereEncoder encode(p);
   double cost = 0;
   for (int k = 0; k < count; ++k) {
