@@ -38,8 +38,13 @@ void split_at(RankedPoint* pts, uint32_t b, uint32_t e, uint32_t m, const Box& b
 // child is much smaller than its siblings (a lone leaf under a large node would get a decoded
 // sphere of at least 1/13 of that node's). Returns the number of children. Complete subtrees of
 // 4^k leaves keep nodes at 4 children nearly everywhere, hence near 4/3 nodes per leaf.
-int child_sizes(uint32_t n, uint32_t sizes[4]) {
+int child_sizes(uint32_t n, uint32_t sizes[4], bool pairs = false) {
   if (n <= 1) return 0;
+  if (pairs && n >= 3 && n <= 4) {
+    sizes[0] = 2;
+    sizes[1] = n - 2;
+    return 2;
+  }
   if (n <= 4) {
     for (uint32_t i = 0; i < n; ++i) sizes[i] = 1;
     return static_cast<int>(n);
@@ -57,15 +62,15 @@ int child_sizes(uint32_t n, uint32_t sizes[4]) {
   return children;
 }
 
-// Orders the leaves of node [b, e) (more than 4 of them) so that its children (child_sizes) are
-// consecutive ranges: a cut along the longest axis of the leaves' bounding box, then a cut of
-// each half along the longest axis of its part of that box.
-void cut_node(RankedPoint* pts, uint32_t b, uint32_t e) {
+// Orders the leaves of node [b, e) (more than 4 of them, or 3–4 split in `pairs`) so that its
+// children (child_sizes) are consecutive ranges: a cut along the longest axis of the leaves'
+// bounding box, then a cut of each half along the longest axis of its part of that box.
+void cut_node(RankedPoint* pts, uint32_t b, uint32_t e, bool pairs) {
   Box box;
   point_bounds(pts + b, pts + e, box.lo, box.hi);
   Box boxes[4];
   uint32_t sizes[4] = {0, 0, 0, 0};
-  const int children = child_sizes(e - b, sizes);
+  const int children = child_sizes(e - b, sizes, pairs);
   if (children == 2) {
     split_at(pts, b, e, b + sizes[0], box, boxes[0], boxes[1]);
     return;
@@ -95,11 +100,43 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
   assert(n >= 2);
   SlotArray<RankedPoint> pts;  // uninitialised: filled below, its pages faulted in parallel
   pts.allocate(n);
-  for_each_chunk(n, std::size_t{1} << 16, [&](std::size_t, std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i)
+  // With the leaves' box and largest radius, per chunk, combined in order.
+  constexpr std::size_t kFillChunk = std::size_t{1} << 16;
+  std::vector<Box> chunk_box(chunk_count(n, kFillChunk));
+  std::vector<float> chunk_largest(chunk_box.size(), 0);
+  for_each_chunk(n, kFillChunk, [&](std::size_t c, std::size_t b, std::size_t e) {
+    Box box{leaves.positions[b], leaves.positions[b]};
+    float largest = 0;
+    for (std::size_t i = b; i < e; ++i) {
       pts[i] = RankedPoint::make(leaves.positions[i], static_cast<uint32_t>(i));
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = std::min(box.lo[k], leaves.positions[i][k]);
+        box.hi[k] = std::max(box.hi[k], leaves.positions[i][k]);
+      }
+      largest = std::max(largest, leaves.radii[i]);
+    }
+    chunk_box[c] = box;
+    chunk_largest[c] = largest;
   });
+  Box all = chunk_box[0];
+  float largest = 0;
+  for (std::size_t c = 0; c < chunk_box.size(); ++c) {
+    for (int k = 0; k < 3; ++k) {
+      all.lo[k] = std::min(all.lo[k], chunk_box[c].lo[k]);
+      all.hi[k] = std::max(all.hi[k], chunk_box[c].hi[k]);
+    }
+    largest = std::max(largest, chunk_largest[c]);
+  }
+  const float pair_above = static_cast<float>(kPairLeavesAbove * 0.5 * norm(all.hi - all.lo));
   std::vector<uint32_t> rb{0}, size{n};  // each node's first leaf (in pts) and leaf count
+  // Whether node i (3 or 4 leaves, ordered by its parent's cut) splits into pairs.
+  const bool any_large = largest > pair_above;
+  auto pairs = [&](uint32_t i) {
+    if (!any_large || size[i] < 3 || size[i] > 4) return false;
+    for (uint32_t k = rb[i]; k < rb[i] + size[i]; ++k)
+      if (leaves.radii[pts[k].index()] > pair_above) return true;
+    return false;
+  };
   t.level_begin = {0, 1};
   t.first_child = {0};
   t.child_count = {0};
@@ -120,7 +157,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
       uint32_t children = 0;
       for (std::size_t i = lb + b; i < lb + e; ++i) {
         uint32_t sizes[4];
-        const int k = child_sizes(size[i], sizes);
+        const int k = child_sizes(size[i], sizes, pairs(static_cast<uint32_t>(i)));
         t.child_count[i] = static_cast<uint8_t>(k);
         children += static_cast<uint32_t>(k);
       }
@@ -136,7 +173,7 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
       uint32_t j = chunk_first[c];  // the next child's node
       for (std::size_t i = lb + b; i < lb + e; ++i) {
         uint32_t sizes[4];
-        const int k = child_sizes(size[i], sizes);
+        const int k = child_sizes(size[i], sizes, pairs(static_cast<uint32_t>(i)));
         t.first_child[i] = k > 0 ? j : 0;
         uint32_t at = rb[i];
         for (int q = 0; q < k; ++q, ++j) {
@@ -149,8 +186,9 @@ QSplatTree build_qsplat_tree(const QSplatLeaves& leaves, bool centroid_rule, boo
     tbb::parallel_for(tbb::blocked_range<uint32_t>(lb, le, 1), [&](const auto& r) {
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
         const uint32_t b = rb[i], e = rb[i] + size[i];
-        if (e - b > 4)
-          cut_node(pts.get(), b, e);
+        const bool split_pairs = e - b > 2 && e - b <= 4 && t.child_count[i] == 2;
+        if (e - b > 4 || split_pairs)
+          cut_node(pts.get(), b, e, split_pairs);
         else  // a node over its leaves: they follow in input order
           sort_short(pts.get() + b, pts.get() + e,
                      [](const RankedPoint& p) { return uint64_t{p.index()}; });

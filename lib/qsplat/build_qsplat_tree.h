@@ -6,7 +6,9 @@
 // children, each but the last two a complete subtree of C = 4^k leaves and the last two no
 // smaller than C/2 (the original also cuts at ranks, choosing among them by volume; these ranks
 // keep nodes at 4 children nearly everywhere, about 4/3 nodes per leaf, and no leaf alone under a
-// large node). A range of 2–4 leaves becomes one node over those leaves, in input order. Interior
+// large node). A range of 2–4 leaves becomes one node over those leaves, in input order, unless
+// it holds 3–4 leaves and one of them is large (kPairLeavesAbove): then it is cut along its
+// longest axis into a node of 2 leaves and the rest (a leaf, or a node of 2). Interior
 // node: sphere around the child spheres (enclose_spheres.h; tight by default), normal = normalised
 // sum of the children's normals, cone = the largest angle between its decoded normal and any
 // decoded normal below it (so back-face culling with the decoded values is conservative), colour =
@@ -23,6 +25,13 @@
 namespace splatkit::qsplat {
 
 inline constexpr uint32_t kNoLeaf = 0xFFFFFFFFu;
+
+// A node of 3 or 4 leaves one of which has a radius above this fraction of half the diagonal of
+// the leaves' bounding box is split in two: a node of 2 leaves and one of the rest (a leaf or
+// 2 leaves). A leaf's cell grid is 2/13 of its parent's radius; a pair's sphere is a third
+// smaller than a group of four's, so large leaves, whose quantisation error shows in views of the
+// whole model, get a finer grid, for one node more (formats/qsplat.md, "The tree splatkit builds").
+inline constexpr double kPairLeavesAbove = 0.01;
 
 struct QSplatTree {
   // Level l (0 = the root) holds nodes [level_begin[l], level_begin[l + 1]); #levels + 1 entries.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "qsplat/choose_leaf_group_cell.h"
 #include "splatkit/error.h"
 #include "splatkit/for_each_chunk.h"
 #include "splatkit/sized_in_parallel.h"
@@ -144,6 +145,8 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
   // order: the same mean for any thread count.
   constexpr std::size_t kParents = 512;
   t.spheres[0] = root;
+  // Nodes over leaves larger than this get their cell chosen for their leaves' sake.
+  const double search_above = kLeafGroupSearchAbove * root.radius;
   double growth_sum = 0;
   for (std::size_t l = 0; l + 1 < t.levels(); ++l) {
     const uint32_t lb = t.level_begin[l], le = t.level_begin[l + 1];
@@ -172,6 +175,11 @@ EncodedQSplat encode_qsplat(QSplatTree& t, const std::string& comments) {
           if (t.child_count[j]) {
             const double margin = grand[j] ? kInteriorMargin : kLeafParentMargin;
             code = encode(centre, s.radius * (1 + margin), SphereSearch::kNearestFirst, &decoded);
+            if (!grand[j] && code >= 0 && s.radius > search_above) {
+              const uint32_t f0 = t.first_child[j];
+              code = choose_leaf_group_cell(parent, s, code, decoded, &t.spheres[f0],
+                                            &t.normal_codes[f0], t.child_count[j], &decoded);
+            }
           } else {  // a leaf: drawn as a disc
             code =
                 encode.nearest_disc(centre, s.radius, decode_normal(t.normal_codes[j]), &decoded);

@@ -4,7 +4,9 @@
 // Every child sphere is quantised against its parent's decoded sphere, and lies inside it: an
 // interior node's with the conservative encode_sphere (qsplat_codes.h), whose decoded sphere
 // contains the node's true sphere grown by kInteriorMargin (kLeafParentMargin over leaves), hence
-// every splat below it; a leaf's with SphereEncoder::nearest_disc, the cell whose disc best
+// every splat below it (except a node over large leaves, kLeafGroupSearchAbove, whose cell is
+// chosen for its leaves by choose_leaf_group_cell and contains its decoded leaves but not
+// necessarily their splats); a leaf's with SphereEncoder::nearest_disc, the cell whose disc best
 // matches the splat's (not conservative: a leaf is drawn as its disc, and a sphere grown to
 // contain the splat rings every silhouette). Deterministic for any thread count (groups are
 // placed by a prefix sum, then filled in parallel).
@@ -34,6 +36,13 @@ inline constexpr double kInteriorMargin = 0.25;
 // their disc inside the decoded parent (SphereEncoder::nearest_disc) and need no room around
 // them; a tighter parent is a finer grid for its leaves.
 inline constexpr double kLeafParentMargin = 0.0;
+// A node whose children are all leaves and whose true radius exceeds this fraction of the root's
+// (header) radius takes the cell choose_leaf_group_cell finds for its leaves instead (some
+// hundred placements of its leaves tried): there a leaf grid step (2/13 of the node's radius) is
+// half a pixel or more in a 720-pixel-high view of the whole model, and the search is paid only
+// where leaves are large against the model (none in a dense 4M-splat torus; a third of the groups
+// of the 100k-point building scan of docs/design/qsplat.md).
+inline constexpr double kLeafGroupSearchAbove = 0.01;
 
 // `comments`: text of the comment fragment (none when empty). Throws Error(kUnsupported) when the
 // tree fragment would exceed 2^31 − 1 bytes (the format's int32 length; several fragments are
