@@ -53,6 +53,7 @@ void OcclusionStats::add(const OcclusionStats& o) {
   query_s += o.query_s;
   depth_s += o.depth_s;
   splats_culled += o.splats_culled;
+  first_set += o.first_set;
   splat_test_s += o.splat_test_s;
 }
 
@@ -275,7 +276,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     if (!retest_due(leaf) || query_node(leaf)) still_visible.push_back(leaf);
   // The last batch: no query will read the pyramid again, so the leaves need no depth pass (only
   // their splats' bounds, for the splat test).
-  draw_leaves(pending, !(invisible.empty() && frontier_empty_));
+  draw_leaves(pending, depth_pass_ && !(invisible.empty() && frontier_empty_));
   for (uint32_t leaf : still_visible) mark_visible(leaf);
   pending.clear();
 
@@ -361,7 +362,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     i = end;
   }
   invisible.clear();
-  draw_leaves(newly, true);
+  draw_leaves(newly, depth_pass_);
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
 
@@ -436,8 +437,11 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
 }
 
 void OcclusionCuller::collect(bool test_splats) {
-  const std::size_t n = scene_.size();
-  mask_.assign((n + 63) / 64, 0);
+  const std::size_t n = scene_.size(), words = (n + 63) / 64;
+  mask_.assign(words, 0);
+  const bool two_sets = !first_.empty();
+  const bool coherent = mode_ == OcclusionMode::kChcPlusPlus;
+  if (coherent) next_mask_.assign(words, 0);
   if (test_splats) {
     const auto t0 = Clock::now();
     keep_.resize(bounds_.size());
@@ -445,8 +449,15 @@ void OcclusionCuller::collect(bool test_splats) {
       const uint32_t leaf = drawn_leaves_[k];
       const SplatBounds* b = bounds_.data() + bounds_at_[leaf];
       uint8_t* keep = keep_.data() + bounds_at_[leaf];
+      const uint32_t* order = bvh_.order.data() + bvh_.nodes[leaf].left;
       for (uint32_t e = 0, size = bvh_.nodes[leaf].size(); e < size; ++e) {
-        // Not drawn by the renderer (its setup is the same arithmetic), or hidden.
+        // Already drawn, else not drawn by the renderer (its setup is the same arithmetic), or
+        // hidden.
+        const uint32_t i = order[e];
+        if (two_sets && (first_mask_[i >> 6] >> (i & 63) & 1)) {
+          keep[e] = 1;
+          continue;
+        }
         Query q;
         q.in_frustum = b[e].drawn();
         q.rect = {b[e].x0, b[e].y0, b[e].x1, b[e].y1};
@@ -460,31 +471,49 @@ void OcclusionCuller::collect(bool test_splats) {
   for (uint32_t leaf : drawn_leaves_) {
     const ChunkBvhNode& x = bvh_.nodes[leaf];
     const uint8_t* keep = test_splats ? keep_.data() + bounds_at_[leaf] : nullptr;
+    const bool next = coherent && visible_frame_[leaf] == frame_;
     for (uint32_t k = x.left; k < x.right; ++k) {
       if (keep && !keep[k - x.left]) continue;
       const uint32_t i = bvh_.order[k];
       mask_[i >> 6] |= uint64_t{1} << (i & 63);
+      if (next) next_mask_[i >> 6] |= uint64_t{1} << (i & 63);
       ++splats;
     }
     if (test_splats) stats_->splats_culled += x.size();
   }
   if (test_splats) stats_->splats_culled -= splats;
   stats_->leaves_drawn += drawn_leaves_.size();
+  // The first set's splats outside the drawn leaves (off screen now) were drawn too.
+  splats = 0;
+  for (std::size_t w = 0; w < words; ++w) {
+    if (two_sets) mask_[w] |= first_mask_[w];
+    splats += __builtin_popcountll(mask_[w]);
+  }
   stats_->splats_drawn += splats;
+  auto extract = [&](const std::vector<uint64_t>& mask, std::vector<uint32_t>& out) {
+    out.clear();
+    for (std::size_t w = 0; w < mask.size(); ++w)
+      for (uint64_t bits = mask[w]; bits != 0; bits &= bits - 1)
+        out.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
+  };
   splats_.clear();
   splats_.reserve(splats);
-  for (std::size_t w = 0; w < mask_.size(); ++w)
-    for (uint64_t bits = mask_[w]; bits != 0; bits &= bits - 1)
+  for (std::size_t w = 0; w < words; ++w) {
+    const uint64_t rest = two_sets ? mask_[w] & ~first_mask_[w] : mask_[w];
+    for (uint64_t bits = rest; bits != 0; bits &= bits - 1)
       splats_.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
+  }
+  if (coherent)
+    extract(next_mask_, next_first_);
+  else
+    next_first_.clear();
 }
 
-const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection, OcclusionMode mode,
-                                                   float margin, bool cull_backfaces,
-                                                   OcclusionStats& stats) {
-  const auto t0 = Clock::now();
-  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
+void OcclusionCuller::start(const Projection& projection, OcclusionMode mode, float margin,
+                            bool cull_backfaces, OcclusionStats& stats) {
   ++frame_;
   projection_ = projection;
+  mode_ = mode;
   margin_ = margin;
   cull_backfaces_ = cull_backfaces;
   stats_ = &stats;
@@ -493,6 +522,47 @@ const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection,
   if (mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum)
     pyramid_.reset((projection.width + kDepthCell - 1) >> kDepthCellShift,
                    (projection.height + kDepthCell - 1) >> kDepthCellShift);
+}
+
+const std::vector<uint32_t>* OcclusionCuller::begin_two_sets(const Projection& projection,
+                                                             OcclusionMode mode, float margin,
+                                                             bool cull_backfaces,
+                                                             OcclusionStats& stats) {
+  // The previous frame (frame_ now) was chc++ and saw something.
+  if (mode != OcclusionMode::kChcPlusPlus || mode_ != mode || visible_frame_[0] != frame_ ||
+      next_first_.empty())
+    return nullptr;
+  const auto t0 = Clock::now();
+  start(projection, mode, margin, cull_backfaces, stats);
+  first_.swap(next_first_);
+  first_mask_.assign((scene_.size() + 63) / 64, 0);
+  for (uint32_t i : first_) first_mask_[i >> 6] |= uint64_t{1} << (i & 63);
+  stats.first_set += first_.size();
+  stats.traversal_s += seconds_since(t0);
+  return &first_;
+}
+
+const std::vector<uint32_t>& OcclusionCuller::cull_rest(OcclusionStats& stats) {
+  const auto t0 = Clock::now();
+  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
+  stats_ = &stats;
+  depth_pass_ = false;
+  run_chc(true, true);
+  depth_pass_ = true;
+  collect(true);  // first_ stays: the caller's renderer reads it until the frame is done
+  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0) -
+                       (stats.splat_test_s - test0);
+  stats_ = nullptr;
+  return splats_;
+}
+
+const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection, OcclusionMode mode,
+                                                   float margin, bool cull_backfaces,
+                                                   OcclusionStats& stats) {
+  const auto t0 = Clock::now();
+  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
+  start(projection, mode, margin, cull_backfaces, stats);
+  first_.clear();
   switch (mode) {
     case OcclusionMode::kNone:
       for (uint32_t n = 0; n < bvh_.nodes.size(); ++n)

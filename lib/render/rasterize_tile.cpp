@@ -42,7 +42,8 @@ namespace {
 // the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
 // changes nothing but the discarded fragments.
 template <bool kClip, bool kRing>
-inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const TileRect& tile,
+inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t id,
+                                const TileRect& tile,
                                 const float* table, FragmentStore& store, const ClipContext* clip,
                                 uint64_t& clipped) {
   const int stride = tile.width();
@@ -78,7 +79,7 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
           clipped += keep & discarded;
           keep = keep & !discarded;
         }
-        if (keep) fragments += store.add(pixel, depth, w, index);
+        if (keep) fragments += store.add(pixel, depth, w, id);
       }
       l += s.l[0];
       u += s.u[0];
@@ -91,21 +92,23 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const Tile
   return fragments;
 }
 
-inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, const TileRect& tile,
-                              const float* table, FragmentStore& store, const ClipContext* clip,
-                              uint64_t& clipped) {
+inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, uint32_t id,
+                              const TileRect& tile, const float* table, FragmentStore& store,
+                              const ClipContext* clip, uint64_t& clipped) {
   const bool ring = s.ring2 > 1.0f;
   if (clip && clip->table->has_partners(index))
-    return ring ? rasterize_splat<true, true>(s, index, tile, table, store, clip, clipped)
-                : rasterize_splat<true, false>(s, index, tile, table, store, clip, clipped);
-  return ring ? rasterize_splat<false, true>(s, index, tile, table, store, nullptr, clipped)
-              : rasterize_splat<false, false>(s, index, tile, table, store, nullptr, clipped);
+    return ring ? rasterize_splat<true, true>(s, index, id, tile, table, store, clip, clipped)
+                : rasterize_splat<true, false>(s, index, id, tile, table, store, clip, clipped);
+  return ring
+             ? rasterize_splat<false, true>(s, index, id, tile, table, store, nullptr, clipped)
+             : rasterize_splat<false, false>(s, index, id, tile, table, store, nullptr, clipped);
 }
 
 }  // namespace
 
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                            const TileRect& tile, FragmentStore& store, const ClipContext* clip) {
+                            const TileRect& tile, FragmentStore& store, const ClipContext* clip,
+                            const uint32_t* ids) {
   const float* table = weight_table().data();
   RasterCounts counts;
   // The tile's SplatRasters come from a large array written long before: prefetch a few splats
@@ -119,7 +122,8 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
     }
     const SplatRaster& s = rasters[splats[k]];
     if (!(s.nc <= 0)) continue;
-    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
+    const uint32_t id = ids ? ids[splats[k]] : splats[k];
+    counts.fragments += rasterize_any(s, splats[k], id, tile, table, store, clip, counts.clipped);
   }
   const float hidden_beyond = store.farthest_nearest(tile.width() * tile.height()) + store.window();
   for (std::size_t k = 0; k < count; ++k) {
@@ -129,7 +133,8 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
       ++counts.skipped_splats;
       continue;
     }
-    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
+    const uint32_t id = ids ? ids[splats[k]] : splats[k];
+    counts.fragments += rasterize_any(s, splats[k], id, tile, table, store, clip, counts.clipped);
   }
   return counts;
 }

@@ -53,9 +53,11 @@ struct ClipContext {
   Projection projection;
 };
 
-// `clip`: null, or the frame's clip data (see above).
+// `clip`: null, or the frame's clip data (see above). `ids`: null (the store receives the
+// splats' indices in `rasters`), or the id the store receives for each index (ids[splats[k]]),
+// increasing with the index; the store orders equal depths by it (no clipping with ids).
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
                             const TileRect& tile, FragmentStore& store,
-                            const ClipContext* clip = nullptr);
+                            const ClipContext* clip = nullptr, const uint32_t* ids = nullptr);
 
 }  // namespace splatkit::render
