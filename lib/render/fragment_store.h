@@ -82,18 +82,6 @@ class FragmentStore {
     return true;
   }
 
-  // Replaces the splat id s of every stored fragment by map[s]. The store compares ids only to
-  // order equal depths, so `map` must be increasing over the ids stored (then what the store
-  // keeps is what it would have kept had the fragments arrived with the new ids): occlusion
-  // culling's two sets arrive with scene indices and are read with those of the merged list.
-  void remap(int pixels, const uint32_t* map) {
-    for (int p = 0; p < pixels; ++p) {
-      uint32_t* s = splat_.data() + std::size_t(p) * stride_;
-      for (int k = 0; k < count_[p]; ++k) s[k] = map[s[k]];
-      for (int k = capacity_; k < capacity_ + ring_count_[p]; ++k) s[k] = map[s[k]];
-    }
-  }
-
   float window() const { return window_; }
   // The largest nearest depth over the first `pixels` pixels (+inf if one has no disc fragment): a
   // splat whose whole disc lies deeper than this plus the window cannot add a fragment.
@@ -109,7 +97,6 @@ class FragmentStore {
   int ring_count(int pixel) const { return ring_count_[pixel]; }
   int ring_offset() const { return capacity_; }
   float nearest(int pixel) const { return nearest_[pixel]; }  // of the disc fragments
-  const float* nearests() const { return nearest_.data(); }     // #pixels
   bool overflowed(int pixel) const { return overflowed_[pixel] != 0; }
   const float* depths(int pixel) const { return depth_.data() + std::size_t(pixel) * stride_; }
   const float* weights(int pixel) const { return weight_.data() + std::size_t(pixel) * stride_; }

@@ -70,6 +70,7 @@ struct TileCounters {
 struct TileScratch {
   FragmentStore store;
   std::vector<PixelSurface> gbuffer;
+  std::vector<float> nearest;  // a tile's nearest disc depths (FrameRenderer::render_first)
   TileCounters counters;
 };
 
@@ -84,9 +85,9 @@ struct TwoSetFrame {
   Projection projection;
   RenderScene first_splats, rest_splats, all_splats;  // subset_scene.h
   FrameBins rest_bins;
-  std::vector<FragmentStore> stores;   // per tile
+  // Per entry of `first`, of `rest`: its index in `all` (the id its fragments get).
+  std::vector<uint32_t> first_position, rest_position;
   std::vector<uint32_t> all;           // first ∪ rest, ascending
-  std::vector<uint32_t> position_of;   // per scene splat: its index in `all` (drawn ones only)
   std::vector<SplatRaster> rasters;    // per entry of `all`
   FrameStats stats;
 };
@@ -407,23 +408,19 @@ void FrameRenderer::render_first(const RenderScene& scene, const std::vector<uin
   two.stats.binning_s = bins_.binning_seconds;
   two.stats.splats_drawn = bins_.drawn;
 
-  const BlendOptions blend = blend_options(scene, options);
-  two.stores.resize(bins_.tile_count());
   for (auto& local : scratch_->threads) local.counters = {};
   const auto tiles_start = Clock::now();
   tbb::parallel_for(std::size_t{0}, bins_.tile_count(), [&](std::size_t t) {
     TileScratch& local = scratch_->threads.local();
     const auto t0 = Clock::now();
     const TileRect rect = tile_rect(bins_, two.projection, t);
-    FragmentStore& store = two.stores[t];
-    store.reset(rect.width() * rect.height(), options.max_fragments, blend.window);
+    local.nearest.assign(std::size_t(rect.width()) * rect.height(),
+                         std::numeric_limits<float>::infinity());
     const uint32_t begin = bins_.offsets[t], end = bins_.offsets[t + 1];
-    if (begin != end)
-      add_counts(rasterize_tile(bins_.rasters.get(), bins_.indices.data() + begin, end - begin,
-                                rect, store, nullptr, first.data()),
-                 local.counters);
+    nearest_disc_depths(bins_.rasters.get(), bins_.indices.data() + begin, end - begin, rect,
+                        local.nearest.data());
     for (int y = rect.y0, p = 0; y <= rect.y1; ++y, p += rect.width())
-      front.set_run(rect.x0, y, store.nearests() + p, rect.width());
+      front.set_run(rect.x0, y, local.nearest.data() + p, rect.width());
     local.counters.raster_s += seconds(t0, Clock::now());
   });
   front.update(PixelRect{0, 0, two.projection.width - 1, two.projection.height - 1});
@@ -445,7 +442,6 @@ FrameStats FrameRenderer::render_rest(const RenderScene& scene, const std::vecto
   // of it mapped to its place there (what reconstruction reads the stores' fragments by).
   two.all.resize(first.size() + rest.size());
   std::merge(first.begin(), first.end(), rest.begin(), rest.end(), two.all.begin());
-  if (two.position_of.size() < scene.size()) two.position_of.resize(scene.size());
   subset_scene(scene, two.all, two.all_splats);
   DrawList draws = select_splats(two.all_splats, projection);
   if (!options.surface_ids) draws.surface_ids = nullptr;
@@ -457,10 +453,17 @@ FrameStats FrameRenderer::render_rest(const RenderScene& scene, const std::vecto
     const SplatRaster* a = bins_.rasters.get();
     const SplatRaster* b = two.rest_bins.rasters.get();
     std::size_t i = 0, j = 0;
+    two.first_position.resize(first.size());
+    two.rest_position.resize(rest.size());
     for (std::size_t k = 0; k < two.all.size(); ++k) {
       const bool from_first = j == rest.size() || (i < first.size() && first[i] < rest[j]);
-      two.rasters[k] = from_first ? a[i++] : b[j++];
-      two.position_of[two.all[k]] = uint32_t(k);
+      if (from_first) {
+        two.first_position[i] = uint32_t(k);
+        two.rasters[k] = a[i++];
+      } else {
+        two.rest_position[j] = uint32_t(k);
+        two.rasters[k] = b[j++];
+      }
     }
   }
   stats.setup_s += two.rest_bins.setup_seconds + seconds(merge_start, Clock::now());
@@ -483,12 +486,20 @@ FrameStats FrameRenderer::render_rest(const RenderScene& scene, const std::vecto
     if (begin == end && bins_.offsets[t] == bins_.offsets[t + 1])
       return write_background_tile(context, rect, local);
     const auto t0 = Clock::now();
-    FragmentStore& store = two.stores[t];
+    // Both sets again, with their indices in the union as ids (the first set's depths were only
+    // for the culler): the same fragments as the union rasterised at once.
+    FragmentStore& store = local.store;
+    store.reset(rect.width() * rect.height(), options.max_fragments, blend.window);
+    const uint32_t first_begin = bins_.offsets[t], first_end = bins_.offsets[t + 1];
+    if (first_begin != first_end)
+      add_counts(rasterize_tile(bins_.rasters.get(), bins_.indices.data() + first_begin,
+                                first_end - first_begin, rect, store, nullptr,
+                                two.first_position.data()),
+                 local.counters);
     if (begin != end)
       add_counts(rasterize_tile(rb.rasters.get(), rb.indices.data() + begin, end - begin, rect,
-                                store, nullptr, rest.data()),
+                                store, nullptr, two.rest_position.data()),
                  local.counters);
-    store.remap(rect.width() * rect.height(), two.position_of.data());
     local.counters.raster_s += seconds(t0, Clock::now());
     resolve_tile(context, rect, store, two.rasters.data(), local);
   });

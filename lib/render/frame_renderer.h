@@ -69,20 +69,18 @@ class FrameRenderer {
   FrameStats render(const RenderScene& scene, const Camera& camera, const RenderOptions& options,
                     Framebuffer& out);
 
-  // A frame drawn in two sets (occlusion culling, render_culled_frame.h). render_first
-  // rasterises splats `first` of `scene` (ascending indices) into tile A-buffers kept for the
-  // whole frame and writes each pixel's nearest disc-fragment depth (+inf where there is none)
-  // into level 0 of `front` (sized for the image), then updates its upper levels: an upper bound
-  // of the frame's final nearest depth, which more splats only lower. render_rest adds splats
-  // `rest` (ascending, none of them in `first`) to the same A-buffers, reconstructs and shades
-  // into `out`. The image is byte for byte that of render() given the union of the two sets as a
-  // scene (subset_scene.h): a store keeps the same fragments whatever their order, and orders
-  // equal depths by scene index, which the union's order follows (fragment_store.h). `scene`
-  // and `first` must outlive render_rest; stats.total_s is left to the caller (the culling runs
+  // A frame drawn in two sets (occlusion culling, render_culled_frame.h). render_first sets up
+  // and bins splats `first` of `scene` (ascending indices) and writes the depth of the nearest
+  // disc fragment they make at each pixel (+inf where none; rasterize_tile.h,
+  // nearest_disc_depths) into level 0 of `front` (sized for the image), then updates its upper
+  // levels: an upper bound of the frame's final nearest depth, which more splats only lower.
+  // render_rest sets up splats `rest` (ascending, none of them in `first`), rasterises both sets
+  // into each tile's A-buffer with their indices in the union as ids, reconstructs and shades
+  // into `out`: byte for byte the image of render() given the union as a scene (subset_scene.h),
+  // since a store keeps the same fragments whatever their order (fragment_store.h). `scene` and
+  // `first` must outlive render_rest; stats.total_s is left to the caller (the culling runs
   // between the two calls). Not with `--blend zbuffer` nor clip partners (Error(kUsage)).
-  // Memory beyond render()'s: the frame's A-buffers (1920 × 1080 × (max_fragments + kRingSlots)
-  // × 12 bytes, 300 MB with 8 slots), a 4-byte entry per splat of `scene` and a second copy of
-  // the drawn splats' arrays.
+  // Memory beyond render()'s: the second set's bins and the union's arrays and SplatRasters.
   void render_first(const RenderScene& scene, const std::vector<uint32_t>& first,
                     const Camera& camera, const RenderOptions& options, DepthPyramid& front);
   FrameStats render_rest(const RenderScene& scene, const std::vector<uint32_t>& rest,

@@ -214,7 +214,8 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool dept
     const Piece& p = pieces[k];
     dirty[k] =
         draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_, cull_backfaces_,
-                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds);
+                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds,
+                   first_.empty() ? nullptr : first_mask_.data());
   });
   // One update over the union when the pieces overlap on screen, else one per piece.
   PixelRect all;
@@ -276,7 +277,7 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     if (!retest_due(leaf) || query_node(leaf)) still_visible.push_back(leaf);
   // The last batch: no query will read the pyramid again, so the leaves need no depth pass (only
   // their splats' bounds, for the splat test).
-  draw_leaves(pending, depth_pass_ && !(invisible.empty() && frontier_empty_));
+  draw_leaves(pending, !(invisible.empty() && frontier_empty_));
   for (uint32_t leaf : still_visible) mark_visible(leaf);
   pending.clear();
 
@@ -362,7 +363,10 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     i = end;
   }
   invisible.clear();
-  draw_leaves(newly, depth_pass_);
+  // Newly visible leaves go into the pyramid in both ways of running (cull_rest's pyramid holds
+  // only the first set: without them, whatever lies behind a disoccluded part of the view would
+  // be drawn).
+  draw_leaves(newly, true);
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
 
@@ -449,15 +453,10 @@ void OcclusionCuller::collect(bool test_splats) {
       const uint32_t leaf = drawn_leaves_[k];
       const SplatBounds* b = bounds_.data() + bounds_at_[leaf];
       uint8_t* keep = keep_.data() + bounds_at_[leaf];
-      const uint32_t* order = bvh_.order.data() + bvh_.nodes[leaf].left;
       for (uint32_t e = 0, size = bvh_.nodes[leaf].size(); e < size; ++e) {
-        // Already drawn, else not drawn by the renderer (its setup is the same arithmetic), or
-        // hidden.
-        const uint32_t i = order[e];
-        if (two_sets && (first_mask_[i >> 6] >> (i & 63) & 1)) {
-          keep[e] = 1;
-          continue;
-        }
+        // Not drawn by the renderer (its setup is the same arithmetic), or hidden. The first
+        // set's splats are tested too: drawn already, they join the next frame's first set
+        // only when they pass.
         Query q;
         q.in_frustum = b[e].drawn();
         q.rect = {b[e].x0, b[e].y0, b[e].x1, b[e].y1};
@@ -479,6 +478,12 @@ void OcclusionCuller::collect(bool test_splats) {
       if (next) next_mask_[i >> 6] |= uint64_t{1} << (i & 63);
       ++splats;
     }
+    // The first set's splats found hidden were drawn all the same.
+    if (keep && two_sets)
+      for (uint32_t k = x.left; k < x.right; ++k) {
+        const uint32_t i = bvh_.order[k];
+        splats += !keep[k - x.left] && (first_mask_[i >> 6] >> (i & 63) & 1);
+      }
     if (test_splats) stats_->splats_culled += x.size();
   }
   if (test_splats) stats_->splats_culled -= splats;
@@ -546,9 +551,7 @@ const std::vector<uint32_t>& OcclusionCuller::cull_rest(OcclusionStats& stats) {
   const auto t0 = Clock::now();
   const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
   stats_ = &stats;
-  depth_pass_ = false;
   run_chc(true, true);
-  depth_pass_ = true;
   collect(true);  // first_ stays: the caller's renderer reads it until the frame is done
   stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0) -
                        (stats.splat_test_s - test0);

@@ -141,7 +141,6 @@ class OcclusionCuller {
   std::vector<uint32_t> first_, next_first_;
   std::vector<uint64_t> first_mask_, next_mask_;
   OcclusionMode mode_ = OcclusionMode::kNone;
-  bool depth_pass_ = true;  // false: the pyramid is the caller's (cull_rest)
   std::vector<uint32_t> leaf_;  // draw_leaf's list of one
   tbb::enumerable_thread_specific<DepthPassScratch> thread_scratch_;
   bool tight_bounds_ = false;

@@ -41,10 +41,10 @@ namespace {
 // the splat has clip partners; each hit's scene point goes through the fragment test first and
 // the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
 // changes nothing but the discarded fragments.
-template <bool kClip, bool kRing>
+template <bool kClip, bool kRing, class Store>
 inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t id,
                                 const TileRect& tile,
-                                const float* table, FragmentStore& store, const ClipContext* clip,
+                                const float* table, Store& store, const ClipContext* clip,
                                 uint64_t& clipped) {
   const int stride = tile.width();
   const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
@@ -92,8 +92,9 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t i
   return fragments;
 }
 
+template <class Store>
 inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, uint32_t id,
-                              const TileRect& tile, const float* table, FragmentStore& store,
+                              const TileRect& tile, const float* table, Store& store,
                               const ClipContext* clip, uint64_t& clipped) {
   const bool ring = s.ring2 > 1.0f;
   if (clip && clip->table->has_partners(index))
@@ -103,6 +104,15 @@ inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, uint32_t id,
              ? rasterize_splat<false, true>(s, index, id, tile, table, store, nullptr, clipped)
              : rasterize_splat<false, false>(s, index, id, tile, table, store, nullptr, clipped);
 }
+
+// Takes the place of the FragmentStore: keeps each pixel's nearest disc-fragment depth.
+struct NearestDepth {
+  float* nearest;
+  bool add(int pixel, float depth, float weight, uint32_t) {
+    if (weight > 0 && depth < nearest[pixel]) nearest[pixel] = depth;
+    return false;
+  }
+};
 
 }  // namespace
 
@@ -137,6 +147,31 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
     counts.fragments += rasterize_any(s, splats[k], id, tile, table, store, clip, counts.clipped);
   }
   return counts;
+}
+
+}  // namespace splatkit::render
+
+namespace splatkit::render {
+
+void nearest_disc_depths(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
+                         const TileRect& tile, float* nearest) {
+  const float* table = weight_table().data();
+  NearestDepth sink{nearest};
+  uint64_t clipped = 0;
+  // As rasterize_tile: the splats facing the eye first, then those facing away unless they lie
+  // wholly behind every nearest depth of the tile (skipping a splat only leaves depths higher,
+  // still upper bounds of the store's).
+  for (std::size_t k = 0; k < count; ++k) {
+    const SplatRaster& s = rasters[splats[k]];
+    if (s.nc <= 0) rasterize_any(s, splats[k], splats[k], tile, table, sink, nullptr, clipped);
+  }
+  const int pixels = tile.width() * tile.height();
+  const float farthest = *std::max_element(nearest, nearest + pixels);
+  for (std::size_t k = 0; k < count; ++k) {
+    const SplatRaster& s = rasters[splats[k]];
+    if (!(s.nc <= 0) && !(s.zmin > farthest))
+      rasterize_any(s, splats[k], splats[k], tile, table, sink, nullptr, clipped);
+  }
 }
 
 }  // namespace splatkit::render
