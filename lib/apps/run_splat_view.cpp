@@ -31,7 +31,6 @@
 #include "render/occlusion_culler.h"
 #include "render/qsplat_scene.h"
 #include "render/reconstruct_pixel.h"
-#include "render/render_culled_frame.h"
 #include "render/render_scene.h"
 #include "render/scene_from_document.h"
 #include "render/setup_splats.h"
@@ -378,7 +377,6 @@ nlohmann::json occlusion_json(const OcclusionStats& s) {
           {"leaves_drawn", s.leaves_drawn},
           {"splats_drawn", s.splats_drawn},
           {"splats_culled", s.splats_culled},
-          {"splats_first_set", s.first_set},
           {"time_ms",
            {{"traversal", ms(s.traversal_s)},
             {"queries", ms(s.query_s)},
@@ -567,8 +565,15 @@ SplatViewSummary run_splat_view(const SplatViewOptions& o, const ProgressFn& pro
     try {
       stats = stage.phase(nullptr, "rendering", [&] {
         if (!culling) return renderer.render(scene, camera, render, target);
-        return render_culled_frame(scene, camera, render, r.occlusion, margin, *culler, renderer,
-                                   subset, target, occlusion);
+        const auto c0 = Clock::now();
+        const std::vector<uint32_t>& draw = culler->cull(make_projection(camera), r.occlusion,
+                                                         margin, render.cull_backfaces, occlusion);
+        subset_scene(scene, draw, subset);
+        const double cull_s = seconds_since(c0);
+        FrameStats f = renderer.render(subset, camera, render, target);
+        f.select_s += cull_s;  // culling is the selection of what to draw
+        f.total_s += cull_s;
+        return f;
       });
     } catch (...) {
       if (writer.busy()) finish_write();  // an error writing the previous frame came first

@@ -60,11 +60,6 @@ class DepthPyramid {
       }
     }
   }
-  // Sets pixels x0..x0 + count - 1 of row y of level 0 to depths[0..count) (>= 0 or +inf); not
-  // atomic: writers of one row must not overlap.
-  void set_run(int x0, int y, const float* depths, int count) {
-    std::memcpy(levels_[0].data() + std::size_t(y) * width_ + x0, depths, 4 * std::size_t(count));
-  }
   // Recomputes the upper levels over the level-0 pixels of `r` (clipped to the image).
   void update(PixelRect r);
   // The largest depth over the pixels of `r` (clipped to the image; must not be empty after

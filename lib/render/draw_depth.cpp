@@ -6,7 +6,7 @@ namespace splatkit::render {
 
 PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::size_t count,
                      const Projection& projection, bool cull_backfaces, DepthPyramid* target,
-                     DepthPassScratch& s, SplatBounds* bounds, const uint64_t* skip) {
+                     DepthPassScratch& s, SplatBounds* bounds) {
   s.positions.resize(count);
   s.normals.resize(count);
   s.radii.resize(count);
@@ -45,10 +45,8 @@ PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::siz
   if (!target) return dirty;
   DepthPyramid& pyramid = *target;
   const int width = projection.width, height = projection.height;
-  for (std::size_t k = 0; k < count; ++k) {
-    const SplatRaster& r = s.rasters[k];
+  for (const SplatRaster& r : s.rasters) {
     if (!r.drawn()) continue;
-    if (skip && (skip[indices[k] >> 6] >> (indices[k] & 63) & 1)) continue;
     const float far = r.zmax * 1.001f;
     // The depth bound at pixel (x, y), or -1 when the pixel is not safely inside the disc.
     auto depth_at = [&](int x, int y) {

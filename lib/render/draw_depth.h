@@ -54,12 +54,9 @@ struct DepthPassScratch {
 // for the image's cells; safe from several threads at once) and returns the cells written (for
 // DepthPyramid::update). Splats are skipped as the renderer skips them: too near, off screen, or
 // back-facing with `cull_backfaces`. `bounds[k]` (when not null) receives splat k's SplatBounds;
-// with `pyramid` null, only those are computed. `skip` (when not null): a bit per scene splat;
-// splats whose bit is set get their bounds but are not drawn (their depths are in the pyramid
-// already).
+// with `pyramid` null, only those are computed.
 PixelRect draw_depth(const RenderScene& scene, const uint32_t* indices, std::size_t count,
                      const Projection& projection, bool cull_backfaces, DepthPyramid* pyramid,
-                     DepthPassScratch& scratch, SplatBounds* bounds = nullptr,
-                     const uint64_t* skip = nullptr);
+                     DepthPassScratch& scratch, SplatBounds* bounds = nullptr);
 
 }  // namespace splatkit::render

@@ -17,8 +17,6 @@
 #include "render/select_qsplat.h"
 #include "render/select_splats.h"
 #include "render/select_spt.h"
-#include "render/depth_pyramid.h"
-#include "render/subset_scene.h"
 #include "render/shade_row.h"
 #include "render/zbuffer_splats.h"
 #include "splatkit/error.h"
@@ -70,32 +68,14 @@ struct TileCounters {
 struct TileScratch {
   FragmentStore store;
   std::vector<PixelSurface> gbuffer;
-  std::vector<float> nearest;  // a tile's nearest disc depths (FrameRenderer::render_first)
   TileCounters counters;
 };
 
 }  // namespace
 
-// A frame drawn in two sets (render_first, render_rest).
-struct TwoSetFrame {
-  const RenderScene* scene = nullptr;
-  const std::vector<uint32_t>* first = nullptr;
-  Camera camera;
-  RenderOptions options;
-  Projection projection;
-  RenderScene first_splats, rest_splats, all_splats;  // subset_scene.h
-  FrameBins rest_bins;
-  // Per entry of `first`, of `rest`: its index in `all` (the id its fragments get).
-  std::vector<uint32_t> first_position, rest_position;
-  std::vector<uint32_t> all;           // first ∪ rest, ascending
-  std::vector<SplatRaster> rasters;    // per entry of `all`
-  FrameStats stats;
-};
-
 struct FrameRenderer::Scratch {
   tbb::enumerable_thread_specific<TileScratch> threads;
   DepthKeyBuffer zbuffer;
-  TwoSetFrame two;
 };
 
 FrameRenderer::FrameRenderer() : scratch_(std::make_unique<Scratch>()) {}
@@ -207,27 +187,31 @@ void write_row(const FrameContext& f, int x0, int y, int count, const PixelSurfa
   }
 }
 
-TileRect tile_rect(const FrameBins& bins, const Projection& p, std::size_t t) {
-  const int tx = static_cast<int>(t % bins.tiles_x), ty = static_cast<int>(t / bins.tiles_x);
-  return {tx * kTileSize, ty * kTileSize, std::min(p.width, (tx + 1) * kTileSize) - 1,
-          std::min(p.height, (ty + 1) * kTileSize) - 1};
-}
-
-void write_background_tile(const FrameContext& f, const TileRect& rect, TileScratch& local) {
-  auto t0 = Clock::now();
-  for (int y = rect.y0; y <= rect.y1; ++y) write_background_row(f, rect.x0, y, rect.width());
-  local.counters.shade_s += seconds(t0, Clock::now());
-}
-
-// Reconstruction and shading of a rasterised tile; `rasters` indexed like f.draws.
-void resolve_tile(const FrameContext& f, const TileRect& rect, const FragmentStore& store,
-                  const SplatRaster* rasters, TileScratch& local) {
+void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
+  const int tx = static_cast<int>(t % f.bins.tiles_x), ty = static_cast<int>(t / f.bins.tiles_x);
+  TileRect rect{tx * kTileSize, ty * kTileSize,
+                std::min(f.projection.width, (tx + 1) * kTileSize) - 1,
+                std::min(f.projection.height, (ty + 1) * kTileSize) - 1};
   const int pixels = rect.width() * rect.height();
   const Projection& pr = f.projection;
+  const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
+  if (begin == end) {
+    auto t0 = Clock::now();
+    for (int y = rect.y0; y <= rect.y1; ++y) write_background_row(f, rect.x0, y, rect.width());
+    local.counters.shade_s += seconds(t0, Clock::now());
+    return;
+  }
+  auto t0 = Clock::now();
+  local.store.reset(pixels, f.options.max_fragments, f.blend.window);
+  const RasterCounts raster = rasterize_tile(f.bins.rasters.get(), f.bins.indices.data() + begin,
+                                             end - begin, rect, local.store, f.clip);
+  local.counters.fragments += raster.fragments;
+  local.counters.clipped += raster.clipped;
+  local.counters.skipped += raster.skipped_splats;
   auto t1 = Clock::now();
   local.gbuffer.resize(pixels);
   local.counters.covered += reconstruct_pixels(
-      store, pixels, f.draws, rasters, f.blend, f.options.default_albedo,
+      local.store, pixels, f.draws, f.bins.rasters.get(), f.blend, f.options.default_albedo,
       {&pr, rect.x0, rect.y0, rect.width()}, local.gbuffer.data(), local.counters.overflowed);
   auto t2 = Clock::now();
   // Shaded a row at a time (shade_row.h): background pixels are shaded too, for nothing, but
@@ -239,27 +223,9 @@ void resolve_tile(const FrameContext& f, const TileRect& rect, const FragmentSto
     write_row(f, rect.x0, y, rect.width(), &local.gbuffer[p], colors);
   }
   auto t3 = Clock::now();
+  local.counters.raster_s += seconds(t0, t1);
   local.counters.reconstruct_s += seconds(t1, t2);
   local.counters.shade_s += seconds(t2, t3);
-}
-
-void add_counts(const RasterCounts& raster, TileCounters& c) {
-  c.fragments += raster.fragments;
-  c.clipped += raster.clipped;
-  c.skipped += raster.skipped_splats;
-}
-
-void render_tile(const FrameContext& f, std::size_t t, TileScratch& local) {
-  const TileRect rect = tile_rect(f.bins, f.projection, t);
-  const uint32_t begin = f.bins.offsets[t], end = f.bins.offsets[t + 1];
-  if (begin == end) return write_background_tile(f, rect, local);
-  auto t0 = Clock::now();
-  local.store.reset(rect.width() * rect.height(), f.options.max_fragments, f.blend.window);
-  add_counts(rasterize_tile(f.bins.rasters.get(), f.bins.indices.data() + begin, end - begin,
-                            rect, local.store, f.clip),
-             local.counters);
-  local.counters.raster_s += seconds(t0, Clock::now());
-  resolve_tile(f, rect, local.store, f.bins.rasters.get(), local);
 }
 
 // The framebuffer from a depth-key buffer: rows in parallel, each in runs of a tile's width, the
@@ -300,49 +266,6 @@ void check_options(const RenderOptions& o) {
     throw_usage("the Z-threshold epsilon must be finite");
 }
 
-BlendOptions blend_options(const RenderScene& scene, const RenderOptions& options) {
-  BlendOptions blend;
-  blend.mode = options.blend;
-  blend.epsilon = options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius;
-  blend.window = depth_window(blend.mode, blend.epsilon, scene.max_radius, options.max_fragments);
-  return blend;
-}
-
-void set_background(FrameContext& context, const RenderOptions& options) {
-  const SrgbEncoder& enc = srgb_encoder();
-  context.background_rgb8[0] = enc(options.background.x);
-  context.background_rgb8[1] = enc(options.background.y);
-  context.background_rgb8[2] = enc(options.background.z);
-}
-
-// The threads' counters into `stats`; the tile pass's wall time `wall` split between rasterising,
-// reconstruction and shading in proportion to their thread time.
-void add_tile_counters(const tbb::enumerable_thread_specific<TileScratch>& threads, double wall,
-                       FrameStats& stats) {
-  TileCounters sum;
-  for (const auto& local : threads) {
-    sum.fragments += local.counters.fragments;
-    sum.covered += local.counters.covered;
-    sum.overflowed += local.counters.overflowed;
-    sum.skipped += local.counters.skipped;
-    sum.clipped += local.counters.clipped;
-    sum.raster_s += local.counters.raster_s;
-    sum.reconstruct_s += local.counters.reconstruct_s;
-    sum.shade_s += local.counters.shade_s;
-  }
-  stats.fragments += sum.fragments;
-  stats.pixels_covered += sum.covered;
-  stats.pixels_overflowed += sum.overflowed;
-  stats.splats_hidden += sum.skipped;
-  stats.fragments_clipped += sum.clipped;
-  const double cpu = sum.raster_s + sum.reconstruct_s + sum.shade_s;
-  if (cpu > 0) {
-    stats.raster_s += wall * sum.raster_s / cpu;
-    stats.reconstruct_s += wall * sum.reconstruct_s / cpu;
-    stats.shade_s += wall * sum.shade_s / cpu;
-  }
-}
-
 }  // namespace
 
 FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
@@ -369,142 +292,48 @@ FrameStats FrameRenderer::render(const RenderScene& scene, const Camera& camera,
   stats.binning_s = bins_.binning_seconds;
 
   out.allocate(camera.width, camera.height, options.planes);
-  const BlendOptions blend = blend_options(scene, options);
+  BlendOptions blend;
+  blend.mode = options.blend;
+  blend.epsilon = options.epsilon > 0 ? options.epsilon : 2.0f * scene.mean_radius;
+  blend.window = depth_window(blend.mode, blend.epsilon, scene.max_radius, options.max_fragments);
   const Shading shading = make_shading(options.shade, projection, scene.bounds);
   ClipContext clip{draws.clip, draws.clip_planes, projection};
   FrameContext context{
       draws, bins_, projection, options, blend, shading, draws.clip ? &clip : nullptr, out, {}};
-  set_background(context, options);
+  const SrgbEncoder& enc = srgb_encoder();
+  context.background_rgb8[0] = enc(options.background.x);
+  context.background_rgb8[1] = enc(options.background.y);
+  context.background_rgb8[2] = enc(options.background.z);
   for (auto& local : scratch_->threads) local.counters = {};
   const auto tiles_start = Clock::now();
   tbb::parallel_for(std::size_t{0}, bins_.tile_count(),
                     [&](std::size_t t) { render_tile(context, t, scratch_->threads.local()); });
   const auto tiles_end = Clock::now();
-  add_tile_counters(scratch_->threads, seconds(tiles_start, tiles_end), stats);
-  stats.total_s = seconds(start, tiles_end);
-  return stats;
-}
 
-void FrameRenderer::render_first(const RenderScene& scene, const std::vector<uint32_t>& first,
-                                 const Camera& camera, const RenderOptions& options,
-                                 DepthPyramid& front) {
-  check_options(options);
-  if (options.blend == BlendMode::kZBuffer || scene.qsplat || scene.spt ||
-      (options.clip && scene.has_clip()))
-    throw_usage("a frame in two sets needs a plain splat scene, an A-buffer blend and no clipping");
-  const auto start = Clock::now();
-  TwoSetFrame& two = scratch_->two;
-  two.scene = &scene;
-  two.first = &first;
-  two.camera = camera;
-  two.options = options;
-  two.projection = make_projection(camera);
-  two.stats = {};
-  subset_scene(scene, first, two.first_splats);
-  const DrawList draws = select_splats(two.first_splats, two.projection);
-  two.stats.select_s = seconds(start, Clock::now());
-  bin_splats(draws, two.projection, SetupOptions{options.cull_backfaces}, bins_);
-  two.stats.setup_s = bins_.setup_seconds;
-  two.stats.binning_s = bins_.binning_seconds;
-  two.stats.splats_drawn = bins_.drawn;
-
-  for (auto& local : scratch_->threads) local.counters = {};
-  const auto tiles_start = Clock::now();
-  tbb::parallel_for(std::size_t{0}, bins_.tile_count(), [&](std::size_t t) {
-    TileScratch& local = scratch_->threads.local();
-    const auto t0 = Clock::now();
-    const TileRect rect = tile_rect(bins_, two.projection, t);
-    local.nearest.assign(std::size_t(rect.width()) * rect.height(),
-                         std::numeric_limits<float>::infinity());
-    const uint32_t begin = bins_.offsets[t], end = bins_.offsets[t + 1];
-    nearest_disc_depths(bins_.rasters.get(), bins_.indices.data() + begin, end - begin, rect,
-                        local.nearest.data());
-    for (int y = rect.y0, p = 0; y <= rect.y1; ++y, p += rect.width())
-      front.set_run(rect.x0, y, local.nearest.data() + p, rect.width());
-    local.counters.raster_s += seconds(t0, Clock::now());
-  });
-  front.update(PixelRect{0, 0, two.projection.width - 1, two.projection.height - 1});
-  add_tile_counters(scratch_->threads, seconds(tiles_start, Clock::now()), two.stats);
-}
-
-FrameStats FrameRenderer::render_rest(const RenderScene& scene, const std::vector<uint32_t>& rest,
-                                      Framebuffer& out) {
-  TwoSetFrame& two = scratch_->two;
-  if (two.scene != &scene) throw_usage("render_rest without render_first of the same scene");
-  const auto start = Clock::now();
-  const std::vector<uint32_t>& first = *two.first;
-  const RenderOptions& options = two.options;
-  const Projection& projection = two.projection;
-  FrameStats stats = two.stats;
-  subset_scene(scene, rest, two.rest_splats);
-  const DrawList rest_draws = select_splats(two.rest_splats, projection);
-  // The union in scene order, its rasters from the two sets' set-ups, and every scene index
-  // of it mapped to its place there (what reconstruction reads the stores' fragments by).
-  two.all.resize(first.size() + rest.size());
-  std::merge(first.begin(), first.end(), rest.begin(), rest.end(), two.all.begin());
-  subset_scene(scene, two.all, two.all_splats);
-  DrawList draws = select_splats(two.all_splats, projection);
-  if (!options.surface_ids) draws.surface_ids = nullptr;
-  stats.select_s += seconds(start, Clock::now());
-  bin_splats(rest_draws, projection, SetupOptions{options.cull_backfaces}, two.rest_bins);
-  const auto merge_start = Clock::now();
-  two.rasters.resize(two.all.size());
-  {
-    const SplatRaster* a = bins_.rasters.get();
-    const SplatRaster* b = two.rest_bins.rasters.get();
-    std::size_t i = 0, j = 0;
-    two.first_position.resize(first.size());
-    two.rest_position.resize(rest.size());
-    for (std::size_t k = 0; k < two.all.size(); ++k) {
-      const bool from_first = j == rest.size() || (i < first.size() && first[i] < rest[j]);
-      if (from_first) {
-        two.first_position[i] = uint32_t(k);
-        two.rasters[k] = a[i++];
-      } else {
-        two.rest_position[j] = uint32_t(k);
-        two.rasters[k] = b[j++];
-      }
-    }
+  TileCounters sum;
+  for (const auto& local : scratch_->threads) {
+    sum.fragments += local.counters.fragments;
+    sum.covered += local.counters.covered;
+    sum.overflowed += local.counters.overflowed;
+    sum.skipped += local.counters.skipped;
+    sum.clipped += local.counters.clipped;
+    sum.raster_s += local.counters.raster_s;
+    sum.reconstruct_s += local.counters.reconstruct_s;
+    sum.shade_s += local.counters.shade_s;
   }
-  stats.setup_s += two.rest_bins.setup_seconds + seconds(merge_start, Clock::now());
-  stats.binning_s += two.rest_bins.binning_seconds;
-  stats.splats_in = two.all.size();
-  stats.splats_drawn += two.rest_bins.drawn;
-
-  out.allocate(projection.width, projection.height, options.planes);
-  const BlendOptions blend = blend_options(scene, options);
-  const Shading shading = make_shading(options.shade, projection, scene.bounds);
-  FrameContext context{draws, bins_, projection, options, blend, shading, nullptr, out, {}};
-  set_background(context, options);
-  for (auto& local : scratch_->threads) local.counters = {};
-  const FrameBins& rb = two.rest_bins;
-  const auto tiles_start = Clock::now();
-  tbb::parallel_for(std::size_t{0}, bins_.tile_count(), [&](std::size_t t) {
-    TileScratch& local = scratch_->threads.local();
-    const TileRect rect = tile_rect(bins_, projection, t);
-    const uint32_t begin = rb.offsets[t], end = rb.offsets[t + 1];
-    if (begin == end && bins_.offsets[t] == bins_.offsets[t + 1])
-      return write_background_tile(context, rect, local);
-    const auto t0 = Clock::now();
-    // Both sets again, with their indices in the union as ids (the first set's depths were only
-    // for the culler): the same fragments as the union rasterised at once.
-    FragmentStore& store = local.store;
-    store.reset(rect.width() * rect.height(), options.max_fragments, blend.window);
-    const uint32_t first_begin = bins_.offsets[t], first_end = bins_.offsets[t + 1];
-    if (first_begin != first_end)
-      add_counts(rasterize_tile(bins_.rasters.get(), bins_.indices.data() + first_begin,
-                                first_end - first_begin, rect, store, nullptr,
-                                two.first_position.data()),
-                 local.counters);
-    if (begin != end)
-      add_counts(rasterize_tile(rb.rasters.get(), rb.indices.data() + begin, end - begin, rect,
-                                store, nullptr, two.rest_position.data()),
-                 local.counters);
-    local.counters.raster_s += seconds(t0, Clock::now());
-    resolve_tile(context, rect, store, two.rasters.data(), local);
-  });
-  add_tile_counters(scratch_->threads, seconds(tiles_start, Clock::now()), stats);
-  two.scene = nullptr;
+  stats.fragments = sum.fragments;
+  stats.pixels_covered = sum.covered;
+  stats.pixels_overflowed = sum.overflowed;
+  stats.splats_hidden = sum.skipped;
+  stats.fragments_clipped = sum.clipped;
+  const double tiles_wall = seconds(tiles_start, tiles_end);
+  const double cpu = sum.raster_s + sum.reconstruct_s + sum.shade_s;
+  if (cpu > 0) {
+    stats.raster_s = tiles_wall * sum.raster_s / cpu;
+    stats.reconstruct_s = tiles_wall * sum.reconstruct_s / cpu;
+    stats.shade_s = tiles_wall * sum.shade_s / cpu;
+  }
+  stats.total_s = seconds(start, tiles_end);
   return stats;
 }
 

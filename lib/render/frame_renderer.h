@@ -17,7 +17,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <vector>
 
 #include "render/bin_splats.h"
 #include "render/camera.h"
@@ -58,8 +57,6 @@ struct FrameStats {
   double splats_per_second() const { return total_s > 0 ? splats_in / total_s : 0; }
 };
 
-class DepthPyramid;
-
 class FrameRenderer {
  public:
   FrameRenderer();
@@ -68,23 +65,6 @@ class FrameRenderer {
   // invalid options or cameras.
   FrameStats render(const RenderScene& scene, const Camera& camera, const RenderOptions& options,
                     Framebuffer& out);
-
-  // A frame drawn in two sets (occlusion culling, render_culled_frame.h). render_first sets up
-  // and bins splats `first` of `scene` (ascending indices) and writes the depth of the nearest
-  // disc fragment they make at each pixel (+inf where none; rasterize_tile.h,
-  // nearest_disc_depths) into level 0 of `front` (sized for the image), then updates its upper
-  // levels: an upper bound of the frame's final nearest depth, which more splats only lower.
-  // render_rest sets up splats `rest` (ascending, none of them in `first`), rasterises both sets
-  // into each tile's A-buffer with their indices in the union as ids, reconstructs and shades
-  // into `out`: byte for byte the image of render() given the union as a scene (subset_scene.h),
-  // since a store keeps the same fragments whatever their order (fragment_store.h). `scene` and
-  // `first` must outlive render_rest; stats.total_s is left to the caller (the culling runs
-  // between the two calls). Not with `--blend zbuffer` nor clip partners (Error(kUsage)).
-  // Memory beyond render()'s: the second set's bins and the union's arrays and SplatRasters.
-  void render_first(const RenderScene& scene, const std::vector<uint32_t>& first,
-                    const Camera& camera, const RenderOptions& options, DepthPyramid& front);
-  FrameStats render_rest(const RenderScene& scene, const std::vector<uint32_t>& rest,
-                         Framebuffer& out);
 
  private:
   struct Scratch;

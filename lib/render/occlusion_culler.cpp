@@ -53,7 +53,6 @@ void OcclusionStats::add(const OcclusionStats& o) {
   query_s += o.query_s;
   depth_s += o.depth_s;
   splats_culled += o.splats_culled;
-  first_set += o.first_set;
   splat_test_s += o.splat_test_s;
 }
 
@@ -214,8 +213,7 @@ void OcclusionCuller::draw_leaves(const std::vector<uint32_t>& leaves, bool dept
     const Piece& p = pieces[k];
     dirty[k] =
         draw_depth(scene_, bvh_.order.data() + p.first, p.count, projection_, cull_backfaces_,
-                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds,
-                   first_.empty() ? nullptr : first_mask_.data());
+                   depth ? &pyramid_ : nullptr, thread_scratch_.local(), bounds_.data() + p.bounds);
   });
   // One update over the union when the pieces overlap on screen, else one per piece.
   PixelRect all;
@@ -363,9 +361,6 @@ void OcclusionCuller::flush(std::vector<uint32_t>& pending, std::vector<uint32_t
     i = end;
   }
   invisible.clear();
-  // Newly visible leaves go into the pyramid in both ways of running (cull_rest's pyramid holds
-  // only the first set: without them, whatever lies behind a disoccluded part of the view would
-  // be drawn).
   draw_leaves(newly, true);
   for (uint32_t leaf : newly) mark_visible(leaf);
 }
@@ -441,11 +436,8 @@ void OcclusionCuller::run_chc(bool coherent, bool plus) {
 }
 
 void OcclusionCuller::collect(bool test_splats) {
-  const std::size_t n = scene_.size(), words = (n + 63) / 64;
-  mask_.assign(words, 0);
-  const bool two_sets = !first_.empty();
-  const bool coherent = mode_ == OcclusionMode::kChcPlusPlus;
-  if (coherent) next_mask_.assign(words, 0);
+  const std::size_t n = scene_.size();
+  mask_.assign((n + 63) / 64, 0);
   if (test_splats) {
     const auto t0 = Clock::now();
     keep_.resize(bounds_.size());
@@ -454,9 +446,7 @@ void OcclusionCuller::collect(bool test_splats) {
       const SplatBounds* b = bounds_.data() + bounds_at_[leaf];
       uint8_t* keep = keep_.data() + bounds_at_[leaf];
       for (uint32_t e = 0, size = bvh_.nodes[leaf].size(); e < size; ++e) {
-        // Not drawn by the renderer (its setup is the same arithmetic), or hidden. The first
-        // set's splats are tested too: drawn already, they join the next frame's first set
-        // only when they pass.
+        // Not drawn by the renderer (its setup is the same arithmetic), or hidden.
         Query q;
         q.in_frustum = b[e].drawn();
         q.rect = {b[e].x0, b[e].y0, b[e].x1, b[e].y1};
@@ -470,55 +460,31 @@ void OcclusionCuller::collect(bool test_splats) {
   for (uint32_t leaf : drawn_leaves_) {
     const ChunkBvhNode& x = bvh_.nodes[leaf];
     const uint8_t* keep = test_splats ? keep_.data() + bounds_at_[leaf] : nullptr;
-    const bool next = coherent && visible_frame_[leaf] == frame_;
     for (uint32_t k = x.left; k < x.right; ++k) {
       if (keep && !keep[k - x.left]) continue;
       const uint32_t i = bvh_.order[k];
       mask_[i >> 6] |= uint64_t{1} << (i & 63);
-      if (next) next_mask_[i >> 6] |= uint64_t{1} << (i & 63);
       ++splats;
     }
-    // The first set's splats found hidden were drawn all the same.
-    if (keep && two_sets)
-      for (uint32_t k = x.left; k < x.right; ++k) {
-        const uint32_t i = bvh_.order[k];
-        splats += !keep[k - x.left] && (first_mask_[i >> 6] >> (i & 63) & 1);
-      }
     if (test_splats) stats_->splats_culled += x.size();
   }
   if (test_splats) stats_->splats_culled -= splats;
   stats_->leaves_drawn += drawn_leaves_.size();
-  // The first set's splats outside the drawn leaves (off screen now) were drawn too.
-  splats = 0;
-  for (std::size_t w = 0; w < words; ++w) {
-    if (two_sets) mask_[w] |= first_mask_[w];
-    splats += __builtin_popcountll(mask_[w]);
-  }
   stats_->splats_drawn += splats;
-  auto extract = [&](const std::vector<uint64_t>& mask, std::vector<uint32_t>& out) {
-    out.clear();
-    for (std::size_t w = 0; w < mask.size(); ++w)
-      for (uint64_t bits = mask[w]; bits != 0; bits &= bits - 1)
-        out.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
-  };
   splats_.clear();
   splats_.reserve(splats);
-  for (std::size_t w = 0; w < words; ++w) {
-    const uint64_t rest = two_sets ? mask_[w] & ~first_mask_[w] : mask_[w];
-    for (uint64_t bits = rest; bits != 0; bits &= bits - 1)
+  for (std::size_t w = 0; w < mask_.size(); ++w)
+    for (uint64_t bits = mask_[w]; bits != 0; bits &= bits - 1)
       splats_.push_back(uint32_t(w * 64 + __builtin_ctzll(bits)));
-  }
-  if (coherent)
-    extract(next_mask_, next_first_);
-  else
-    next_first_.clear();
 }
 
-void OcclusionCuller::start(const Projection& projection, OcclusionMode mode, float margin,
-                            bool cull_backfaces, OcclusionStats& stats) {
+const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection, OcclusionMode mode,
+                                                   float margin, bool cull_backfaces,
+                                                   OcclusionStats& stats) {
+  const auto t0 = Clock::now();
+  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
   ++frame_;
   projection_ = projection;
-  mode_ = mode;
   margin_ = margin;
   cull_backfaces_ = cull_backfaces;
   stats_ = &stats;
@@ -527,45 +493,6 @@ void OcclusionCuller::start(const Projection& projection, OcclusionMode mode, fl
   if (mode != OcclusionMode::kNone && mode != OcclusionMode::kFrustum)
     pyramid_.reset((projection.width + kDepthCell - 1) >> kDepthCellShift,
                    (projection.height + kDepthCell - 1) >> kDepthCellShift);
-}
-
-const std::vector<uint32_t>* OcclusionCuller::begin_two_sets(const Projection& projection,
-                                                             OcclusionMode mode, float margin,
-                                                             bool cull_backfaces,
-                                                             OcclusionStats& stats) {
-  // The previous frame (frame_ now) was chc++ and saw something.
-  if (mode != OcclusionMode::kChcPlusPlus || mode_ != mode || visible_frame_[0] != frame_ ||
-      next_first_.empty())
-    return nullptr;
-  const auto t0 = Clock::now();
-  start(projection, mode, margin, cull_backfaces, stats);
-  first_.swap(next_first_);
-  first_mask_.assign((scene_.size() + 63) / 64, 0);
-  for (uint32_t i : first_) first_mask_[i >> 6] |= uint64_t{1} << (i & 63);
-  stats.first_set += first_.size();
-  stats.traversal_s += seconds_since(t0);
-  return &first_;
-}
-
-const std::vector<uint32_t>& OcclusionCuller::cull_rest(OcclusionStats& stats) {
-  const auto t0 = Clock::now();
-  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
-  stats_ = &stats;
-  run_chc(true, true);
-  collect(true);  // first_ stays: the caller's renderer reads it until the frame is done
-  stats.traversal_s += seconds_since(t0) - (stats.query_s - query0) - (stats.depth_s - depth0) -
-                       (stats.splat_test_s - test0);
-  stats_ = nullptr;
-  return splats_;
-}
-
-const std::vector<uint32_t>& OcclusionCuller::cull(const Projection& projection, OcclusionMode mode,
-                                                   float margin, bool cull_backfaces,
-                                                   OcclusionStats& stats) {
-  const auto t0 = Clock::now();
-  const double query0 = stats.query_s, depth0 = stats.depth_s, test0 = stats.splat_test_s;
-  start(projection, mode, margin, cull_backfaces, stats);
-  first_.clear();
   switch (mode) {
     case OcclusionMode::kNone:
       for (uint32_t n = 0; n < bvh_.nodes.size(); ++n)

@@ -60,7 +60,6 @@ struct OcclusionStats {
   uint64_t culled_occlusion = 0;  // nodes found hidden
   uint64_t leaves_drawn = 0, splats_drawn = 0;
   uint64_t splats_culled = 0;  // splats of drawn leaves found hidden (or off screen) one by one
-  uint64_t first_set = 0;      // splats drawn before the queries (chc++ in two sets)
   // Wall time (depth pass = drawing leaves; splat test = the per-splat test of drawn leaves).
   double traversal_s = 0, query_s = 0, depth_s = 0, splat_test_s = 0;
   void add(const OcclusionStats& o);
@@ -77,22 +76,6 @@ class OcclusionCuller {
   // frame's counts and times to `stats`.
   const std::vector<uint32_t>& cull(const Projection& projection, OcclusionMode mode, float margin,
                                     bool cull_backfaces, OcclusionStats& stats);
-
-  // chc++ in two sets, without a depth pass (render_culled_frame.h): begin_two_sets returns the
-  // first set, the splats the previous frame drew from the leaves visible in it (ascending), or
-  // null when there is none (another mode, no previous frame, nothing visible in it: then call
-  // cull()). The caller renders that set and writes each pixel's nearest disc-fragment depth
-  // into front() (level 0, +inf where none, upper levels updated): an upper bound of the front
-  // depth of the full render, since more splats only lower it. cull_rest then traverses the
-  // hierarchy as cull() does, querying nodes and testing the drawn leaves' splats one by one
-  // against that pyramid alone, and returns the splats to add (ascending, none of the first
-  // set). Exact as cull() is: a node or splat is dropped only when it lies beyond the front of
-  // the first set plus the margin everywhere it covers, so beyond the final front too.
-  const std::vector<uint32_t>* begin_two_sets(const Projection& projection, OcclusionMode mode,
-                                              float margin, bool cull_backfaces,
-                                              OcclusionStats& stats);
-  DepthPyramid& front() { return pyramid_; }
-  const std::vector<uint32_t>& cull_rest(OcclusionStats& stats);
 
  private:
   struct Query {
@@ -114,10 +97,7 @@ class OcclusionCuller {
   void run_chc(bool coherent, bool plus);
   void flush(std::vector<uint32_t>& pending, std::vector<uint32_t>& invisible,
              std::vector<uint32_t>& queue_out);
-  void start(const Projection& projection, OcclusionMode mode, float margin, bool cull_backfaces,
-             OcclusionStats& stats);
-  // drawn_leaves_ (and first_) -> splats_ (those not in first_) and next_first_
-  void collect(bool test_splats);
+  void collect(bool test_splats);  // drawn_leaves_ -> splats_
 
   const RenderScene& scene_;
   const ChunkBvh& bvh_;
@@ -136,11 +116,6 @@ class OcclusionCuller {
   std::vector<std::size_t> bounds_at_;  // per leaf drawn this frame: its first entry in bounds_
   std::vector<uint8_t> keep_;           // per entry of bounds_: the splat test's answer
   std::vector<uint32_t> splats_;
-  // Two sets: this frame's first set and its bits, the next frame's (the splats drawn from leaves
-  // visible this frame, chc++ only) and its bits while collect() builds it.
-  std::vector<uint32_t> first_, next_first_;
-  std::vector<uint64_t> first_mask_, next_mask_;
-  OcclusionMode mode_ = OcclusionMode::kNone;
   std::vector<uint32_t> leaf_;  // draw_leaf's list of one
   tbb::enumerable_thread_specific<DepthPassScratch> thread_scratch_;
   bool tight_bounds_ = false;

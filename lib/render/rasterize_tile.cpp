@@ -41,10 +41,9 @@ namespace {
 // the splat has clip partners; each hit's scene point goes through the fragment test first and
 // the discarded ones are counted in `clipped`. Both variants step L, U, V alike, so clipping
 // changes nothing but the discarded fragments.
-template <bool kClip, bool kRing, class Store>
-inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t id,
-                                const TileRect& tile,
-                                const float* table, Store& store, const ClipContext* clip,
+template <bool kClip, bool kRing>
+inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, const TileRect& tile,
+                                const float* table, FragmentStore& store, const ClipContext* clip,
                                 uint64_t& clipped) {
   const int stride = tile.width();
   const int xs = std::max<int>(s.x0, tile.x0), xe = std::min<int>(s.x1, tile.x1);
@@ -79,7 +78,7 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t i
           clipped += keep & discarded;
           keep = keep & !discarded;
         }
-        if (keep) fragments += store.add(pixel, depth, w, id);
+        if (keep) fragments += store.add(pixel, depth, w, index);
       }
       l += s.l[0];
       u += s.u[0];
@@ -92,33 +91,21 @@ inline uint64_t rasterize_splat(const SplatRaster& s, uint32_t index, uint32_t i
   return fragments;
 }
 
-template <class Store>
-inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, uint32_t id,
-                              const TileRect& tile, const float* table, Store& store,
-                              const ClipContext* clip, uint64_t& clipped) {
+inline uint64_t rasterize_any(const SplatRaster& s, uint32_t index, const TileRect& tile,
+                              const float* table, FragmentStore& store, const ClipContext* clip,
+                              uint64_t& clipped) {
   const bool ring = s.ring2 > 1.0f;
   if (clip && clip->table->has_partners(index))
-    return ring ? rasterize_splat<true, true>(s, index, id, tile, table, store, clip, clipped)
-                : rasterize_splat<true, false>(s, index, id, tile, table, store, clip, clipped);
-  return ring
-             ? rasterize_splat<false, true>(s, index, id, tile, table, store, nullptr, clipped)
-             : rasterize_splat<false, false>(s, index, id, tile, table, store, nullptr, clipped);
+    return ring ? rasterize_splat<true, true>(s, index, tile, table, store, clip, clipped)
+                : rasterize_splat<true, false>(s, index, tile, table, store, clip, clipped);
+  return ring ? rasterize_splat<false, true>(s, index, tile, table, store, nullptr, clipped)
+              : rasterize_splat<false, false>(s, index, tile, table, store, nullptr, clipped);
 }
-
-// Takes the place of the FragmentStore: keeps each pixel's nearest disc-fragment depth.
-struct NearestDepth {
-  float* nearest;
-  bool add(int pixel, float depth, float weight, uint32_t) {
-    if (weight > 0 && depth < nearest[pixel]) nearest[pixel] = depth;
-    return false;
-  }
-};
 
 }  // namespace
 
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                            const TileRect& tile, FragmentStore& store, const ClipContext* clip,
-                            const uint32_t* ids) {
+                            const TileRect& tile, FragmentStore& store, const ClipContext* clip) {
   const float* table = weight_table().data();
   RasterCounts counts;
   // The tile's SplatRasters come from a large array written long before: prefetch a few splats
@@ -132,8 +119,7 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
     }
     const SplatRaster& s = rasters[splats[k]];
     if (!(s.nc <= 0)) continue;
-    const uint32_t id = ids ? ids[splats[k]] : splats[k];
-    counts.fragments += rasterize_any(s, splats[k], id, tile, table, store, clip, counts.clipped);
+    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
   }
   const float hidden_beyond = store.farthest_nearest(tile.width() * tile.height()) + store.window();
   for (std::size_t k = 0; k < count; ++k) {
@@ -143,35 +129,9 @@ RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, 
       ++counts.skipped_splats;
       continue;
     }
-    const uint32_t id = ids ? ids[splats[k]] : splats[k];
-    counts.fragments += rasterize_any(s, splats[k], id, tile, table, store, clip, counts.clipped);
+    counts.fragments += rasterize_any(s, splats[k], tile, table, store, clip, counts.clipped);
   }
   return counts;
-}
-
-}  // namespace splatkit::render
-
-namespace splatkit::render {
-
-void nearest_disc_depths(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                         const TileRect& tile, float* nearest) {
-  const float* table = weight_table().data();
-  NearestDepth sink{nearest};
-  uint64_t clipped = 0;
-  // As rasterize_tile: the splats facing the eye first, then those facing away unless they lie
-  // wholly behind every nearest depth of the tile (skipping a splat only leaves depths higher,
-  // still upper bounds of the store's).
-  for (std::size_t k = 0; k < count; ++k) {
-    const SplatRaster& s = rasters[splats[k]];
-    if (s.nc <= 0) rasterize_any(s, splats[k], splats[k], tile, table, sink, nullptr, clipped);
-  }
-  const int pixels = tile.width() * tile.height();
-  const float farthest = *std::max_element(nearest, nearest + pixels);
-  for (std::size_t k = 0; k < count; ++k) {
-    const SplatRaster& s = rasters[splats[k]];
-    if (!(s.nc <= 0) && !(s.zmin > farthest))
-      rasterize_any(s, splats[k], splats[k], tile, table, sink, nullptr, clipped);
-  }
 }
 
 }  // namespace splatkit::render

@@ -53,20 +53,9 @@ struct ClipContext {
   Projection projection;
 };
 
-// `clip`: null, or the frame's clip data (see above). `ids`: null (the store receives the
-// splats' indices in `rasters`), or the id the store receives for each index (ids[splats[k]]),
-// increasing with the index; the store orders equal depths by it (no clipping with ids).
+// `clip`: null, or the frame's clip data (see above).
 RasterCounts rasterize_tile(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
                             const TileRect& tile, FragmentStore& store,
-                            const ClipContext* clip = nullptr, const uint32_t* ids = nullptr);
-
-// The depth of the nearest disc fragment rasterize_tile would make at each pixel of `tile` from
-// the same splats, or more (an upper bound of it: back-facing splats wholly behind the tile's
-// nearest depths are skipped), lowered into nearest[0..tile pixels) (row by row; the caller sets
-// it to +inf first): the same arithmetic without the store, so every depth written is that of a
-// disc fragment the store receives and measures its window from (fragment_store.h); for the
-// occlusion culler's pyramid.
-void nearest_disc_depths(const SplatRaster* rasters, const uint32_t* splats, std::size_t count,
-                         const TileRect& tile, float* nearest);
+                            const ClipContext* clip = nullptr);
 
 }  // namespace splatkit::render

@@ -17,7 +17,6 @@
 #include "render/frame_renderer.h"
 #include "render/occlusion_culler.h"
 #include "render/reconstruct_pixel.h"
-#include "render/render_culled_frame.h"
 #include "render/subset_scene.h"
 #include "splatkit/synthetic_city.h"
 #include "splatkit/synthetic_shapes.h"
@@ -95,78 +94,6 @@ TEST(OcclusionCuller, CityWalkthroughIsByteIdentical) {
   EXPECT_GT(expect_identical(scene, cameras, options, 256), 0u);
   options.blend = BlendMode::kZRange;
   EXPECT_GT(expect_identical(scene, cameras, options, 256), 0u);
-}
-
-// chc++ in two sets (render_culled_frame.h): the previous frame's splats rasterised first, the
-// rest queried against their A-buffers' nearest depths and added to them; every frame but the
-// first takes that path, and each image equals the full render's, byte for byte.
-void expect_two_sets_identical(const RenderScene& scene, const std::vector<Camera>& cameras,
-                               const RenderOptions& options, uint32_t leaf) {
-  const ChunkBvh bvh = build_chunk_bvh(scene, leaf);
-  FrameRenderer renderer;
-  OcclusionCuller culler(scene, bvh);
-  RenderScene subset;
-  uint64_t first_set = 0, culled = 0, drawn = 0;
-  for (std::size_t f = 0; f < cameras.size(); ++f) {
-    Framebuffer full, img;
-    renderer.render(scene, cameras[f], options, full);
-    OcclusionStats stats;
-    const FrameStats fs =
-        render_culled_frame(scene, cameras[f], options, OcclusionMode::kChcPlusPlus,
-                            margin_of(scene, options), culler, renderer, subset, img, stats);
-    EXPECT_EQ(stats.first_set > 0, f > 0) << "frame " << f;
-    EXPECT_EQ(fs.splats_in, stats.splats_drawn);
-    EXPECT_LT(stats.splats_drawn, scene.size());
-    first_set += stats.first_set;
-    culled += stats.culled_occlusion;
-    drawn += stats.splats_drawn;
-    ASSERT_EQ(img.rgb8.size(), full.rgb8.size());
-    ASSERT_EQ(img.depth.size(), full.depth.size());
-    EXPECT_EQ(0, std::memcmp(img.rgb8.data(), full.rgb8.data(), img.rgb8.size())) << "frame " << f;
-    EXPECT_EQ(
-        0, std::memcmp(img.depth.data(), full.depth.data(), img.depth.size() * sizeof(float)))
-        << "frame " << f;
-  }
-  EXPECT_GT(first_set, 0u);
-  EXPECT_GT(culled, 0u);
-  EXPECT_LT(first_set, drawn);
-}
-
-TEST(OcclusionCuller, TwoSetsAreByteIdentical) {
-  CityOptions o;
-  o.points = 120000;
-  o.blocks = 4;
-  o.walk_frames = 6;
-  const RenderScene city = make_render_scene(make_city(o), "city");
-  std::vector<Camera> walk;
-  for (const CityCamera& c : city_walkthrough(o))
-    walk.push_back(camera_at(c.eye, c.target, 240, 135));
-  RenderOptions options;
-  options.planes.aovs = true;
-  expect_two_sets_identical(city, walk, options, 256);
-  options.blend = BlendMode::kZRange;
-  expect_two_sets_identical(city, walk, options, 256);
-
-  ShapeOptions so;
-  so.kind = ShapeKind::kCadPart;
-  so.points = 40000;
-  so.scan_lines = 4;
-  so.noise = 0.001;
-  const RenderScene cad = make_render_scene(make_shape(so), "cad");
-  std::vector<Camera> orbit;
-  for (int k = 0; k < 4; ++k)
-    orbit.push_back(
-        orbit_camera(cad.bounds, 30.0f + 10 * k, 20, std::nullopt, {0, 0, 1}, 40, 200, 150));
-  options = RenderOptions{};
-  options.planes.aovs = true;
-  expect_two_sets_identical(cad, orbit, options, 64);
-  options.cull_backfaces = true;
-  expect_two_sets_identical(cad, orbit, options, 64);
-  // Few slots: overflows among coplanar splats' equal depths, decided by scene index across the
-  // two sets.
-  options.cull_backfaces = false;
-  options.max_fragments = 2;
-  expect_two_sets_identical(cad, orbit, options, 64);
 }
 
 TEST(OcclusionCuller, ScanLinesWithNoiseIsByteIdentical) {
