@@ -90,6 +90,7 @@ int main(int argc, char** argv) try {
   if (f.chunk_size == 0xFFFFFFFFu) throw std::runtime_error("fixed-size chunks only");
   std::vector<unsigned char> out = laz_bench::touched_output(f);
   const uint64_t chunks = (f.count + f.chunk_size - 1) / f.chunk_size;
+  const double c0 = laz_bench::cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<char> ok(threads, 0);
   std::vector<std::thread> pool;
@@ -100,9 +101,10 @@ int main(int argc, char** argv) try {
   }
   for (auto& t : pool) t.join();
   const double s = laz_bench::seconds_since(t0);
+  const double cpu = laz_bench::cpu_seconds() - c0;
   for (char o : ok)
     if (!o) throw std::runtime_error("LASzip failed to decode");
-  laz_bench::report("LASzip", f, s, out);
+  laz_bench::report("LASzip", f, s, cpu, out);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_laz_laszip: %s\n", e.what());

@@ -24,6 +24,7 @@ int main(int argc, char** argv) try {
   static constexpr int kBaseSize[] = {20, 28, 26, 34, 0, 0, 30, 36, 38};
   const int eb_count = f.record_length - kBaseSize[f.format];
   const bool variable = f.chunk_size == 0xFFFFFFFFu;
+  const double c0 = laz_bench::cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   const uint64_t table = laz_bench::get<uint64_t>(f.bytes, f.point_offset);
   const uint32_t n = laz_bench::get<uint32_t>(f.bytes, table + 4);
@@ -57,7 +58,8 @@ int main(int argc, char** argv) try {
   work();
   for (auto& t : pool) t.join();
   const double s = laz_bench::seconds_since(t0);
-  laz_bench::report("laz-perf", f, s, out);
+  const double cpu = laz_bench::cpu_seconds() - c0;
+  laz_bench::report("laz-perf", f, s, cpu, out);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_laz_lazperf: %s\n", e.what());

@@ -29,6 +29,7 @@ int main(int argc, char** argv) try {
   info.has_laszip_vlr = true;
   info.evlr_start = f.evlr_start;
   info.evlr_count = f.evlr_count;
+  const double c0 = laz_bench::cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   splatkit::check_laz_vlr(argv[1], info);
   splatkit::InputStream in(argv[1], f.bytes.data() + f.point_offset,
@@ -39,7 +40,8 @@ int main(int argc, char** argv) try {
     at += n * f.record_length;
   });
   const double s = laz_bench::seconds_since(t0);
-  laz_bench::report("splatkit", f, s, out);
+  const double cpu = laz_bench::cpu_seconds() - c0;
+  laz_bench::report("splatkit", f, s, cpu, out);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bench_laz_splatkit: %s\n", e.what());

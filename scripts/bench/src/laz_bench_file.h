@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -93,11 +94,18 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// "NAME POINTS SECONDS CHECKSUM", parsed by laz.sh.
-inline void report(const char* name, const File& f, double seconds,
+// CPU seconds of the whole process so far (all threads).
+inline double cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// "NAME POINTS SECONDS CHECKSUM CPU-SECONDS", parsed by laz.sh.
+inline void report(const char* name, const File& f, double seconds, double cpu,
                    const std::vector<unsigned char>& out) {
-  std::printf("%s %llu %.6f %016llx\n", name, static_cast<unsigned long long>(f.count), seconds,
-              static_cast<unsigned long long>(checksum(out)));
+  std::printf("%s %llu %.6f %016llx %.6f\n", name, static_cast<unsigned long long>(f.count),
+              seconds, static_cast<unsigned long long>(checksum(out)), cpu);
 }
 
 inline int threads_arg(int argc, char** argv) {
