@@ -4,6 +4,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -30,17 +31,31 @@ constexpr uint64_t kMaxPointsPerByte = 1024;
 constexpr uint64_t kRunPoints = uint64_t{1} << 15;
 constexpr uint64_t kEvlrHeaderBytes = 60;
 
-std::vector<unsigned char> read_rest(InputStream& in) {
-  std::vector<unsigned char> data;
-  if (auto left = in.remaining()) data.reserve(static_cast<std::size_t>(*left));
-  std::size_t got = 0;
-  do {
-    const std::size_t old = data.size();
-    data.resize(old + (std::size_t{1} << 20));
-    got = in.read_some(data.data() + old, std::size_t{1} << 20);
-    data.resize(old + got);
-  } while (got > 0);
-  return data;
+// The rest of a stream in memory, in a buffer that is not zeroed first.
+struct Rest {
+  std::unique_ptr<unsigned char[]> bytes;
+  std::size_t size = 0;
+  std::span<const unsigned char> span() const { return {bytes.get(), size}; }
+};
+
+// Reads the rest of `in`: of known size in one read (InputStream reads a large regular file's
+// pieces on several threads), else in pieces into a buffer that doubles.
+Rest read_rest(InputStream& in) {
+  Rest r;
+  std::size_t capacity = std::size_t{1} << 20;
+  if (auto left = in.remaining()) capacity = static_cast<std::size_t>(*left) + 1;  // + 1: sees EOF
+  r.bytes.reset(new unsigned char[capacity]);
+  for (;;) {
+    const std::size_t got = in.read_some(r.bytes.get() + r.size, capacity - r.size);
+    r.size += got;
+    if (got == 0) return r;
+    if (r.size == capacity) {
+      std::unique_ptr<unsigned char[]> bigger(new unsigned char[2 * capacity]);
+      std::memcpy(bigger.get(), r.bytes.get(), r.size);
+      r.bytes = std::move(bigger);
+      capacity *= 2;
+    }
+  }
 }
 
 struct Chunk {
@@ -223,7 +238,8 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   laz::LaszipVlr vlr;
   std::string error;
   laz::parse_laszip_vlr(info.laszip_vlr, vlr, error);  // checked by check_laz_vlr
-  const std::vector<unsigned char> data = read_rest(in);
+  const Rest rest = read_rest(in);
+  const std::span<const unsigned char> data = rest.span();
   if (info.count == 0 && data.empty()) return;
   uint64_t table_end = 0, end_of_data = 0;
   const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data, table_end, end_of_data);
@@ -288,7 +304,7 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
                   const Chunk& c = chunks[i];
                   try {
                     const std::size_t used = laz::decode_chunk(
-                        std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
+                        data.subspan(c.offset, c.bytes), vlr.items, c.points,
                         t.records + (c.first_point - base) * rl);
                     if (c.bytes - used > 1)
                       errors[i] = std::to_string(c.bytes - used) + " of its " +
