@@ -7,9 +7,9 @@
 # (N x record length bytes) before its clock starts, and times decoding only; each prints a
 # checksum of the records, and the three must agree (the same bytes):
 #   splatkit (scripts/bench/src/bench_laz_splatkit.cpp): read_laz_points as splat-convert calls
-#     it (chunk table, every check, chunks decoded in parallel by TBB in batches while the
-#     previous batch goes to the sink); the sink copies each batch into the output; THREADS is
-#     TBB's parallelism.
+#     it (chunk table, every check, runs of chunks decoded in parallel in a TBB pipeline while
+#     earlier runs go to the sink in order); the sink copies each run into the output; THREADS
+#     is TBB's parallelism.
 #   laz-perf 3.4 (bench_laz_lazperf.cpp): decompress_chunk_table, then one
 #     lazperf::reader::chunk_decompressor per chunk writing straight into the output; THREADS
 #     std::threads take chunks from a shared counter.

@@ -1,7 +1,7 @@
 // bench_laz_splatkit IN.laz [THREADS]: splatkit's LAZ decoder as splat-convert runs it
-// (read_laz_points: chunk table, checks, chunks decoded in parallel by TBB in batches, each batch
-// handed to the sink while the next one is decoded) on a file in memory; the sink copies each
-// batch into the output records. Prints laz_bench::report's line. scripts/bench/laz.sh.
+// (read_laz_points: chunk table, checks, runs of chunks decoded in parallel in a TBB pipeline and
+// handed to the sink in order while later runs are decoded) on a file in memory; the sink copies
+// each run into the output records. Prints laz_bench::report's line. scripts/bench/laz.sh.
 #include <tbb/global_control.h>
 
 #include <cstring>
