@@ -1,11 +1,12 @@
 #include "formats/laz.h"
 
-#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -24,23 +25,37 @@ using le::get64;
 // adaptive models about 0.01 bit each (about 800 per byte), so a larger claim is a corrupt table.
 // Also what bounds the memory a forged count can make the decoder allocate.
 constexpr uint64_t kMaxPointsPerByte = 1024;
-// Points decoded per batch (the chunks of a batch are decoded in parallel): at least this many,
-// and at least 4 chunks per worker thread. Small enough that the batch's records stay mostly in
-// cache on their way to the sink, and that the buffer costs few page faults.
-constexpr uint64_t kBatchPoints = uint64_t{1} << 19;
+// Points of a run of chunks decoded by one task (read_laz_points): enough that a run of small
+// chunks costs little scheduling, few enough that a run's records stay mostly in cache on their
+// way to the sink and its buffer costs few page faults.
+constexpr uint64_t kRunPoints = uint64_t{1} << 15;
 constexpr uint64_t kEvlrHeaderBytes = 60;
 
-std::vector<unsigned char> read_rest(InputStream& in) {
-  std::vector<unsigned char> data;
-  if (auto left = in.remaining()) data.reserve(static_cast<std::size_t>(*left));
-  std::size_t got = 0;
-  do {
-    const std::size_t old = data.size();
-    data.resize(old + (std::size_t{1} << 20));
-    got = in.read_some(data.data() + old, std::size_t{1} << 20);
-    data.resize(old + got);
-  } while (got > 0);
-  return data;
+// The rest of a stream in memory, in a buffer that is not zeroed first.
+struct Rest {
+  std::unique_ptr<unsigned char[]> bytes;
+  std::size_t size = 0;
+  std::span<const unsigned char> span() const { return {bytes.get(), size}; }
+};
+
+// Reads the rest of `in`: of known size in one read (InputStream reads a large regular file's
+// pieces on several threads), else in pieces into a buffer that doubles.
+Rest read_rest(InputStream& in) {
+  Rest r;
+  std::size_t capacity = std::size_t{1} << 20;
+  if (auto left = in.remaining()) capacity = static_cast<std::size_t>(*left) + 1;  // + 1: sees EOF
+  r.bytes.reset(new unsigned char[capacity]);
+  for (;;) {
+    const std::size_t got = in.read_some(r.bytes.get() + r.size, capacity - r.size);
+    r.size += got;
+    if (got == 0) return r;
+    if (r.size == capacity) {
+      std::unique_ptr<unsigned char[]> bigger(new unsigned char[2 * capacity]);
+      std::memcpy(bigger.get(), r.bytes.get(), r.size);
+      r.bytes = std::move(bigger);
+      capacity *= 2;
+    }
+  }
 }
 
 struct Chunk {
@@ -223,83 +238,101 @@ void read_laz_points(InputStream& in, const LazPointsInfo& info,
   laz::LaszipVlr vlr;
   std::string error;
   laz::parse_laszip_vlr(info.laszip_vlr, vlr, error);  // checked by check_laz_vlr
-  const std::vector<unsigned char> data = read_rest(in);
+  const Rest rest = read_rest(in);
+  const std::span<const unsigned char> data = rest.span();
   if (info.count == 0 && data.empty()) return;
   uint64_t table_end = 0, end_of_data = 0;
   const std::vector<Chunk> chunks = chunk_layout(path, info, vlr, data, table_end, end_of_data);
   check_tail(path, info, data, table_end, end_of_data);
   if (info.count == 0) return;
   const std::size_t rl = info.record_length;
-  const uint64_t workers =
-      static_cast<uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-  uint64_t batch_points = kBatchPoints;
-  for (std::size_t i = 0; i < chunks.size() && i < 4 * workers; ++i)
-    batch_points = std::max(batch_points, chunks[i].points * 4 * workers);
-  // Batches of whole chunks, decoded in parallel; while the sink takes one batch, the next one is
-  // decoded into the other buffer (the sink, e.g. the LAS reader's conversion to a cloud, is
-  // serial work the decoding overlaps).
-  struct Batch {
+  const std::size_t workers =
+      static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  // Runs of consecutive chunks of at least kRunPoints points (one chunk when it is larger), in
+  // a pipeline: runs are decoded in parallel, each into a buffer of its own, and handed to the
+  // sink in file order while later runs are decoded. No batch waits for its slowest chunk (a
+  // worker that is preempted holds up only its own run), and at most 4 runs per worker are in
+  // flight, each with its buffer (allocated once, reused, not zeroed).
+  struct Run {
     std::size_t begin = 0, end = 0;
     uint64_t points = 0;
   };
-  std::vector<Batch> batches;
+  std::vector<Run> runs;
   uint64_t most = 0;
   for (std::size_t begin = 0, end = 0; begin < chunks.size(); begin = end) {
-    Batch b{begin, begin, 0};
-    while (b.end < chunks.size() &&
-           (b.end == begin || b.points + chunks[b.end].points <= batch_points))
-      b.points += chunks[b.end++].points;
-    end = b.end;
-    most = std::max(most, b.points);
-    batches.push_back(b);
+    Run r{begin, begin, 0};
+    while (r.end < chunks.size() && (r.end == begin || r.points < kRunPoints))
+      r.points += chunks[r.end++].points;
+    end = r.end;
+    most = std::max(most, r.points);
+    runs.push_back(r);
   }
-  // Allocated once each, not zeroed.
-  std::unique_ptr<unsigned char[]> buffers[2] = {
-      std::unique_ptr<unsigned char[]>(new unsigned char[static_cast<std::size_t>(most) * rl]),
-      std::unique_ptr<unsigned char[]>(
-          batches.size() > 1 ? new unsigned char[static_cast<std::size_t>(most) * rl] : nullptr)};
+  const std::size_t tokens = std::min(runs.size(), 4 * workers);
+  std::vector<std::unique_ptr<unsigned char[]>> buffers;
+  std::vector<unsigned char*> free_buffers;
+  std::mutex free_mutex;  // the first and last stages may run at once on two threads
   std::vector<std::string> errors(chunks.size());
-  auto decode = [&](const Batch& b, unsigned char* records) {
-    const uint64_t base = chunks[b.begin].first_point;
-    tbb::parallel_for(b.begin, b.end, [&](std::size_t i) {
-      const Chunk& c = chunks[i];
-      try {
-        const std::size_t used =
-            laz::decode_chunk(std::span(data).subspan(c.offset, c.bytes), vlr.items, c.points,
-                              records + (c.first_point - base) * rl);
-        if (c.bytes - used > 1)
-          errors[i] = std::to_string(c.bytes - used) + " of its " + std::to_string(c.bytes) +
-                      " bytes are left after its " + std::to_string(c.points) +
-                      " points (the point count or the chunk table is wrong)";
-      } catch (const laz::LazDataError& e) {
-        errors[i] = e.what();
-      }
-    });
+  struct Token {
+    const Run* run = nullptr;
+    unsigned char* records = nullptr;
   };
-  auto check = [&](const Batch& b) {
-    for (std::size_t i = b.begin; i < b.end; ++i)
-      if (!errors[i].empty())
-        throw_bad_input(path,
-                        "LAZ chunk " + std::to_string(i) + " of " + std::to_string(chunks.size()) +
-                            " (points " + std::to_string(chunks[i].first_point) + " to " +
-                            std::to_string(chunks[i].first_point + chunks[i].points - 1) +
-                            ", file byte " + std::to_string(info.point_offset + chunks[i].offset) +
-                            "): " + errors[i]);
-  };
-  decode(batches[0], buffers[0].get());
-  for (std::size_t k = 0; k < batches.size(); ++k) {
-    check(batches[k]);
-    tbb::task_group next;
-    if (k + 1 < batches.size())
-      next.run([&, k] { decode(batches[k + 1], buffers[(k + 1) % 2].get()); });
-    try {
-      sink(buffers[k % 2].get(), static_cast<std::size_t>(batches[k].points));
-    } catch (...) {
-      next.wait();
-      throw;
-    }
-    next.wait();
-  }
+  std::size_t next_run = 0;
+  tbb::parallel_pipeline(
+      tokens,
+      tbb::make_filter<void, Token>(tbb::filter_mode::serial_in_order,
+                                    [&](tbb::flow_control& fc) {
+                                      if (next_run == runs.size()) {
+                                        fc.stop();
+                                        return Token{};
+                                      }
+                                      Token t{&runs[next_run++], nullptr};
+                                      std::lock_guard lock(free_mutex);
+                                      if (free_buffers.empty()) {
+                                        buffers.emplace_back(new unsigned char[most * rl]);
+                                        t.records = buffers.back().get();
+                                      } else {
+                                        t.records = free_buffers.back();
+                                        free_buffers.pop_back();
+                                      }
+                                      return t;
+                                    }) &
+          tbb::make_filter<Token, Token>(
+              tbb::filter_mode::parallel,
+              [&](Token t) {
+                const uint64_t base = chunks[t.run->begin].first_point;
+                for (std::size_t i = t.run->begin; i < t.run->end; ++i) {
+                  const Chunk& c = chunks[i];
+                  try {
+                    const std::size_t used = laz::decode_chunk(
+                        data.subspan(c.offset, c.bytes), vlr.items, c.points,
+                        t.records + (c.first_point - base) * rl);
+                    if (c.bytes - used > 1)
+                      errors[i] = std::to_string(c.bytes - used) + " of its " +
+                                  std::to_string(c.bytes) + " bytes are left after its " +
+                                  std::to_string(c.points) +
+                                  " points (the point count or the chunk table is wrong)";
+                  } catch (const laz::LazDataError& e) {
+                    errors[i] = e.what();
+                  }
+                }
+                return t;
+              }) &
+          tbb::make_filter<Token, void>(
+              tbb::filter_mode::serial_in_order, [&](Token t) {
+                for (std::size_t i = t.run->begin; i < t.run->end; ++i)
+                  if (!errors[i].empty())
+                    throw_bad_input(
+                        path, "LAZ chunk " + std::to_string(i) + " of " +
+                                  std::to_string(chunks.size()) + " (points " +
+                                  std::to_string(chunks[i].first_point) + " to " +
+                                  std::to_string(chunks[i].first_point + chunks[i].points - 1) +
+                                  ", file byte " +
+                                  std::to_string(info.point_offset + chunks[i].offset) +
+                                  "): " + errors[i]);
+                sink(t.records, static_cast<std::size_t>(t.run->points));
+                std::lock_guard lock(free_mutex);
+                free_buffers.push_back(t.records);
+              }));
 }
 
 }  // namespace splatkit

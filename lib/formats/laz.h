@@ -29,8 +29,9 @@ struct LazPointsInfo {
 void check_laz_vlr(const std::string& path, const LazPointsInfo& info);
 
 // Reads the rest of `in` (point data, chunk table, anything after) and passes the decoded records
-// to `sink` in file order, record_length bytes each, in batches of whole chunks; the chunks of a
-// batch are decoded in parallel (TBB). Throws Error(kBadInput) naming the chunk for a truncated or
+// to `sink` in file order, record_length bytes each, in batches of whole chunks; the chunks are
+// decoded in parallel (a TBB pipeline: later chunks are decoded while `sink` takes earlier ones;
+// `sink` is called by one thread at a time, not always the caller's). Throws Error(kBadInput) naming the chunk for a truncated or
 // corrupt chunk, a chunk table that does not fit the file, a point count the chunks disagree
 // with, or bytes after the chunk table (or after the last EVLR) that belong to nothing, as LAS.
 void read_laz_points(InputStream& in, const LazPointsInfo& info,

@@ -8,7 +8,9 @@
 // bytes that the decoder's 4-byte look-ahead reads, so a valid stream never needs more.
 #pragma once
 
+#include <bit>
 #include <cstddef>
+#include <cstring>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -151,7 +153,7 @@ class ArithmeticDecoder {
       value_ -= x;
       length_ -= x;
     }
-    if (length_ < kMinLength) renormalize();
+    renormalize_if_short();
     if (--m.bits_until_update == 0) m.update();
     return sym;
   }
@@ -189,7 +191,7 @@ class ArithmeticDecoder {
     }
     value_ -= x;
     length_ = y - x;
-    if (length_ < kMinLength) renormalize();
+    renormalize_if_short();
     ++m.symbol_count_[sym];
     if (--m.symbols_until_update_ == 0) m.update();
     return sym;
@@ -206,7 +208,7 @@ class ArithmeticDecoder {
   SPLATKIT_LAZ_INLINE uint32_t read_short() {
     const uint32_t sym = value_ / (length_ >>= 16);
     value_ -= length_ * sym;
-    if (length_ < kMinLength) renormalize();
+    renormalize_if_short();
     return sym & 0xFFFF;  // a corrupt stream can exceed 16 bits; a valid one never does
   }
   uint32_t read_int() {
@@ -218,7 +220,7 @@ class ArithmeticDecoder {
   SPLATKIT_LAZ_INLINE uint32_t read_few_bits(uint32_t bits) {
     const uint32_t sym = value_ / (length_ >>= bits);
     value_ -= length_ * sym;
-    if (length_ < kMinLength) renormalize();
+    renormalize_if_short();
     return sym & ((1u << bits) - 1);  // a corrupt stream can exceed `bits`; a valid one never does
   }
 
@@ -234,6 +236,23 @@ class ArithmeticDecoder {
     do {
       value_ = (value_ << 8) | get_byte();
     } while ((length_ <<= 8) < kMinLength);
+  }
+  // renormalize() when the interval is below kMinLength, without a branch on it (whether a
+  // symbol needs bytes, and how many, is as good as random): n = leading zero bits / 8 bytes
+  // (0 to 3) shifted in from a 4-byte load, the same state as renormalize()'s loop; near the end
+  // of the bytes (fewer than 4 left), or for an empty interval (a corrupt stream), the loop.
+  SPLATKIT_LAZ_INLINE void renormalize_if_short() {
+    const uint32_t n = static_cast<uint32_t>(std::countl_zero(length_)) >> 3;
+    if (n <= 3 && end_ - p_ >= 4) [[likely]] {
+      uint32_t next;
+      std::memcpy(&next, p_, 4);
+      next = __builtin_bswap32(next);  // the stream's bytes, first one highest
+      value_ = static_cast<uint32_t>(((uint64_t{value_} << 32) | next) >> (32 - 8 * n));
+      length_ <<= 8 * n;
+      p_ += n;
+    } else if (length_ < kMinLength) {
+      renormalize();
+    }
   }
 
   const unsigned char* p_;
