@@ -39,7 +39,7 @@ benches=(
   "graph|build-splat-graph|PCL KdTreeFLANN radius search|graph.sh|200000 2 2|"
   "segmentation|segment-surfaces|PCL RegionGrowing on CGAL's building scan|segmentation-real.sh|2|needs the CGAL sample scans (scripts/fetch-cgal-scans.sh, network)"
   "io|reading PLY (splat-convert, splat-info)|PCL PLYReader|io.sh|1000000 2|"
-  "laz|reading LAZ (splat-convert, splat-info)|laz-perf (LASzip in WebAssembly, npm)|laz.sh|500000 2 2|needs node and the npm package laz-perf"
+  "laz|reading LAZ (splat-convert, splat-info)|native laz-perf 3.4 and LASzip 3.5.1, built from source|laz.sh|3000000 5|needs their git repositories (LAZ_PERF_GIT, LASZIP_GIT: a clone, a mirror or network) and a build dir configured with -DSPLATKIT_BUILD_BENCH=ON"
   "qsplat|build-qsplat|the original qsplat_make (QSPLAT_MAKE, when built)|qsplat.sh|500000 2 2|"
   "spt|build-spt|PotreeConverter 2 (when installed)|spt.sh|500000 2 1|"
   "ham|build-ham|OpenCV Sobel passes|ham.sh|2048 2 2 4096|"
