@@ -2,7 +2,7 @@
 # The browser viewer's frame rate: a Sequential Point Tree of at least 5 M entries (splat-synth's
 # CAD part, 3.5 M points, build-spt at its defaults) served by splat-view --serve and drawn in
 # headless Chromium with software GL (SwiftShader) at WIDTHxHEIGHT from the default view, for
-# each blending mode: botsch (three passes, Botsch et al. 2005) and zbuffer (one pass, no
+# each blending mode: botsch (three passes, [Botsch05] in docs/references.md) and zbuffer (one pass, no
 # blending), the page's default for a file this large marked "(default)". The page draws one
 # frame per animation frame for 5 s and reports frames/s; the frame's fixed cost (clearing,
 # shading, compositing) is shown by the same run at a distance where one entry is drawn. Prints
@@ -21,7 +21,7 @@ work=$(mktemp -d)
 server=
 cleanup() { [ -n "$server" ] && kill "$server" 2>/dev/null; rm -rf "$work"; }
 trap cleanup EXIT
-"$bin/splat-synth" -q cad "$work/in.ply" -n "$n" --seed 1 --no-color
+"$bin/splat-synth" -q cad "$work/in.ply" -n "$n" --no-color
 "$bin/build-spt" -q "$work/in.ply" "$work/model.spt"
 rm "$work/in.ply"
 "$bin/splat-info" "$work/model.spt" | grep -E '^Entries'
