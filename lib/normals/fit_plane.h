@@ -21,4 +21,10 @@ bool triplet_plane(const Vec3f& a, const Vec3f& b, const Vec3f& c, float min_sin
 // their centroid; false when fewer than 3 or they are degenerate (collinear).
 bool refit_plane(std::span<const Vec3f> local, const Plane& plane, float band, Plane& out);
 
+// Whether the points of `local` within `band` of `plane` spread over a patch rather than a line:
+// the middle eigenvalue of their covariance at least `min_spread` times the largest (a straight
+// strip of width w and length L: about 0.1 at w = L / 3; a half disc: 0.28).
+bool inliers_span_plane(std::span<const Vec3f> local, const Plane& plane, float band,
+                        double min_spread);
+
 }  // namespace splatkit

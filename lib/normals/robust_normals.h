@@ -15,7 +15,10 @@
 // pass within their own band (2.5 σ, σ from their residuals' 1/3 quantile, so a corner whose own
 // face holds a third of the ball still works) and takes the smallest σ as the common scale; pass 2
 // scores the kept candidates by an Epanechnikov kernel of their residuals at bandwidth 2.5 σ; two
-// PCA refits over the winner's inliers follow.
+// PCA refits over the winner's inliers follow. A plane sets the scale, and the final one is
+// accepted, only when its inliers spread over a patch rather than a line: on scan lines with range
+// noise each line lies in the sensor's sweep plane, which otherwise wins at any angle to the
+// surface (the point then keeps its PCA normal).
 //
 // Measured limits: points within ~1/3 spacing of a curved rim (hole, boss) can take the flat face's
 // normal (8 of 200k on the CAD part); within a spacing of a crease and with noise of half a

@@ -84,8 +84,9 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
     for (std::size_t j = 0; j < m; ++j) residuals[j] = std::fabs(dot(p.n, local[j]) - p.offset);
     std::nth_element(residuals.begin(), residuals.begin() + (rank - 1), residuals.end());
     const float stat = residuals[rank - 1];
-    if (!(std::fabs(p.offset) <= std::max(floor_band, band_per_stat * stat))) continue;
-    best_stat = std::min(best_stat, stat);
+    const float band = std::max(floor_band, band_per_stat * stat);
+    if (!(std::fabs(p.offset) <= band)) continue;
+    if (inliers_span_plane(local, p, band, 0.15)) best_stat = std::min(best_stat, stat);
     kept.push_back(p);
   }
   if (kept.empty()) return false;
@@ -109,7 +110,7 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
     if (!refit_plane(local, plane, h, next)) break;
     plane = next;
   }
-  if (!(std::fabs(plane.offset) <= 2 * h)) return false;
+  if (!(std::fabs(plane.offset) <= 2 * h) || !inliers_span_plane(local, plane, h, 0.15)) return false;
   normal = canonical_sign(plane.n);
   return true;
 }
