@@ -114,6 +114,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     report.components = stats.components;
     j["sheets"] = stats.sheets;
     j["relabelled"] = stats.relabelled;
+    j["settled"] = stats.settled;
     if (!votes.empty()) {
       j["by_evidence"] = stats.by_evidence;
       j["against_evidence"] = stats.against_evidence;

@@ -80,6 +80,8 @@ struct OrientStats {
   std::size_t against_evidence = 0;
   // The regional variant's last pass: points turned to follow their graph neighbours.
   std::size_t relabelled = 0;
+  // Layered points whose normal became the mean of their oriented neighbours' (settle_layered).
+  std::size_t settled = 0;
 };
 
 // The regional variant of the same joins (`estimate-normals --orient visibility`).
@@ -106,6 +108,11 @@ struct OrientRegionsOptions {
   // and where such a point's neighbourhood splits into two layers (layer_cuts.h) an edge to the
   // other layer is read as across the gap and one within its layer as along it, whatever the
   // edge's angle. The cuts take 4 bytes per point while the graph is built.
+  // Once signed, such a point whose row showed no plane lies where faces meet (a crease, a thin
+  // edge) or between the two faces of a slab, and its PCA normal is a blend that can lie more than
+  // 90° from its own face's: it takes the mean of its graph neighbours' oriented normals (those
+  // on its own layer) when they agree (the mean's length at least half their count) and its own
+  // normal lies more than 18° from it.
   std::span<const uint8_t> layered;
 };
 

@@ -2,7 +2,8 @@
 # arbitrary lines through the objects goes tile -> normals -> graph -> surfaces -> merge, and per
 # tile .spt and .qs merged into one each (tests/e2e/lod_merge.sh compares merged and whole renders).
 # OUT/splats.splk holds exactly the input points, with the positions, radii and normals of one
-# estimate-normals run over the whole survey (signs decided per tile: at most 0.1 % differ); the
+# estimate-normals run over the whole survey (signs decided per tile, and the normals of points
+# where faces meet follow the signs around them: at most 0.1 % differ); the
 # models and the report are there; a second run has nothing to do.
 source "$(dirname "${BASH_SOURCE[0]}")/common.bash"
 cd "$WORK"
@@ -43,23 +44,29 @@ def rows(name):
     return out
 a, b = rows(sys.argv[1]), rows(sys.argv[2])
 ok = a.keys() == b.keys()
-flipped = 0
-bad = 0
+flipped = 0  # normals not equal to the whole run's
+lines = 0    # of those, normals not equal up to their sign either
+radii = 0
 for k in a:
     if not ok: break
     for p, q in zip(sorted(a[k]), sorted(b[k])):
-        # the radius (last column) equal; the normal equal up to its sign
         n, m = [float(c) for c in p[:3]], [float(c) for c in q[:3]]
-        if p[3] != q[3] or (m != n and m != [-c for c in n]):
-            bad += 1
-            if bad < 4: print("differs:", k, p, q, file=sys.stderr)
+        if p[3] != q[3]:
+            radii += 1
+            if radii < 4: print("radius differs:", k, p, q, file=sys.stderr)
+        if m != n and m != [-c for c in n]:
+            lines += 1
+            if lines < 4: print("normal differs:", k, p, q, file=sys.stderr)
         flipped += m != n
-ok = ok and bad == 0
-print("points", len(a), "normals flipped against the whole run", flipped, file=sys.stderr)
+print("points", len(a), "normals differing from the whole run's", flipped, "of which not up to",
+      "their sign", lines, "radii differing", radii, file=sys.stderr)
 # The signs are decided per tile, the views not looking through the borders where the survey
 # goes on (a view through the cut of a closed part sees its inside: 20 % of the signs differed
-# without that); measured: 0 and 3 of 40 000 differ on two samplings.
-ok = ok and flipped <= len(a) // 1000
+# without that); measured: 0 and 3 of 40 000 differ on two samplings. A point where faces meet
+# takes the mean of its oriented neighbours' normals (orient_normals_mst.h), so where a tile's
+# halo is signed otherwise than in the whole run, its line differs too: 16 of 40 000 on the
+# CAD part's thin edge.
+ok = ok and radii == 0 and flipped <= len(a) // 1000
 sys.exit(0 if ok else 1)
 PY
 # Nothing left to do on a second run.

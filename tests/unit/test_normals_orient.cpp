@@ -1,7 +1,8 @@
 // orient_normals_mst and orient_normals_viewpoint: closed shapes end up 100 % outward from random
 // signs (sphere, torus, the CAD part with PCA and with crease-sharp robust normals), separate
 // components each oriented, tiny clouds, byte-identical results for 1 and 2 threads, a noise
-// tail off a plane taking the plane's sign.
+// tail off a plane taking the plane's sign, points where faces meet taking their neighbours'
+// mean.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -133,6 +134,68 @@ TEST(NormalsOrient, NoisyCadPart) {
     orient_normals_mst(index, c.positions, n);
     EXPECT_LE(count_inward(n, c.normals), 2u) << (method ? "robust" : "pca");
   }
+}
+
+// A 60° wedge (two faces meeting along the y axis, outward normals 120° apart) every other of whose
+// points next to the edge on the lower face carries the upper face's normal, as a PCA row holding more of the
+// other face gives it: signed like their upper neighbours it lies 120° from their own face's.
+// Marked layered, those signed wrong take their oriented neighbours' mean, within 90° of their
+// own face's; no other normal changes.
+TEST(NormalsOrient, PointsWhereFacesMeetTakeTheirNeighboursMean) {
+  const float h = 0.1f, c30 = std::sqrt(3.0f) / 2;
+  const Vec3f n_up{0.5f, 0, c30}, n_down{0.5f, 0, -c30};  // outward; the wedge opens towards -x
+  std::vector<Vec3f> positions, normals, truth;
+  std::vector<uint8_t> layered;
+  for (int t = 1; t <= 8; ++t)
+    for (int y = -10; y <= 10; ++y)
+      for (int face = 0; face < 2; ++face) {
+        const float u = static_cast<float>(t) * h, v = static_cast<float>(y) * h;
+        positions.push_back({-c30 * u, v, face == 0 ? 0.5f * u : -0.5f * u});
+        truth.push_back(face == 0 ? n_up : n_down);
+        const bool blended = face == 1 && t == 1 && y % 2 == 0;
+        normals.push_back(blended ? n_up : truth.back());
+        layered.push_back(blended);
+      }
+  const std::size_t n = positions.size();
+  flip_randomly(normals, 4);
+  const SpatialIndex index(positions);
+  const auto orient = [&](std::span<const uint8_t> marks, OrientStats& stats) {
+    std::vector<Vec3f> out = normals;
+    OrientRegionsOptions regions;
+    regions.split_gaps = true;
+    regions.layered = marks;
+    stats = orient_normals_mst(
+        orient_knn_rows([&](std::size_t k, std::span<uint32_t> r) { index_knn_rows(index, k, r); },
+                        n, kOrientK),
+        positions, out, kOrientK, regions);
+    return out;
+  };
+  OrientStats plain_stats, stats;
+  const std::vector<Vec3f> plain = orient({}, plain_stats);
+  const std::vector<Vec3f> settled = orient(layered, stats);
+  // Each run's frame: outward or inward as a whole (the signs the orientation chose).
+  const auto frame = [&](const std::vector<Vec3f>& v) {
+    float sum = 0;
+    for (std::size_t i = 0; i < n; ++i) sum += layered[i] ? 0.0f : dot(v[i], truth[i]);
+    return sum > 0 ? 1.0f : -1.0f;
+  };
+  const float s = frame(settled), s_plain = frame(plain);
+  std::size_t plain_wrong = 0, marked = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!layered[i]) {
+      EXPECT_TRUE(settled[i] == plain[i] || settled[i] == -plain[i]) << i;
+      EXPECT_GT(s * dot(settled[i], truth[i]), 0.99f) << i;
+      continue;
+    }
+    ++marked;
+    plain_wrong += !(s_plain * dot(plain[i], truth[i]) > 0);
+    EXPECT_GT(s * dot(settled[i], truth[i]), 0.1f) << i;  // within 90° of its own face's
+    EXPECT_NEAR(squared_norm(settled[i]), 1.0f, 1e-5f) << i;
+  }
+  EXPECT_GT(stats.settled, 0u);
+  EXPECT_LE(stats.settled, marked);
+  EXPECT_EQ(plain_stats.settled, 0u);
+  EXPECT_GT(plain_wrong, 0u) << marked;
 }
 
 TEST(NormalsOrient, EachComponentOutward) {
