@@ -582,7 +582,7 @@ template <typename Id>
 std::size_t settle_layered(const KnnGraph<Id>& g, std::span<Vec3f> normals,
                            std::span<const uint8_t> layered, const Layers& layers,
                            const std::vector<int8_t>& sign) {
-  constexpr double kFixed = 0x1p40;      // fixed-point scale of the sums
+  constexpr double kFixed = 0x1p40;    // fixed-point scale of the sums
   constexpr double kSettleCos = 0.95;  // cos 18°
   const std::size_t n = normals.size();
   std::vector<std::array<int64_t, 3>> sum(n, std::array<int64_t, 3>{});
@@ -616,7 +616,8 @@ std::size_t settle_layered(const KnnGraph<Id>& g, std::span<Vec3f> normals,
     const double own = sign[i] * (normals[i].x * x + normals[i].y * y + normals[i].z * z) / length;
     if (own >= kSettleCos) continue;
     const double f = sign[i] / length;
-    normals[i] = Vec3f{static_cast<float>(x * f), static_cast<float>(y * f), static_cast<float>(z * f)};
+    normals[i] =
+        Vec3f{static_cast<float>(x * f), static_cast<float>(y * f), static_cast<float>(z * f)};
     ++settled;
   }
   return settled;

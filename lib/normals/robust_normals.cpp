@@ -118,13 +118,13 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
 
   // Pass 1: the robust scale, the smallest residual order statistic over the candidates that pass
   // within their own band of the query point (least k-th order statistic) and whose inliers in
-  // that band span a patch (inliers_span_plane, fit_plane.h). Candidates that do not pass within their band
-  // are dropped: a plane of the other side, exact and so with a tiny band of its own, must not
-  // win pass 2 just because a curved own side widens the common bandwidth.
-  // Pruned exactly: with h = the band of the best statistic so far, a candidate farther than h
-  // from the query point can neither lower the statistic (its own band would be narrower) nor
-  // pass pass 2 (whose bandwidth only shrinks); one within h is kept, and its statistic matters
-  // only when at least `rank` residuals are below the best so far — then it is selected exactly.
+  // that band span a patch (inliers_span_plane, fit_plane.h). Candidates that do not pass within
+  // their band are dropped: a plane of the other side, exact and so with a tiny band of its own,
+  // must not win pass 2 just because a curved own side widens the common bandwidth. Pruned exactly:
+  // with h = the band of the best statistic so far, a candidate farther than h from the query point
+  // can neither lower the statistic (its own band would be narrower) nor pass pass 2 (whose
+  // bandwidth only shrinks); one within h is kept, and its statistic matters only when at least
+  // `rank` residuals are below the best so far — then it is selected exactly.
   const std::size_t rank = std::max<std::size_t>(3, static_cast<std::size_t>(kScaleQuantile * m));
   const auto band_per_stat = static_cast<float>(kInlierSigmas * kScaleToSigma);
   float best_stat = INFINITY, h = INFINITY;
@@ -166,7 +166,8 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
     if (!refit_plane(local, plane, h, next)) break;
     plane = next;
   }
-  if (!(std::fabs(plane.offset) <= 2 * h) || !inliers_span_plane(local, plane, h, kMinInlierSpread)) return false;
+  if (!(std::fabs(plane.offset) <= 2 * h) || !inliers_span_plane(local, plane, h, kMinInlierSpread))
+    return false;
   normal = canonical_sign(plane.n);
   return true;
 }

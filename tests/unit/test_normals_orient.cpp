@@ -136,11 +136,11 @@ TEST(NormalsOrient, NoisyCadPart) {
   }
 }
 
-// A 60° wedge (two faces meeting along the y axis, outward normals 120° apart) every other of whose
-// points next to the edge on the lower face carries the upper face's normal, as a PCA row holding more of the
-// other face gives it: signed like their upper neighbours it lies 120° from their own face's.
-// Marked layered, those signed wrong take their oriented neighbours' mean, within 90° of their
-// own face's; no other normal changes.
+// A 60° wedge (two faces meeting along the y axis, outward normals 120° apart), every other of
+// whose points next to the edge on the lower face carries the upper face's normal, as a PCA row
+// holding more of the other face gives it: signed like their upper neighbours it lies 120° from
+// their own face's. Marked layered, those signed wrong take their oriented neighbours' mean,
+// within 90° of their own face's; no other normal changes.
 TEST(NormalsOrient, PointsWhereFacesMeetTakeTheirNeighboursMean) {
   const float h = 0.1f, c30 = std::sqrt(3.0f) / 2;
   const Vec3f n_up{0.5f, 0, c30}, n_down{0.5f, 0, -c30};  // outward; the wedge opens towards -x

@@ -110,7 +110,8 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
     if (!refit_plane(local, plane, h, next)) break;
     plane = next;
   }
-  if (!(std::fabs(plane.offset) <= 2 * h) || !inliers_span_plane(local, plane, h, 0.15)) return false;
+  if (!(std::fabs(plane.offset) <= 2 * h) || !inliers_span_plane(local, plane, h, 0.15))
+    return false;
   normal = canonical_sign(plane.n);
   return true;
 }
