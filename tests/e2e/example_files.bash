@@ -27,10 +27,14 @@ setup splat-convert -q bunny.splk bunny.ply
 setup build-qsplat -q bunny.splk bunny.qs
 # Tiles' level-of-detail files (build-spt --merge, build-qsplat --merge): a torus in four tiles.
 setup splat-tile -q "$S/torus.ply" -o torus-tiles --tile-size 1.5
-mkdir -p lod
+mkdir -p lod surfaces
 for t in torus-tiles/tiles/*.splk; do
   setup build-spt -q "$t" "lod/$(basename "$t" .splk).spt"
   setup build-qsplat -q "$t" "lod/$(basename "$t" .splk).qs"
+  # Segmented tiles (splat-convert's join of their surfaces).
+  setup build-splat-graph -q "$t" "surfaces/graph-$(basename "$t")"
+  setup segment-surfaces -q "surfaces/graph-$(basename "$t")" "surfaces/$(basename "$t")"
+  rm "surfaces/graph-$(basename "$t")"
 done
 # Heightmaps: the real SRTM crop as GeoTIFF, as an SRTM .hgt, and 1024² float32 RAW.
 cp "$S/rainier-srtm.tif" dem.tif

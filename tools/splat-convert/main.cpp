@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
                       "  $ splat-convert scan.las scan.splk\n"
                       "  $ splat-convert tiled/tiles/*.splk survey.splk  # tiles' own points, "
                       "one cloud\n"
+                      "  $ splat-convert surfaces/*.splk survey.splk  # segmented tiles, their "
+                      "surfaces joined\n"
                       "  $ splat-convert scan.laz scan.las\n"
                       "  $ splat-convert --las-format 7 scan.ply scan.laz\n"
                       "  $ splat-convert --ascii model.splk model.ply\n"
@@ -32,7 +34,10 @@ int main(int argc, char** argv) {
                  "Input files ('-' = stdin), then the output file ('-' = stdout, .splk unless "
                  "--format). With several inputs their points are concatenated (points only; "
                  "the inputs must hold the same fields) and splat-tile's tiles give their own "
-                 "points only (halo attribute 0), without the attribute")
+                 "points only (halo attribute 0), without the attribute; when every input holds "
+                 "surface ids (segment-surfaces per tile), a tile's surface and its neighbour's "
+                 "join where the halo points of each lie mostly on the other, and OUT gets one "
+                 "set of ids (and the splat classes when every input has them)")
       ->required()
       ->expected(2, -1);
   app.callback([&] {
