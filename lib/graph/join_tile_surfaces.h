@@ -1,10 +1,13 @@
 // join_tile_surfaces: one set of surface ids over the tiles of a survey, each tile segmented on
 // its own (splat-tile, then estimate-normals, build-splat-graph and segment-surfaces per tile).
-// A tile's halo holds points that another tile owns, with the surface ids its own run gave them;
-// where most of a tile's halo points of one surface lie, in their owner tile, on one surface, the
-// two are one surface and join. The result numbers the tiles' own points, gathered in the order
-// they are added, as segment-surfaces numbers a cloud's: ids in the order of each surface's first
-// point.
+// A tile's halo holds points that another tile owns, with the surface ids its own run gave them.
+// Surface a of tile A and surface b of tile B are one surface, and join, where the points of B's
+// halo that lie on b in B and on a in A are at least kMinVotes, at least half of B's halo points on
+// b that A owns, and at least half of B's halo points that A has on a: each tile sees mostly the
+// other's surface where its halo overlaps it. Joins chain (union-find). The result numbers the
+// tiles' own points, gathered in the order they are added, as segment-surfaces numbers a cloud's:
+// ids in the order of each surface's first point. Surfaces that no tile holds together (pieces
+// that a whole run joins for being coplanar, with no splat between them) stay apart.
 #pragma once
 
 #include <array>
@@ -26,9 +29,8 @@ struct TileJoinInfo {
 
 class TileSurfaceJoin {
  public:
-  // A join of this many votes at least, and of at least half of the halo points of the surface
-  // that the owner tile holds: a surface that only touches another one's halo at a crease, with
-  // a point or two, keeps apart.
+  // Votes a join needs at least: a surface that touches another's halo at a crease with a point
+  // or two keeps apart.
   static constexpr uint32_t kMinVotes = 3;
 
   // Adds a tile: positions in its frame (file coordinates origin + p, compared exactly, so tiles
