@@ -145,7 +145,8 @@ bool robust_fit(std::span<const Vec3f> local, std::size_t candidates, Determinis
     s.planes[kept++] = p;
   }
   s.planes.resize(kept);
-  if (kept == 0) return false;
+  // No candidate rests on a patch: no scale to judge by (the point keeps its PCA normal).
+  if (kept == 0 || best_stat == INFINITY) return false;
 
   // Pass 2: kernel density of the residuals at bandwidth h (Epanechnikov), among the planes that
   // pass within h of the query point; the first best wins ties.

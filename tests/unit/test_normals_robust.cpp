@@ -89,7 +89,7 @@ bool fit(std::span<const Vec3f> positions, uint32_t i, std::span<const uint32_t>
     if (inliers_span_plane(local, p, band, 0.15)) best_stat = std::min(best_stat, stat);
     kept.push_back(p);
   }
-  if (kept.empty()) return false;
+  if (kept.empty() || best_stat == INFINITY) return false;
   const float h = std::max(floor_band, band_per_stat * best_stat);
   const float inv_h2 = 1.0f / (h * h);
   float best_score = -1;
