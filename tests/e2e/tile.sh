@@ -101,6 +101,27 @@ expect_eq "merged points" "$(grep -vc '^#' merged.xyz)" "$total"
 cmp <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) >/dev/null && pass ||
   fail "tiles' normals or radii differ from the whole run's: $(diff <(grep -v '^#' merged.xyz | sort) <(grep -v '^#' whole.xyz | sort) | grep -c '^<') lines"
 
+# Segmented tiles (graph and surfaces per tile, with its halo) gathered by splat-convert: their
+# surfaces joined across the halos into one set of ids (SURF), fewer than the tiles' together;
+# with one input that has no surface ids, the points are gathered without any.
+mkdir -p surf
+for t in normals/*.splk; do
+  "$BIN/build-splat-graph" -q "$t" "surf/graph-$(basename "$t")" &&
+    "$BIN/segment-surfaces" -q "surf/graph-$(basename "$t")" "surf/$(basename "$t")" ||
+    fail "surfaces of $t"
+done
+expect_exit 0 "$BIN/splat-convert" -q surf/tile_*.splk joined.splk --report joined.json
+jq -e '.points == '"$total"' and .surfaces.surfaces > 0 and
+       .surfaces.surfaces < .surfaces.tile_surfaces and .surfaces.halo_points_matched > 0' \
+  joined.json >/dev/null && pass || fail "no surfaces joined: $(jq -c .surfaces joined.json)"
+"$BIN/splat-info" joined.splk >joined.info
+grep -q '"type":"SURF"' joined.info && pass || fail "joined.splk: no SURF"
+set -- surf/tile_*.splk
+expect_exit 0 "$BIN/splat-convert" -q "$1" "normals/$(basename "$2")" mixed.splk --report mixed.json
+jq -e '.surfaces == null' mixed.json >/dev/null && pass || fail "mixed inputs joined surfaces"
+"$BIN/splat-info" mixed.splk >mixed.info
+grep -q '"type":"SURF"' mixed.info && fail "mixed.splk has surface ids" || pass
+
 # A halo narrower than the neighbourhoods: estimate-normals says so, how many points and what
 # halo would do, in its warning and its report.
 expect_exit 0 "$BIN/splat-tile" -q part0.laz part1.laz part2.laz -o narrow --tile-size 70 --halo 0.3
