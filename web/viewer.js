@@ -2,7 +2,7 @@
 // SplatRenderer, and keeps the camera in the URL:
 //   #file=NAME&view=AZ,EL[,DIST]  the camera of `splat-view NAME OUT --view AZ,EL[,DIST]` at the
 //                                 window's size (camera.js); optional shade=, size=, spt-error=,
-//                                 qsplat-threshold= as the controls.
+//                                 qsplat-threshold=, backfaces= (auto, cull, show) as the controls.
 // For tests and measurements, window.viewer offers ready (a promise of the first frame's
 // stats), capture() (the canvas as a PNG data URL) and bench(ms) (frames per second drawing
 // continuously with the camera turning). blend=zbuffer draws one pass without blending (fast),
@@ -25,6 +25,7 @@ const state = {
   orbit: { az: DEFAULT_AZIMUTH, el: DEFAULT_ELEVATION, dist: undefined },
   walk: null,  // {eye, dir} in walk mode
   shade: 'phong', blend: 'botsch', blendAsked: null, size: 1, sptError: 1, qsThreshold: 1,
+  backFaces: 'auto', moving: false, stillTimer: 0,
   lastMs: 0, lastStats: null,
 };
 let renderer = null;
@@ -65,6 +66,7 @@ function frame() {
   const t0 = performance.now();
   const r = renderer.draw(proj, {
     splatScale: state.size, sptError: state.sptError, shade: state.shade, blend: state.blend,
+    backFaces: state.backFaces, moving: state.moving,
     profile: state.profile, countSpt: !state.benchmarking,
     traverse: (p, out) => traverseQSplat(state.model, p, state.qsThreshold, out),
   });
@@ -73,6 +75,7 @@ function frame() {
   const hd = state.model.header;
   state.lastStats = { file: state.name, kind: hd.kind, entries: hd.count, splats: r.drawn,
                       submitted: r.submitted, draws: r.draws,
+                      ...(r.back_faces ? { back_faces: r.back_faces } : {}),
                       ms: Math.round(state.lastMs * 100) / 100, width: w, height: h };
   if (state.profile && r.times.length === 3) {  // ms of: selection + visibility, attributes, shading
     const t = [t0, ...r.times];
@@ -84,6 +87,16 @@ function frame() {
       (hd.kind === 'spt' ? ` (of a prefix of ${r.submitted} entries)\n` : '\n') +
       `${state.lastMs.toFixed(1)} ms/frame  ${w}x${h}`;
   return state.lastStats;
+}
+
+// The camera moved (drag, wheel, keys): a frame now, drawn as moving, and one drawn still once
+// the input has rested for STILL_MS (backfaces=auto culls back faces only while moving).
+const STILL_MS = 200;
+function moved() {
+  state.moving = true;
+  clearTimeout(state.stillTimer);
+  state.stillTimer = setTimeout(() => { state.moving = false; redraw(); }, STILL_MS);
+  redraw();
 }
 
 function redraw() {
@@ -132,8 +145,11 @@ function readControlsFromHash() {
   state.size = num('size', state.size);
   state.sptError = num('spt-error', state.sptError);
   state.qsThreshold = num('qsplat-threshold', state.qsThreshold);
+  state.backFaces = ['auto', 'cull', 'show'].includes(p.get('backfaces')) ? p.get('backfaces')
+                                                                          : state.backFaces;
   state.profile = p.get('profile') === '1';
   $('shade').value = state.shade;
+  $('backfaces').value = state.backFaces;
   $('size').value = state.size;
   $('spt-error').value = state.sptError;
   $('qs-threshold').value = state.qsThreshold;
@@ -147,6 +163,7 @@ function chooseBlend() {
   state.defaultBlend = large ? 'zbuffer' : 'botsch';
   state.blend = state.blendAsked ?? state.defaultBlend;
   $('blend').value = state.blend;
+  $('backfaces-row').classList.toggle('hidden', state.blend !== 'zbuffer');
 }
 
 function bindControls() {
@@ -167,6 +184,7 @@ function bindControls() {
     chooseBlend();
     redraw();
   };
+  $('backfaces').onchange = () => { state.backFaces = $('backfaces').value; redraw(); };
   $('size').oninput = () => { state.size = +$('size').value; redraw(); };
   $('spt-error').oninput = () => {
     state.sptError = +$('spt-error').value;
@@ -206,7 +224,7 @@ function bindControls() {
       state.orbit.az -= dx * 0.3;
       state.orbit.el = Math.max(-89.9, Math.min(89.9, state.orbit.el + dy * 0.3));
     }
-    redraw();
+    moved();
   };
   canvas.onwheel = (e) => {
     if (!state.model || state.walk) return;
@@ -216,7 +234,7 @@ function bindControls() {
     const d = norm(sub(c.eye, c.target));
     state.orbit.dist = d * Math.exp(e.deltaY * 0.001);
     writeHash();
-    redraw();
+    moved();
   };
   addEventListener('keydown', (e) => {
     if (!state.walk) return;
@@ -227,7 +245,7 @@ function bindControls() {
     const m = moves[e.key.toLowerCase()];
     if (!m) return;
     state.walk.eye = add(state.walk.eye, scale(m, step));
-    redraw();
+    moved();
   });
   addEventListener('resize', redraw);
   addEventListener('hashchange', async () => {
@@ -263,10 +281,11 @@ async function start() {
 }
 
 // Draws a frame per animation frame for `ms` milliseconds, turning the camera a little each
-// frame, and returns {fps, frames, ms_per_frame, splats, ...}: the rate the page reaches, GPU
+// frame (a moving camera), and returns {fps, frames, ms_per_frame, splats, ...}: the rate the page reaches, GPU
 // work and the browser's compositing included (the GPU is waited for once, at the end).
 async function bench(ms) {
   state.benchmarking = true;
+  state.moving = true;
   const t0 = performance.now();
   let frames = 0, last = null;
   while (performance.now() - t0 < ms) {
@@ -277,10 +296,12 @@ async function bench(ms) {
   }
   renderer.finish();
   state.benchmarking = false;
+  state.moving = false;
   const elapsed = performance.now() - t0;
   return { fps: frames / (elapsed / 1000), frames, ms_per_frame: elapsed / frames,
            pass_ms: last?.pass_ms, blend: state.blend, default_blend: state.defaultBlend,
-           splats: last?.splats, entries: last?.entries, width: last?.width, height: last?.height };
+           splats: last?.splats, entries: last?.entries, width: last?.width, height: last?.height,
+           back_faces: last?.back_faces };
 }
 
 const ready = start().catch((err) => {

@@ -4,7 +4,9 @@
 # headless Chromium with software GL (SwiftShader) at WIDTHxHEIGHT from the default view, for
 # each blending mode: botsch (three passes, [Botsch05] in docs/references.md) and zbuffer (one pass, no
 # blending), the page's default for a file this large marked "(default)". The page draws one
-# frame per animation frame for 5 s and reports frames/s; the frame's fixed cost (clearing,
+# frame per animation frame for 5 s, turning the camera (a moving camera: the z-buffer pass culls
+# back faces, backfaces=auto; the same run with backfaces=show, every back face drawn, is printed
+# too), and reports frames/s; the frame's fixed cost (clearing,
 # shading, compositing) is shown by the same run at a distance where one entry is drawn. Prints
 # the CPU model and the load average (before each run): SwiftShader runs on the CPU, and other
 # work on the machine lowers the figures.
@@ -30,15 +32,18 @@ server=$!
 for _ in $(seq 100); do grep -q http "$work/serve.out" && break; sleep 0.05; done
 url=$(grep -o 'http://127\.0\.0\.1:[0-9]*/' "$work/serve.out")
 echo "CPU: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
-for blend in zbuffer botsch; do
+for blend in zbuffer zbuffer-show botsch; do
   for view in "" "&view=35,25,1000000"; do
+    [ "$blend" = zbuffer-show ] && [ -n "$view" ] && continue
     load=$(cut -d' ' -f1 /proc/loadavg)
     r=$(node "$root/tests/viewer/drive_chromium.mjs" --width "$width" --height "$height" \
-          --url "${url}#file=model.spt&hud=0&blend=$blend$view" --bench 5000 --timeout 300)
+          --url "${url}#file=model.spt&hud=0&blend=${blend%-show}$view$([ "$blend" = zbuffer-show ] && echo '&backfaces=show')" \
+          --bench 5000 --timeout 300)
     node -e '
       const r = JSON.parse(process.argv[1]);
       const b = r.bench;
       const mode = process.argv[2] + (b.default_blend === process.argv[2] ? " (default)" : "");
+      // (zbuffer-show: the default mode with every back face drawn)
       console.log(`${mode.padEnd(18)} ${process.argv[3] ? "empty frame " : "default view"}: ` +
                   `${b.fps.toFixed(1)} frames/s (${b.ms_per_frame.toFixed(1)} ms), ` +
                   `${b.splats} of ${b.entries} entries submitted, ${b.width}x${b.height}, ` +

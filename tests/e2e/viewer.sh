@@ -73,7 +73,28 @@ check part-surf.splk 35,25 0.98 25 surface --no-clip
 jq -cn --arg url "${URL}#file=scan.qs&view=10,20" --arg json "$WORK/interact.json" \
   --rawfile eval "$SRC/tests/viewer/interact.js" '{url: $url, json: $json, eval: $eval}' \
   >>"$WORK/jobs.jsonl"
+# The z-buffer pass culls back faces (backfaces=cull): on the closed part the image stays that of
+# backfaces=show but for edge-on splats at the silhouette, and fewer splats are drawn;
+# backfaces=auto (the default) culls them only while the camera moves outside the model's box.
+for bf in cull show auto; do
+  jq -cn --arg url "${URL}#file=scan.spt&view=35,25&hud=0&blend=zbuffer&backfaces=$bf" \
+    --arg png "$WORK/zb-$bf.png" --arg json "$WORK/zb-$bf.json" \
+    '{url: $url, png: $png, json: $json, bench: 300}' >>"$WORK/jobs.jsonl"
+done
+jq -cn --arg url "${URL}#file=scan.spt&view=35,25,0.01&hud=0&blend=zbuffer" \
+  --arg json "$WORK/zb-inside.json" '{url: $url, json: $json, bench: 300}' >>"$WORK/jobs.jsonl"
 run_pages
+m=$(node "$SRC/tests/viewer/compare_images.mjs" "$WORK/zb-show.png" "$WORK/zb-cull.png")
+echo "back faces culled against shown: $m"
+node -e 'const m = JSON.parse(process.argv[1]); process.exit(m.iou >= 0.995 && m.psnr >= 40 ? 0 : 1)' \
+  "$m" && pass || fail "back faces culled: the image changed: $m"
+expect_eq "back faces, still: cull, show, auto" \
+  "$(jq -r .stats.back_faces "$WORK/zb-cull.json" "$WORK/zb-show.json" "$WORK/zb-auto.json" | xargs)" \
+  "culled shown shown"
+expect_eq "back faces, moving: auto from outside the box, from inside" \
+  "$(jq -r .bench.back_faces "$WORK/zb-auto.json" "$WORK/zb-inside.json" | xargs)" "culled shown"
+[ "$(jq .stats.splats "$WORK/zb-cull.json")" -lt "$(jq .stats.splats "$WORK/zb-show.json")" ] &&
+  pass || fail "culling back faces drew no fewer splats: $(jq -c .stats "$WORK/zb-cull.json" "$WORK/zb-show.json")"
 expect_eq "interaction" "$(jq -c '.eval | [.orbit_turned, .zoomed_out, .walked, .shade, .error]' \
   "$WORK/interact.json")" '[true,true,true,"normals",""]'
 jq -r .eval.hash_after_drag "$WORK/interact.json" | grep -Eq '^#file=scan\.qs&view=-2,17$' &&
