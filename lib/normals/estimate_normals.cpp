@@ -107,6 +107,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     regions.split_gaps = method == NormalOrientation::kVisibility || !given.empty();
     regions.evidence = votes;
     regions.layered = layered;
+    regions.settle_layered = o.method == NormalMethod::kPca;
     const OrientStats stats =
         orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
     rows.reset();
@@ -281,7 +282,7 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
   // Cover rule: points whose normal changed after phase 3 or whose cell stayed open.
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
-  std::vector<float> ratio(robust ? 0 : n);  // the PCA's λ0 / λ1 (widen_flat_normals.h)
+  std::vector<float> ratio(n);  // the PCA's λ0 / λ1 (widen_flat_normals.h)
   timed("normals_radii", [&] {
     pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, {}, ratio);
   });
@@ -315,8 +316,14 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
       for (uint32_t i : points) widened[i] = 1;
       if (cover) refit.insert(refit.end(), points.begin(), points.end());
     });
-    std::vector<float>().swap(ratio);
+  } else {
+    // The robust fit keeps its normals, but the orientation reads the same rows as layered: the
+    // two sides of a thin wall or slab (measured, noisy scan-line city: walls facing out
+    // 61 -> 98 %).
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(flags[i] & kDegenerateFlag) && ratio[i] > kWidenRatio) widened[i] = 1;
   }
+  std::vector<float>().swap(ratio);
   std::vector<uint8_t>().swap(flags);  // (`= {}` would keep the capacity)
 
   if (robust) {
@@ -404,7 +411,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // the edges from thread points to the next scan line that take the last place of their rows.
   std::optional<ShrinkableArray> rows;
   std::vector<Bridge> bridges;
-  std::vector<uint8_t> widened(options.method == NormalMethod::kPca ? n : 0);
+  // The points whose k-row showed no plane: PCA widens their rows, both methods' orientation
+  // keeps the two layers of such a row apart (orient_normals_mst.h, OrientRegionsOptions::layered).
+  std::vector<uint8_t> widened(n);
   const bool mst = uses_graph(method) && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
     pieces.emplace(cloud.positions, options.piece_points);

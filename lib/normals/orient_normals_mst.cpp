@@ -688,7 +688,8 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
     if (!regions.evidence.empty() || regions.split_gaps)
       stats.relabelled =
           follow_neighbours(graph, positions, normals, regions.split_gaps, layers, sign);
-    if (std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
+    if (regions.settle_layered &&
+        std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
       stats.settled = settle_layered(graph, normals, regions.layered, layers, sign);
   };
   const std::size_t width = std::min(k, n) - 1;
