@@ -107,7 +107,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     regions.split_gaps = method == NormalOrientation::kVisibility || !given.empty();
     regions.evidence = votes;
     regions.layered = layered;
-    regions.settle_layered = o.method == NormalMethod::kPca;
+    regions.blended_layers = o.method == NormalMethod::kPca;
     const OrientStats stats =
         orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
     rows.reset();
@@ -317,9 +317,9 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
       if (cover) refit.insert(refit.end(), points.begin(), points.end());
     });
   } else {
-    // The robust fit keeps its normals, but the orientation reads the same rows as layered: the
-    // two sides of a thin wall or slab (measured, noisy scan-line city: walls facing out
-    // 61 -> 98 %).
+    // The robust fit keeps its normals, but the orientation reads the same rows as layered, where
+    // a sheet edge must be confirmed: the two sides of a thin wall or slab (measured, noisy
+    // scan-line city: walls facing out 61 -> 98 %).
     for (std::size_t i = 0; i < n; ++i)
       if (!(flags[i] & kDegenerateFlag) && ratio[i] > kWidenRatio) widened[i] = 1;
   }

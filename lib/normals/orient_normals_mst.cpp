@@ -675,7 +675,7 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
   if (n == 0) return stats;
 
   Layers layers{positions, normals, {}};
-  if (regions.split_gaps &&
+  if (regions.split_gaps && regions.blended_layers &&
       std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
     layers.cut = layer_cuts(positions, normals, std::span<const uint32_t>(rows.data(), rows.size()),
                             std::min(k, n) - 1, regions.layered);
@@ -688,7 +688,7 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
     if (!regions.evidence.empty() || regions.split_gaps)
       stats.relabelled =
           follow_neighbours(graph, positions, normals, regions.split_gaps, layers, sign);
-    if (regions.settle_layered &&
+    if (regions.blended_layers &&
         std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
       stats.settled = settle_layered(graph, normals, regions.layered, layers, sign);
   };

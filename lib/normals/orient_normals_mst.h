@@ -114,10 +114,12 @@ struct OrientRegionsOptions {
   // on its own layer) when they agree (the mean's length at least half their count) and its own
   // normal lies more than 18° from it.
   std::span<const uint8_t> layered;
-  // Whether the layered points settle so (their normals are PCA blends). Normals fitted to one
-  // face (`--method robust`) keep theirs: settling them rounded the CAD part's creases (normals
-  // more than 30° off the reference 0.03 -> 0.30 %, noisy part 1.2 -> 1.8 %).
-  bool settle_layered = true;
+  // Whether the layered points' normals are PCA blends: then their layers are cut and they settle
+  // as above. Normals fitted to one face (`--method robust`) only confirm the sheet edges there:
+  // settling them rounded the CAD part's creases (normals more than 30° off the reference 0.03 ->
+  // 0.30 %, noisy part 1.2 -> 1.8 %), and the cuts turned parts of the real building's roof (roof
+  // up 95.6 -> 77.8 %).
+  bool blended_layers = true;
 };
 
 // index: built over positions (#N); taken by value and released once the kNN graph is built, so a
