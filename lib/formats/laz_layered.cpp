@@ -589,6 +589,25 @@ struct LayeredCoders {
     if (rgb) rgb->decode(r, context), r += rgb->size();
     if (bytes) bytes->decode(r, context);
   }
+  // Records 1..count-1 at out + i * rl. The layers are separate streams: each is decoded over
+  // the whole chunk in turn (the points first, which give the others their contexts), so that
+  // one decoder's models and branches stay hot.
+  void decode_all(unsigned char* out, uint64_t count, std::size_t rl) {
+    if (!rgb && !bytes) {
+      for (uint64_t i = 1; i < count; ++i) point.decode(out + i * rl);
+      return;
+    }
+    std::vector<uint8_t> contexts(count);
+    for (uint64_t i = 1; i < count; ++i)
+      contexts[i] = static_cast<uint8_t>(point.decode(out + i * rl));
+    std::size_t at = kPoint14Size;
+    if (rgb) {
+      for (uint64_t i = 1; i < count; ++i) rgb->decode(out + i * rl + at, contexts[i]);
+      at += rgb->size();
+    }
+    if (bytes)
+      for (uint64_t i = 1; i < count; ++i) bytes->decode(out + i * rl + at, contexts[i]);
+  }
   void encode(const unsigned char* r) {
     const unsigned context = point.encode(r);
     r += kPoint14Size;
@@ -637,7 +656,7 @@ std::size_t decode_layered_chunk(std::span<const unsigned char> bytes,
   coders.init(out);
   if (count > 1) {
     coders.open(bytes.data() + head, sizes.data());
-    for (uint64_t i = 1; i < count; ++i) coders.decode(out + i * rl);
+    coders.decode_all(out, count, rl);
   }
   return head + static_cast<std::size_t>(total);
 }
