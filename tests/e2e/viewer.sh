@@ -83,6 +83,9 @@ for bf in cull show auto; do
 done
 jq -cn --arg url "${URL}#file=scan.spt&view=35,25,0.01&hud=0&blend=zbuffer" \
   --arg json "$WORK/zb-inside.json" '{url: $url, json: $json, bench: 300}' >>"$WORK/jobs.jsonl"
+jq -cn --arg url "${URL}#file=scan.spt&view=35,25&hud=0&blend=zbuffer" \
+  --arg json "$WORK/zb-drag.json" --rawfile eval "$SRC/tests/viewer/moving.js" \
+  '{url: $url, json: $json, eval: $eval}' >>"$WORK/jobs.jsonl"
 run_pages
 m=$(node "$SRC/tests/viewer/compare_images.mjs" "$WORK/zb-show.png" "$WORK/zb-cull.png")
 echo "back faces culled against shown: $m"
@@ -93,6 +96,8 @@ expect_eq "back faces, still: cull, show, auto" \
   "culled shown shown"
 expect_eq "back faces, moving: auto from outside the box, from inside" \
   "$(jq -r .bench.back_faces "$WORK/zb-auto.json" "$WORK/zb-inside.json" | xargs)" "culled shown"
+expect_eq "back faces, a drag then rest: auto" \
+  "$(jq -c '[.eval.moving, .eval.still]' "$WORK/zb-drag.json")" '["culled","shown"]'
 [ "$(jq .stats.splats "$WORK/zb-cull.json")" -lt "$(jq .stats.splats "$WORK/zb-show.json")" ] &&
   pass || fail "culling back faces drew no fewer splats: $(jq -c .stats "$WORK/zb-cull.json" "$WORK/zb-show.json")"
 expect_eq "interaction" "$(jq -c '.eval | [.orbit_turned, .zoomed_out, .walked, .shade, .error]' \
