@@ -106,6 +106,17 @@ struct Point14Context {
     last_intensity.fill(get16(item + 12));
   }
 
+  // The fields of the layers after Z (intensity to GPS time) as a new context takes them from
+  // `item` (Point14::decode_layers: the X/Y pass made this context before they were decoded; the
+  // Z pass sets its last Z values itself).
+  void take_rest(const unsigned char* item) {
+    std::memcpy(last + 8, item + 8, 6);    // Z, intensity
+    std::memcpy(last + 15, item + 15, 15);  // flags to GPS time
+    gps = GpsTimeModel<false>();
+    gps.set_first(static_cast<int64_t>(get64(item + 22)));
+    last_intensity.fill(get16(item + 12));
+  }
+
   unsigned char last[kPoint14Size];
   bool last_gps_change = false;
   std::array<SymbolModel, 8> changed_values{SymbolModel(128), SymbolModel(128), SymbolModel(128),
@@ -147,21 +158,68 @@ class Point14 {
     if (!in_[kXY] || !in_[kZ]) throw LazDataError("the X/Y or Z layer of POINT14 is empty");
   }
 
-  // Decodes one record into `item`; returns the other items' context for it. As in LASzip (and
-  // therefore in every file), that is the new scanner channel when this point switched channel
-  // and 0 otherwise, not the current channel.
-  unsigned decode(unsigned char* item) {
-    // The X/Y layer's decoder as a local for the record (stored back at its end): its state then
-    // stays in registers across the record's symbols (ArithmeticDecoder's note).
+  // What the X/Y layer of a record tells the later layers (decode_rest).
+  struct XyInfo {
+    uint8_t channel;  // the scanner channel after this record's switch, if any
+    uint8_t fresh;    // 1: the switch made that channel's context
+    uint8_t returns;  // r | n << 4
+    uint8_t changed;  // the change bits
+    uint8_t z_k;      // the Z compressor's context from the X/Y compressors' k
+  };
+
+  // The layers of the records 1..count-1 at out + i * rl, one layer after another over the
+  // chunk: X/Y first (which gives `contexts[i]`, the other items' context), then Z, then
+  // intensity to GPS time; the same records as decoding each record's layers in turn (the layers
+  // are separate streams), with each decoder's models and branches hot.
+  void decode_layers(unsigned char* out, uint64_t count, std::size_t rl, uint8_t* contexts) {
+    std::vector<XyInfo> info(count);
+    unsigned channel = current_;
+    for (uint64_t i = 1; i < count; ++i)
+      contexts[i] = static_cast<uint8_t>(decode_xy(out + i * rl, info[i]));
+    // Z over the chunk (each channel's last Z as decode_rest leaves it), then the rest.
+    const unsigned first = channel;
+    {
+      std::array<int32_t, 4> z{};
+      z[channel] = static_cast<int32_t>(get32(ctx_[channel]->last + 8));
+      for (uint64_t i = 1; i < count; ++i) {
+        const XyInfo& x = info[i];
+        if (x.fresh) ctx_[x.channel]->last_z.fill(z[channel]);
+        channel = x.channel;
+        Point14Context* c = ctx_[channel].get();
+        const unsigned n = x.returns >> 4, r = x.returns & 15u;
+        const unsigned l = level8(n, r);
+        c->last_z[l] = c->ic_z.decompress(*in_[kZ].dec, c->last_z[l], (n == 1) + x.z_k);
+        z[channel] = c->last_z[l];
+        put32(out + i * rl + 8, static_cast<uint32_t>(c->last_z[l]));
+      }
+    }
+    channel = first;
+    for (uint64_t i = 1; i < count; ++i) {
+      const XyInfo& x = info[i];
+      if (x.fresh) ctx_[x.channel]->take_rest(ctx_[channel]->last);
+      channel = x.channel;
+      decode_rest(out + i * rl, x);
+    }
+  }
+
+  // The X/Y layer of one record: the change bits, the scanner channel, the returns, X and Y.
+  // Returns the other items' context for the record. As in LASzip (and therefore in every file),
+  // that is the new scanner channel when this point switched channel and 0 otherwise, not the
+  // current channel.
+  unsigned decode_xy(unsigned char* item, XyInfo& info) {
     ArithmeticDecoder xy = *in_[kXY].dec;
     Point14Context* c = ctx_[current_].get();
     const unsigned char* prev = c->last;
     const unsigned lpr =
         (ret_of(prev) == 1) | (ret_of(prev) >= nret_of(prev)) << 1 | c->last_gps_change << 2;
     const uint32_t changed = xy.decode_symbol(c->changed_values[lpr]);
+    info.fresh = 0;
     if (changed & 64) {
       const unsigned channel = (current_ + xy.decode_symbol(c->scanner_channel) + 1) & 3;
-      if (!ctx_[channel]) ctx_[channel] = std::make_unique<Point14Context>(c->last);
+      if (!ctx_[channel]) {
+        ctx_[channel] = std::make_unique<Point14Context>(c->last);
+        info.fresh = 1;
+      }
       current_ = channel;
       c = ctx_[channel].get();
     }
@@ -185,8 +243,7 @@ class Point14 {
         break;
     }
     rec[14] = static_cast<unsigned char>(r | n << 4);
-    const unsigned m = kMap6[n][r], l = level8(n, r);
-    const unsigned cpr = (r == 1) | (r >= n) << 1;
+    const unsigned m = kMap6[n][r];
     const unsigned mctx = m << 1 | gps_change;
     int32_t diff = c->ic_dx.decompress(xy, c->median_x[mctx].get(), n == 1);
     put32(rec, static_cast<uint32_t>(wrap_add(static_cast<int32_t>(get32(rec)), diff)));
@@ -196,35 +253,49 @@ class Point14 {
     put32(rec + 4, static_cast<uint32_t>(wrap_add(static_cast<int32_t>(get32(rec + 4)), diff)));
     c->median_y[mctx].add(diff);
     k = (c->ic_dx.k() + c->ic_dy.k()) / 2;
-    c->last_z[l] =
-        c->ic_z.decompress(*in_[kZ].dec, c->last_z[l], (n == 1) + (k < 18 ? k & ~1u : 18));
-    put32(rec + 8, static_cast<uint32_t>(c->last_z[l]));
+    c->last_gps_change = gps_change;
+    info.channel = static_cast<uint8_t>(current_);
+    info.returns = rec[14];
+    info.changed = static_cast<uint8_t>(changed);
+    info.z_k = static_cast<uint8_t>(k < 18 ? k & ~1u : 18);
+    std::memcpy(item, rec, 8);
+    item[14] = rec[14];
+    *in_[kXY].dec = xy;
+    return (changed & 64) ? current_ : 0;
+  }
+
+  // The layers after Z of one record (its channel's context made current by decode_layers).
+  void decode_rest(unsigned char* item, const XyInfo& x) {
+    Point14Context* c = ctx_[x.channel].get();
+    unsigned char* rec = c->last;
+    const unsigned n = x.returns >> 4, r = x.returns & 15u;
+    const bool gps_change = (x.changed & 16) != 0;
+    const unsigned cpr = (r == 1) | (r >= n) << 1;
+    std::memcpy(rec + 8, item + 8, 4);  // Z, from the Z pass
     if (in_[kClass])
       rec[16] = static_cast<unsigned char>(
           in_[kClass].dec->decode_symbol(c->classification[((rec[16] & 0x1Fu) << 1) + (cpr == 3)]));
     unsigned flags = flags_of(rec);
     if (in_[kFlags]) flags = in_[kFlags].dec->decode_symbol(c->flags[flags]);
-    set_flags(rec, flags, current_);
+    set_flags(rec, flags, x.channel);
     if (in_[kIntensity]) {
       uint16_t& li = c->last_intensity[cpr << 1 | gps_change];
       li = static_cast<uint16_t>(c->ic_intensity.decompress(*in_[kIntensity].dec, li, cpr));
       put16(rec + 12, li);
     }
-    if (in_[kAngle] && (changed & 8))
+    if (in_[kAngle] && (x.changed & 8))
       put16(rec + 18, static_cast<uint32_t>(c->ic_scan_angle.decompress(
                           *in_[kAngle].dec, static_cast<int16_t>(get16(rec + 18)), gps_change)));
     if (in_[kUser])
       rec[17] =
           static_cast<unsigned char>(in_[kUser].dec->decode_symbol(c->user_data[rec[17] / 4u]));
-    if (in_[kSource] && (changed & 32))
+    if (in_[kSource] && (x.changed & 32))
       put16(rec + 20, static_cast<uint32_t>(
                           c->ic_point_source.decompress(*in_[kSource].dec, get16(rec + 20), 0)));
     if (in_[kGps] && gps_change)
       put64(rec + 22, static_cast<uint64_t>(c->gps.decode(*in_[kGps].dec)));
-    c->last_gps_change = gps_change;
-    std::memcpy(item, rec, kPoint14Size);
-    *in_[kXY].dec = xy;
-    return (changed & 64) ? current_ : 0;
+    std::memcpy(item + 8, rec + 8, 6);
+    std::memcpy(item + 15, rec + 15, 15);
   }
 
   unsigned encode(const unsigned char* item) {
@@ -583,23 +654,12 @@ struct LayeredCoders {
     }
     if (bytes) bytes->open(p, sizes);
   }
-  void decode(unsigned char* r) {
-    const unsigned context = point.decode(r);
-    r += kPoint14Size;
-    if (rgb) rgb->decode(r, context), r += rgb->size();
-    if (bytes) bytes->decode(r, context);
-  }
   // Records 1..count-1 at out + i * rl. The layers are separate streams: each is decoded over
   // the whole chunk in turn (the points first, which give the others their contexts), so that
   // one decoder's models and branches stay hot.
   void decode_all(unsigned char* out, uint64_t count, std::size_t rl) {
-    if (!rgb && !bytes) {
-      for (uint64_t i = 1; i < count; ++i) point.decode(out + i * rl);
-      return;
-    }
     std::vector<uint8_t> contexts(count);
-    for (uint64_t i = 1; i < count; ++i)
-      contexts[i] = static_cast<uint8_t>(point.decode(out + i * rl));
+    point.decode_layers(out, count, rl, contexts.data());
     std::size_t at = kPoint14Size;
     if (rgb) {
       for (uint64_t i = 1; i < count; ++i) rgb->decode(out + i * rl + at, contexts[i]);
