@@ -278,7 +278,7 @@ const BACKGROUND = [0.0194, 0.0232, 0.0273].map(toSrgb);
 // model's box (its sphere without one: not while walking through it); 'cull' always, 'show'
 // never. Returns the cosine for uBackCos (2: none).
 const BACK_FACE_COSINE = 0.5;
-export function backFaceCosine(mode, header, eye, moving) {
+function backFaceCosine(mode, header, eye, moving) {
   if (mode === 'show') return 2;
   if (mode === 'cull') return BACK_FACE_COSINE;
   if (!moving) return 2;

@@ -108,9 +108,9 @@ struct Point14Context {
 
   // The fields of the layers after Z (intensity to GPS time) as a new context takes them from
   // `item` (Point14::decode_layers: the X/Y pass made this context before they were decoded; the
-  // Z pass sets its last Z values itself).
+  // Z pass sets its Z values itself).
   void take_rest(const unsigned char* item) {
-    std::memcpy(last + 8, item + 8, 6);    // Z, intensity
+    std::memcpy(last + 12, item + 12, 2);   // intensity
     std::memcpy(last + 15, item + 15, 15);  // flags to GPS time
     gps = GpsTimeModel<false>();
     gps.set_first(static_cast<int64_t>(get64(item + 22)));
@@ -173,25 +173,17 @@ class Point14 {
   // are separate streams), with each decoder's models and branches hot.
   void decode_layers(unsigned char* out, uint64_t count, std::size_t rl, uint8_t* contexts) {
     std::vector<XyInfo> info(count);
-    unsigned channel = current_;
+    const unsigned first = current_;
     for (uint64_t i = 1; i < count; ++i)
       contexts[i] = static_cast<uint8_t>(decode_xy(out + i * rl, info[i]));
-    // Z over the chunk (each channel's last Z as decode_rest leaves it), then the rest.
-    const unsigned first = channel;
-    {
-      std::array<int32_t, 4> z{};
-      z[channel] = static_cast<int32_t>(get32(ctx_[channel]->last + 8));
-      for (uint64_t i = 1; i < count; ++i) {
-        const XyInfo& x = info[i];
-        if (x.fresh) ctx_[x.channel]->last_z.fill(z[channel]);
-        channel = x.channel;
-        Point14Context* c = ctx_[channel].get();
-        const unsigned n = x.returns >> 4, r = x.returns & 15u;
-        const unsigned l = level8(n, r);
-        c->last_z[l] = c->ic_z.decompress(*in_[kZ].dec, c->last_z[l], (n == 1) + x.z_k);
-        z[channel] = c->last_z[l];
-        put32(out + i * rl + 8, static_cast<uint32_t>(c->last_z[l]));
-      }
+    unsigned channel = first;
+    for (uint64_t i = 1; i < count; ++i) {
+      const XyInfo& x = info[i];
+      // A new context's last Z values are the previous channel's last Z, as it is now.
+      if (x.fresh)
+        ctx_[x.channel]->last_z.fill(static_cast<int32_t>(get32(ctx_[channel]->last + 8)));
+      channel = x.channel;
+      decode_z(out + i * rl, x);
     }
     channel = first;
     for (uint64_t i = 1; i < count; ++i) {
@@ -200,6 +192,15 @@ class Point14 {
       channel = x.channel;
       decode_rest(out + i * rl, x);
     }
+  }
+
+  // The Z layer of one record (its channel's context made current by decode_layers).
+  void decode_z(unsigned char* item, const XyInfo& x) {
+    Point14Context* c = ctx_[x.channel].get();
+    const unsigned n = x.returns >> 4, l = level8(n, x.returns & 15u);
+    c->last_z[l] = c->ic_z.decompress(*in_[kZ].dec, c->last_z[l], (n == 1) + x.z_k);
+    put32(c->last + 8, static_cast<uint32_t>(c->last_z[l]));
+    put32(item + 8, static_cast<uint32_t>(c->last_z[l]));
   }
 
   // The X/Y layer of one record: the change bits, the scanner channel, the returns, X and Y.
@@ -271,7 +272,6 @@ class Point14 {
     const unsigned n = x.returns >> 4, r = x.returns & 15u;
     const bool gps_change = (x.changed & 16) != 0;
     const unsigned cpr = (r == 1) | (r >= n) << 1;
-    std::memcpy(rec + 8, item + 8, 4);  // Z, from the Z pass
     if (in_[kClass])
       rec[16] = static_cast<unsigned char>(
           in_[kClass].dec->decode_symbol(c->classification[((rec[16] & 0x1Fu) << 1) + (cpr == 3)]));
@@ -294,7 +294,7 @@ class Point14 {
                           c->ic_point_source.decompress(*in_[kSource].dec, get16(rec + 20), 0)));
     if (in_[kGps] && gps_change)
       put64(rec + 22, static_cast<uint64_t>(c->gps.decode(*in_[kGps].dec)));
-    std::memcpy(item + 8, rec + 8, 6);
+    std::memcpy(item + 12, rec + 12, 2);
     std::memcpy(item + 15, rec + 15, 15);
   }
 

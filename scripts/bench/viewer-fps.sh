@@ -32,22 +32,24 @@ server=$!
 for _ in $(seq 100); do grep -q http "$work/serve.out" && break; sleep 0.05; done
 url=$(grep -o 'http://127\.0\.0\.1:[0-9]*/' "$work/serve.out")
 echo "CPU: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; load average $(cut -d' ' -f1-3 /proc/loadavg)"
-for blend in zbuffer zbuffer-show botsch; do
-  for view in "" "&view=35,25,1000000"; do
-    [ "$blend" = zbuffer-show ] && [ -n "$view" ] && continue
+# Runs: LABEL|URL options|with the empty frame (1) or the default view alone (0).
+for run in "zbuffer|blend=zbuffer|1" "zbuffer-show|blend=zbuffer&backfaces=show|0" \
+           "botsch|blend=botsch|1"; do
+  IFS='|' read -r label options empty <<<"$run"
+  views=("")
+  [ "$empty" = 1 ] && views+=("&view=35,25,1000000")
+  for view in "${views[@]}"; do
     load=$(cut -d' ' -f1 /proc/loadavg)
     r=$(node "$root/tests/viewer/drive_chromium.mjs" --width "$width" --height "$height" \
-          --url "${url}#file=model.spt&hud=0&blend=${blend%-show}$view$([ "$blend" = zbuffer-show ] && echo '&backfaces=show')" \
-          --bench 5000 --timeout 300)
+          --url "${url}#file=model.spt&hud=0&$options$view" --bench 5000 --timeout 300)
     node -e '
       const r = JSON.parse(process.argv[1]);
       const b = r.bench;
       const mode = process.argv[2] + (b.default_blend === process.argv[2] ? " (default)" : "");
-      // (zbuffer-show: the default mode with every back face drawn)
       console.log(`${mode.padEnd(18)} ${process.argv[3] ? "empty frame " : "default view"}: ` +
                   `${b.fps.toFixed(1)} frames/s (${b.ms_per_frame.toFixed(1)} ms), ` +
                   `${b.splats} of ${b.entries} entries submitted, ${b.width}x${b.height}, ` +
                   `load ${process.argv[4]}, ${r.gl}`);' \
-      "$r" "$blend" "$view" "$load"
+      "$r" "$label" "$view" "$load"
   done
 done

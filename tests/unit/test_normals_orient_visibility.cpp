@@ -97,11 +97,16 @@ TEST(NormalsOrientVisibility, ThickWalledBuildingFacesOut) {
 // out (87.1 % with k-rows alone, 18.7 % of the normals more than 30° off); with the points where
 // faces meet taking their oriented neighbours' mean (orient_normals_mst.h) 99.19 % out and 5.3 %
 // more than 30° off (4.99 % before: a mean lies between the faces that meet there).
-TEST(NormalsOrientVisibility, NoisyThinWallsFaceOut) {
+Scene noisy_thin_walls() {
   Scene s = building(0.16f, 3);
   DeterministicRng rng(7);
   for (std::size_t i = 0; i < s.truth.size(); ++i)
     s.cloud.positions[i] += s.truth[i] * (0.03f * static_cast<float>(rng.normal()));
+  return s;
+}
+
+TEST(NormalsOrientVisibility, NoisyThinWallsFaceOut) {
+  const Scene s = noisy_thin_walls();
   SplatCloud c = s.cloud;
   const NormalReport r = estimate_normals(c, in_input_order());
   std::size_t off = 0;  // normals more than 30° from the truth's line
@@ -117,10 +122,7 @@ TEST(NormalsOrientVisibility, NoisyThinWallsFaceOut) {
 // k-rows show no plane are confirmed. Measured: 99.4 % out (76.2 % when only PCA normals were read
 // so).
 TEST(NormalsOrientVisibility, NoisyThinWallsFaceOutWithRobustNormals) {
-  Scene s = building(0.16f, 3);
-  DeterministicRng rng(7);
-  for (std::size_t i = 0; i < s.truth.size(); ++i)
-    s.cloud.positions[i] += s.truth[i] * (0.03f * static_cast<float>(rng.normal()));
+  const Scene s = noisy_thin_walls();
   SplatCloud c = s.cloud;
   NormalOptions o = in_input_order();
   o.method = NormalMethod::kRobust;
