@@ -387,21 +387,34 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     report.timings[phase] = seconds_since(t0);
   };
 
-  if (!options.keep_duplicates) {
-    progress(0.0, "duplicates");
-    timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
-  }
-  const std::size_t n = cloud.size();
-  report.output_points = n;
-  std::vector<Vec3f> given = given_normals(cloud, options, report);
-  progress(0.05, "kd-tree");
   // Every stage below runs over the points renumbered in Morton order (morton_order.h: a
   // spatial order, so a point's neighbours are mostly near it in memory whatever the input's
   // order, and one that a subset of the cloud reproduces), and the results are put back in the
   // input's order at the end unless spatial_order. Ties between equally distant neighbours are
-  // broken by the new numbers.
+  // broken by the new numbers. Duplicates are merged first; without faces (which are remapped in
+  // the input's numbering) and pieces (where nothing may read the cloud at random, and the merge
+  // below reads a map through the order), they are found in the sorted keys, where they lie side
+  // by side, and leave the order afterwards: the same order and points (1M torus, 2 threads: the
+  // hashing merge took 0.04-0.07 s).
   std::vector<uint32_t> order;
-  timed("order", [&] { order = morton_sort(cloud.positions); });
+  const bool merge_sorted =
+      !options.keep_duplicates && cloud.face_count() == 0 && options.piece_points == 0;
+  if (!options.keep_duplicates) progress(0.0, "duplicates");
+  if (merge_sorted) {
+    std::vector<DuplicatePoint> copies;
+    timed("order", [&] { order = morton_sort(cloud.positions, copies); });
+    timed("merge_duplicates", [&] {
+      report.duplicates_merged = merge_sorted_duplicates(cloud, order, copies);
+    });
+  } else if (!options.keep_duplicates) {
+    timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
+  }
+  const std::size_t n = cloud.size();
+  report.output_points = n;
+  // (It reads the positions only for faces, which leave them in the input's order.)
+  std::vector<Vec3f> given = given_normals(cloud, options, report);
+  progress(0.05, "kd-tree");
+  if (!merge_sorted) timed("order", [&] { order = morton_sort(cloud.positions); });
   if (!given.empty()) given = gathered(given, order);
   cloud.normals.assign(n, Vec3f{0, 0, 1});
   cloud.radii.assign(n, 0.0f);
