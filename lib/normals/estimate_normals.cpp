@@ -285,8 +285,7 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
   std::vector<float> variation(robust ? n : 0);
   std::vector<float> ratio(n);  // the PCA's λ0 / λ1 (widen_flat_normals.h)
   timed("normals_radii", [&] {
-    pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, bound_rows,
-                          ratio);
+    pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, bound_rows, ratio);
   });
 
   progress(0.6, "degenerate");
@@ -403,9 +402,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (merge_sorted) {
     std::vector<DuplicatePoint> copies;
     timed("order", [&] { order = morton_sort(cloud.positions, copies); });
-    timed("merge_duplicates", [&] {
-      report.duplicates_merged = merge_sorted_duplicates(cloud, order, copies);
-    });
+    timed("merge_duplicates",
+          [&] { report.duplicates_merged = merge_sorted_duplicates(cloud, order, copies); });
   } else if (!options.keep_duplicates) {
     timed("merge_duplicates", [&] { report.duplicates_merged = merge_duplicates(cloud).merged; });
   }

@@ -110,7 +110,8 @@ std::vector<DuplicatePoint> find_copies(const PointKey* keys, std::size_t n) {
     }
   });
   std::vector<DuplicatePoint> copies;
-  for (const std::vector<DuplicatePoint>& f : found) copies.insert(copies.end(), f.begin(), f.end());
+  for (const std::vector<DuplicatePoint>& f : found)
+    copies.insert(copies.end(), f.begin(), f.end());
   std::sort(copies.begin(), copies.end(),
             [](const DuplicatePoint& a, const DuplicatePoint& b) { return a.copy < b.copy; });
   return copies;
