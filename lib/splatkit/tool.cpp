@@ -162,11 +162,6 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   // (reuse_freed_blocks in tool.h.) Peak RSS on a 4M random torus: 533 -> 460 MB for
   // estimate-normals, 808 -> 728 MB for build-splat-graph.
   if (map_large_blocks_) mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  // Setting the mmap threshold fixes glibc's trim threshold at 128 KiB, so the heap's top was
-  // handed back and faulted in again around every short-lived work buffer of a few hundred KiB
-  // (the kNN blocks' rows: 4k of estimate-normals' 13k page faults on a 1M torus). The heap then
-  // only holds blocks under 1 MiB: what it keeps is their high-water mark, at most this much.
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
   std::unique_ptr<tbb::global_control> limit;
   if (threads_ > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -177,6 +172,13 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     if (memory_ && (memory_->max_bytes > 0 || app_.count("--max-memory") > 0)) {
       if (memory_->max_bytes < kMinMaxMemory) throw_usage("--max-memory must be at least 64M");
       spill::start(memory_->max_bytes, memory_->tmp_dir);
+    } else if (map_large_blocks_) {
+      // Setting the mmap threshold fixes glibc's trim threshold at 128 KiB, so the heap's top
+      // was handed back and faulted in again around every short-lived work buffer of a few
+      // hundred KiB (the kNN blocks' rows: 4k of estimate-normals' 13k page faults on a 1M
+      // torus). The heap then holds blocks under 1 MiB only: it keeps their high-water mark, at
+      // most this much. (Not under a memory limit, which counts what the heap keeps.)
+      mallopt(M_TRIM_THRESHOLD, 64 << 20);
     }
     work();
     return 0;
