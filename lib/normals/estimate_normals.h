@@ -5,7 +5,8 @@
 //
 // Pipeline, each phase timed in the report:
 //   1. merge exact duplicates (merge_duplicates.h) unless keep_duplicates: fewer points out, the
-//      first occurrence's attributes kept;
+//      first occurrence's attributes kept (without faces or pieces, found in phase 2's sorted
+//      keys: merge_sorted_duplicates);
 //   2. renumber the points in Morton order (morton_order.h; kNN ties are broken by these numbers)
 //      and build the kd-tree (SpatialIndex) over them, or, with piece_points, split them into
 //      pieces that phases 3 to 5 and the orientation's kNN rows run on (splat_pieces.h);
@@ -26,7 +27,8 @@
 //      ("knn_rows": one kNN pass, or in pieces the heads of phase 3's rows), the last one
 //      replaced by phase 4's edge to the next scan line for a thread point; the radius bound
 //      (bound_radii.h, max_radius_ratio) reads its neighbours from them when they exist, else
-//      runs kNN passes of its own, then the wider bound (3 × the median of the 32 nearest,
+//      from the heads of phase 3's rows kept for it (whole cloud, k > 8) or kNN passes of its
+//      own, then the wider bound (3 × the median of the 32 nearest,
 //      bound_wide_radii); normals given by the input (InputNormals) replace the estimated ones
 //      before it, their splats fitted again where they turn by more than 10°;
 //   7. orientation (choose_orientation resolves kAuto): visibility (orient_normals_mst.h's

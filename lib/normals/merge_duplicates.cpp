@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 
 #include "splatkit/bucket_scatter.h"
@@ -18,11 +19,6 @@ namespace {
 
 // Bit pattern with -0 folded onto +0, so that positions equal as floats get equal keys.
 uint32_t key_bits(float v) { return std::bit_cast<uint32_t>(v == 0.0f ? 0.0f : v); }
-
-bool same_position(const Vec3f& a, const Vec3f& b) {
-  return key_bits(a.x) == key_bits(b.x) && key_bits(a.y) == key_bits(b.y) &&
-         key_bits(a.z) == key_bits(b.z);
-}
 
 // 32 well-mixed bits of a position: equal positions hash equal; the rare collisions of different
 // positions are sorted out by comparing the positions themselves.
@@ -59,10 +55,8 @@ struct Record {
 };
 static_assert(sizeof(Record) == 20);
 
-struct Duplicate {
-  uint32_t copy;   // a point whose position an earlier point has
-  uint32_t first;  // the lowest index with that position
-};
+using Duplicate = DuplicatePoint;  // copy: a point whose position an earlier point has; first: the
+                                   // lowest index with that position
 
 // Records are distributed by their hash's top bits into at most 4096 buckets: few enough that
 // the scatter writes to a few thousand places at a time, many enough that a bucket and its table
@@ -84,7 +78,7 @@ std::size_t resolve_bucket(Record* records, std::size_t n, std::vector<Record>& 
     std::size_t slot = r.hash & mask;
     uint32_t first = r.index;
     for (; table[slot].index != kEmpty; slot = (slot + 1) & mask)
-      if (table[slot].hash == r.hash && same_position(table[slot].position, r.position)) {
+      if (table[slot].hash == r.hash && same_point(table[slot].position, r.position)) {
         first = table[slot].index;
         break;
       }
@@ -172,6 +166,45 @@ MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
   }
   if (want_map) result.representative = std::move(representative);
   return result;
+}
+
+std::size_t merge_sorted_duplicates(SplatCloud& cloud, std::vector<uint32_t>& order,
+                                    const std::vector<DuplicatePoint>& copies) {
+  if (copies.empty()) return 0;
+  if (!cloud.face_indices.empty())
+    throw std::logic_error("merge_sorted_duplicates: a cloud with faces is merged before sorting");
+  // The kept points (input indices, ascending) and each one's number among them.
+  const std::size_t n = order.size();
+  constexpr uint32_t kCopy = 0xFFFFFFFF;
+  std::vector<uint32_t> kept, number(n);
+  kept.reserve(n - copies.size());
+  auto copy = copies.begin();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (copy != copies.end() && copy->copy == i) {
+      ++copy;
+      number[i] = kCopy;
+      continue;
+    }
+    number[i] = static_cast<uint32_t>(kept.size());
+    kept.push_back(static_cast<uint32_t>(i));
+  }
+  std::size_t out = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    const uint32_t j = number[order[t]];
+    if (j == kCopy) continue;
+    order[out] = j;
+    cloud.positions[out++] = cloud.positions[t];
+  }
+  order.resize(out);
+  cloud.positions.resize(out);
+  cloud.positions.shrink_to_fit();
+  compact(cloud.normals, kept);
+  compact(cloud.radii, kept);
+  compact(cloud.axes, kept);
+  compact(cloud.minor_radii, kept);
+  compact(cloud.colors, kept);
+  for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
+  return copies.size();
 }
 
 }  // namespace splatkit

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "splatkit/morton_order.h"
 #include "splatkit/splat_cloud.h"
 
 namespace splatkit {
@@ -31,5 +32,14 @@ struct MergeResult {
 // Merges exact duplicates of `cloud` in place. Precondition: cloud.check_consistent() holds and
 // size() < 2^32.
 MergeResult merge_duplicates(SplatCloud& cloud, bool want_map = false);
+
+// The same merge for a cloud whose positions morton_sort(positions, copies) has rearranged
+// (morton_order.h), from the copies it found: they leave `order` and the positions (the others
+// keep their sequence, renumbered as merge_duplicates numbers the kept points) and every other
+// per-point array (in input order). order, positions and copies are then what merge_duplicates
+// followed by morton_sort would have given. Precondition: the cloud has no faces (a mesh is merged
+// before it is sorted). Returns the number of points removed.
+std::size_t merge_sorted_duplicates(SplatCloud& cloud, std::vector<uint32_t>& order,
+                                    const std::vector<DuplicatePoint>& copies);
 
 }  // namespace splatkit

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -15,6 +16,20 @@
 #include "splatkit/vec3.h"
 
 namespace splatkit {
+
+// Whether two positions are the same point for merge_duplicates (merge_duplicates.h): bit-equal
+// coordinates, with -0 equal to +0. Such points have the same Morton code.
+inline bool same_point(const Vec3f& a, const Vec3f& b) {
+  auto bits = [](float v) { return std::bit_cast<uint32_t>(v == 0.0f ? 0.0f : v); };
+  return bits(a.x) == bits(b.x) && bits(a.y) == bits(b.y) && bits(a.z) == bits(b.z);
+}
+
+// A point whose position (same_point) an earlier point has, and the earliest such point.
+struct DuplicatePoint {
+  uint32_t copy;
+  uint32_t first;
+  bool operator==(const DuplicatePoint&) const = default;
+};
 
 // Spreads the low 21 bits of v to every third bit.
 inline uint64_t spread_morton_bits(uint64_t v) {
@@ -57,5 +72,10 @@ std::vector<uint32_t> morton_order(std::span<const Vec3f> points);
 // a gather through the order would, and with the arrays paged from disk (--max-memory) random
 // reads fault pages in faster than they can be dropped.
 std::vector<uint32_t> morton_sort(std::vector<Vec3f>& points);
+
+// The same, and in `copies` every point whose position an earlier point has, ascending by copy
+// (what merge_duplicates finds): equal positions have equal codes, so the sorted keys hold them
+// side by side, in input order. Nothing more is read than the sorted keys, in order.
+std::vector<uint32_t> morton_sort(std::vector<Vec3f>& points, std::vector<DuplicatePoint>& copies);
 
 }  // namespace splatkit

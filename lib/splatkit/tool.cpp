@@ -178,6 +178,13 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
     if (bounded) {
       if (memory_->max_bytes < kMinMaxMemory) throw_usage("--max-memory must be at least 64M");
       spill::start(memory_->max_bytes, memory_->tmp_dir);
+    } else if (map_large_blocks_) {
+      // Setting the mmap threshold fixes glibc's trim threshold at 128 KiB, so the heap's top
+      // was handed back and faulted in again around every short-lived work buffer of a few
+      // hundred KiB (the kNN blocks' rows: 4k of estimate-normals' 13k page faults on a 1M
+      // torus). The heap then holds blocks under 1 MiB only: it keeps their high-water mark, at
+      // most this much. (Not under a memory limit, which counts what the heap keeps.)
+      mallopt(M_TRIM_THRESHOLD, 64 << 20);
     }
     work();
     return 0;

@@ -74,6 +74,45 @@ TEST(MortonOrder, SortRearrangesThePointsIntoTheOrder) {
   }
 }
 
+// Every copy (a position an earlier point has, -0 = +0) with its first occurrence, by brute force.
+std::vector<DuplicatePoint> copies_of(const std::vector<Vec3f>& pts) {
+  std::vector<DuplicatePoint> copies;
+  std::vector<uint32_t> firsts;
+  for (uint32_t i = 0; i < pts.size(); ++i) {
+    const auto it = std::find_if(firsts.begin(), firsts.end(),
+                                 [&](uint32_t f) { return same_point(pts[f], pts[i]); });
+    if (it == firsts.end())
+      firsts.push_back(i);
+    else
+      copies.push_back({i, *it});
+  }
+  return copies;
+}
+
+TEST(MortonOrder, SortFindsTheCopiesOfEarlierPoints) {
+  // Snapped: 2500 positions over 100k points, runs of ~40 equal codes, across the blocks of the
+  // search (65536 keys); a long run of one position (sorted, not compared pairwise); -0 and +0.
+  std::vector<Vec3f> pts = cloud(100000, 21, true);
+  for (std::size_t i = 65000; i < 65600; ++i) pts[i] = {0.0105f, 0.0205f, 0.0f};
+  pts[99999] = {-0.0f, 0.0f, -0.0f};
+  pts[99998] = {0.0f, -0.0f, 0.0f};
+  for (const std::vector<Vec3f>& input : {pts, cloud(2000, 5, false), std::vector<Vec3f>{}}) {
+    std::vector<Vec3f> plain = input, with = input;
+    std::vector<DuplicatePoint> copies{{1, 2}};
+    const std::vector<uint32_t> order = morton_sort(with, copies);
+    EXPECT_EQ(order, morton_sort(plain));
+    EXPECT_EQ(with, plain);
+    const std::vector<DuplicatePoint> expected = copies_of(input);
+    EXPECT_EQ(copies.size(), expected.size());
+    EXPECT_TRUE(copies == expected) << input.size();
+  }
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  std::vector<Vec3f> sorted = pts;
+  std::vector<DuplicatePoint> copies;
+  morton_sort(sorted, copies);
+  EXPECT_TRUE(copies == copies_of(pts));
+}
+
 TEST(MortonOrder, ASubsetCodedOverTheWholeBoxKeepsItsPlaceInTheWholeOrder) {
   const std::vector<Vec3f> pts = cloud(20000, 4, true);
   const MortonFrame whole = frame_of(pts);

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "splatkit/deterministic_rng.h"
+#include "splatkit/morton_order.h"
 
 namespace splatkit {
 namespace {
@@ -44,6 +45,34 @@ TEST(NormalsMergeDuplicates, RemapsFaces) {
   merge_duplicates(c);
   EXPECT_EQ(c.face_indices, (std::vector<uint32_t>{0, 1, 2, 0, 1, 0}));
   EXPECT_EQ(c.face_count(), 2u);
+}
+
+// merge_sorted_duplicates after morton_sort gives what merge_duplicates before it gives.
+TEST(NormalsMergeDuplicates, MergedAfterTheSortAsBeforeIt) {
+  DeterministicRng rng{17};
+  SplatCloud c;
+  for (int i = 0; i < 90000; ++i) {
+    c.positions.push_back({static_cast<float>(rng.next() % 40) * 0.25f,
+                           static_cast<float>(rng.next() % 40) * 0.25f,
+                           i % 7 == 0 ? -0.0f : static_cast<float>(rng.next() % 3)});
+    c.colors.push_back({{static_cast<uint8_t>(i), static_cast<uint8_t>(i >> 8), 0}});
+    c.radii.push_back(static_cast<float>(i));
+  }
+  c.extras.push_back({"intensity", ScalarType::kUInt32, std::vector<double>(90000)});
+  for (std::size_t i = 0; i < c.size(); ++i) c.extras[0].values.set(i, static_cast<double>(i));
+  SplatCloud before = c, after = c;
+  const std::size_t merged = merge_duplicates(before).merged;
+  const std::vector<uint32_t> expected_order = morton_sort(before.positions);
+  std::vector<DuplicatePoint> copies;
+  std::vector<uint32_t> order = morton_sort(after.positions, copies);
+  EXPECT_EQ(merge_sorted_duplicates(after, order, copies), merged);
+  EXPECT_GT(merged, 80000u);
+  EXPECT_EQ(order, expected_order);
+  EXPECT_EQ(after.positions, before.positions);
+  EXPECT_EQ(after.colors, before.colors);
+  EXPECT_EQ(after.radii, before.radii);
+  EXPECT_EQ(after.extras[0].values.doubles(), before.extras[0].values.doubles());
+  EXPECT_NO_THROW(after.check_consistent());
 }
 
 TEST(NormalsMergeDuplicates, NoDuplicatesLeavesCloudUnchanged) {

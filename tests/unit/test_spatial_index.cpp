@@ -177,6 +177,23 @@ TEST(SpatialIndex, SortedReversedAndOrganPipeInputs) {
   }
 }
 
+TEST(SpatialIndex, SampledSelectionOnLongRangesWithRunsOfEqualCoordinates) {
+  // Ranges over 4096 points are narrowed by pivots from a sample (select_nth): sorted input, few
+  // distinct coordinates on the widest axis (the pivots equal: one run), and one point apart.
+  std::vector<Vec3f> steps, two_values;
+  for (int i = 0; i < 4400; ++i) {
+    steps.push_back({static_cast<float>(i / 700), static_cast<float>(i % 13) * 0.01f,
+                     static_cast<float>(i % 7) * 0.01f});
+    two_values.push_back({i == 2345 ? 0.5f : static_cast<float>(i % 2),
+                          static_cast<float>((i * 37) % 101) * 1e-3f, 0.0f});
+  }
+  std::vector<Vec3f> reversed(steps.rbegin(), steps.rend());
+  for (const auto* cloud : {&steps, &reversed, &two_values})
+    expect_knn_all_matches(SpatialIndex(*cloud, 8), *cloud, 9);
+  const std::vector<Vec3f> same(4400, Vec3f{1, 2, 3});
+  expect_knn_all_matches(SpatialIndex(same, 32), same, 5);
+}
+
 TEST(SpatialIndex, AllPointsIdentical) {
   std::vector<Vec3f> pts(100, Vec3f{0.25f, -1.0f, 3.0f});
   SpatialIndex index(pts, 8);
