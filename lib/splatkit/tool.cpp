@@ -6,7 +6,6 @@
 #include <malloc.h>
 
 #include <cctype>
-#include <climits>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -160,14 +159,9 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   }
   // A closed pipe downstream becomes a write error (exit 4) instead of a silent kill.
   std::signal(SIGPIPE, SIG_IGN);
-  // Freed blocks (tool.h): kept in the heap for reuse, unless the memory is bounded.
-  const bool bounded = memory_ && (memory_->max_bytes > 0 || app_.count("--max-memory") > 0);
-  if (bounded) {
-    mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  } else {
-    mallopt(M_MMAP_MAX, 0);
-    mallopt(M_TRIM_THRESHOLD, INT_MAX);
-  }
+  // (reuse_freed_blocks in tool.h.) Peak RSS on a 4M random torus: 533 -> 460 MB for
+  // estimate-normals, 808 -> 728 MB for build-splat-graph.
+  if (map_large_blocks_) mallopt(M_MMAP_THRESHOLD, 1 << 20);
   std::unique_ptr<tbb::global_control> limit;
   if (threads_ > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -175,7 +169,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& work) {
   else
     threads_ = tbb::info::default_concurrency();
   try {
-    if (bounded) {
+    if (memory_ && (memory_->max_bytes > 0 || app_.count("--max-memory") > 0)) {
       if (memory_->max_bytes < kMinMaxMemory) throw_usage("--max-memory must be at least 64M");
       spill::start(memory_->max_bytes, memory_->tmp_dir);
     } else if (map_large_blocks_) {

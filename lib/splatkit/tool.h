@@ -37,15 +37,11 @@ class Tool {
   // (spill_arena.h) with them before the work when a limit is given. `work_help` says how the
   // tool keeps its working set small.
   void add_memory_options(apps::MemoryLimit& limit, const std::string& work_help);
-  // Freed memory: run() keeps the blocks a phase frees in the heap (none mapped on its own, the
-  // top never trimmed), so that the next phase's arrays reuse their pages. A fresh page costs
-  // several microseconds to map on the virtual machines we run on, more than writing it: whole
-  // commands at 4M points, by turns (AMD EPYC, 2 threads, a loaded machine), estimate-normals
-  // 24.6 -> 15.9 s, build-splat-graph 7.0 -> 4.6, segment-surfaces 11.0 -> 7.5, build-spt
-  // 5.0 -> 2.9, splat-convert PLY -> .splk 1.9 -> 1.4, for a peak RSS 0-12 % higher (a finished
-  // phase's arrays stay mapped). With --max-memory (add_memory_options) blocks of 1 MiB and more
-  // are mapped on their own instead and handed back when freed: the peak RSS stays within the
-  // limit.
+  // By default run() has blocks of 1 MiB and more mapped on their own and handed back when freed,
+  // so that the per-point arrays of a finished phase leave the peak RSS (glibc otherwise keeps
+  // them in the heap once a large block has been freed). A tool that allocates the same large
+  // buffers over and over (splat-view's frames) turns that off: fresh pages each time cost more.
+  void reuse_freed_blocks() { map_large_blocks_ = false; }
 
   // Parses argv, applies the thread limit, runs `work` and maps failures to exit codes. An
   // Error thrown while parsing (by an option's callback) is reported like one from `work`.
@@ -61,6 +57,7 @@ class Tool {
   CLI::App app_;
   bool quiet_ = false;
   int threads_ = 0;
+  bool map_large_blocks_ = true;
   apps::MemoryLimit* memory_ = nullptr;
 };
 

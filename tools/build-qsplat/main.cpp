@@ -1,4 +1,7 @@
 // build-qsplat: declares the options of apps::run_build_qsplat (lib/apps) and calls it.
+#include <malloc.h>
+
+#include <climits>
 
 #include "apps/run_build_qsplat.h"
 #include "apps/run_merge_qsplat.h"
@@ -46,6 +49,13 @@ int main(int argc, char** argv) {
                  "node radius against the centroid rule) and timings as JSON");
   tool.add_columns_option(o.read.columns);
   tool.add_threads_option();
+  // Each phase frees arrays of tens of MB (the mesh's faces, the leaves, the tree's work
+  // arrays) and the next allocates others of like size: kept in the heap (no block mapped on its
+  // own, the top never trimmed), they are reused instead of unmapped and faulted in afresh. A 4M-
+  // vertex mesh: 175k -> 116k page faults, 0.38 -> 0.28 s of system time, peak RSS 388 -> 470 MB.
+  tool.reuse_freed_blocks();
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, INT_MAX);
   return tool.run_stage(argc, argv, o.paths.output, [&](const splatkit::ProgressFn& progress) {
     if (merge) {
       for (const char* option : {"--no-color", "--centroid-spheres", "--columns"})

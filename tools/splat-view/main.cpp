@@ -189,6 +189,7 @@ int main(int argc, char** argv) {
       ->needs(terrain_option);
   app.add_flag("--wireframe", terrain.wireframe, "With --terrain: draw the triangles' edges")
       ->needs(terrain_option);
+  tool.reuse_freed_blocks();  // every frame allocates its buffers again
   return tool.run(argc, argv, [&] {
     if (!serve.empty()) {
       if (!output_option.empty() || !terrain.heightmap.empty() || !o.input.empty())
