@@ -124,6 +124,10 @@ struct NormalReport {
   std::size_t bounded_radii = 0;      // radii lowered to max_radius_ratio × their neighbours'
   std::size_t radii_over_bound = 0;   // still above it after bound_radii's last pass (0 normally)
   std::size_t widened_points = 0;     // method pca: normal taken from a 2k-row (widen_flat_normals.h)
+  // method pca: normals taken from a neighbour's face model, and the noise deviation that set the
+  // band (select_face_normals.h).
+  std::size_t face_selected = 0;
+  float face_noise = 0;
   std::size_t refitted_points = 0;    // cover rule: splats fitted again from a wider row (open
                                       // cell) or after their normal changed
   double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by

@@ -120,6 +120,9 @@ struct OrientRegionsOptions {
   // 0.30 %, noisy part 1.2 -> 1.8 %), and the cuts turned parts of the real building's roof (roof
   // up 95.6 -> 77.8 %).
   bool blended_layers = true;
+  // #N or empty: where finite, the point's layer cut (as layer_cuts.h gives it) from the two faces
+  // its normal was fitted to (select_face_normals.h); it replaces the cut of its 2-ring.
+  std::span<const float> face_cuts;
 };
 
 // index: built over positions (#N); taken by value and released once the kNN graph is built, so a

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "normals/neighborhood_pca.h"
+#include "normals/select_face_normals.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
@@ -43,6 +44,7 @@ float flatness_ratio(const PcaNormal& pca);
 // Each point's result depends on its own row only: the same for any thread count.
 std::size_t widen_flat_normals(const SpatialIndex& index, std::span<const Vec3f> positions,
                                std::span<const uint32_t> points, std::size_t k,
-                               std::span<Vec3f> normals, std::span<float> sq_reach = {});
+                               std::span<Vec3f> normals, std::span<float> sq_reach = {},
+                               std::span<FaceModel> models = {});
 
 }  // namespace splatkit

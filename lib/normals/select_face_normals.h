@@ -1,0 +1,70 @@
+// select_face_normals: each point where thin parts meet takes the face model, among its
+// neighbours', that passes through it and explains most of its wider row, for
+// `estimate-normals --method pca`.
+//
+// On a wall or slab thinner than the kNN reach, sampled on both faces, a k-row holds both faces;
+// where such a wall meets a floor slab, a balcony or the ground it also holds the perpendicular
+// part, and its PCA plane blends them: on the scan test set's noisy scan-line city
+// (scripts/make-scan-set.sh) 5 571 wall normals lay more than 60° off the wall, 3 233 slab
+// normals off the slab, and a blend that far from its own face can come out on the wrong side
+// after any orientation. Neither a wider row nor a robust fit through random triplets escapes it
+// there (the other face and the junction lie as near as the next scan line).
+//
+// Each point's "face model" is what its row shows: a plane (normal, offset of the row's centroid
+// along it), or, for a point whose row showed two layers (widen_flat_normals.h), two parallel
+// faces (one normal, the offsets of both faces' centroids), fitted to the two layers together.
+// A point where rows blend (λ0 / λ1 of its k-row above kSelectRatio) then looks at the models of
+// its k nearest points (itself included), as Li et al. look at candidate planes ([Li10] in
+// docs/references.md), but with the neighbours' own fits as the candidates: a model counts when
+// the point lies within kFaceBand noise deviations of one of its faces, and the one with the most
+// points of the point's 2k-row within that band of its faces wins (ties: the nearer neighbour).
+// A wall point beside a slab sees the slab's top face pass below it, out of the band, and the
+// wall's model hold both faces of the wall; the slab's model holds fewer of its row. The noise
+// deviation is the median of the two-layer fits' residual deviations over the cloud (on a
+// noiseless cloud their curvature and sampling set it).
+//
+// A cloud with no two-layer row (no point widened) is left as it is: nothing to choose from.
+// Deterministic: each point's result depends on its own row and the models, which depend on
+// rows only; the same for any thread count.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "splatkit/spatial_index.h"
+#include "splatkit/vec3.h"
+
+namespace splatkit {
+
+inline constexpr float kSelectRatio = 0.1f;
+inline constexpr float kFaceBand = 2.0f;
+
+// A point's face model, its normal being the point's normal: the offsets along it, from the point,
+// of the faces' centroids (a == b: one plane), and the fit's residual variance along the normal
+// (NaN: no model, e.g. a degenerate row).
+struct FaceModel {
+  float a = 0, b = 0;
+  float variance = std::numeric_limits<float>::quiet_NaN();
+};
+
+// The median residual deviation of the models of `points` (0 when none has one).
+float face_noise(std::span<const FaceModel> models, std::span<const uint32_t> points);
+
+// For each of `points` (indices into positions), the normal of the winning model among its k
+// nearest points' (normals and models: #N), judged over its 2k nearest points with the band
+// kFaceBand × noise; written to out (#N; the others untouched). index: built over positions.
+// sq_reach (empty, or #N): each point's entry is raised to the squared distance of its 2k-row's
+// last point (+inf when the cloud has fewer points). cuts (empty, or #N): where the winner has two
+// faces, the offset along the chosen normal, from the point, half-way between them (as
+// layer_cuts.h gives it: the orientation reads its neighbours beyond it as the other face), NaN
+// elsewhere. Returns how many points took a normal other than their own.
+std::size_t select_face_normals(const SpatialIndex& index, std::span<const Vec3f> positions,
+                                std::span<const uint32_t> points, std::size_t k,
+                                std::span<const Vec3f> normals, std::span<const FaceModel> models,
+                                float noise, std::span<Vec3f> out,
+                                std::span<float> sq_reach = {}, std::span<float> cuts = {});
+
+}  // namespace splatkit
