@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,9 +25,9 @@
 #include "normals/refit_splats.h"
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
+#include "normals/select_face_normals.h"
 #include "normals/splat_pieces.h"
 #include "normals/visibility_votes.h"
-#include "normals/select_face_normals.h"
 #include "normals/widen_flat_normals.h"
 #include "splatkit/error.h"
 #include "splatkit/gathered.h"
@@ -87,8 +87,7 @@ std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
 void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
             NormalOrientation method, const std::vector<uint32_t>& order,
             const std::vector<uint8_t>& given, const std::vector<uint8_t>& layered,
-            std::vector<float>& face_cuts,
-            NormalReport& report) {
+            std::vector<float>& face_cuts, NormalReport& report) {
   nlohmann::json& j = report.orientation;
   if (uses_graph(method)) {
     std::vector<float> votes;
@@ -112,7 +111,7 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     regions.layered = layered;
     regions.blended_layers = o.method == NormalMethod::kPca;
     for (std::size_t i = 0; i < given.size() && !face_cuts.empty(); ++i)
-      if (given[i]) face_cuts[i] = std::numeric_limits<float>::quiet_NaN();  // not its faces' normal
+      if (given[i]) face_cuts[i] = std::numeric_limits<float>::quiet_NaN();  // not the faces'
     regions.face_cuts = face_cuts;
     const OrientStats stats =
         orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
@@ -440,7 +439,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // keeps the two layers of such a row apart (orient_normals_mst.h, OrientRegionsOptions::layered).
   std::vector<uint8_t> widened(n);
   // Where a point took two faces' normal, the cut between them (select_face_normals.h), which
-  // the orientation reads as the point's layers (empty when no point has one).
+  // keeps the orientation's sheet edges off the other face (empty when no point was widened).
   std::vector<float> face_cuts;
   const bool mst = uses_graph(method) && n > 0;
   if (options.piece_points > 0 && n > options.piece_points) {
@@ -552,7 +551,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (method != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
     timed("orient",
-          [&] { orient(cloud, rows, options, method, order, is_given, widened, face_cuts, report); });
+          [&] {
+            orient(cloud, rows, options, method, order, is_given, widened, face_cuts, report);
+          });
     for (std::size_t i = 0; i < is_given.size(); ++i)  // kept as given, whatever their set says
       if (is_given[i]) cloud.normals[i] = given[i];
   }

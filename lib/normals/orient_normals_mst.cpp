@@ -104,7 +104,8 @@ struct Layers {
   // Whether either end's own faces put the other end on its other face.
   bool face_apart(uint32_t i, uint32_t j) const {
     if (face_cut.empty()) return false;
-    if (std::isfinite(face_cut[i]) && other_layer(face_cut[i], normals[i], positions[i], positions[j]))
+    if (std::isfinite(face_cut[i]) &&
+        other_layer(face_cut[i], normals[i], positions[i], positions[j]))
       return true;
     return std::isfinite(face_cut[j]) &&
            other_layer(face_cut[j], normals[j], positions[j], positions[i]);
@@ -319,7 +320,8 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   auto passes = [&](std::size_t i, uint32_t j) {
     if (std::fabs(dot(normals[i], normals[j])) < sheet) return false;
     if (!options.split_gaps) return true;
-    return !layers.gap(static_cast<uint32_t>(i), j) && !layers.face_apart(static_cast<uint32_t>(i), j);
+    return !layers.gap(static_cast<uint32_t>(i), j) &&
+           !layers.face_apart(static_cast<uint32_t>(i), j);
   };
   // With split gaps, an edge at a layered point that runs oblique to its normals joins only when
   // confirmed by kSheetTriangles common neighbours that join both ends (sheet_neighbours).

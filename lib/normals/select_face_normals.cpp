@@ -7,9 +7,7 @@
 #include <atomic>
 #include <vector>
 
-
 namespace splatkit {
-
 
 float face_noise(std::span<const FaceModel> models, std::span<const uint32_t> points) {
   std::vector<float> v;
@@ -38,9 +36,9 @@ std::size_t select_face_normals(const SpatialIndex& index, std::span<const Vec3f
       const uint32_t i = points[p];
       const std::size_t got = index.knn(positions[i], wide, row.data(), sq.data());
       if (!sq_reach.empty())
-        sq_reach[i] = std::max(sq_reach[i], got == wide && wide > 0
-                                                ? sq[wide - 1]
-                                                : std::numeric_limits<float>::infinity());
+        sq_reach[i] =
+            std::max(sq_reach[i], got == wide && wide > 0 ? sq[wide - 1]
+                                                          : std::numeric_limits<float>::infinity());
       const auto on_face = [&](const FaceModel& m, float o) {
         return std::fabs(o - m.a) <= band || std::fabs(o - m.b) <= band;
       };

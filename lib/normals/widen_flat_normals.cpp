@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -87,7 +87,8 @@ FaceModel two_faces(std::span<const Vec3f> positions, std::span<const uint32_t> 
     }
     if (split == 0 || !(best >= kLayerSeparation)) return model;
     Sums lo, hi;
-    for (std::size_t q = 0; q < m; ++q) (q < split ? lo : hi).add(positions[off[q].second] - origin);
+    for (std::size_t q = 0; q < m; ++q)
+      (q < split ? lo : hi).add(positions[off[q].second] - origin);
     std::array<double, 6> c{0, 0, 0, 0, 0, 0};
     lo.scatter(c);
     hi.scatter(c);
@@ -98,15 +99,18 @@ FaceModel two_faces(std::span<const Vec3f> positions, std::span<const uint32_t> 
       // Faces over each other, as layer_cuts.h asks: two levels side by side (a step, a recess)
       // are no wall.
       const float lo_along = lo.offset(n), hi_along = hi.offset(n);
-      const Vec3f ca = Vec3f{static_cast<float>(lo.s[0] / lo.count),
-                             static_cast<float>(lo.s[1] / lo.count),
-                             static_cast<float>(lo.s[2] / lo.count)} - n * lo_along;
-      const Vec3f cb = Vec3f{static_cast<float>(hi.s[0] / hi.count),
-                             static_cast<float>(hi.s[1] / hi.count),
-                             static_cast<float>(hi.s[2] / hi.count)} - n * hi_along;
+      const Vec3f ca =
+          Vec3f{static_cast<float>(lo.s[0] / lo.count), static_cast<float>(lo.s[1] / lo.count),
+                static_cast<float>(lo.s[2] / lo.count)} -
+          n * lo_along;
+      const Vec3f cb =
+          Vec3f{static_cast<float>(hi.s[0] / hi.count), static_cast<float>(hi.s[1] / hi.count),
+                static_cast<float>(hi.s[2] / hi.count)} -
+          n * hi_along;
       float radius2 = 0;
       for (uint32_t j : row)
-        if (j != SpatialIndex::kNone) radius2 = std::max(radius2, squared_norm(positions[j] - origin));
+        if (j != SpatialIndex::kNone)
+          radius2 = std::max(radius2, squared_norm(positions[j] - origin));
       if (squared_norm(ca - cb) > kLayerOverlap * kLayerOverlap * radius2) return model;
       // About their own centroids the two parts must show a plane, as a k-row on one face does:
       // the two faces of a crease or a wedge, split so, still do not.
