@@ -238,6 +238,7 @@ nlohmann::json NormalReport::to_json() const {
           {"widened_points", widened_points},
           {"face_selected_points", face_selected},
           {"face_noise", face_noise},
+          {"two_face_points", two_face_points},
           {"refitted_points", refitted_points},
           {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
@@ -325,6 +326,8 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
       for (uint32_t i : points) widened[i] = 1;
       if (cover) refit.insert(refit.end(), points.begin(), points.end());
       if (points.empty()) return;
+      for (uint32_t i : points) report.two_face_points += models[i].a != models[i].b;
+      if (!thin_parts(report.two_face_points, points.size())) return;
       const float noise = face_noise(models, points);
       std::vector<uint32_t> blended;
       for (std::size_t i = 0; i < n; ++i)

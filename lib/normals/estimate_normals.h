@@ -136,6 +136,7 @@ struct NormalReport {
   // the band (select_face_normals.h).
   std::size_t face_selected = 0;
   float face_noise = 0;
+  std::size_t two_face_points = 0;  // widened rows fitted as two parallel faces
   // {"method" (the one that ran), "reason" (why auto chose it, or "given"), "sheets",
   //  "by_evidence", "against_evidence", "seen" (visibility), "flipped"}; methods without a graph
   // leave out what they do not have.

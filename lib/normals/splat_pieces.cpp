@@ -342,7 +342,8 @@ void SplatPieces::select_faces(SplatCloud& cloud, const NormalOptions& o, Normal
   std::vector<uint32_t> two_layer;
   for (std::size_t i = 0; i < n; ++i)
     if (widened[i]) two_layer.push_back(static_cast<uint32_t>(i));
-  if (two_layer.empty()) return;
+  for (uint32_t i : two_layer) report.two_face_points += models[i].a != models[i].b;
+  if (!thin_parts(report.two_face_points, two_layer.size())) return;
   const float noise = face_noise(models, two_layer);
   std::vector<uint32_t>().swap(two_layer);
   auto blended = [&](std::size_t g) {
