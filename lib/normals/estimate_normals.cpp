@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -25,6 +26,7 @@
 #include "normals/refit_splats.h"
 #include "normals/resolve_degenerate_normals.h"
 #include "normals/robust_normals.h"
+#include "normals/select_face_normals.h"
 #include "normals/splat_pieces.h"
 #include "normals/visibility_votes.h"
 #include "normals/widen_flat_normals.h"
@@ -86,7 +88,7 @@ std::vector<std::array<double, 3>> sensor_positions(const SplatCloud& cloud,
 void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const NormalOptions& o,
             NormalOrientation method, const std::vector<uint32_t>& order,
             const std::vector<uint8_t>& given, const std::vector<uint8_t>& layered,
-            NormalReport& report) {
+            std::vector<float>& face_cuts, NormalReport& report) {
   nlohmann::json& j = report.orientation;
   if (uses_graph(method)) {
     std::vector<float> votes;
@@ -109,6 +111,9 @@ void orient(SplatCloud& cloud, std::optional<ShrinkableArray>& rows, const Norma
     regions.evidence = votes;
     regions.layered = layered;
     regions.blended_layers = o.method == NormalMethod::kPca;
+    for (std::size_t i = 0; i < given.size() && !face_cuts.empty(); ++i)
+      if (given[i]) face_cuts[i] = std::numeric_limits<float>::quiet_NaN();  // not the faces'
+    regions.face_cuts = face_cuts;
     const OrientStats stats =
         orient_normals_mst(std::move(*rows), cloud.positions, cloud.normals, kOrientK, regions);
     rows.reset();
@@ -232,6 +237,9 @@ nlohmann::json NormalReport::to_json() const {
           {"bounded_radii", bounded_radii},
           {"radii_over_bound", radii_over_bound},
           {"widened_points", widened_points},
+          {"face_selected_points", face_selected},
+          {"face_noise", face_noise},
+          {"two_face_points", two_face_points},
           {"refitted_points", refitted_points},
           {"mean_centre_shift", mean_centre_shift},
           {"flipped_points", flipped_points},
@@ -275,7 +283,8 @@ template <class Timed>
 void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& options,
                         const std::vector<uint32_t>& order, NormalReport& report, Timed& timed,
                         const ProgressFn& progress, std::vector<Bridge>& bridges,
-                        std::vector<uint8_t>& widened, std::span<uint32_t> bound_rows) {
+                        std::vector<uint8_t>& widened, std::span<uint32_t> bound_rows,
+                        std::vector<float>& face_cuts) {
   const std::size_t n = cloud.size();
   const bool robust = options.method == NormalMethod::kRobust;
   const bool cover = options.radius_rule == RadiusRule::kCover;
@@ -284,8 +293,10 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
   std::vector<uint32_t> refit;
   std::vector<float> variation(robust ? n : 0);
   std::vector<float> ratio(n);  // the PCA's λ0 / λ1 (widen_flat_normals.h)
+  std::vector<FaceModel> models(robust ? 0 : n);  // select_face_normals.h
   timed("normals_radii", [&] {
-    pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, bound_rows, ratio);
+    pca_normals_and_radii(index, cloud, options, flags, variation, {}, progress, bound_rows, ratio,
+                          models);
   });
 
   progress(0.6, "degenerate");
@@ -313,9 +324,26 @@ void whole_cloud_splats(const SpatialIndex& index, SplatCloud& cloud, const Norm
         if (!(flags[i] & kDegenerateFlag) && ratio[i] > kWidenRatio)
           points.push_back(static_cast<uint32_t>(i));
       report.widened_points =
-          widen_flat_normals(index, cloud.positions, points, options.k, cloud.normals);
+          widen_flat_normals(index, cloud.positions, points, options.k, cloud.normals, {}, models);
       for (uint32_t i : points) widened[i] = 1;
       if (cover) refit.insert(refit.end(), points.begin(), points.end());
+      if (points.empty()) return;
+      for (uint32_t i : points) report.two_face_points += models[i].a != models[i].b;
+      if (!thin_parts(report.two_face_points, points.size())) return;
+      const float noise = face_noise(models, points);
+      std::vector<uint32_t> blended;
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(flags[i] & kDegenerateFlag) && ratio[i] > kSelectRatio)
+          blended.push_back(static_cast<uint32_t>(i));
+      std::vector<Vec3f> chosen(cloud.normals);
+      face_cuts.assign(n, std::numeric_limits<float>::quiet_NaN());
+      report.face_selected = select_face_normals(index, cloud.positions, blended, options.k,
+                                                 cloud.normals, models, noise, chosen, {},
+                                                 face_cuts);
+      report.face_noise = noise;
+      for (uint32_t i : blended)
+        if (cover && !(chosen[i] == cloud.normals[i])) refit.push_back(i);
+      cloud.normals.swap(chosen);
     });
   } else {
     // The robust fit keeps its normals, but the orientation reads the same rows as layered, where
@@ -427,6 +455,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   // The points whose k-row showed no plane: PCA widens their rows, both methods' orientation
   // keeps the two layers of such a row apart (orient_normals_mst.h, OrientRegionsOptions::layered).
   std::vector<uint8_t> widened(n);
+  // Where a point took two faces' normal, the cut between them (select_face_normals.h), which
+  // keeps the orientation's sheet edges off the other face (empty when no point was widened).
+  std::vector<float> face_cuts;
   const bool mst = uses_graph(method) && n > 0;
   // Without rows: each point's kBoundRadiiK nearest other points, for the radius bound (below).
   std::unique_ptr<uint32_t[]> bound_rows;
@@ -441,7 +472,7 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
       pieces->normals_and_splats(
           cloud, options, report, progress,
           rows ? std::span<uint32_t>(rows->data(), rows->size()) : std::span<uint32_t>(), bridges,
-          widened);
+          widened, face_cuts);
     });
   } else {
     // Without the orientation's rows, the radius bound reads its neighbours from the heads of the
@@ -454,7 +485,8 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
     timed("index", [&] { index = SpatialIndex(cloud.positions); });
     whole_cloud_splats(
         index, cloud, options, order, report, timed, progress, bridges, widened,
-        std::span<uint32_t>(bound_rows.get(), bound_rows ? n * kBoundRadiiK : std::size_t{0}));
+        std::span<uint32_t>(bound_rows.get(), bound_rows ? n * kBoundRadiiK : std::size_t{0}),
+        face_cuts);
   }
   // The given normals replace the estimated ones; the splats of those that turn by more than
   // 10° are fitted again in their plane (not in pieces: the index is gone there).
@@ -553,7 +585,9 @@ NormalReport estimate_normals(SplatCloud& cloud, const NormalOptions& options,
   if (method != NormalOrientation::kNone && n > 0) {
     progress(0.85, "orientation");
     timed("orient",
-          [&] { orient(cloud, rows, options, method, order, is_given, widened, report); });
+          [&] {
+            orient(cloud, rows, options, method, order, is_given, widened, face_cuts, report);
+          });
     for (std::size_t i = 0; i < is_given.size(); ++i)  // kept as given, whatever their set says
       if (is_given[i]) cloud.normals[i] = given[i];
   }

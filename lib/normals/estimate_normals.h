@@ -20,7 +20,10 @@
 //      (resolve_degenerate_normals.h); isolated points (no neighbour at a
 //      finite, positive distance) get the median radius (fill_isolated_radii.h), never 0;
 //   5. method robust: crease-preserving refinement (robust_normals.h); method pca: the points
-//      whose row shows no plane take the normal of a row twice as long (widen_flat_normals.h);
+//      whose row shows no plane take the normal of a row twice as long (widen_flat_normals.h:
+//      two parallel faces' where it holds both faces of a thin wall), then the points whose row
+//      blends take the face model among their neighbours' that passes through them and holds
+//      most of their 2k-row (select_face_normals.h; 12 bytes per point while it runs);
 //      with the cover rule, the splats of the points whose normal phases 4 and 5 changed are
 //      fitted again in their new tangent plane (one kNN query each);
 //   6. with orient mst or visibility, each point's kOrientK - 1 nearest other points
@@ -131,6 +134,11 @@ struct NormalReport {
   double mean_centre_shift = 0;       // fit_centres: mean |offset| the centres moved by
   std::size_t flipped_points = 0;     // normals whose sign the orientation changed
   std::size_t components = 0;         // kNN-graph components (orient mst, visibility)
+  // method pca: normals taken from a neighbour's face model, and the residual deviation that set
+  // the band (select_face_normals.h).
+  std::size_t face_selected = 0;
+  float face_noise = 0;
+  std::size_t two_face_points = 0;  // widened rows fitted as two parallel faces
   // {"method" (the one that ran), "reason" (why auto chose it, or "given"), "sheets",
   //  "by_evidence", "against_evidence", "seen" (visibility), "flipped"}; methods without a graph
   // leave out what they do not have.

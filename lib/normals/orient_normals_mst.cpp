@@ -100,6 +100,16 @@ float agreement(const Vec3f& xi, const Vec3f& ni, const Vec3f& xj, const Vec3f& 
 struct Layers {
   std::span<const Vec3f> positions, normals;
   std::vector<float> cut;  // empty: no point has two layers
+  std::span<const float> face_cut;  // OrientRegionsOptions::face_cuts
+  // Whether either end's own faces put the other end on its other face.
+  bool face_apart(uint32_t i, uint32_t j) const {
+    if (face_cut.empty()) return false;
+    if (std::isfinite(face_cut[i]) &&
+        other_layer(face_cut[i], normals[i], positions[i], positions[j]))
+      return true;
+    return std::isfinite(face_cut[j]) &&
+           other_layer(face_cut[j], normals[j], positions[j], positions[i]);
+  }
   int apart(uint32_t i, uint32_t j) const {
     if (cut.empty()) return -1;
     if (std::isfinite(cut[i]))
@@ -310,7 +320,8 @@ SignedUnionFind signed_sets(const KnnGraph<Id>& g, std::span<const Vec3f> positi
   auto passes = [&](std::size_t i, uint32_t j) {
     if (std::fabs(dot(normals[i], normals[j])) < sheet) return false;
     if (!options.split_gaps) return true;
-    return !layers.gap(static_cast<uint32_t>(i), j);
+    return !layers.gap(static_cast<uint32_t>(i), j) &&
+           !layers.face_apart(static_cast<uint32_t>(i), j);
   };
   // With split gaps, an edge at a layered point that runs oblique to its normals joins only when
   // confirmed by kSheetTriangles common neighbours that join both ends (sheet_neighbours).
@@ -669,6 +680,8 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
     throw std::invalid_argument("orient_normals_mst: the kNN rows do not match the points");
   if (!regions.evidence.empty() && regions.evidence.size() != n)
     throw std::invalid_argument("orient_normals_mst: evidence and positions differ in size");
+  if (!regions.face_cuts.empty() && regions.face_cuts.size() != n)
+    throw std::invalid_argument("orient_normals_mst: face_cuts and positions differ in size");
   if (!regions.layered.empty() && regions.layered.size() != n)
     throw std::invalid_argument("orient_normals_mst: layered and positions differ in size");
   OrientStats stats;
@@ -679,6 +692,7 @@ OrientStats orient_normals_mst(ShrinkableArray rows, std::span<const Vec3f> posi
       std::find(regions.layered.begin(), regions.layered.end(), 1) != regions.layered.end())
     layers.cut = layer_cuts(positions, normals, std::span<const uint32_t>(rows.data(), rows.size()),
                             std::min(k, n) - 1, regions.layered);
+  if (regions.split_gaps) layers.face_cut = regions.face_cuts;
   // 32-bit edge names and row starts while (n << shift) fits, which also bounds the edges.
   std::vector<int8_t> sign;
   auto forest = [&]<typename Id>(Id) {

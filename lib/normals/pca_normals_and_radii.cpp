@@ -16,6 +16,24 @@ namespace {
 
 constexpr std::size_t kPrefetchRows = 4;
 
+// The row's plane as a one-face model: the centroid's offset along the normal from the point,
+// and the residual variance along it.
+FaceModel plane_model(std::span<const Vec3f> positions, uint32_t i,
+                      std::span<const uint32_t> row, const PcaNormal& pca) {
+  double sum = 0;
+  std::size_t count = 0;
+  for (uint32_t j : row) {
+    if (j == SpatialIndex::kNone) continue;
+    sum += dot(pca.normal, positions[j] - positions[i]);
+    ++count;
+  }
+  FaceModel m;
+  if (count == 0) return m;
+  m.a = m.b = static_cast<float>(sum / static_cast<double>(count));
+  m.variance = static_cast<float>(pca.eigenvalues[0] / static_cast<double>(count));
+  return m;
+}
+
 // Calls `progress` from whichever worker gets the lock; the others skip (the tools' callbacks are
 // not thread-safe, and a skipped update is harmless).
 class SharedProgress {
@@ -67,7 +85,8 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
                            std::span<float> sq_reach, const ProgressFn& progress,
-                           std::span<uint32_t> head_rows, std::span<float> eigen_ratio) {
+                           std::span<uint32_t> head_rows, std::span<float> eigen_ratio,
+                           std::span<FaceModel> models) {
   const std::size_t row_k = row_size(o);
   const std::size_t head = cloud.size() ? head_rows.size() / cloud.size() : 0;
   const std::span<const Vec3f> positions(cloud.positions);
@@ -90,6 +109,7 @@ void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const N
           if (!variation.empty())
             variation[i] = pca.degenerate ? -1.0f : static_cast<float>(surface_variation(pca));
           if (!eigen_ratio.empty()) eigen_ratio[i] = pca.degenerate ? -1.0f : flatness_ratio(pca);
+          if (!models.empty() && !thin) models[i] = plane_model(positions, i, nearest, pca);
           if (fit_splat(cloud, o, i, indices.subspan(r * row_k, row_k),
                         sq_dists.subspan(r * row_k, row_k)))
             f |= kOpenCellFlag;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "normals/estimate_normals.h"
+#include "normals/select_face_normals.h"
 #include "splatkit/spatial_index.h"
 
 namespace splatkit {
@@ -39,11 +40,13 @@ bool fit_splat(SplatCloud& cloud, const NormalOptions& o, uint32_t i, std::span<
 // cloud has fewer points than a row). head_rows (empty, or #N by w, w < row_size(o)) receives each
 // row's first w entries after the point itself: its w nearest other points, as a kNN query of
 // w + 1 points gives them. eigen_ratio (empty, or #N) receives λ0 / λ1 of each row's PCA
-// (widen_flat_normals.h; -1: degenerate). Progress runs from 0.15 to 0.6.
+// (widen_flat_normals.h; -1: degenerate). models (empty, or #N) receives each row's plane as a
+// face model (select_face_normals.h; none for a degenerate row). Progress runs from 0.15 to 0.6.
 void pca_normals_and_radii(const SpatialIndex& index, SplatCloud& cloud, const NormalOptions& o,
                            std::vector<uint8_t>& flags, std::vector<float>& variation,
                            std::span<float> sq_reach, const ProgressFn& progress,
                            std::span<uint32_t> head_rows = {},
-                           std::span<float> eigen_ratio = {});
+                           std::span<float> eigen_ratio = {},
+                           std::span<FaceModel> models = {});
 
 }  // namespace splatkit

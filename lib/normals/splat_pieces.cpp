@@ -10,6 +10,7 @@
 #include "normals/bound_radii.h"
 #include "normals/pca_normals_and_radii.h"
 #include "normals/refit_splats.h"
+#include "normals/select_face_normals.h"
 #include "normals/widen_flat_normals.h"
 #include "splatkit/gathered.h"
 #include "splatkit/morton_order.h"
@@ -216,7 +217,8 @@ SplatPieces::Local SplatPieces::run(std::size_t piece, Attempt&& attempt) {
 void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
                                      NormalReport& report, const ProgressFn& progress,
                                      std::span<uint32_t> head_rows,
-                                     std::vector<Bridge>& bridges, std::span<uint8_t> widened) {
+                                     std::vector<Bridge>& bridges, std::span<uint8_t> widened,
+                                     std::vector<float>& face_cuts) {
   const std::size_t n = positions_.size();
   const std::size_t head = n ? head_rows.size() / n : 0;
   const WholeCloud whole{n, whole_cloud_pca(positions_)};
@@ -229,6 +231,10 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
   std::vector<uint32_t> degenerate, local_rows, local_bridges;
   std::vector<float> reach, wide, ratio;
   std::vector<uint32_t> widen;
+  // The face models and λ0 / λ1 of every point, for the choice among the neighbours' models
+  // (select_face_normals.h) once every piece has them.
+  std::vector<FaceModel> models(n), local_models;
+  std::vector<float> ratios(n);
   std::size_t replaced = 0;
   for (std::size_t p = 0; p < pieces(); ++p) {
     DegenerateStats degenerate_stats;
@@ -245,8 +251,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
       reach.assign(m, 0.0f);
       wide.assign(m, 0.0f);
       local_rows.resize(m * head);
+      local_models.assign(m, FaceModel{});
       pca_normals_and_radii(at.index, local, o, local_flags, variation, reach, no_progress(),
-                            local_rows, ratio);
+                            local_rows, ratio, local_models);
       degenerate.clear();
       for (std::size_t i = at.core_begin; i < at.core_end; ++i)
         if (local_flags[i] & kDegenerateFlag) degenerate.push_back(static_cast<uint32_t>(i));
@@ -261,12 +268,15 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
           widen.push_back(static_cast<uint32_t>(i));
           local_flags[i] |= kOpenCellFlag;  // its splat is refitted to the new normal
         }
-      replaced = widen_flat_normals(at.index, local.positions, widen, o.k, local.normals, reach);
+      replaced = widen_flat_normals(at.index, local.positions, widen, o.k, local.normals, reach,
+                                    local_models);
       return at.halo_needed(reach, everything);
     });
     l.put_back(local.normals, cloud.normals);
     l.put_back(local.radii, cloud.radii);
     l.put_back(local_flags, flags);
+    l.put_back(local_models, models);
+    l.put_back(ratio, ratios);
     for (std::size_t i = l.core_begin; i < l.core_end; ++i)
       for (std::size_t s = 0; s < head; ++s)
         head_rows[std::size_t{l.ids[i]} * head + s] = l.ids[local_rows[i * head + s]];
@@ -283,6 +293,9 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
     report.unresolved_points += degenerate_stats.unresolved;
     progress(0.15 + 0.45 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "normals");
   }
+  select_faces(cloud, o, report, flags, models, ratios, widened, face_cuts);
+  std::vector<FaceModel>().swap(models);
+  std::vector<float>().swap(ratios);
   if (o.radius_rule != RadiusRule::kCover) return;
 
   // The refits read the neighbours' final normals, which the first pass wrote for every piece.
@@ -319,6 +332,54 @@ void SplatPieces::normals_and_splats(SplatCloud& cloud, const NormalOptions& o,
     report.refitted_points += points.size();
     progress(0.6 + 0.2 * static_cast<double>(p + 1) / static_cast<double>(pieces()), "splats");
   }
+}
+
+void SplatPieces::select_faces(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
+                               std::vector<uint8_t>& flags, const std::vector<FaceModel>& models,
+                               const std::vector<float>& ratios, std::span<const uint8_t> widened,
+                               std::vector<float>& face_cuts) {
+  const std::size_t n = positions_.size();
+  std::vector<uint32_t> two_layer;
+  for (std::size_t i = 0; i < n; ++i)
+    if (widened[i]) two_layer.push_back(static_cast<uint32_t>(i));
+  for (uint32_t i : two_layer) report.two_face_points += models[i].a != models[i].b;
+  if (!thin_parts(report.two_face_points, two_layer.size())) return;
+  const float noise = face_noise(models, two_layer);
+  std::vector<uint32_t>().swap(two_layer);
+  auto blended = [&](std::size_t g) {
+    return !(flags[g] & kDegenerateFlag) && ratios[g] > kSelectRatio;
+  };
+  std::vector<Vec3f> chosen(cloud.normals);  // the neighbours' models read the first normals
+  face_cuts.assign(n, std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t p = 0; p < pieces(); ++p) {
+    std::vector<uint32_t> points;
+    std::vector<Vec3f> local_chosen;
+    std::vector<float> local_cuts;
+    std::size_t changed = 0;
+    const Local l = run(p, [&](Local& at) {
+      const std::size_t m = at.ids.size();
+      const std::vector<Vec3f> normals = at.gather(cloud.normals);
+      const std::vector<FaceModel> local_models = at.gather(models);
+      points.clear();
+      for (std::size_t i = at.core_begin; i < at.core_end; ++i)
+        if (blended(at.ids[i])) points.push_back(static_cast<uint32_t>(i));
+      local_chosen = normals;
+      local_cuts.assign(m, std::numeric_limits<float>::quiet_NaN());
+      std::vector<float> reach(m, 0.0f);
+      changed = select_face_normals(at.index, at.positions, points, o.k, normals, local_models,
+                                    noise, local_chosen, reach, local_cuts);
+      return at.halo_needed(reach, [&](std::size_t i) { return blended(at.ids[i]); });
+    });
+    for (uint32_t i : points) {
+      const uint32_t g = l.ids[i];
+      if (!(local_chosen[i] == cloud.normals[g])) flags[g] |= kOpenCellFlag;  // refitted below
+      chosen[g] = local_chosen[i];
+      face_cuts[g] = local_cuts[i];
+    }
+    report.face_selected += changed;
+  }
+  cloud.normals.swap(chosen);
+  report.face_noise = noise;
 }
 
 std::vector<float> SplatPieces::neighbour_median_radii(const std::vector<float>& radii,

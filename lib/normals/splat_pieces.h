@@ -31,6 +31,7 @@
 
 #include "normals/estimate_normals.h"
 #include "normals/resolve_degenerate_normals.h"
+#include "normals/select_face_normals.h"
 #include "splatkit/vec3.h"
 
 namespace splatkit {
@@ -59,10 +60,12 @@ class SplatPieces {
   // bridges receives the edges off the scan line of the degenerate points
   // (resolve_degenerate_normals.h), in whole-cloud numbers and in the whole-cloud run's order.
   // widened (#N) marks the points whose k-row showed no plane, which tried a wider row
-  // (widen_flat_normals.h).
+  // (widen_flat_normals.h). face_cuts: as the whole-cloud run's (select_face_normals.h: #N, or
+  // left empty when no point was widened).
   void normals_and_splats(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
                           const ProgressFn& progress, std::span<uint32_t> head_rows,
-                          std::vector<Bridge>& bridges, std::span<uint8_t> widened);
+                          std::vector<Bridge>& bridges, std::span<uint8_t> widened,
+                          std::vector<float>& face_cuts);
 
   // neighbour_median_radii (bound_radii.h) of the whole cloud, piece by piece.
   std::vector<float> neighbour_median_radii(const std::vector<float>& radii, std::size_t k);
@@ -78,6 +81,12 @@ class SplatPieces {
   struct Local;
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   Local load(std::size_t piece) const;
+  // normals_and_splats' choice among the neighbours' face models, after the first pass over every
+  // piece; marks the points whose normal changed for the refit (kOpenCellFlag).
+  void select_faces(SplatCloud& cloud, const NormalOptions& o, NormalReport& report,
+                    std::vector<uint8_t>& flags, const std::vector<FaceModel>& models,
+                    const std::vector<float>& ratios, std::span<const uint8_t> widened,
+                    std::vector<float>& face_cuts);
   template <class Attempt>
   Local run(std::size_t piece, Attempt&& attempt);
 

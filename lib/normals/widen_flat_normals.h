@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "normals/neighborhood_pca.h"
+#include "normals/select_face_normals.h"
 #include "splatkit/spatial_index.h"
 #include "splatkit/vec3.h"
 
@@ -38,11 +39,18 @@ float flatness_ratio(const PcaNormal& pca);
 
 // For each of `points` (indices into positions and normals), the PCA over its 2k nearest points
 // (k >= 1) replaces normals[i] unless that row is degenerate. index: built over positions.
+// models (empty, or as positions): each point's entry receives its 2k-row's face model
+// (select_face_normals.h): two parallel faces where the row's offsets along the normal split into
+// two parts kLayerSeparation pooled deviations apart that lie over each other (kLayerOverlap, as
+// layer_cuts.h) and, about their own centroids, show a plane (λ0 / λ1 <= kWidenRatio: a crease or
+// a wedge split so does not), refitted a few times to both parts at once, and normals[i] then
+// becomes the faces' normal; else the 2k-row's plane.
 // sq_reach (empty, or as positions): each point's entry is raised to the squared distance of its
-// 2k-row's last point (+inf when the cloud has fewer points). Returns how many normals were replaced.
-// Each point's result depends on its own row only: the same for any thread count.
+// 2k-row's last point (+inf when the cloud has fewer points). Returns how many normals were
+// replaced. Each point's result depends on its own row only: the same for any thread count.
 std::size_t widen_flat_normals(const SpatialIndex& index, std::span<const Vec3f> positions,
                                std::span<const uint32_t> points, std::size_t k,
-                               std::span<Vec3f> normals, std::span<float> sq_reach = {});
+                               std::span<Vec3f> normals, std::span<float> sq_reach = {},
+                               std::span<FaceModel> models = {});
 
 }  // namespace splatkit
