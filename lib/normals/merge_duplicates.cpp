@@ -44,6 +44,16 @@ void compact(ExtraValues& values, const std::vector<uint32_t>& kept) {
   values.shrink_to_fit();
 }
 
+// Every per-point array of the cloud but its positions, compacted to the kept points.
+void compact_attributes(SplatCloud& cloud, const std::vector<uint32_t>& kept) {
+  compact(cloud.normals, kept);
+  compact(cloud.radii, kept);
+  compact(cloud.axes, kept);
+  compact(cloud.minor_radii, kept);
+  compact(cloud.colors, kept);
+  for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
+}
+
 // A point as the duplicate search carries it: its position travels with its number, so that the
 // search reads the cloud once in order and then works bucket by bucket, never at random over the
 // whole cloud (which, when the arrays are paged from disk, would fault pages in faster than they
@@ -156,12 +166,7 @@ MergeResult merge_duplicates(SplatCloud& cloud, bool want_map) {
   }
   if (result.merged > 0) {
     compact(cloud.positions, kept);
-    compact(cloud.normals, kept);
-    compact(cloud.radii, kept);
-    compact(cloud.axes, kept);
-    compact(cloud.minor_radii, kept);
-    compact(cloud.colors, kept);
-    for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
+    compact_attributes(cloud, kept);
     for (uint32_t& v : cloud.face_indices) v = representative[v];
   }
   if (want_map) result.representative = std::move(representative);
@@ -198,12 +203,7 @@ std::size_t merge_sorted_duplicates(SplatCloud& cloud, std::vector<uint32_t>& or
   order.resize(out);
   cloud.positions.resize(out);
   cloud.positions.shrink_to_fit();
-  compact(cloud.normals, kept);
-  compact(cloud.radii, kept);
-  compact(cloud.axes, kept);
-  compact(cloud.minor_radii, kept);
-  compact(cloud.colors, kept);
-  for (ExtraAttribute& extra : cloud.extras) compact(extra.values, kept);
+  compact_attributes(cloud, kept);
   return copies.size();
 }
 
